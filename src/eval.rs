@@ -31,17 +31,25 @@ pub enum Variant {
     /// [`fixed::index_f64`]: the walk on fixed-point integers, exact for every
     /// finite float input (binary32 or binary64 values).
     FixedExact,
+    /// [`spec::index_wide_exact`]: the reference's steps over the reals with
+    /// 64-bit words, levels 0..=32.
+    SpecWide,
+    /// [`spec::index_wide_f32`]: the reference's steps in binary32 with
+    /// 64-bit words, levels 0..=32.
+    SpecWideF32,
 }
 
 impl Variant {
     /// Every variant, in the order the CLI lists them.
-    pub const ALL: [Variant; 6] = [
+    pub const ALL: [Variant; 8] = [
         Variant::SpecF32,
         Variant::SpecExact,
         Variant::Uv2indexExact,
         Variant::Uv2indexF32,
         Variant::Uv2indexF64,
         Variant::FixedExact,
+        Variant::SpecWide,
+        Variant::SpecWideF32,
     ];
 
     /// The variant's CLI name.
@@ -53,6 +61,8 @@ impl Variant {
             Variant::Uv2indexF32 => "uv2index-f32",
             Variant::Uv2indexF64 => "uv2index-f64",
             Variant::FixedExact => "fixed-exact",
+            Variant::SpecWide => "spec-wide",
+            Variant::SpecWideF32 => "spec-wide-f32",
         }
     }
 
@@ -87,6 +97,8 @@ impl Variant {
             Variant::Uv2indexF32 => uv2index::index_f32(u.to_f32()?, v.to_f32()?, level)?,
             Variant::Uv2indexF64 => uv2index::index_f64(u.to_f64()?, v.to_f64()?, level)?,
             Variant::FixedExact => fixed::index_f64(u.to_f64()?, v.to_f64()?, level)?,
+            Variant::SpecWide => spec::index_wide_exact(&u.to_exact()?, &v.to_exact()?, level),
+            Variant::SpecWideF32 => spec::index_wide_f32(u.to_f32()?, v.to_f32()?, level),
         };
         Ok(index)
     }

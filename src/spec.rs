@@ -52,6 +52,7 @@
 //! ```
 
 use crate::{Error, Level};
+use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, ToPrimitive, Zero};
 
@@ -61,19 +62,51 @@ pub const MAX_LEVEL: u32 = 16;
 /// The reference in binary32, total: defined for every input (see the
 /// module docs for levels above 16).
 pub fn index_f32(u: f32, v: f32, level: u32) -> u32 {
+    let level = level % 32; // C's `1u << level` as x86 / SPIR-V hardware shifts
+    let cell = cell_f32(u, v, level);
+    // level < 32: the cells are below 2^31 + 1 and fit u32 exactly.
+    index_from_cell(cell.iu as u32, cell.iv as u32, cell.diagonal, level)
+}
+
+/// The reference's quantization: the grid cell of the clamped point at
+/// `level` and the outcome of the diagonal test, before any integer step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Cell {
+    /// `trunc(u * 2^level)` of the clamped `u` (not yet clamped to the grid).
+    pub iu: u64,
+    /// `trunc(v * 2^level)` of the clamped `v`.
+    pub iv: u64,
+    /// The outcome of `uf + vf >= 1` (in the arithmetic of the variant).
+    pub diagonal: bool,
+}
+
+/// The reference's first half in binary32, for `level <= 32`: clamp, scale
+/// by `2^level` (exact), truncate, take the exact fractions and decide
+/// `uf + vf >= 1.0f` after binary32 rounding.
+///
+/// ```
+/// use micromap_index::spec::{cell_f32, Cell};
+/// assert_eq!(cell_f32(0.25, 0.5, 1), Cell { iu: 0, iv: 1, diagonal: false });
+/// assert_eq!(cell_f32(0.375, 0.125, 2), Cell { iu: 1, iv: 0, diagonal: true });
+/// assert_eq!(cell_f32(f32::NAN, 2.0, 3), Cell { iu: 0, iv: 8, diagonal: false });
+/// ```
+pub fn cell_f32(u: f32, v: f32, level: u32) -> Cell {
     let u = clamp_unit(u);
     let v = clamp_unit(v);
-    let cells = 1u32.wrapping_shl(level);
-    // `(float)(1u << level)`: exact for every power of two up to 2^31.
-    let scale = cells as f32;
+    // `(float)(1u << level)`: exact for every power of two up to 2^32.
+    let scale = (1u64 << level.min(32)) as f32;
     let fu = u * scale;
     let fv = v * scale;
-    // `fu`, `fv` are in [0, 2^31]: the cast truncates like C's (uint32_t).
-    let iu = fu as u32;
-    let iv = fv as u32;
+    // `fu`, `fv` are in [0, 2^32]: the cast truncates like C's.
+    let iu = fu as u64;
+    let iv = fv as u64;
     let uf = fu - iu as f32;
     let vf = fv - iv as f32;
-    index_from_cell(iu, iv, diagonal_decision_f32(uf, vf), level)
+    Cell {
+        iu,
+        iv,
+        diagonal: diagonal_decision_f32(uf, vf),
+    }
 }
 
 /// The reference in binary32 for levels `0..=16`.
@@ -114,61 +147,94 @@ fn clamp_unit(x: f32) -> f32 {
     x.max(0.0).min(1.0)
 }
 
-/// The integer half of the reference: from the (unclamped) grid cell
-/// `(iu, iv)` = `(trunc(u * 2^level), trunc(v * 2^level))` and the outcome of
-/// the diagonal test `uf + vf >= 1`, the curve index. All arithmetic wraps
-/// like C's `uint32_t`; shifts by `level >= 32` use `level % 32`.
-///
-/// Every variant of the spec (binary32, exact, dyadic) computes its cell and
-/// diagonal decision its own way and shares this function.
-///
-/// ```
-/// use micromap_index::spec::index_from_cell;
-/// // Level 1, cell (0, 0): lower-left half is the left child, upper-right
-/// // half is the middle child.
-/// assert_eq!(index_from_cell(0, 0, false, 1), 0);
-/// assert_eq!(index_from_cell(0, 0, true, 1), 1);
-/// ```
-pub fn index_from_cell(iu: u32, iv: u32, diagonal: bool, level: u32) -> u32 {
-    let cells = 1u32.wrapping_shl(level);
-    let last = cells.wrapping_sub(1);
-    let mut iu = iu;
-    let mut iv = iv;
-    if iu >= cells {
-        iu = last;
-    }
-    if iv >= cells {
-        iv = last;
-    }
-    let iuv = iu.wrapping_add(iv);
-    if iuv >= cells {
-        iu = iu.wrapping_sub(iuv.wrapping_sub(cells).wrapping_add(1));
-    }
-    let mut iw = !iu.wrapping_add(iv);
-    if diagonal && iuv < last {
-        iw = iw.wrapping_sub(1);
-    }
-    let b0 = !(iu ^ iw) & last;
-    let t = (iu ^ iv) & b0;
-    let mut f = t;
-    f ^= f >> 1;
-    f ^= f >> 2;
-    f ^= f >> 4;
-    f ^= f >> 8;
-    let b1 = ((f ^ iu) & !b0) | t;
-    interleave_16(b0) | (interleave_16(b1) << 1)
+/// Generates the integer half of the reference for one word width: from the
+/// (unclamped) grid cell `(iu, iv)` = `(trunc(u * 2^level), trunc(v * 2^level))`
+/// and the outcome of the diagonal test `uf + vf >= 1`, the curve index. All
+/// arithmetic wraps like C's unsigned types; the prefix-XOR shifts and the
+/// interleave steps are the width's parameters.
+macro_rules! integer_half {
+    (
+        $(#[$doc:meta])*
+        $name:ident, $uint:ty, prefix_xor: [$($prefix:expr),*],
+        interleave: [$(($shift:expr, $mask:expr)),*]
+    ) => {
+        $(#[$doc])*
+        pub fn $name(iu: $uint, iv: $uint, diagonal: bool, level: u32) -> $uint {
+            let cells = (1 as $uint).wrapping_shl(level);
+            let last = cells.wrapping_sub(1);
+            let mut iu = iu;
+            let mut iv = iv;
+            if iu >= cells {
+                iu = last;
+            }
+            if iv >= cells {
+                iv = last;
+            }
+            let iuv = iu.wrapping_add(iv);
+            if iuv >= cells {
+                iu = iu.wrapping_sub(iuv.wrapping_sub(cells).wrapping_add(1));
+            }
+            let mut iw = !iu.wrapping_add(iv);
+            if diagonal && iuv < last {
+                iw = iw.wrapping_sub(1);
+            }
+            let b0 = !(iu ^ iw) & last;
+            let t = (iu ^ iv) & b0;
+            let mut f = t;
+            $(f ^= f >> $prefix;)*
+            let b1 = ((f ^ iu) & !b0) | t;
+            let spread = |x: $uint| {
+                let mut x = x;
+                $(x = (x | (x << $shift)) & $mask;)*
+                x
+            };
+            spread(b0) | (spread(b1) << 1)
+        }
+    };
 }
 
-/// Spreads the low 16 bits of `x` to the even bit positions (the reference's
-/// interleave; higher bits are partly lost, as in the reference).
-fn interleave_16(x: u32) -> u32 {
-    let mut x = x;
-    x = (x | (x << 8)) & 0x00ff_00ff;
-    x = (x | (x << 4)) & 0x0f0f_0f0f;
-    x = (x | (x << 2)) & 0x3333_3333;
-    x = (x | (x << 1)) & 0x5555_5555;
-    x
-}
+integer_half!(
+    /// The reference's integer half, exactly as the Vulkan code has it: 32-bit
+    /// words, a 16-bit prefix-XOR and interleave (so only levels `0..=16` give
+    /// valid indices); shifts by `level >= 32` use `level % 32`.
+    ///
+    /// Every narrow variant (binary32, exact, dyadic) computes its [`Cell`] its
+    /// own way and shares this function.
+    ///
+    /// ```
+    /// use micromap_index::spec::index_from_cell;
+    /// // Level 1, cell (0, 0): lower-left half is the left child, upper-right
+    /// // half is the middle child.
+    /// assert_eq!(index_from_cell(0, 0, false, 1), 0);
+    /// assert_eq!(index_from_cell(0, 0, true, 1), 1);
+    /// ```
+    index_from_cell,
+    u32,
+    prefix_xor: [1, 2, 4, 8],
+    interleave: [(8, 0x00ff_00ff), (4, 0x0f0f_0f0f), (2, 0x3333_3333), (1, 0x5555_5555)]
+);
+
+integer_half!(
+    /// The integer half widened to 64-bit words: one more prefix-XOR step
+    /// (32-bit prefix) and a 32-bit interleave, so every level `0..=32` has a
+    /// valid index (`4^32` indices fill a `u64`; level 33 would need more
+    /// than 64 index bits). For levels `0..=16` it equals [`index_from_cell`].
+    ///
+    /// ```
+    /// use micromap_index::spec::{index_from_cell, index_from_cell_wide};
+    /// assert_eq!(index_from_cell_wide(5, 9, true, 4), u64::from(index_from_cell(5, 9, true, 4)));
+    /// ```
+    index_from_cell_wide,
+    u64,
+    prefix_xor: [1, 2, 4, 8, 16],
+    interleave: [
+        (16, 0x0000_ffff_0000_ffff),
+        (8, 0x00ff_00ff_00ff_00ff),
+        (4, 0x0f0f_0f0f_0f0f_0f0f),
+        (2, 0x3333_3333_3333_3333),
+        (1, 0x5555_5555_5555_5555)
+    ]
+);
 
 /// The reference's steps over the reals, for rational `(u, v)`.
 ///
@@ -188,19 +254,35 @@ fn interleave_16(x: u32) -> u32 {
 /// ```
 pub fn index_exact(u: &BigRational, v: &BigRational, level: Level) -> Result<u32, Error> {
     let level = level.at_most(MAX_LEVEL)?;
-    let scale = BigRational::from_integer((1u32 << level.get()).into());
+    let cell = cell_exact(u, v, level);
+    // level <= 16: cells are at most 2^16.
+    Ok(index_from_cell(
+        cell.iu as u32,
+        cell.iv as u32,
+        cell.diagonal,
+        level.get(),
+    ))
+}
+
+/// The reference's first half over the reals: clamp to `[0, 1]`, exact
+/// floor and fractions of `x * 2^level`, exact `uf + vf >= 1`.
+pub fn cell_exact(u: &BigRational, v: &BigRational, level: Level) -> Cell {
+    let scale = BigRational::from_integer(BigInt::one() << level.get());
     let quantize = |x: &BigRational| {
         let x = clamp_rational(x) * &scale;
         let cell = x.floor();
         let fraction = x - &cell;
-        // clamped to [0, 2^16]: always fits.
-        let cell = cell.to_integer().to_u32().unwrap_or(u32::MAX);
+        // clamped to [0, 2^32]: always fits.
+        let cell = cell.to_integer().to_u64().unwrap_or(u64::MAX);
         (cell, fraction)
     };
     let (iu, uf) = quantize(u);
     let (iv, vf) = quantize(v);
-    let diagonal = uf + vf >= BigRational::one();
-    Ok(index_from_cell(iu, iv, diagonal, level.get()))
+    Cell {
+        iu,
+        iv,
+        diagonal: uf + vf >= BigRational::one(),
+    }
 }
 
 fn clamp_rational(x: &BigRational) -> BigRational {
@@ -234,20 +316,79 @@ pub fn index_exact_dyadic(
     level: Level,
 ) -> Result<u32, Error> {
     let level = level.at_most(MAX_LEVEL)?;
-    let one = 1u64 << scale_log2.min(62);
+    let cell = cell_dyadic(u_scaled, v_scaled, scale_log2, level);
+    Ok(index_from_cell(
+        cell.iu as u32,
+        cell.iv as u32,
+        cell.diagonal,
+        level.get(),
+    ))
+}
+
+/// [`cell_exact`] for the dyadic point `(u_scaled, v_scaled) / 2^scale_log2`
+/// with integers only (`scale_log2 <= 62`; coordinates above 1 clamp to 1).
+///
+/// ```
+/// use micromap_index::{spec::{cell_dyadic, Cell}, Level};
+/// // (3/8, 5/8) at level 2: cell (1, 2), fractions 1/2 + 1/2 >= 1.
+/// assert_eq!(cell_dyadic(3, 5, 3, Level::new(2).unwrap()), Cell { iu: 1, iv: 2, diagonal: true });
+/// ```
+pub fn cell_dyadic(u_scaled: u64, v_scaled: u64, scale_log2: u32, level: Level) -> Cell {
+    let scale_log2 = scale_log2.min(62);
+    let one = 1u64 << scale_log2;
     let u = u_scaled.min(one);
     let v = v_scaled.min(one);
-    let (iu, uf, iv, vf, one_fraction) = if scale_log2 >= level.get() {
+    if scale_log2 >= level.get() {
         let shift = scale_log2 - level.get();
         let mask = (1u64 << shift) - 1;
-        (u >> shift, u & mask, v >> shift, v & mask, 1u64 << shift)
+        Cell {
+            iu: u >> shift,
+            iv: v >> shift,
+            diagonal: (u & mask) + (v & mask) > mask,
+        }
     } else {
-        // Coarser than the lattice: every point is on a lattice vertex.
+        // Coarser than the lattice: every such point is a lattice vertex.
         let shift = level.get() - scale_log2;
-        (u << shift, 0, v << shift, 0, 1)
-    };
-    let diagonal = uf + vf >= one_fraction;
-    Ok(index_from_cell(iu as u32, iv as u32, diagonal, level.get()))
+        Cell {
+            iu: u << shift,
+            iv: v << shift,
+            diagonal: false,
+        }
+    }
+}
+
+/// The reference's steps widened to 64 bits ([`index_from_cell_wide`]) in
+/// binary32: for every pair of `f32` and every level `0..=32`, the index the
+/// reference would compute with wide enough words. Equal to [`index_f32`]
+/// for levels `0..=16`.
+///
+/// ```
+/// use micromap_index::{fixed, spec, Level};
+/// assert_eq!(spec::index_wide_f32(0.3, 0.3, Level::new(2).unwrap()), 5);
+/// // At level 32 it agrees with the exact walk (away from binary32's
+/// // rounding window of `uf + vf`).
+/// let top = Level::new(32).unwrap();
+/// for (u, v) in [(1.0, 0.0), (0.0, 1.0), (0.1, 0.2), (0.0, 0.0)] {
+///     assert_eq!(spec::index_wide_f32(u, v, top), fixed::index_f32(u, v, top).unwrap());
+/// }
+/// ```
+pub fn index_wide_f32(u: f32, v: f32, level: Level) -> u64 {
+    let cell = cell_f32(u, v, level.get());
+    index_from_cell_wide(cell.iu, cell.iv, cell.diagonal, level.get())
+}
+
+/// The reference's steps over the reals, widened to 64 bits: levels `0..=32`.
+/// Equal to [`index_exact`] for levels `0..=16`.
+pub fn index_wide_exact(u: &BigRational, v: &BigRational, level: Level) -> u64 {
+    let cell = cell_exact(u, v, level);
+    index_from_cell_wide(cell.iu, cell.iv, cell.diagonal, level.get())
+}
+
+/// [`index_wide_exact`] for dyadic points, with integers only (see
+/// [`cell_dyadic`]).
+pub fn index_wide_dyadic(u_scaled: u64, v_scaled: u64, scale_log2: u32, level: Level) -> u64 {
+    let cell = cell_dyadic(u_scaled, v_scaled, scale_log2, level);
+    index_from_cell_wide(cell.iu, cell.iv, cell.diagonal, level.get())
 }
 
 /// Whether the reals `uf + vf` (exact) and the binary32 sum disagree about

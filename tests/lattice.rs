@@ -195,3 +195,78 @@ fn regression_diagonal_edge_eighth_five_eighths() {
 fn regression_vertex_quarter_half() {
     assert_eq!(both_versions(1, 2, 2, 2), (12, 12, 14));
 }
+
+#[test]
+fn wide_spec_equals_the_reference_up_to_level_16() {
+    for level in LEVELS {
+        let level = Level::new(level).unwrap();
+        for face in faces(level) {
+            let wide = spec::index_wide_dyadic(face.x, face.y, face.scale_log2(), level);
+            assert_eq!(wide, spec_exact(&face), "{}", describe(&face));
+        }
+    }
+}
+
+/// A small deterministic generator (splitmix64) for sampled faces.
+fn splitmix64(state: &mut u64) -> u64 {
+    *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    let mut z = *state;
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+/// A face of `level` drawn uniformly among cells, then among the six kinds
+/// anchored at the cell (kinds outside the triangle are redrawn).
+fn random_face(level: Level, state: &mut u64) -> (u64, u64) {
+    let cells = 1u64 << level.get();
+    loop {
+        let a = splitmix64(state) % (cells + 1);
+        let b = splitmix64(state) % (cells + 1);
+        let (dx, dy) =
+            [(0, 0), (2, 0), (0, 2), (2, 2), (1, 1), (3, 3)][(splitmix64(state) % 6) as usize];
+        let (x, y) = (4 * a + dx, 4 * b + dy);
+        if x + y <= 4 * cells {
+            return (x, y);
+        }
+    }
+}
+
+/// Above 16 the reference's words are too narrow; the 64-bit steps must
+/// still equal the exact walk. Every face is checked by `micromap-index
+/// prove --spec-wide`; here, 20,000 random faces per level 17..=32.
+#[test]
+fn wide_spec_equals_the_walk_on_random_faces_above_16() {
+    let mut state = 0x5eed;
+    for level in 17..=32 {
+        let level = Level::new(level).unwrap();
+        let scale_log2 = level.get() + 2;
+        for _ in 0..20_000 {
+            let (x, y) = random_face(level, &mut state);
+            let u = Fixed64::from_scaled(x as i64, scale_log2).unwrap();
+            let v = Fixed64::from_scaled(y as i64, scale_log2).unwrap();
+            assert_eq!(
+                spec::index_wide_dyadic(x, y, scale_log2, level),
+                uv2index::index(u, v, level),
+                "level {level} face ({x}, {y}) / 2^{scale_log2}"
+            );
+        }
+    }
+}
+
+/// The narrow reference really is wrong above 16 (the reason for the wide
+/// variant): on random faces at level 17 it disagrees with the walk.
+#[test]
+fn narrow_reference_fails_above_16() {
+    let mut state = 17;
+    let level = Level::new(17).unwrap();
+    let wrong = (0..1000)
+        .filter(|_| {
+            let (x, y) = random_face(level, &mut state);
+            let cell = spec::cell_dyadic(x, y, 19, level);
+            let narrow = spec::index_from_cell(cell.iu as u32, cell.iv as u32, cell.diagonal, 17);
+            u64::from(narrow) != spec::index_wide_dyadic(x, y, 19, level)
+        })
+        .count();
+    assert!(wrong > 100, "only {wrong} of 1000 level-17 faces differ");
+}
