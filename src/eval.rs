@@ -37,11 +37,14 @@ pub enum Variant {
     /// [`spec::index_wide_f32`]: the reference's steps in binary32 with
     /// 64-bit words, levels 0..=32.
     SpecWideF32,
+    /// [`fixed::index_mirror_f32_checked`]: the reference in binary32,
+    /// reproduced with integer operations only.
+    FixedMirror,
 }
 
 impl Variant {
     /// Every variant, in the order the CLI lists them.
-    pub const ALL: [Variant; 8] = [
+    pub const ALL: [Variant; 9] = [
         Variant::SpecF32,
         Variant::SpecExact,
         Variant::Uv2indexExact,
@@ -50,6 +53,7 @@ impl Variant {
         Variant::FixedExact,
         Variant::SpecWide,
         Variant::SpecWideF32,
+        Variant::FixedMirror,
     ];
 
     /// The variant's CLI name.
@@ -63,6 +67,7 @@ impl Variant {
             Variant::FixedExact => "fixed-exact",
             Variant::SpecWide => "spec-wide",
             Variant::SpecWideF32 => "spec-wide-f32",
+            Variant::FixedMirror => "fixed-mirror",
         }
     }
 
@@ -99,6 +104,11 @@ impl Variant {
             Variant::FixedExact => fixed::index_f64(u.to_f64()?, v.to_f64()?, level)?,
             Variant::SpecWide => spec::index_wide_exact(&u.to_exact()?, &v.to_exact()?, level),
             Variant::SpecWideF32 => spec::index_wide_f32(u.to_f32()?, v.to_f32()?, level),
+            Variant::FixedMirror => u64::from(fixed::index_mirror_f32_checked(
+                u.to_f32()?,
+                v.to_f32()?,
+                level,
+            )?),
         };
         Ok(index)
     }

@@ -28,6 +28,15 @@
 //! argument out. With `P = 60` ([`Fixed64`], binary32) and `P = 124`
 //! ([`Fixed128`], binary64) every level up to 32 is covered.
 //!
+//! # Mirroring the GPU
+//!
+//! [`index_mirror_f32`] is a different contract: not the exact answer but,
+//! bit for bit, what the Vulkan reference returns in binary32
+//! ([`spec::index_f32`](crate::spec::index_f32)) for every pair of `f32`,
+//! computed from the float bits with integer operations only. Each float
+//! operation of the reference is exact except the rounding of `uf + vf`,
+//! which becomes an exact comparison with `1 - 2^-25` (`docs/fixed.md`).
+//!
 //! ```
 //! use micromap_index::{fixed, uv2index, Level};
 //! let level = Level::new(24).unwrap();
@@ -162,22 +171,28 @@ fn sticky_scaled(x: f64, p: u32) -> i128 {
         significand,
         exponent,
     } = decode_f64(x);
+    // x <= 1 so the result is at most 2^p: fits.
+    sticky_round(significand, exponent, p) as i128
+}
+
+/// `significand * 2^exponent` (at most 1) as `2 * floor(value * 2^(p-1)) +
+/// sticky`, the sticky bit set when the floor dropped anything.
+fn sticky_round(significand: u64, exponent: i32, p: u32) -> u128 {
     let shift = exponent + (p as i32 - 1);
     let (kept, sticky) = if shift >= 0 {
-        // x <= 1 so significand * 2^shift <= 2^(p-1): no overflow.
-        (i128::from(significand) << shift, false)
+        (u128::from(significand) << shift, false)
     } else {
         let drop = shift.unsigned_abs();
         if drop >= 64 {
             (0, significand != 0)
         } else {
             (
-                i128::from(significand >> drop),
+                u128::from(significand >> drop),
                 significand & ((1u64 << drop) - 1) != 0,
             )
         }
     };
-    2 * kept + i128::from(sticky)
+    2 * kept + u128::from(sticky)
 }
 
 fn check_float_point(u: f64, v: f64) -> Result<(), Error> {
@@ -223,6 +238,15 @@ mod tests {
     use super::*;
 
     #[test]
+    fn mirror_fractions_are_exact_or_sticky() {
+        assert_eq!(mirror_cell_and_fraction(0.75, 1), (1, 1 << 31));
+        assert_eq!(mirror_cell_and_fraction(1.0, 3), (8, 0));
+        assert_eq!(mirror_cell_and_fraction(f32::INFINITY, 3), (8, 0));
+        assert_eq!(mirror_cell_and_fraction(-f32::NAN, 3), (0, 0));
+        assert_eq!(mirror_cell_and_fraction(f32::from_bits(1), 0), (0, 1));
+    }
+
+    #[test]
     fn sticky_marks_dropped_bits() {
         assert_eq!(sticky_scaled(0.5, 4), 8);
         assert_eq!(sticky_scaled(1.0, 4), 16);
@@ -230,4 +254,84 @@ mod tests {
         assert_eq!(sticky_scaled(f64::from_bits(1), 60), 1);
         assert_eq!(sticky_scaled(0.0, 60), 0);
     }
+}
+
+/// Fraction bits (with the sticky bit) the mirror keeps of `uf` and `vf`.
+/// `docs/fixed.md`: 27 suffice; 32 leave room.
+const MIRROR_FRACTION_BITS: u32 = 32;
+
+/// What the reference's `uf + vf >= 1.0f` becomes on exact fractions:
+/// binary32 round-to-nearest-even lifts every real sum in `[1 - 2^-25, 1)`
+/// to `1.0`, and no smaller one, so the test is `uf + vf >= 1 - 2^-25`.
+const MIRROR_DIAGONAL_THRESHOLD: u128 =
+    (1 << MIRROR_FRACTION_BITS) - (1 << (MIRROR_FRACTION_BITS - 25));
+
+/// The reference's first steps on one binary32 coordinate, on its bits:
+/// `clamp` (NaN and everything negative -> 0, everything from 1 up,
+/// +inf included -> 1), then `x * 2^level` split into the truncated cell and
+/// the fraction `fu - float(iu)` (both exact in binary32, so exact here) in
+/// sticky fixed point.
+fn mirror_cell_and_fraction(x: f32, level: u32) -> (u32, u128) {
+    let bits = x.to_bits();
+    let (significand, exponent): (u64, i32) = if bits >> 31 == 1 || bits > 0x7f80_0000 {
+        (0, 0) // negative (incl. -0, -inf, negative NaN) or positive NaN
+    } else if bits >= 0x3f80_0000 {
+        (1, 0) // >= 1.0, +inf included
+    } else {
+        let biased = (bits >> 23) as i32;
+        let fraction = u64::from(bits & 0x7f_ffff);
+        if biased == 0 {
+            (fraction, -149)
+        } else {
+            (fraction | 0x80_0000, biased - 150)
+        }
+    };
+    // x * 2^level = significand * 2^shift; below 2^31 + 1 for level <= 31.
+    let shift = exponent + level as i32;
+    if shift >= 0 {
+        ((significand << shift) as u32, 0)
+    } else {
+        let drop = shift.unsigned_abs();
+        let (cell, fraction) = if drop >= 64 {
+            (0, significand)
+        } else {
+            (significand >> drop, significand & ((1 << drop) - 1))
+        };
+        let fraction = sticky_round(fraction, shift, MIRROR_FRACTION_BITS);
+        (cell as u32, fraction)
+    }
+}
+
+/// The Vulkan reference in binary32, reproduced with integer operations
+/// only: for every pair of `f32` (NaN, ±0, ±inf, subnormals, outside the
+/// triangle) and every level, the same bits as
+/// [`spec::index_f32`](crate::spec::index_f32) — including the inputs where
+/// binary32 rounding of `uf + vf` makes the reference differ from its exact
+/// reading. Levels `>= 32` use `level % 32`, like the reference port.
+///
+/// ```
+/// use micromap_index::{fixed, spec};
+/// for (u, v) in [(0.3, 0.3), (f32::NAN, 2.0), (0.125, 0.125 - 2f32.powi(-27))] {
+///     assert_eq!(fixed::index_mirror_f32(u, v, 2), spec::index_f32(u, v, 2));
+/// }
+/// ```
+pub fn index_mirror_f32(u: f32, v: f32, level: u32) -> u32 {
+    let level = level % 32;
+    let (iu, uf) = mirror_cell_and_fraction(u, level);
+    let (iv, vf) = mirror_cell_and_fraction(v, level);
+    let diagonal = uf + vf >= MIRROR_DIAGONAL_THRESHOLD;
+    crate::spec::index_from_cell(iu, iv, diagonal, level)
+}
+
+/// [`index_mirror_f32`] for levels `0..=16` ([`Error::LevelTooHigh`] above,
+/// as [`spec::index_f32_checked`](crate::spec::index_f32_checked)).
+///
+/// ```
+/// use micromap_index::{fixed, Level};
+/// assert_eq!(fixed::index_mirror_f32_checked(0.3, 0.3, Level::new(2).unwrap()), Ok(5));
+/// assert!(fixed::index_mirror_f32_checked(0.3, 0.3, Level::new(17).unwrap()).is_err());
+/// ```
+pub fn index_mirror_f32_checked(u: f32, v: f32, level: Level) -> Result<u32, Error> {
+    let level = level.at_most(crate::spec::MAX_LEVEL)?;
+    Ok(index_mirror_f32(u, v, level.get()))
 }
