@@ -233,28 +233,6 @@ pub fn index_f64(u: f64, v: f64, level: Level) -> Result<u64, Error> {
     Ok(uv2index::index(to_fixed(u), to_fixed(v), level))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn mirror_fractions_are_exact_or_sticky() {
-        assert_eq!(mirror_cell_and_fraction(0.75, 1), (1, 1 << 31));
-        assert_eq!(mirror_cell_and_fraction(1.0, 3), (8, 0));
-        assert_eq!(mirror_cell_and_fraction(f32::INFINITY, 3), (8, 0));
-        assert_eq!(mirror_cell_and_fraction(-f32::NAN, 3), (0, 0));
-        assert_eq!(mirror_cell_and_fraction(f32::from_bits(1), 0), (0, 1));
-    }
-
-    #[test]
-    fn sticky_marks_dropped_bits() {
-        assert_eq!(sticky_scaled(0.5, 4), 8);
-        assert_eq!(sticky_scaled(1.0, 4), 16);
-        assert_eq!(sticky_scaled(0.5 + 2f64.powi(-20), 4), 9);
-        assert_eq!(sticky_scaled(f64::from_bits(1), 60), 1);
-        assert_eq!(sticky_scaled(0.0, 60), 0);
-    }
-}
 
 /// Fraction bits (with the sticky bit) the mirror keeps of `uf` and `vf`.
 /// `docs/fixed.md`: 27 suffice; 32 leave room.
@@ -334,4 +312,27 @@ pub fn index_mirror_f32(u: f32, v: f32, level: u32) -> u32 {
 pub fn index_mirror_f32_checked(u: f32, v: f32, level: Level) -> Result<u32, Error> {
     let level = level.at_most(crate::spec::MAX_LEVEL)?;
     Ok(index_mirror_f32(u, v, level.get()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mirror_fractions_are_exact_or_sticky() {
+        assert_eq!(mirror_cell_and_fraction(0.75, 1), (1, 1 << 31));
+        assert_eq!(mirror_cell_and_fraction(1.0, 3), (8, 0));
+        assert_eq!(mirror_cell_and_fraction(f32::INFINITY, 3), (8, 0));
+        assert_eq!(mirror_cell_and_fraction(-f32::NAN, 3), (0, 0));
+        assert_eq!(mirror_cell_and_fraction(f32::from_bits(1), 0), (0, 1));
+    }
+
+    #[test]
+    fn sticky_marks_dropped_bits() {
+        assert_eq!(sticky_scaled(0.5, 4), 8);
+        assert_eq!(sticky_scaled(1.0, 4), 16);
+        assert_eq!(sticky_scaled(0.5 + 2f64.powi(-20), 4), 9);
+        assert_eq!(sticky_scaled(f64::from_bits(1), 60), 1);
+        assert_eq!(sticky_scaled(0.0, 60), 0);
+    }
 }

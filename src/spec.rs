@@ -143,6 +143,7 @@ pub fn diagonal_decision_f32(uf: f32, vf: f32) -> bool {
 
 /// `x` clamped to `[0, 1]` as `min(max(x, 0), 1)` with IEEE maxNum/minNum:
 /// NaN → 0 (Rust's `f32::max` returns the non-NaN operand).
+#[allow(clippy::manual_clamp)] // `f32::clamp` keeps NaN; the reference must not
 fn clamp_unit(x: f32) -> f32 {
     x.max(0.0).min(1.0)
 }
