@@ -233,7 +233,6 @@ pub fn index_f64(u: f64, v: f64, level: Level) -> Result<u64, Error> {
     Ok(uv2index::index(to_fixed(u), to_fixed(v), level))
 }
 
-
 /// Fraction bits (with the sticky bit) the mirror keeps of `uf` and `vf`.
 /// `docs/fixed.md`: 27 suffice; 32 leave room.
 const MIRROR_FRACTION_BITS: u32 = 32;
