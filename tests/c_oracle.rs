@@ -1,4 +1,5 @@
-//! `spec::index_f32` against the Vulkan reference compiled from C
+//! `spec::index_f32` and `fixed::index_mirror_f32` (integers only) against
+//! the Vulkan reference compiled from C
 //! (`reference/c/spec_reference.c`, via the `micromap-index-c-reference`
 //! dev-dependency): bit-exact on structured edge cases, on pairs straddling
 //! the binary32 rounding window of the diagonal test, and on pseudo-random
@@ -7,6 +8,7 @@
 //! Every input is deterministic. Each test prints how many inputs it compared
 //! (to stderr, uncaptured, so the count shows in CI logs).
 
+use micromap_index::fixed::index_mirror_f32;
 use micromap_index::spec::{index_f32, rounding_flips_diagonal};
 use micromap_index_c_reference::spec_index;
 use std::io::Write;
@@ -189,13 +191,14 @@ impl Oracle {
     fn check(&mut self, u: f32, v: f32, level: u32) {
         self.compared += 1;
         let port = index_f32(u, v, level);
+        let mirror = index_mirror_f32(u, v, level);
         let reference = spec_index(u, v, level);
-        if port != reference {
+        if port != reference || mirror != reference {
             self.mismatches += 1;
             if self.first.len() < MAX_REPORTED {
                 self.first.push(format!(
                     "u = {:#010x} ({u:e}), v = {:#010x} ({v:e}), level = {level}: \
-                     Rust index_f32 = {port}, C reference = {reference}",
+                     Rust index_f32 = {port}, index_mirror_f32 = {mirror}, C reference = {reference}",
                     u.to_bits(),
                     v.to_bits(),
                 ));
