@@ -38,6 +38,7 @@
 pub mod eval;
 pub mod fixed;
 pub mod lattice;
+pub mod rational;
 pub mod spec;
 pub mod uv2index;
 pub mod value;

@@ -267,7 +267,34 @@ pub fn index_exact(u: &BigRational, v: &BigRational, level: Level) -> Result<u32
 
 /// The reference's first half over the reals: clamp to `[0, 1]`, exact
 /// floor and fractions of `x * 2^level`, exact `uf + vf >= 1`.
+///
+/// Runs on machine integers when both coordinates fit over a common
+/// denominator below `2^64` (see [`crate::rational`]), on [`BigRational`]
+/// otherwise; [`cell_exact_ref`] is the all-BigRational twin.
+///
+/// ```
+/// use micromap_index::{spec::{cell_exact, Cell}, Level};
+/// let r = |s: &str| s.parse().unwrap();
+/// // (1/3, 2/3) at level 1: cell (0, 1), fractions 2/3 + 1/3 >= 1.
+/// assert_eq!(cell_exact(&r("1/3"), &r("2/3"), Level::new(1).unwrap()), Cell { iu: 0, iv: 1, diagonal: true });
+/// ```
 pub fn cell_exact(u: &BigRational, v: &BigRational, level: Level) -> Cell {
+    let Some((u, v, denominator)) = crate::rational::over_common_denominator(u, v) else {
+        return cell_exact_ref(u, v, level);
+    };
+    let d = u128::from(denominator);
+    // Clamped numerators are at most d <= 2^64; times 2^32 fits u128.
+    let clamp = |a: i128| u128::try_from(a).unwrap_or(0).min(d) << level.get();
+    let (su, sv) = (clamp(u), clamp(v));
+    Cell {
+        iu: (su / d) as u64,
+        iv: (sv / d) as u64,
+        diagonal: su % d + sv % d >= d,
+    }
+}
+
+/// [`cell_exact`] computed entirely on [`BigRational`].
+pub fn cell_exact_ref(u: &BigRational, v: &BigRational, level: Level) -> Cell {
     let scale = BigRational::from_integer(BigInt::one() << level.get());
     let quantize = |x: &BigRational| {
         let x = clamp_rational(x) * &scale;

@@ -231,6 +231,11 @@ pub fn index_checked<T: WalkNumber>(u: T, v: T, level: Level) -> Result<u64, Err
 
 /// The walk over exact rationals: the paper's algorithm over the reals.
 ///
+/// Runs on machine integers ([`SmallRational`](crate::rational::SmallRational))
+/// when both coordinates fit over a common denominator below `2^64`, on
+/// [`BigRational`] otherwise; the result is the same ([`index_exact_ref`]
+/// is the all-BigRational twin the tests compare with).
+///
 /// ```
 /// use micromap_index::{uv2index, Level, Error, Outside};
 /// use num_rational::BigRational;
@@ -243,6 +248,32 @@ pub fn index_checked<T: WalkNumber>(u: T, v: T, level: Level) -> Result<u64, Err
 /// );
 /// ```
 pub fn index_exact(u: &BigRational, v: &BigRational, level: Level) -> Result<u64, Error> {
+    match crate::rational::over_common_denominator(u, v) {
+        Some((u, v, denominator)) => {
+            use crate::rational::SmallRational;
+            index_checked(
+                SmallRational::new(u, denominator),
+                SmallRational::new(v, denominator),
+                level,
+            )
+        }
+        None => index_exact_ref(u, v, level),
+    }
+}
+
+/// [`index_exact`] computed entirely on [`BigRational`]: the slow, obviously
+/// exact twin.
+///
+/// ```
+/// use micromap_index::{uv2index, Level};
+/// let r = |s: &str| s.parse().unwrap();
+/// let level = Level::new(9).unwrap();
+/// assert_eq!(
+///     uv2index::index_exact_ref(&r("1/3"), &r("1/7"), level),
+///     uv2index::index_exact(&r("1/3"), &r("1/7"), level)
+/// );
+/// ```
+pub fn index_exact_ref(u: &BigRational, v: &BigRational, level: Level) -> Result<u64, Error> {
     index_checked(u.clone(), v.clone(), level)
 }
 

@@ -292,3 +292,33 @@ fn regression_spec_f32_rounding_cases() {
         level: 2
     }));
 }
+
+/// Any rational, including negative ones, ones above 1 and denominators
+/// whose common multiple overflows 64 bits (to reach both code paths).
+fn any_rational() -> impl Strategy<Value = BigRational> {
+    prop_oneof![
+        coordinate(),
+        (-(1i64 << 40)..(1i64 << 40), 1i64..=1_000_000_000_007)
+            .prop_map(|(p, q)| BigRational::new(p.into(), q.into())),
+        (-3i64..=3, 1i64..=7).prop_map(|(p, q)| BigRational::new(p.into(), q.into())),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(3000))]
+
+    #[test]
+    fn fast_exact_paths_equal_their_bigrational_twins(
+        u in any_rational(), v in any_rational(), level in 0u32..=32,
+    ) {
+        let level = Level::new(level).unwrap();
+        prop_assert_eq!(spec::cell_exact(&u, &v, level), spec::cell_exact_ref(&u, &v, level),
+            "u = {}, v = {}, level {}", u, v, level);
+        prop_assert_eq!(uv2index::index_exact(&u, &v, level), uv2index::index_exact_ref(&u, &v, level),
+            "u = {}, v = {}, level {}", u, v, level);
+        let (fu, fv) = into_triangle(u.clone().clamp(BigRational::zero(), BigRational::one()),
+                                     v.clone().clamp(BigRational::zero(), BigRational::one()));
+        prop_assert_eq!(uv2index::index_exact(&fu, &fv, level), uv2index::index_exact_ref(&fu, &fv, level),
+            "u = {}, v = {}, level {}", fu, fv, level);
+    }
+}
