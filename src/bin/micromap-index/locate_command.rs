@@ -1,0 +1,130 @@
+//! `micromap-index locate --level L --index I`: one micro-triangle's exact
+//! vertices as a JSON line.
+//!
+//! Output: `{"level":L,"index":I,"upright":B,"vertices":[["p/q","p/q"],...]}`
+//! with the vertices as `(u, v)` pairs in the walk's local order (see
+//! `micromap_index::inverse`). Every coordinate is a reduced fraction written
+//! `"p/q"` even when it is an integer (`"0/1"`, `"1/1"`); `q` is a power of
+//! two. A command line of the wrong shape is a usage error (exit 2); a level
+//! or index that is not a number or out of range is an error (exit 1).
+
+use crate::usage_error;
+use micromap_index::inverse::{micro_triangle, MicroTriangle};
+use micromap_index::Level;
+use num_rational::BigRational;
+use serde::Serialize;
+use std::io::{self, Write};
+use std::num::IntErrorKind;
+use std::process::ExitCode;
+
+pub(crate) fn run(options: &[&str]) -> ExitCode {
+    let (level, index) = match level_and_index_options(options) {
+        Ok(texts) => texts,
+        Err(message) => return usage_error(&message),
+    };
+    match locate(level, index) {
+        Ok(triangle) => print_line(&triangle),
+        Err(message) => {
+            eprintln!("micromap-index: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// The texts of `--level` and `--index` (each once, as `--name VALUE` or
+/// `--name=VALUE`, in any order), and nothing else.
+fn level_and_index_options<'a>(options: &[&'a str]) -> Result<(&'a str, &'a str), String> {
+    let mut level = None;
+    let mut index = None;
+    let mut rest = options;
+    while let Some((&option, after)) = rest.split_first() {
+        let (name, inline_value) = match option.split_once('=') {
+            Some((name, value)) => (name, Some(value)),
+            None => (option, None),
+        };
+        let slot = match name {
+            "--level" => &mut level,
+            "--index" => &mut index,
+            _ => return Err(format!("locate: unknown option {option:?}")),
+        };
+        let (value, after) = match (inline_value, after.split_first()) {
+            (Some(value), _) => (value, after),
+            (None, Some((&value, after))) => (value, after),
+            (None, None) => return Err(format!("locate: {name} needs a value")),
+        };
+        if slot.replace(value).is_some() {
+            return Err(format!("locate: {name} given twice"));
+        }
+        rest = after;
+    }
+    match (level, index) {
+        (Some(level), Some(index)) => Ok((level, index)),
+        _ => Err("locate needs --level L and --index I".into()),
+    }
+}
+
+/// Parses and checks the values; the message says what is wrong.
+fn locate(level_text: &str, index_text: &str) -> Result<MicroTriangle, String> {
+    let too_high = || {
+        format!(
+            "level {level_text} is too high: levels are 0..={}",
+            Level::MAX
+        )
+    };
+    let level = whole_number("--level", level_text)?
+        .and_then(|level| u32::try_from(level).ok())
+        .ok_or_else(too_high)?;
+    let level = Level::new(level).map_err(|_| too_high())?;
+    match whole_number("--index", index_text)? {
+        Some(index) => micro_triangle(level, index).map_err(|error| error.to_string()),
+        // Above u64::MAX, so at least 4^32: out of range at every level.
+        None => Err(format!(
+            "index {index_text} is out of range for level {level}: valid indices are 0..={}",
+            level.micro_triangle_count() - 1
+        )),
+    }
+}
+
+/// `Some(n)` for a whole number that fits a `u64`, `None` for a larger one.
+fn whole_number(option: &str, text: &str) -> Result<Option<u64>, String> {
+    match text.parse::<u64>() {
+        Ok(number) => Ok(Some(number)),
+        Err(e) if *e.kind() == IntErrorKind::PosOverflow => Ok(None),
+        Err(_) => Err(format!("{option} {text:?} is not a whole number")),
+    }
+}
+
+/// The JSON line, fields in this order.
+#[derive(Serialize)]
+struct LocateLine {
+    level: u32,
+    index: u64,
+    upright: bool,
+    vertices: [[String; 2]; 3],
+}
+
+/// `"p/q"`: `BigRational` is always reduced, with zero as `0/1`.
+fn fraction(value: &BigRational) -> String {
+    format!("{}/{}", value.numer(), value.denom())
+}
+
+fn print_line(triangle: &MicroTriangle) -> ExitCode {
+    let line = LocateLine {
+        level: triangle.level().get(),
+        index: triangle.index(),
+        upright: triangle.upright(),
+        vertices: triangle
+            .vertices_rational()
+            .map(|(u, v)| [fraction(&u), fraction(&v)]),
+    };
+    let written = serde_json::to_string(&line)
+        .map_err(io::Error::from)
+        .and_then(|json| writeln!(io::stdout().lock(), "{json}"));
+    match written {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("micromap-index: writing stdout: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
