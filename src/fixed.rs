@@ -1,5 +1,7 @@
-//! Fixed-point instantiations of the [`uv2index`](crate::uv2index) walk:
-//! integers only, no allocation.
+//! Fixed-point instantiations of the [`uv2index`] walk:
+//! integers only, no allocation, no `std`: with `default-features = false`
+//! the crate is `no_std` and this module, the generic walk and the
+//! reference's float and dyadic steps are all that is built.
 //!
 //! [`Fixed64`] holds `x * 2^60` in an `i64`, [`Fixed128`] holds `x * 2^124`
 //! in an `i128`. The walk's steps on them are exact: the children's
@@ -54,7 +56,7 @@
 
 use crate::uv2index::{self, check_finite, check_signs, WalkNumber};
 use crate::{Error, Level};
-use std::cmp::Ordering;
+use core::cmp::Ordering;
 
 macro_rules! fixed_point_type {
     ($(#[$doc:meta])* $name:ident, $int:ty, $one_log2:expr) => {
@@ -201,7 +203,7 @@ fn check_float_point(u: f64, v: f64) -> Result<(), Error> {
 }
 
 /// The exact walk's index for a finite binary32 point, on [`Fixed64`]:
-/// equal to [`uv2index::index_exact`](crate::uv2index::index_exact) of the
+/// equal to [`uv2index::index_exact`] of the
 /// same real point for every level `0..=32`. NaN, infinities and points
 /// outside the closed triangle are errors.
 ///
@@ -219,7 +221,7 @@ pub fn index_f32(u: f32, v: f32, level: Level) -> Result<u64, Error> {
 }
 
 /// The exact walk's index for a finite binary64 point, on [`Fixed128`]:
-/// equal to [`uv2index::index_exact`](crate::uv2index::index_exact) of the
+/// equal to [`uv2index::index_exact`] of the
 /// same real point for every level `0..=32`.
 ///
 /// ```

@@ -20,6 +20,10 @@
 //! | [`uv2index::index_f32`], [`uv2index::index_f64`] | binary32 / binary64 | 0..=32 | the paper's walk evaluated left to right in that float type, as the talk's Python reads; *not* the exact answer near lattice lines (see `docs/float.md`) |
 //! | [`fixed::index_f32`], [`fixed::index_f64`] | integers | 0..=32 | the walk on fixed-point numbers; equal to [`uv2index::index_exact`] for every finite float |
 //! | [`uv2index::index_version1`] | any | 0..=32 | the talk's first walk (rotations, no flip flags): an oracle that shows why the flags exist |
+//! | [`inverse::micro_triangle`] | integers | 0..=32 | the inverse: index → the micro-triangle's vertices as exact dyadic numerators, replaying the walk's digits and flags; the walk maps every point inside it back to the index |
+//!
+//! [`prove`] checks the walk against the reference on every face of a
+//! level's lattice, which decides every real point (`docs/verification.md`).
 //!
 //! ```
 //! use micromap_index::{spec, uv2index, Level};
@@ -32,18 +36,31 @@
 //! ```
 //!
 //! [`BigRational`]: num_rational::BigRational
+#![cfg_attr(not(feature = "std"), no_std)]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+#[cfg(feature = "std")]
 pub mod eval;
 pub mod fixed;
+#[cfg(feature = "fuzzing")]
+pub mod fuzzing;
+#[cfg(feature = "std")]
+pub mod inverse;
+#[cfg(feature = "std")]
 pub mod lattice;
+#[cfg(feature = "std")]
+pub mod prove;
+#[cfg(feature = "std")]
 pub mod rational;
 pub mod spec;
 pub mod uv2index;
+#[cfg(feature = "std")]
 pub mod value;
+#[cfg(feature = "std")]
+pub mod vectors;
 
-use std::fmt;
+use core::fmt;
 
 /// A subdivision level: the micromap has `4^level` micro-triangles.
 ///
@@ -144,6 +161,13 @@ pub enum Error {
         /// `u + v > 1`).
         reason: Outside,
     },
+    /// The micro-triangle index is not below `4^level`.
+    IndexOutOfRange {
+        /// The index asked for.
+        index: u64,
+        /// The level it was asked for at.
+        level: u32,
+    },
 }
 
 /// Which side of the triangle a point is outside of.
@@ -173,8 +197,16 @@ impl fmt::Display for Error {
                 Outside::NegativeV => "point is outside the triangle: v < 0",
                 Outside::SumAboveOne => "point is outside the triangle: u + v > 1",
             }),
+            Error::IndexOutOfRange { index, level } => {
+                write!(f, "index {index} is out of range for level {level}")?;
+                // 4^level overflows u128 only for levels no function accepts.
+                match 1u128.checked_shl(level.saturating_mul(2)) {
+                    Some(count) => write!(f, ": valid indices are 0..={}", count - 1),
+                    None => Ok(()),
+                }
+            }
         }
     }
 }
 
-impl std::error::Error for Error {}
+impl core::error::Error for Error {}

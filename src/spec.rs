@@ -11,8 +11,10 @@
 //! * [`index_f32`] returns, for **every** pair of `f32` values (NaN, ±0, ±inf,
 //!   subnormals, values outside `[0, 1]`, `u + v > 1`) and every level, the
 //!   bits the reference returns when its float operations are IEEE binary32
-//!   with round-to-nearest-even, `clamp` is `min(max(x, 0), 1)` with IEEE
-//!   maxNum/minNum (so NaN becomes 0), the float-to-integer conversion
+//!   with round-to-nearest-even, `clamp` is `min(max(x, 0), 1)` where `max`
+//!   and `min` return the non-NaN operand for every NaN, quiet or signalling
+//!   (GPU max/min, SPIR-V `NMax`/`NMin`, IEEE 754-2019 `maximumNumber`), so
+//!   every NaN becomes 0, the float-to-integer conversion
 //!   truncates and all `uint32_t` arithmetic wraps. Levels `>= 32`, for which
 //!   C's `1u << level` is undefined, use the shift count modulo 32 as x86,
 //!   ARM and SPIR-V hardware do. The reference only computes *valid* indices
@@ -52,8 +54,11 @@
 //! ```
 
 use crate::{Error, Level};
+#[cfg(feature = "std")]
 use num_bigint::BigInt;
+#[cfg(feature = "std")]
 use num_rational::BigRational;
+#[cfg(feature = "std")]
 use num_traits::{One, ToPrimitive, Zero};
 
 /// The highest level for which the reference computes valid indices.
@@ -141,8 +146,11 @@ pub fn diagonal_decision_f32(uf: f32, vf: f32) -> bool {
     uf + vf >= 1.0
 }
 
-/// `x` clamped to `[0, 1]` as `min(max(x, 0), 1)` with IEEE maxNum/minNum:
-/// NaN → 0 (Rust's `f32::max` returns the non-NaN operand).
+/// `x` clamped to `[0, 1]` as `min(max(x, 0), 1)`, every NaN → 0: Rust's
+/// `f32::max` returns the non-NaN operand even for a signalling NaN, like GPU
+/// max/min. (C's `fmaxf` under IEEE 754-2008 `maxNum` returns NaN for a
+/// signalling NaN, so a libm-based C build would map it to 1 instead; the C
+/// oracle in `reference/` clamps with comparisons for that reason.)
 #[allow(clippy::manual_clamp)] // `f32::clamp` keeps NaN; the reference must not
 fn clamp_unit(x: f32) -> f32 {
     x.max(0.0).min(1.0)
@@ -237,6 +245,7 @@ integer_half!(
     ]
 );
 
+#[cfg(feature = "std")]
 /// The reference's steps over the reals, for rational `(u, v)`.
 ///
 /// Each coordinate is clamped to `[0, 1]`, then `iu = floor(u * 2^level)`,
@@ -265,6 +274,7 @@ pub fn index_exact(u: &BigRational, v: &BigRational, level: Level) -> Result<u32
     ))
 }
 
+#[cfg(feature = "std")]
 /// The reference's first half over the reals: clamp to `[0, 1]`, exact
 /// floor and fractions of `x * 2^level`, exact `uf + vf >= 1`.
 ///
@@ -293,6 +303,7 @@ pub fn cell_exact(u: &BigRational, v: &BigRational, level: Level) -> Cell {
     }
 }
 
+#[cfg(feature = "std")]
 /// [`cell_exact`] computed entirely on [`BigRational`].
 pub fn cell_exact_ref(u: &BigRational, v: &BigRational, level: Level) -> Cell {
     let scale = BigRational::from_integer(BigInt::one() << level.get());
@@ -313,6 +324,7 @@ pub fn cell_exact_ref(u: &BigRational, v: &BigRational, level: Level) -> Cell {
     }
 }
 
+#[cfg(feature = "std")]
 fn clamp_rational(x: &BigRational) -> BigRational {
     if *x < BigRational::zero() {
         BigRational::zero()
@@ -405,6 +417,7 @@ pub fn index_wide_f32(u: f32, v: f32, level: Level) -> u64 {
     index_from_cell_wide(cell.iu, cell.iv, cell.diagonal, level.get())
 }
 
+#[cfg(feature = "std")]
 /// The reference's steps over the reals, widened to 64 bits: levels `0..=32`.
 /// Equal to [`index_exact`] for levels `0..=16`.
 pub fn index_wide_exact(u: &BigRational, v: &BigRational, level: Level) -> u64 {

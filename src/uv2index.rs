@@ -39,9 +39,11 @@
 //! ```
 
 use crate::{Coordinate, Error, Level, Outside};
+use core::cmp::Ordering;
+#[cfg(feature = "std")]
 use num_rational::BigRational;
+#[cfg(feature = "std")]
 use num_traits::{One, Zero};
-use std::cmp::Ordering;
 
 /// The arithmetic one walk step needs. Implement it for a number type and
 /// the whole walk (and everything built on it) works on that type.
@@ -229,6 +231,7 @@ pub fn index_checked<T: WalkNumber>(u: T, v: T, level: Level) -> Result<u64, Err
     Ok(index(u, v, level))
 }
 
+#[cfg(feature = "std")]
 /// The walk over exact rationals: the paper's algorithm over the reals.
 ///
 /// Runs on machine integers ([`SmallRational`](crate::rational::SmallRational))
@@ -261,6 +264,7 @@ pub fn index_exact(u: &BigRational, v: &BigRational, level: Level) -> Result<u64
     }
 }
 
+#[cfg(feature = "std")]
 /// [`index_exact`] computed entirely on [`BigRational`]: the slow, obviously
 /// exact twin.
 ///
@@ -395,6 +399,7 @@ fn sum_above_one_f64(u: f64, v: f64) -> bool {
     sum > 1.0 || (sum == 1.0 && error > 0.0)
 }
 
+#[cfg(feature = "std")]
 impl WalkNumber for BigRational {
     fn one_minus_sum(u: &Self, v: &Self) -> Self {
         BigRational::one() - (u + v)

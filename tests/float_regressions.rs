@@ -20,7 +20,12 @@ fn exact_f32(u: u32, v: u32, level: u32) -> u64 {
 }
 
 fn float_f32(u: u32, v: u32, level: u32) -> u64 {
-    uv2index::index_f32(f32::from_bits(u), f32::from_bits(v), Level::new(level).unwrap()).unwrap()
+    uv2index::index_f32(
+        f32::from_bits(u),
+        f32::from_bits(v),
+        Level::new(level).unwrap(),
+    )
+    .unwrap()
 }
 
 fn exact_f64(u: u64, v: u64, level: u32) -> u64 {
@@ -37,7 +42,12 @@ fn exact_f64(u: u64, v: u64, level: u32) -> u64 {
 }
 
 fn float_f64(u: u64, v: u64, level: u32) -> u64 {
-    uv2index::index_f64(f64::from_bits(u), f64::from_bits(v), Level::new(level).unwrap()).unwrap()
+    uv2index::index_f64(
+        f64::from_bits(u),
+        f64::from_bits(v),
+        Level::new(level).unwrap(),
+    )
+    .unwrap()
 }
 
 #[test]

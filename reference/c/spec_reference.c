@@ -9,8 +9,12 @@
  * function is static, so the wrapper at the end is the only way in.
  * Two things the specification leaves to its reader are fixed here:
  *
- *  - `clamp` is fminf(fmaxf(x, lo), hi): IEEE maxNum/minNum return the
- *    non-NaN operand, so NaN clamps to 0, as GPU max/min instructions do.
+ *  - `clamp(x, lo, hi)` is min(max(x, lo), hi) where max and min return the
+ *    non-NaN operand for *every* NaN, quiet or signalling, as GPU max/min
+ *    (SPIR-V NMax/NMin) and IEEE 754-2019 maximumNumber/minimumNumber do: NaN
+ *    clamps to 0. It is written with comparisons rather than fmaxf/fminf
+ *    because libm's fmaxf follows IEEE 754-2008 maxNum, which returns NaN for
+ *    a *signalling* NaN operand (glibc does), and the final fminf then gives 1.
  *  - `1u << level` is undefined behaviour in C for level >= 32; the exported
  *    wrapper passes level % 32 (what x86, ARM and SPIR-V hardware shift by).
  *
@@ -19,7 +23,6 @@
  * flags for that, and the checks below reject excess precision and fast math.
  */
 #include <float.h>
-#include <math.h>
 #include <stdint.h>
 
 #include "spec_reference.h"
@@ -29,7 +32,7 @@
 #error "spec_reference.c needs float expressions evaluated in binary32 (FLT_EVAL_METHOD == 0)"
 #endif
 
-/* Fast math may drop the NaN handling of fmaxf/fminf and reassociate; CFLAGS
+/* Fast math may drop the NaN handling of the clamp and reassociate; CFLAGS
    from the environment come after the build script's -fno-fast-math. */
 #if defined(__FAST_MATH__) || (defined(__FINITE_MATH_ONLY__) && __FINITE_MATH_ONLY__)
 #error "spec_reference.c must not be compiled with fast or finite-only math"
@@ -37,7 +40,9 @@
 
 static float clamp(float x, float lo, float hi)
 {
-    return fminf(fmaxf(x, lo), hi);
+    /* A NaN fails both comparisons and so becomes lo, then stays lo. */
+    float at_least_lo = (x > lo) ? x : lo;
+    return (at_least_lo < hi) ? at_least_lo : hi;
 }
 
 static uint32_t BarycentricsToSpaceFillingCurveIndex(float u, float v, uint32_t level)
