@@ -9,26 +9,20 @@
 //! cargo run --release --example float_study -- [SAMPLES_PER_CELL] [SEED]
 //! ```
 
+use micromap_index::rng::SplitMix64;
 use micromap_index::{fixed, uv2index, Level};
 use num_rational::BigRational;
 
-/// splitmix64: small, deterministic, good enough to spread samples.
-struct Rng(u64);
+/// Sampling on the crate's SplitMix64 stream.
+struct Rng(SplitMix64);
 
 impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
     fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
+        self.0.below(n)
     }
     /// A real in [0, 1) with 53 random bits.
     fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+        (self.0.next_u64() >> 11) as f64 / (1u64 << 53) as f64
     }
 }
 
@@ -175,7 +169,7 @@ struct Counterexample {
 }
 
 fn study<F: Float>(samples: u64, seed: u64, levels: &[u32]) -> Vec<Counterexample> {
-    let mut rng = Rng(seed);
+    let mut rng = Rng(SplitMix64::new(seed));
     let mut examples = Vec::new();
     println!(
         "\n### uv2index-{} vs exact, {samples} samples per cell\n",

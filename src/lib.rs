@@ -53,6 +53,7 @@ pub mod lattice;
 pub mod prove;
 #[cfg(feature = "std")]
 pub mod rational;
+pub mod rng;
 pub mod spec;
 pub mod uv2index;
 #[cfg(feature = "std")]

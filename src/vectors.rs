@@ -43,6 +43,7 @@
 
 use crate::eval::Variant;
 use crate::lattice::FaceKind;
+use crate::rng::SplitMix64;
 use crate::uv2index::{self, WalkNumber};
 use crate::value::Value;
 use crate::{spec, Level};
@@ -429,34 +430,21 @@ struct Candidate {
     tags: Vec<&'static str>,
 }
 
-/// SplitMix64: a tiny, well-known generator, so the files depend on no
-/// crate's random-number algorithm.
-struct SplitMix64(u64);
+/// The stream for one level and case class (the crate-wide SplitMix64, so
+/// the files depend on no crate's random-number algorithm).
+fn class_rng(level: u32, class: u64) -> SplitMix64 {
+    SplitMix64::new(SEED ^ (u64::from(level) << 32) ^ class)
+}
 
-impl SplitMix64 {
-    fn new(level: u32, class: u64) -> Self {
-        SplitMix64(SEED ^ (u64::from(level) << 32) ^ class)
-    }
-
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `0..=max`.
-    fn up_to(&mut self, max: u64) -> u64 {
-        match max.checked_add(1) {
-            Some(count) => self.next() % count,
-            None => self.next(),
-        }
-    }
-
+/// Sampling helpers the generators share.
+trait Sampling {
     /// Uniform multiple of `2^-24` in `[0, 1)`: exactly a binary32 value.
+    fn unit_f32(&mut self) -> f32;
+}
+
+impl Sampling for SplitMix64 {
     fn unit_f32(&mut self) -> f32 {
-        (self.next() >> 40) as f32 / (1u32 << 24) as f32
+        (self.next_u64() >> 40) as f32 / (1u32 << 24) as f32
     }
 }
 
@@ -534,7 +522,7 @@ pub fn sampled_anchors(level: u32) -> Vec<(u64, u64)> {
         ] {
             anchors.insert((b, a));
         }
-        let mut rng = SplitMix64::new(level, 1);
+        let mut rng = class_rng(level, 1);
         for _ in 0..RANDOM_ANCHORS_PER_LEVEL {
             let b = rng.up_to(cells - 1);
             let a = rng.up_to(cells - 1 - b);
@@ -700,7 +688,7 @@ fn rounding_window_candidates(level: u32, out: &mut Vec<Candidate>) {
 /// negatives, values above one, `-0` and `u + v > 1`, each paired with a
 /// seeded ordinary coordinate on either side.
 fn clamping_candidates(level: u32, out: &mut Vec<Candidate>) {
-    let mut rng = SplitMix64::new(level, 2);
+    let mut rng = class_rng(level, 2);
     let partner = rng.unit_f32();
     let specials = [
         f32::from_bits(0x7fc0_0000), // quiet NaN
@@ -765,7 +753,7 @@ fn subnormal_candidates(level: u32, out: &mut Vec<Candidate>) {
 
 /// Seeded uniform points of the triangle (multiples of `2^-24`).
 fn random_candidates(level: u32, out: &mut Vec<Candidate>) {
-    let mut rng = SplitMix64::new(level, 3);
+    let mut rng = class_rng(level, 3);
     for _ in 0..RANDOM_POINTS_PER_LEVEL {
         let (mut u, mut v) = (rng.unit_f32(), rng.unit_f32());
         if f64::from(u) + f64::from(v) > 1.0 {

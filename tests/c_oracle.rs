@@ -9,6 +9,7 @@
 //! (to stderr, uncaptured, so the count shows in CI logs).
 
 use micromap_index::fixed::index_mirror_f32;
+use micromap_index::rng::SplitMix64;
 use micromap_index::spec::{index_f32, rounding_flips_diagonal};
 use micromap_index_c_reference::spec_index;
 use std::io::Write;
@@ -138,22 +139,17 @@ fn quantize(x: f32, level: u32) -> (u32, f32) {
     (cell, scaled - cell as f32)
 }
 
-/// splitmix64: a small, fixed-seed generator so every run checks the same inputs.
-struct SplitMix64(u64);
+/// Drawing helpers on the crate's fixed-seed SplitMix64, so every run checks
+/// the same inputs.
+trait Draw {
+    fn coordinate(&mut self) -> f32;
+}
 
-impl SplitMix64 {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
+impl Draw for SplitMix64 {
     /// One coordinate, drawn from a mix of distributions so that both the
     /// whole `f32` space and the interesting part of it get samples.
     fn coordinate(&mut self) -> f32 {
-        let r = self.next();
+        let r = self.next_u64();
         let low = r as u32;
         match r >> 61 {
             // Any bit pattern: NaNs, infinities, subnormals, negatives, huge.
@@ -286,12 +282,12 @@ fn edge_value_pairs_at_levels_past_31() {
 /// complement of `uf` in a chosen row and moved up to 4 ulps either way.
 #[test]
 fn pairs_around_the_diagonal_rounding_window() {
-    let mut rng = SplitMix64(0x0d1a_6011_a1d0_2024);
+    let mut rng = SplitMix64::new(0x0d1a_6011_a1d0_2024);
     let mut us: Vec<f32> = edge_values()
         .into_iter()
         .filter(|x| (0.0..=1.0).contains(x))
         .collect();
-    us.extend((0..2000).map(|_| (rng.next() >> 40) as f32 / 16_777_216.0));
+    us.extend((0..2000).map(|_| (rng.next_u64() >> 40) as f32 / 16_777_216.0));
 
     let mut oracle = Oracle::new("diagonal window");
     let mut flipped = 0u64;
@@ -335,7 +331,7 @@ fn pairs_around_the_diagonal_rounding_window() {
 #[test]
 fn pseudo_random_pairs_at_every_level() {
     const PAIRS: u32 = 1_000_000;
-    let mut rng = SplitMix64(0x5eed_0000_c0de_0001);
+    let mut rng = SplitMix64::new(0x5eed_0000_c0de_0001);
     let mut oracle = Oracle::new("pseudo-random");
     for _ in 0..PAIRS {
         let u = rng.coordinate();

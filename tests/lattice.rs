@@ -7,6 +7,7 @@
 
 use micromap_index::fixed::{self, Fixed64};
 use micromap_index::lattice::{face_count, faces, Face, FaceKind};
+use micromap_index::rng::SplitMix64;
 use micromap_index::{spec, uv2index, Level};
 use std::collections::BTreeMap;
 
@@ -207,24 +208,14 @@ fn wide_spec_equals_the_reference_up_to_level_16() {
     }
 }
 
-/// A small deterministic generator (splitmix64) for sampled faces.
-fn splitmix64(state: &mut u64) -> u64 {
-    *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
 /// A face of `level` drawn uniformly among cells, then among the six kinds
 /// anchored at the cell (kinds outside the triangle are redrawn).
-fn random_face(level: Level, state: &mut u64) -> (u64, u64) {
+fn random_face(level: Level, rng: &mut SplitMix64) -> (u64, u64) {
     let cells = 1u64 << level.get();
     loop {
-        let a = splitmix64(state) % (cells + 1);
-        let b = splitmix64(state) % (cells + 1);
-        let (dx, dy) =
-            [(0, 0), (2, 0), (0, 2), (2, 2), (1, 1), (3, 3)][(splitmix64(state) % 6) as usize];
+        let a = rng.below(cells + 1);
+        let b = rng.below(cells + 1);
+        let (dx, dy) = [(0, 0), (2, 0), (0, 2), (2, 2), (1, 1), (3, 3)][rng.below(6) as usize];
         let (x, y) = (4 * a + dx, 4 * b + dy);
         if x + y <= 4 * cells {
             return (x, y);
@@ -237,12 +228,12 @@ fn random_face(level: Level, state: &mut u64) -> (u64, u64) {
 /// prove --spec-wide`; here, 20,000 random faces per level 17..=32.
 #[test]
 fn wide_spec_equals_the_walk_on_random_faces_above_16() {
-    let mut state = 0x5eed;
+    let mut rng = SplitMix64::new(0x5eed);
     for level in 17..=32 {
         let level = Level::new(level).unwrap();
         let scale_log2 = level.get() + 2;
         for _ in 0..20_000 {
-            let (x, y) = random_face(level, &mut state);
+            let (x, y) = random_face(level, &mut rng);
             let u = Fixed64::from_scaled(x as i64, scale_log2).unwrap();
             let v = Fixed64::from_scaled(y as i64, scale_log2).unwrap();
             assert_eq!(
@@ -258,11 +249,11 @@ fn wide_spec_equals_the_walk_on_random_faces_above_16() {
 /// variant): on random faces at level 17 it disagrees with the walk.
 #[test]
 fn narrow_reference_fails_above_16() {
-    let mut state = 17;
+    let mut rng = SplitMix64::new(17);
     let level = Level::new(17).unwrap();
     let wrong = (0..1000)
         .filter(|_| {
-            let (x, y) = random_face(level, &mut state);
+            let (x, y) = random_face(level, &mut rng);
             let cell = spec::cell_dyadic(x, y, 19, level);
             let narrow = spec::index_from_cell(cell.iu as u32, cell.iv as u32, cell.diagonal, 17);
             u64::from(narrow) != spec::index_wide_dyadic(x, y, 19, level)

@@ -3,6 +3,7 @@
 //! sensitive class of inputs, and (opt-in, `MICROMAP_EXHAUSTIVE=1`) on every
 //! f32 in [0, 1] for u against a fixed set of v partners.
 
+use micromap_index::rng::SplitMix64;
 use micromap_index::{fixed, spec};
 
 fn assert_same(u: f32, v: f32, level: u32) {
@@ -17,18 +18,6 @@ fn assert_same(u: f32, v: f32, level: u32) {
         u.to_bits(),
         v.to_bits()
     );
-}
-
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
 }
 
 /// The f32 values where something changes: NaNs, zeros, infinities,
@@ -87,16 +76,20 @@ fn mirror_matches_spec_on_every_structured_pair() {
 /// place binary32 rounding decides (`uf + vf` in `[1 - 2^-25, 1)`).
 #[test]
 fn mirror_matches_spec_in_the_rounding_window() {
-    let mut rng = SplitMix64(25);
+    let mut rng = SplitMix64::new(25);
     let mut in_window = 0u32;
     for _ in 0..400_000 {
-        let level = (rng.next() % 17) as u32;
+        let level = (rng.next_u64() % 17) as u32;
         let cells = (1u64 << level) as f32;
-        let uf = f32::from_bits(0x3f00_0000 + (rng.next() % 0x80_0000) as u32);
-        let vf = f32::from_bits((1.0 - uf).to_bits().saturating_sub((rng.next() % 6) as u32));
+        let uf = f32::from_bits(0x3f00_0000 + (rng.next_u64() % 0x80_0000) as u32);
+        let vf = f32::from_bits(
+            (1.0 - uf)
+                .to_bits()
+                .saturating_sub((rng.next_u64() % 6) as u32),
+        );
         let cell = |r: u64| (r % (1u64 << level)) as f32 * (r & 1) as f32;
-        let u = (cell(rng.next()) + uf) / cells;
-        let v = (cell(rng.next()) + vf) / cells;
+        let u = (cell(rng.next_u64()) + uf) / cells;
+        let v = (cell(rng.next_u64()) + vf) / cells;
         let exact_sum = f64::from((u * cells).fract()) + f64::from((v * cells).fract());
         if (1.0 - 2f64.powi(-25)..1.0).contains(&exact_sum) {
             in_window += 1;
@@ -109,9 +102,9 @@ fn mirror_matches_spec_in_the_rounding_window() {
 
 #[test]
 fn mirror_matches_spec_on_random_pairs() {
-    let mut rng = SplitMix64(0x6d69_7272_6f72);
+    let mut rng = SplitMix64::new(0x6d69_7272_6f72);
     for i in 0..3_000_000u32 {
-        let r = rng.next();
+        let r = rng.next_u64();
         let (u, v) = if i % 2 == 0 {
             (f32::from_bits(r as u32), f32::from_bits((r >> 32) as u32))
         } else {
