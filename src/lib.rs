@@ -14,13 +14,21 @@
 //!
 //! | module / function | number type | levels | what "exact" means |
 //! |---|---|---|---|
-//! | [`spec::index_f32`] | IEEE binary32 | 0..=16 | bit-for-bit the Vulkan reference on a GPU, for every pair of `f32` including NaN, ±inf, subnormals and points outside the triangle |
-//! | [`spec::index_exact`] | [`BigRational`] | 0..=16 | the reference's steps over the reals: exact floor, fractions and `uf + vf >= 1` |
-//! | [`uv2index::index_exact`] | [`BigRational`] | 0..=32 | the paper's walk (Algorithm 4) over the reals |
+//! | [`spec::index_f32`] | IEEE binary32 | 0..=16 | bit-for-bit the Vulkan reference on a GPU, for every pair of `f32` including NaN, ±inf, subnormals and points outside the triangle (checked against the C reference) |
+//! | [`fixed::index_mirror_f32`] | integers | 0..=16 | the same bits as [`spec::index_f32`] for every pair of `f32`, with integer operations only |
+//! | [`spec::index_exact`] | exact rationals | 0..=16 | the reference's steps over the reals: exact floor, fractions and `uf + vf >= 1`; differs from binary32 only where `uf + vf` is in `[1 - 2^-25, 1)` |
+//! | [`spec::index_wide_exact`], [`spec::index_wide_f32`] | exact / binary32 | 0..=32 | the reference widened to 64-bit words (the original is wrong above 16) |
+//! | [`uv2index::index_exact`] | exact rationals | 0..=32 | the paper's walk (Algorithm 4) over the reals; equal to the reference at every real point of levels 0..=16 ([`prove`]) |
 //! | [`uv2index::index_f32`], [`uv2index::index_f64`] | binary32 / binary64 | 0..=32 | the paper's walk evaluated left to right in that float type, as the talk's Python reads; *not* the exact answer near lattice lines (see `docs/float.md`) |
 //! | [`fixed::index_f32`], [`fixed::index_f64`] | integers | 0..=32 | the walk on fixed-point numbers; equal to [`uv2index::index_exact`] for every finite float |
 //! | [`uv2index::index_version1`] | any | 0..=32 | the talk's first walk (rotations, no flip flags): an oracle that shows why the flags exist |
 //! | [`inverse::micro_triangle`] | integers | 0..=32 | the inverse: index → the micro-triangle's vertices as exact dyadic numerators, replaying the walk's digits and flags; the walk maps every point inside it back to the index |
+//!
+//! Exact functions run on machine integers when the inputs allow
+//! ([`rational`]) and keep all-[`BigRational`] `*_ref` twins for the tests.
+//! Without the default `std` feature the crate is `no_std` and builds the
+//! integer core only: [`spec`]'s float and dyadic steps, the generic walk in
+//! [`uv2index`], and [`fixed`].
 //!
 //! [`prove`] checks the walk against the reference on every face of a
 //! level's lattice, which decides every real point (`docs/verification.md`).
