@@ -53,6 +53,7 @@
 
 use crate::fixed::Fixed64;
 use crate::lattice::{self, Face, FaceKind};
+use crate::rng::SplitMix64;
 use crate::uv2index::{self, Walk};
 use crate::{spec, Error, Level};
 use std::fmt;
@@ -1301,16 +1302,6 @@ fn merge(
 // ---------------------------------------------------------------------------
 // Random faces, for levels too large to enumerate.
 
-/// splitmix64: a small, well-mixed generator; each unit of samples gets its
-/// own stream so results do not depend on the thread count.
-fn splitmix64(state: &mut u64) -> u64 {
-    *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
 /// Uniform integers in `0..bound` (`bound > 0`) without modulo bias
 /// (Lemire's multiply-and-reject); the rejection threshold costs a
 /// division, so it is computed once.
@@ -1328,9 +1319,9 @@ impl Below {
         }
     }
 
-    fn draw(self, state: &mut u64) -> u64 {
+    fn draw(self, rng: &mut SplitMix64) -> u64 {
         loop {
-            let product = u128::from(splitmix64(state)) * u128::from(self.bound);
+            let product = u128::from(rng.next_u64()) * u128::from(self.bound);
             if (product as u64) >= self.threshold {
                 return (product >> 64) as u64;
             }
@@ -1366,12 +1357,12 @@ impl FaceSampler {
         }
     }
 
-    fn draw(&self, state: &mut u64) -> Face {
+    fn draw(&self, rng: &mut SplitMix64) -> Face {
         let limit = 4 << self.level.get();
         loop {
-            let a = self.anchor.draw(state);
-            let b = self.anchor.draw(state);
-            let (dx, dy, kind) = Self::ANCHORED[self.kind.draw(state) as usize];
+            let a = self.anchor.draw(rng);
+            let b = self.anchor.draw(rng);
+            let (dx, dy, kind) = Self::ANCHORED[self.kind.draw(rng) as usize];
             let (x, y) = (4 * a + dx, 4 * b + dy);
             if x + y <= limit {
                 return Face {
@@ -1416,11 +1407,13 @@ pub fn sample_level(
     let finished = run_units(units, thread_count(settings), progress, |i| {
         let first = i * SAMPLES_PER_UNIT;
         let count = SAMPLES_PER_UNIT.min(samples - first);
-        let mut state = seed ^ i.wrapping_mul(0xd1b5_4a32_d192_ed03);
-        splitmix64(&mut state);
+        // Each unit has its own stream, so results do not depend on the
+        // thread count.
+        let mut rng = SplitMix64::new(seed ^ i.wrapping_mul(0xd1b5_4a32_d192_ed03));
+        rng.next_u64();
         let mut tally = Tally::default();
         for _ in 0..count {
-            let face = sampler.draw(&mut state);
+            let face = sampler.draw(&mut rng);
             let (u, v) = face.to_fixed64();
             let by_walk = walk.index(u, v, level);
             let by_reference = reference.index(face.x, face.y, level);
@@ -1504,12 +1497,12 @@ mod tests {
 
     #[test]
     fn random_faces_are_faces() {
-        let mut state = 1;
+        let mut rng = SplitMix64::new(1);
         for level in [0, 1, 5, 32] {
             let level = Level::new(level).unwrap();
             let sampler = FaceSampler::new(level);
             for _ in 0..1000 {
-                let face = sampler.draw(&mut state);
+                let face = sampler.draw(&mut rng);
                 assert!(face.x + face.y <= 4 << level.get());
                 assert_eq!(kind_of(face.x, face.y), face.kind);
             }
