@@ -166,13 +166,18 @@ struct InputLine {
 /// the output line (without newline): `{"index": N}` or `{"error": "..."}`.
 /// Never panics; every problem becomes an error line.
 pub fn eval_line(variant: Variant, line: &str) -> String {
-    let result = serde_json::from_str::<InputLine>(line)
-        .map_err(|e| EvalError::Malformed(e.to_string()))
-        .and_then(|input| {
-            let u = Value::parse(&input.u)?;
-            let v = Value::parse(&input.v)?;
-            variant.evaluate(&u, &v, input.level)
-        });
+    // serde would also read a struct from a JSON array (`["0.5", "0", 1]`);
+    // the input format is an object, so anything else is malformed.
+    let result = if line.trim_start().starts_with('{') {
+        serde_json::from_str::<InputLine>(line).map_err(|e| EvalError::Malformed(e.to_string()))
+    } else {
+        Err(EvalError::Malformed("expected a JSON object".into()))
+    }
+    .and_then(|input| {
+        let u = Value::parse(&input.u)?;
+        let v = Value::parse(&input.v)?;
+        variant.evaluate(&u, &v, input.level)
+    });
     match result {
         Ok(index) => format!("{{\"index\":{index}}}"),
         Err(e) => serde_json::json!({ "error": e.to_string() }).to_string(),
@@ -212,6 +217,7 @@ mod tests {
             r#"{"u": "0.5", "v": "0", "level": 99999999999999999999}"#,
             r#"{"u": "0.5", "v": "0", "level": 99999999999}"#,
             r#"{"u": "0.5", "v": "0"}"#,
+            r#"["0x3f000000", "0x3e800000", 1]"#,
         ] {
             let out = eval_line(Variant::SpecF32, line);
             assert!(
