@@ -109,23 +109,34 @@ pub fn face_count(level: Level) -> u128 {
 /// Every face of the level's lattice, row by row (`v` ascending).
 pub fn faces(level: Level) -> impl Iterator<Item = Face> {
     let cells = 1u64 << level.get();
-    (0..=cells)
-        .flat_map(move |b| (0..=cells - b).flat_map(move |a| faces_of_cell(level, cells, a, b)))
+    (0..=cells).flat_map(move |b| (0..=cells - b).flat_map(move |a| faces_of_cell(level, a, b)))
 }
 
-/// The faces anchored at cell `(a, b)`: its lower-left vertex, the edges
-/// leaving it, and the cell's micro-triangles, where inside the triangle.
-fn faces_of_cell(level: Level, cells: u64, a: u64, b: u64) -> impl Iterator<Item = Face> {
-    const OFFSETS: [(u64, u64, FaceKind); 6] = [
-        (0, 0, FaceKind::Vertex),
-        (2, 0, FaceKind::HorizontalEdge),
-        (0, 2, FaceKind::VerticalEdge),
-        (2, 2, FaceKind::DiagonalEdge),
-        (1, 1, FaceKind::Upright),
-        (3, 3, FaceKind::UpsideDown),
-    ];
-    let limit = 4 * cells;
-    OFFSETS
+/// The six faces anchored at a cell `(a, b)`, as offsets from `(4a, 4b)` in
+/// units of `1 / (4 * 2^level)`: its lower-left vertex, the three edges
+/// leaving it, and the cell's two micro-triangles.
+pub const FACE_OFFSETS: [(u64, u64, FaceKind); 6] = [
+    (0, 0, FaceKind::Vertex),
+    (2, 0, FaceKind::HorizontalEdge),
+    (0, 2, FaceKind::VerticalEdge),
+    (2, 2, FaceKind::DiagonalEdge),
+    (1, 1, FaceKind::Upright),
+    (3, 3, FaceKind::UpsideDown),
+];
+
+/// The faces anchored at cell `(a, b)` of `level` that lie in the closed
+/// triangle.
+///
+/// ```
+/// use micromap_index::lattice::faces_of_cell;
+/// use micromap_index::Level;
+/// // Cell (1, 0) at level 1 touches the hypotenuse: no upside-down
+/// // micro-triangle there.
+/// assert_eq!(faces_of_cell(Level::new(1).unwrap(), 1, 0).count(), 5);
+/// ```
+pub fn faces_of_cell(level: Level, a: u64, b: u64) -> impl Iterator<Item = Face> {
+    let limit = 4 << level.get();
+    FACE_OFFSETS
         .into_iter()
         .map(move |(dx, dy, kind)| Face {
             level,

@@ -1340,15 +1340,6 @@ struct FaceSampler {
 }
 
 impl FaceSampler {
-    const ANCHORED: [(u64, u64, FaceKind); 6] = [
-        (0, 0, FaceKind::Vertex),
-        (2, 0, FaceKind::HorizontalEdge),
-        (0, 2, FaceKind::VerticalEdge),
-        (2, 2, FaceKind::DiagonalEdge),
-        (1, 1, FaceKind::Upright),
-        (3, 3, FaceKind::UpsideDown),
-    ];
-
     fn new(level: Level) -> FaceSampler {
         FaceSampler {
             level,
@@ -1362,7 +1353,7 @@ impl FaceSampler {
         loop {
             let a = self.anchor.draw(rng);
             let b = self.anchor.draw(rng);
-            let (dx, dy, kind) = Self::ANCHORED[self.kind.draw(rng) as usize];
+            let (dx, dy, kind) = crate::lattice::FACE_OFFSETS[self.kind.draw(rng) as usize];
             let (x, y) = (4 * a + dx, 4 * b + dy);
             if x + y <= limit {
                 return Face {

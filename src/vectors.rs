@@ -532,23 +532,6 @@ pub fn sampled_anchors(level: u32) -> Vec<(u64, u64)> {
     anchors.into_iter().map(|(b, a)| (a, b)).collect()
 }
 
-/// The faces anchored at `(a, b)` as in [`crate::lattice`]: points in units
-/// of `1 / (4 * 2^level)`.
-fn faces_at(cells: u64, a: u64, b: u64) -> Vec<(u64, u64, FaceKind)> {
-    [
-        (0, 0, FaceKind::Vertex),
-        (2, 0, FaceKind::HorizontalEdge),
-        (0, 2, FaceKind::VerticalEdge),
-        (2, 2, FaceKind::DiagonalEdge),
-        (1, 1, FaceKind::Upright),
-        (3, 3, FaceKind::UpsideDown),
-    ]
-    .into_iter()
-    .map(|(dx, dy, kind)| (4 * a + dx, 4 * b + dy, kind))
-    .filter(|&(x, y, _)| x + y <= 4 * cells)
-    .collect()
-}
-
 /// The next binary32 value up (`+1`) or down (`-1`); NaN and the infinity
 /// in that direction stay put.
 fn ulp_step(x: f32, direction: i32) -> f32 {
@@ -576,8 +559,14 @@ fn lattice_candidates(level: u32, out: &mut Vec<Candidate>) {
     let cells = 1u64 << level;
     // Face points are multiples of 2^-(level+2) <= 2^-18 below 2: exact in binary32.
     let unit = 1.0 / (4 * cells) as f32;
+    // `level` is one of LEVELS (0..=16).
+    let Ok(checked_level) = Level::new(level) else {
+        return;
+    };
     for (a, b) in sampled_anchors(level) {
-        for (x, y, kind) in faces_at(cells, a, b) {
+        for crate::lattice::Face { x, y, kind, .. } in
+            crate::lattice::faces_of_cell(checked_level, a, b)
+        {
             let (u, v) = (x as f32 * unit, y as f32 * unit);
             let near = |out: &mut Vec<Candidate>, steps: &[(i32, i32)], near_tag| {
                 for &(du, dv) in steps {
