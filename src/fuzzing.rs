@@ -819,24 +819,18 @@ pub fn eval_input(data: &[u8]) {
 fn check_value(value: &Value) {
     let text = value.to_string();
     let reparsed = Value::parse(&text);
-    if text.len() > MAX_VALUE_LEN {
-        // Finding F1 (docs/fuzzing.md): the canonical text of a value can be
-        // longer than the parser's limit (`1e4096` prints as 4097 digits),
-        // so it does not parse back, against the `Display` docs. Until
-        // `value.rs` decides, only that rejection is accepted here.
-        assert!(
-            matches!(&reparsed, Err(ValueError::Syntax(why)) if why.starts_with("value longer than")),
-            "{value:?} prints as {} characters and re-parses as {reparsed:?} \
-             (if finding F1 is fixed, require the round trip here too)",
-            text.len()
-        );
-    } else {
-        assert_eq!(
-            reparsed.as_ref(),
-            Ok(value),
-            "{value:?} prints as {text:?}, which does not parse back"
-        );
-    }
+    // Finding F1 (docs/fuzzing.md), fixed: the canonical text of every
+    // parsed value parses back, however long.
+    assert!(
+        text.len() <= MAX_VALUE_LEN,
+        "{value:?} prints as {} characters",
+        text.len()
+    );
+    assert_eq!(
+        reparsed.as_ref(),
+        Ok(value),
+        "{value:?} prints as {text:?}, which does not parse back"
+    );
     let as_f32 = value.to_f32();
     let as_f64 = value.to_f64();
     match value.to_exact() {

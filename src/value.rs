@@ -27,11 +27,19 @@ use num_rational::BigRational;
 use num_traits::{One, Signed, ToPrimitive, Zero};
 use std::fmt;
 
-/// Longest accepted value text: bounds the cost of exact parsing.
-pub const MAX_VALUE_LEN: usize = 4096;
+/// Longest accepted value text: bounds the cost of exact parsing. Large
+/// enough for the canonical text ([`Value`]'s `Display`) of every value
+/// [`Value::parse`] accepts, so that text always parses back.
+pub const MAX_VALUE_LEN: usize = 20_000;
+/// Most digits in a decimal's significand (`whole` and `fraction` together).
+pub const MAX_DECIMAL_DIGITS: usize = 4096;
 /// Largest accepted decimal exponent magnitude (`1e-4096` is fine,
 /// `1e-99999` is not).
 pub const MAX_DECIMAL_EXPONENT: u32 = 4096;
+/// Most digits in a rational's numerator or denominator. A decimal within
+/// the two limits above reduces to at most `4096 + 4096 + 1` digits on
+/// either side, so its canonical `p/q` text is accepted again.
+pub const MAX_RATIONAL_DIGITS: usize = 8200;
 
 /// A parsed coordinate.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -81,7 +89,7 @@ impl Value {
     pub fn parse(text: &str) -> Result<Value, ValueError> {
         let syntax = |why: &str| Err(ValueError::Syntax(format!("{why}: {}", shorten(text))));
         if text.len() > MAX_VALUE_LEN {
-            return syntax("value longer than 4096 characters");
+            return syntax("value longer than 20000 characters");
         }
         if let Some(hex) = text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
             if !hex.bytes().all(|b| b.is_ascii_hexdigit()) {
@@ -196,7 +204,10 @@ fn parse_integer(text: &str, allow_sign: bool) -> Option<BigInt> {
         Some(b'+') if allow_sign => (false, &text[1..]),
         _ => (false, text),
     };
-    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+    if digits.is_empty()
+        || digits.len() > MAX_RATIONAL_DIGITS
+        || !digits.bytes().all(|b| b.is_ascii_digit())
+    {
         return None;
     }
     let magnitude = BigInt::parse_bytes(digits.as_bytes(), 10)?;
@@ -238,6 +249,18 @@ fn parse_decimal(text: &str) -> Option<BigRational> {
             }
         }
     };
+    // A plain integer is also the canonical text of an integral rational,
+    // so it gets the rational limit; anything scaled by a fraction or an
+    // exponent gets the decimal one.
+    let plain_integer = exponent == 0 && !mantissa.contains('.');
+    let limit = if plain_integer {
+        MAX_RATIONAL_DIGITS
+    } else {
+        MAX_DECIMAL_DIGITS
+    };
+    if whole.len() + fraction.len() > limit {
+        return None;
+    }
     let digits = format!("{whole}{fraction}");
     let mut numerator = BigInt::parse_bytes(digits.as_bytes(), 10)?;
     if negative {
@@ -356,7 +379,16 @@ mod tests {
 
     #[test]
     fn display_round_trips() {
-        for text in ["0x3f000000", "0x3fe0000000000000", "-3/8", "7"] {
+        // Fuzz finding F1: extreme exponents print long, and must still parse back.
+        for text in [
+            "0x3f000000",
+            "0x3fe0000000000000",
+            "-3/8",
+            "7",
+            "1e4096",
+            "1e-4094",
+            "-9.99e-4096",
+        ] {
             let value = Value::parse(text).unwrap();
             assert_eq!(Value::parse(&value.to_string()).unwrap(), value);
         }
