@@ -47,7 +47,7 @@
 
 use crate::eval::{eval_line_bytes, Variant};
 use crate::inverse::{micro_triangle, MicroTriangle};
-use crate::value::{Value, ValueError, MAX_VALUE_LEN};
+use crate::value::{Value, MAX_VALUE_LEN};
 use crate::vectors;
 use crate::{fixed, spec, uv2index, Level};
 use num_bigint::BigInt;
