@@ -6,15 +6,17 @@
 use micromap_index::{fixed, spec, uv2index, Level};
 use num_rational::BigRational;
 
+/// The exact walk's index of the real point `(u, v)`, by BigRational
+/// (f32 values widen to f64 exactly).
+fn exact_by_bigrational(u: f64, v: f64, level: Level) -> u64 {
+    let exact = |x: f64| BigRational::from_float(x).unwrap();
+    uv2index::index_exact(&exact(u), &exact(v), level).unwrap()
+}
+
 fn exact_f32(u: u32, v: u32, level: u32) -> u64 {
     let (u, v) = (f32::from_bits(u), f32::from_bits(v));
     let level = Level::new(level).unwrap();
-    let exact = uv2index::index_exact(
-        &BigRational::from_float(u).unwrap(),
-        &BigRational::from_float(v).unwrap(),
-        level,
-    )
-    .unwrap();
+    let exact = exact_by_bigrational(u.into(), v.into(), level);
     assert_eq!(fixed::index_f32(u, v, level), Ok(exact));
     exact
 }
@@ -31,12 +33,7 @@ fn float_f32(u: u32, v: u32, level: u32) -> u64 {
 fn exact_f64(u: u64, v: u64, level: u32) -> u64 {
     let (u, v) = (f64::from_bits(u), f64::from_bits(v));
     let level = Level::new(level).unwrap();
-    let exact = uv2index::index_exact(
-        &BigRational::from_float(u).unwrap(),
-        &BigRational::from_float(v).unwrap(),
-        level,
-    )
-    .unwrap();
+    let exact = exact_by_bigrational(u, v, level);
     assert_eq!(fixed::index_f64(u, v, level), Ok(exact));
     exact
 }
