@@ -318,6 +318,45 @@ fn pow2(e: i64) -> f64 {
     f64::from_bits(((e + 1023) as u64) << 52)
 }
 
+/// The next binary32 value toward +inf (IEEE 754 `nextUp`): `-0` and `+0`
+/// step to the smallest positive subnormal; NaN and +inf stay put.
+///
+/// `f32::next_up` does the same but needs Rust 1.86; this crate supports
+/// 1.81. Test inputs ("one ulp past a lattice line") are built with it.
+///
+/// ```
+/// use micromap_index::value::next_up_f32;
+/// assert_eq!(next_up_f32(1.0), 1.0 + f32::EPSILON);
+/// assert_eq!(next_up_f32(-0.0), f32::from_bits(1));
+/// assert_eq!(next_up_f32(-f32::from_bits(1)).to_bits(), (-0.0f32).to_bits());
+/// assert_eq!(next_up_f32(f32::MAX), f32::INFINITY);
+/// assert!(next_up_f32(f32::NAN).is_nan());
+/// ```
+pub fn next_up_f32(x: f32) -> f32 {
+    if x.is_nan() || x == f32::INFINITY {
+        x
+    } else if x == 0.0 {
+        f32::from_bits(1)
+    } else if x > 0.0 {
+        f32::from_bits(x.to_bits() + 1)
+    } else {
+        // Negative: a smaller magnitude is one bit pattern down.
+        f32::from_bits(x.to_bits() - 1)
+    }
+}
+
+/// The next binary32 value toward -inf (IEEE 754 `nextDown`), `-next_up(-x)`.
+///
+/// ```
+/// use micromap_index::value::next_down_f32;
+/// assert_eq!(next_down_f32(1.0), 1.0 - f32::EPSILON / 2.0);
+/// assert_eq!(next_down_f32(0.0), -f32::from_bits(1));
+/// assert_eq!(next_down_f32(f32::NEG_INFINITY), f32::NEG_INFINITY);
+/// ```
+pub fn next_down_f32(x: f32) -> f32 {
+    -next_up_f32(-x)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

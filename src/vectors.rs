@@ -535,20 +535,9 @@ pub fn sampled_anchors(level: u32) -> Vec<(u64, u64)> {
 /// The next binary32 value up (`+1`) or down (`-1`); NaN and the infinity
 /// in that direction stay put.
 fn ulp_step(x: f32, direction: i32) -> f32 {
-    let up = |x: f32| -> f32 {
-        if x.is_nan() || x == f32::INFINITY {
-            x
-        } else if x == 0.0 {
-            f32::from_bits(1)
-        } else if x > 0.0 {
-            f32::from_bits(x.to_bits() + 1)
-        } else {
-            f32::from_bits(x.to_bits() - 1)
-        }
-    };
     match direction {
-        1 => up(x),
-        -1 => -up(-x),
+        1 => crate::value::next_up_f32(x),
+        -1 => crate::value::next_down_f32(x),
         _ => x,
     }
 }

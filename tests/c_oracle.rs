@@ -11,6 +11,7 @@
 use micromap_index::fixed::index_mirror_f32;
 use micromap_index::rng::SplitMix64;
 use micromap_index::spec::{index_f32, rounding_flips_diagonal};
+use micromap_index::value::{next_down_f32, next_up_f32};
 use micromap_index_c_reference::spec_index;
 use std::io::Write;
 
@@ -95,31 +96,13 @@ fn edge_values() -> Vec<f32> {
         ];
         for k in ks.into_iter().filter(|&k| k > 0) {
             let x = (f64::from(k) / f64::from(n)) as f32;
-            values.extend([x, next_up(x), next_down(x), -x]);
+            values.extend([x, next_up_f32(x), next_down_f32(x), -x]);
         }
     }
 
     values.sort_unstable_by_key(|x| x.to_bits());
     values.dedup_by_key(|x| x.to_bits());
     values
-}
-
-/// The next `f32` toward +inf (`f32::next_up` needs Rust 1.86; MSRV is 1.80).
-fn next_up(x: f32) -> f32 {
-    if x.is_nan() || x == f32::INFINITY {
-        x
-    } else if x == 0.0 {
-        f32::from_bits(1)
-    } else if x > 0.0 {
-        f32::from_bits(x.to_bits() + 1)
-    } else {
-        f32::from_bits(x.to_bits() - 1)
-    }
-}
-
-/// The next `f32` toward -inf.
-fn next_down(x: f32) -> f32 {
-    -next_up(-x)
 }
 
 /// `x` moved by `steps` ulps (for finite `x >= 0`, staying non-negative).
@@ -235,7 +218,7 @@ fn edge_values_cover_the_listed_cases() {
         assert!(has(x) && has(-x), "{x:e}");
     }
     for x in [0.5f32, 1.0, 0.25 * 3.0, 1.0 / 16_777_216.0] {
-        assert!(has(next_up(x)) && has(next_down(x)), "{x:e}");
+        assert!(has(next_up_f32(x)) && has(next_down_f32(x)), "{x:e}");
     }
     assert!(has(f32::from_bits(1)) && has(-f32::from_bits(1)));
     assert!(has(f32::from_bits(0x007f_ffff)));

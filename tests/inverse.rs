@@ -14,6 +14,7 @@
 use micromap_index::fixed::{self, Fixed64};
 use micromap_index::inverse::{micro_triangle, MicroTriangle};
 use micromap_index::uv2index::{self, Walk};
+use micromap_index::value::{next_down_f32, next_up_f32};
 use micromap_index::{spec, Error, Level};
 use num_bigint::BigInt;
 use num_rational::BigRational;
@@ -411,10 +412,7 @@ fn sample_indices(level: Level) -> Vec<u64> {
 fn is_nearest_f32(rounded: f32, exact: &BigRational) -> bool {
     let distance = |x: f32| (BigRational::from_float(x).unwrap() - exact).abs();
     let here = distance(rounded);
-    let up = f32::from_bits(rounded.to_bits() + 1);
-    // Coordinates are never negative: below 0.0 there is nothing nearer.
-    let down_is_farther = rounded == 0.0 || here <= distance(f32::from_bits(rounded.to_bits() - 1));
-    here <= distance(up) && down_is_farther
+    here <= distance(next_up_f32(rounded)) && here <= distance(next_down_f32(rounded))
 }
 
 #[test]
