@@ -8,7 +8,7 @@ use micromap_index::lattice::face_count;
 use micromap_index::prove::{prove_level, Progress, Reference, Settings};
 use micromap_index::Level;
 
-/// Level 11: 6.3 million faces, long enough to time, short enough to repeat.
+/// Level 11: 12,589,057 faces, long enough to time, short enough to repeat.
 const LEVEL: u32 = 11;
 
 fn bench_prove(c: &mut Criterion) {
