@@ -135,6 +135,34 @@ impl SpecCase {
             self.level
         )
     }
+
+    /// Panics unless `other` (named `name` in the message) returns this
+    /// case's index for its inputs. The fuzz target and its stable corpus
+    /// replay use it to add the C reference, which the library cannot call.
+    ///
+    /// ```
+    /// use micromap_index::{fuzzing::SpecCase, spec};
+    /// let case = SpecCase { u: 0.5, v: 0.25, level: 1, index: 2 };
+    /// case.assert_agrees("spec::index_f32", spec::index_f32);
+    /// ```
+    ///
+    /// A disagreeing implementation panics, naming the inputs' bits:
+    ///
+    /// ```should_panic
+    /// use micromap_index::fuzzing::SpecCase;
+    /// let case = SpecCase { u: 0.5, v: 0.25, level: 1, index: 2 };
+    /// case.assert_agrees("always zero", |_, _, _| 0);
+    /// ```
+    pub fn assert_agrees(&self, name: &str, other: impl Fn(f32, f32, u32) -> u32) {
+        let by_other = other(self.u, self.v, self.level);
+        assert_eq!(
+            self.index,
+            by_other,
+            "spec::index_f32 = {} but {name} = {by_other} at {}",
+            self.index,
+            self.describe()
+        );
+    }
 }
 
 /// Differential: the Vulkan reference in binary32 ([`spec::index_f32`])
@@ -174,13 +202,7 @@ pub fn spec_vs_mirror(data: &[u8]) -> SpecCase {
     }
     let index = spec::index_f32(u, v, level);
     let case = SpecCase { u, v, level, index };
-    let mirror = fixed::index_mirror_f32(u, v, level);
-    assert_eq!(
-        index,
-        mirror,
-        "spec::index_f32 = {index} but fixed::index_mirror_f32 = {mirror} at {}",
-        case.describe()
-    );
+    case.assert_agrees("fixed::index_mirror_f32", fixed::index_mirror_f32);
     case
 }
 

@@ -57,15 +57,7 @@ fn replay(target: &str, body: impl Fn(&[u8])) {
 #[test]
 fn spec_vs_mirror() {
     replay("spec_vs_mirror", |data| {
-        let case = fuzzing::spec_vs_mirror(data);
-        let by_c = spec_index(case.u, case.v, case.level);
-        assert_eq!(
-            case.index,
-            by_c,
-            "spec::index_f32 = {} but the C reference = {by_c} at {}",
-            case.index,
-            case.describe()
-        );
+        fuzzing::spec_vs_mirror(data).assert_agrees("the C reference", spec_index);
     });
 }
 

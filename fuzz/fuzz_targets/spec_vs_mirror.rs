@@ -7,13 +7,5 @@ use micromap_index::fuzzing;
 use micromap_index_c_reference::spec_index;
 
 fuzz_target!(|data: &[u8]| {
-    let case = fuzzing::spec_vs_mirror(data);
-    let by_c = spec_index(case.u, case.v, case.level);
-    assert_eq!(
-        case.index,
-        by_c,
-        "spec::index_f32 = {} but the C reference = {by_c} at {}",
-        case.index,
-        case.describe()
-    );
+    fuzzing::spec_vs_mirror(data).assert_agrees("the C reference", spec_index);
 });
