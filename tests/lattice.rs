@@ -5,6 +5,9 @@
 //! `docs/verification.md`), agreement on these points is agreement on every
 //! real point of the closed triangle at that level.
 
+mod common;
+
+use common::VERSION1_MISMATCHES;
 use micromap_index::fixed::{self, Fixed64};
 use micromap_index::lattice::{face_count, faces, Face, FaceKind};
 use micromap_index::rng::SplitMix64;
@@ -92,23 +95,6 @@ fn float_variants_are_exact_on_lattice_points() {
         }
     }
 }
-
-/// Faces per kind where the talk's version 1 differs from the reference,
-/// levels 0..=10: (vertex, horizontal edge, vertical edge, diagonal edge).
-/// Version 1 never differs inside a micro-triangle.
-const VERSION1_MISMATCHES: [(u32, [u64; 4]); 11] = [
-    (0, [0, 0, 0, 0]),
-    (1, [0, 0, 0, 0]),
-    (2, [2, 1, 1, 1]),
-    (3, [14, 8, 8, 8]),
-    (4, [72, 44, 44, 44]),
-    (5, [328, 208, 208, 208]),
-    (6, [1408, 912, 912, 912]),
-    (7, [5856, 3840, 3840, 3840]),
-    (8, [23936, 15808, 15808, 15808]),
-    (9, [96896, 64256, 64256, 64256]),
-    (10, [390144, 259328, 259328, 259328]),
-];
 
 #[test]
 fn version1_differs_exactly_on_these_boundary_faces() {
