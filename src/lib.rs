@@ -51,6 +51,7 @@
 #[cfg(feature = "std")]
 pub mod eval;
 pub mod fixed;
+pub mod micromap;
 #[cfg(feature = "fuzzing")]
 pub mod fuzzing;
 #[cfg(feature = "std")]

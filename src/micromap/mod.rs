@@ -1,0 +1,5 @@
+//! Opacity micromaps as data: states, formats, special indices.
+
+mod state;
+
+pub use state::{Format, State};
