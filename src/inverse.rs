@@ -40,16 +40,18 @@
 //! assert_eq!(triangle.vertices_scaled(), [(1, 1), (2, 1), (1, 2)]);
 //! assert!(triangle.upright());
 //! // Its centroid walks back to it.
-//! let (u, v) = triangle.centroid_rational();
-//! assert_eq!(uv2index::index_exact(&u, &v, level), Ok(5));
+//! let (u, v) = triangle.centroid_f64();
+//! assert_eq!(uv2index::exact_index_f64(u, v, level), Ok(5));
 //! ```
 //!
 //! [`Walk::step`]: crate::uv2index::Walk::step
 
-use crate::fixed::Fixed64;
+use crate::num::Fixed64;
 use crate::uv2index::{self, digit};
 use crate::{Error, Level};
+#[cfg(feature = "exact")]
 use num_bigint::BigInt;
+#[cfg(feature = "exact")]
 use num_rational::BigRational;
 
 /// One micro-triangle of a level-`n` micromap: its index, its exact
@@ -211,6 +213,7 @@ impl MicroTriangle {
         self.vertices
     }
 
+    #[cfg(feature = "exact")]
     /// The vertices as exact `(u, v)` rationals.
     ///
     /// ```
@@ -254,7 +257,7 @@ impl MicroTriangle {
     /// use micromap_index::{inverse::micro_triangle, uv2index, Level};
     /// let level = Level::new(25).unwrap();
     /// // The micro-triangle in the corner at vertex 1, (u, v) = (1, 0).
-    /// let corner = micro_triangle(level, uv2index::index_f64(1.0, 0.0, level).unwrap()).unwrap();
+    /// let corner = micro_triangle(level, uv2index::exact_index_f64(1.0, 0.0, level).unwrap()).unwrap();
     /// let near_corner = ((1 << 25) - 1, 0); // (1 - 2^-25, 0)
     /// assert!(corner.vertices_scaled().contains(&near_corner));
     /// // 1 - 2^-25 is halfway between the f32 values 1 - 2^-24 and 1: it ties to 1.
@@ -268,17 +271,17 @@ impl MicroTriangle {
             .map(|(u, v)| (u as f32 * scale, v as f32 * scale))
     }
 
+    #[cfg(feature = "exact")]
     /// The centroid, the mean of the vertices, as exact rationals. It lies
     /// strictly inside the micro-triangle, so every implementation in this
     /// crate maps it back to [`index`](Self::index) (the reference only up
     /// to its level 16).
     ///
     /// ```
-    /// use micromap_index::{inverse::micro_triangle, spec, Level};
-    /// use num_rational::BigRational;
-    /// let level = Level::new(3).unwrap();
-    /// let (u, v) = micro_triangle(level, 42).unwrap().centroid_rational();
-    /// assert_eq!(spec::index_exact(&u, &v, level), Ok(42));
+    /// use micromap_index::{inverse::micro_triangle, spec, Level, SpecLevel};
+    /// let level = SpecLevel::new(3).unwrap();
+    /// let (u, v) = micro_triangle(level.into(), 42).unwrap().centroid_rational();
+    /// assert_eq!(spec::index_real(&u, &v, level), 42);
     /// ```
     pub fn centroid_rational(&self) -> (BigRational, BigRational) {
         let (u_sum, v_sum) = self.vertex_sums();
@@ -311,7 +314,7 @@ impl MicroTriangle {
     /// use micromap_index::{inverse::micro_triangle, uv2index, Level};
     /// let level = Level::new(5).unwrap();
     /// let (u, v) = micro_triangle(level, 700).unwrap().centroid_f32();
-    /// assert_eq!(uv2index::index_f32(u, v, level), Ok(700));
+    /// assert_eq!(uv2index::exact_index_f32(u, v, level), Ok(700));
     /// ```
     pub fn centroid_f32(&self) -> (f32, f32) {
         // Rounding the binary64 value again cannot double-round wrongly. For
@@ -325,6 +328,7 @@ impl MicroTriangle {
         (u as f32, v as f32)
     }
 
+    #[cfg(feature = "exact")]
     /// The midpoints of the three edges as exact rationals; entry `i` is the
     /// midpoint of edge `i`, the edge facing `vertices[i]`.
     ///
@@ -380,6 +384,7 @@ impl MicroTriangle {
         })
     }
 
+    #[cfg(feature = "exact")]
     /// `2^level` as a big integer.
     fn denominator(&self) -> BigInt {
         BigInt::from(1u64 << self.level.get())
@@ -414,6 +419,6 @@ impl MicroTriangle {
         // level + 2 <= 34 fractional bits fit in Fixed64's 60.
         let shift = Fixed64::ONE_LOG2 - (self.level.get() + 2);
         let to_fixed = |n: i64| Fixed64::from_raw(n << shift);
-        uv2index::index(to_fixed(x), to_fixed(y), self.level)
+        uv2index::index_unchecked(to_fixed(x), to_fixed(y), self.level)
     }
 }

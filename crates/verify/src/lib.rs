@@ -1,0 +1,20 @@
+//! The verification lab of `micromap-index` (not published): everything that
+//! checks the library rather than being it.
+//!
+//! * [`prove`]: the face-by-face proof that the walk equals the reference
+//!   on every face of a level's lattice ([`lattice`]).
+//! * [`vectors`]: the conformance vectors, their generator and checker.
+//! * [`eval`] and [`value`]: the engine and value syntax of the CLI's `eval`.
+//! * [`fuzzing`] (feature `fuzzing`): the bodies of the fuzz targets.
+//! * [`rng`]: the deterministic generator every sampled check uses.
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]
+
+pub mod eval;
+#[cfg(feature = "fuzzing")]
+pub mod fuzzing;
+pub mod lattice;
+pub mod prove;
+pub mod rng;
+pub mod value;
+pub mod vectors;
