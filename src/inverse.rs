@@ -170,6 +170,7 @@ impl MicroTriangle {
     /// let level = Level::new(7).unwrap();
     /// assert_eq!(micro_triangle(level, 100).unwrap().level(), level);
     /// ```
+    #[must_use]
     pub fn level(&self) -> Level {
         self.level
     }
@@ -180,6 +181,7 @@ impl MicroTriangle {
     /// use micromap_index::{inverse::micro_triangle, Level};
     /// assert_eq!(micro_triangle(Level::new(7).unwrap(), 100).unwrap().index(), 100);
     /// ```
+    #[must_use]
     pub fn index(&self) -> u64 {
         self.index
     }
@@ -195,6 +197,7 @@ impl MicroTriangle {
     /// let upright: Vec<bool> = (0..4).map(|i| micro_triangle(level, i).unwrap().upright()).collect();
     /// assert_eq!(upright, [true, false, true, true]);
     /// ```
+    #[must_use]
     pub fn upright(&self) -> bool {
         self.upright
     }
@@ -209,6 +212,7 @@ impl MicroTriangle {
     /// let top = micro_triangle(Level::new(1).unwrap(), 3).unwrap();
     /// assert_eq!(top.vertices_scaled(), [(0, 1), (1, 1), (0, 2)]);
     /// ```
+    #[must_use]
     pub fn vertices_scaled(&self) -> [(u64, u64); 3] {
         self.vertices
     }
@@ -223,6 +227,7 @@ impl MicroTriangle {
     /// let top = micro_triangle(Level::new(1).unwrap(), 3).unwrap();
     /// assert_eq!(top.vertices_rational()[1], (r("1/2"), r("1/2")));
     /// ```
+    #[must_use]
     pub fn vertices_rational(&self) -> [(BigRational, BigRational); 3] {
         let denominator = self.denominator();
         self.vertices.map(|(u, v)| {
@@ -241,6 +246,7 @@ impl MicroTriangle {
     /// let top = micro_triangle(Level::new(1).unwrap(), 3).unwrap();
     /// assert_eq!(top.vertices_f64(), [(0.0, 0.5), (0.5, 0.5), (0.0, 1.0)]);
     /// ```
+    #[must_use]
     pub fn vertices_f64(&self) -> [(f64, f64); 3] {
         let scale = self.scale_f64();
         // u64 -> f64 is exact below 2^53; multiplying by a power of two is exact.
@@ -264,6 +270,7 @@ impl MicroTriangle {
     /// let rounded = corner.vertices_f32();
     /// assert_eq!(rounded.iter().filter(|&&p| p == (1.0, 0.0)).count(), 2);
     /// ```
+    #[must_use]
     pub fn vertices_f32(&self) -> [(f32, f32); 3] {
         let scale = self.scale_f32();
         // `as f32` rounds to nearest-even; the power-of-two scale is exact.
@@ -283,6 +290,7 @@ impl MicroTriangle {
     /// let (u, v) = micro_triangle(level.into(), 42).unwrap().centroid_rational();
     /// assert_eq!(spec::index_real(&u, &v, level), 42);
     /// ```
+    #[must_use]
     pub fn centroid_rational(&self) -> (BigRational, BigRational) {
         let (u_sum, v_sum) = self.vertex_sums();
         let denominator = self.denominator() * BigInt::from(3);
@@ -299,6 +307,7 @@ impl MicroTriangle {
     /// let triangle = micro_triangle(Level::new(0).unwrap(), 0).unwrap();
     /// assert_eq!(triangle.centroid_f64(), (1.0 / 3.0, 1.0 / 3.0));
     /// ```
+    #[must_use]
     pub fn centroid_f64(&self) -> (f64, f64) {
         let (u_sum, v_sum) = self.vertex_sums();
         let scale = self.scale_f64();
@@ -316,6 +325,7 @@ impl MicroTriangle {
     /// let (u, v) = micro_triangle(level, 700).unwrap().centroid_f32();
     /// assert_eq!(uv2index::exact_index_f32(u, v, level), Ok(700));
     /// ```
+    #[must_use]
     pub fn centroid_f32(&self) -> (f32, f32) {
         // Rounding the binary64 value again cannot double-round wrongly. For
         // x = (sum / 3) * 2^-level in [2^e, 2^(e+1)), a binary32 halfway point
@@ -342,6 +352,7 @@ impl MicroTriangle {
     ///     [(r("1/2"), r("1/2")), (r("0"), r("1/2")), (r("1/2"), r("0"))]
     /// );
     /// ```
+    #[must_use]
     pub fn edge_midpoints_rational(&self) -> [(BigRational, BigRational); 3] {
         let denominator = self.denominator() * BigInt::from(2);
         self.edges().map(|[_, a, b]| {
@@ -368,6 +379,7 @@ impl MicroTriangle {
     /// // ... and each corner touches only the centre.
     /// assert_eq!(micro_triangle(level, 3).unwrap().neighbours(), [None, None, Some(1)]);
     /// ```
+    #[must_use]
     pub fn neighbours(&self) -> [Option<u64>; 3] {
         let side = 1i64 << self.level.get();
         self.edges().map(|edge| {

@@ -15,7 +15,7 @@ fn rational(numerator: i64, denominator_log2: u32) -> BigRational {
 /// negative), values in [0, 1], or a pair whose scaled fractions sum to
 /// within a few ulps of 1 at some level (the only place binary32 rounding
 /// matters).
-#[derive(Clone, Debug)]
+#[derive(Clone, Copy, Debug)]
 struct SpecInput {
     u: f32,
     v: f32,

@@ -1,12 +1,12 @@
 //! Named regressions: inputs where the paper's walk evaluated in binary32 /
 //! binary64 (as the talk's Python reads) differs from the exact walk.
 //! Found by `cargo run --release --example float_study` (docs/float.md);
-//! every expected exact index is confirmed here by BigRational arithmetic.
+//! every expected exact index is confirmed here by `BigRational` arithmetic.
 
 use micromap_index::{spec, uv2index, Level};
 use num_rational::BigRational;
 
-/// The exact walk's index of the real point `(u, v)`, by BigRational
+/// The exact walk's index of the real point `(u, v)`, by `BigRational`
 /// (f32 values widen to f64 exactly).
 fn exact_by_bigrational(u: f64, v: f64, level: Level) -> u64 {
     let exact = |x: f64| BigRational::from_float(x).unwrap();

@@ -3,7 +3,7 @@
 //! For every index of levels 0..=8 (9..=12 too in the ignored test
 //! `exhaustive_up_to_level_12`: `cargo test --all-features --test inverse -- --ignored`):
 //! points strictly inside the micro-triangle walk back to the index under
-//! every forward implementation (the BigRational centroid only for levels
+//! every forward implementation (the `BigRational` centroid only for levels
 //! 0..=7, 8..=9 in the ignored test: it is slow), its vertices and edge midpoints
 //! get the spec's tie-breaks, the vertex order is the walk's local frame,
 //! and the micro-triangles tile the base triangle. A slow oracle that
@@ -11,6 +11,10 @@
 //! the expected vertex sets; another finds neighbours by shared edges
 //! (levels 0..=6, 7..=9 in the ignored test). Sampled indices of every level
 //! 0..=32 check the float conversions' rounding and the walk back.
+
+// The tests build on the workspace toolchain (1.88+, what the dev-dependencies
+// need); only the library itself keeps the older MSRV.
+#![allow(clippy::incompatible_msrv)]
 
 use micromap_index::inverse::{micro_triangle, MicroTriangle};
 use micromap_index::num::Fixed64;
@@ -23,7 +27,7 @@ use std::collections::HashMap;
 
 const DEFAULT_LEVELS: std::ops::RangeInclusive<u32> = 0..=8;
 const EXHAUSTIVE_LEVELS: std::ops::RangeInclusive<u32> = 9..=12;
-/// The BigRational walk is slow; its default share stays small.
+/// The `BigRational` walk is slow; its default share stays small.
 const DEFAULT_RATIONAL_LEVELS: std::ops::RangeInclusive<u32> = 0..=7;
 const EXHAUSTIVE_RATIONAL_LEVELS: std::ops::RangeInclusive<u32> = 8..=9;
 
@@ -231,8 +235,9 @@ fn check_tiling(level: Level) {
         };
         assert_eq!(triangle.upright(), upright, "{}", what(&triangle));
         let cross = |a: Point, b: Point, c: Point| {
-            let (ax, ay) = (a.0 as i128, a.1 as i128);
-            (b.0 as i128 - ax) * (c.1 as i128 - ay) - (b.1 as i128 - ay) * (c.0 as i128 - ax)
+            let (ax, ay) = (i128::from(a.0), i128::from(a.1));
+            (i128::from(b.0) - ax) * (i128::from(c.1) - ay)
+                - (i128::from(b.1) - ay) * (i128::from(c.0) - ax)
         };
         assert_eq!(cross(p, q, r) > 0, upright, "winding, {}", what(&triangle));
         let slot = slot as usize;

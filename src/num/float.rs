@@ -24,7 +24,7 @@ macro_rules! impl_walk_number_for_float {
                 self.partial_cmp(&0.5).unwrap_or(Ordering::Less)
             }
             fn check_point(u: &Self, v: &Self) -> Result<(), Error> {
-                check_finite(u.is_nan(), u.is_infinite(), v.is_nan(), v.is_infinite())?;
+                check_finite(f64::from(*u), f64::from(*v))?;
                 let sum_above_one: fn($float, $float) -> bool = $exact_sum_above_one;
                 let above = if sum_above_one(*u, *v) {
                     Ordering::Greater

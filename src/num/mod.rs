@@ -24,10 +24,13 @@ pub trait WalkNumber: Clone {
     /// `1 - (u + v)`, the third barycentric, computed as written.
     fn one_minus_sum(u: &Self, v: &Self) -> Self;
     /// `2 * self`.
+    #[must_use]
     fn twice(&self) -> Self;
     /// `self + other`.
+    #[must_use]
     fn plus(&self, other: &Self) -> Self;
     /// `self - other`.
+    #[must_use]
     fn minus(&self, other: &Self) -> Self;
     /// `self` compared with `1/2`. Unordered values (NaN) compare as `Less`.
     fn cmp_half(&self) -> Ordering;
@@ -35,20 +38,20 @@ pub trait WalkNumber: Clone {
     fn check_point(u: &Self, v: &Self) -> Result<(), Error>;
 }
 
-/// `Ok` unless `u` or `v` is NaN or infinite; shared by the float checks.
-pub(crate) fn check_finite(
-    u_nan: bool,
-    u_inf: bool,
-    v_nan: bool,
-    v_inf: bool,
-) -> Result<(), Error> {
-    match (u_nan, u_inf, v_nan, v_inf) {
-        (true, _, _, _) => Err(Error::NotANumber(Coordinate::U)),
-        (_, true, _, _) => Err(Error::Infinite(Coordinate::U)),
-        (_, _, true, _) => Err(Error::NotANumber(Coordinate::V)),
-        (_, _, _, true) => Err(Error::Infinite(Coordinate::V)),
-        _ => Ok(()),
-    }
+/// `Ok` unless `u` or `v` is NaN or infinite; shared by the float checks
+/// (every `f32` converts to `f64` exactly).
+pub(crate) fn check_finite(u: f64, v: f64) -> Result<(), Error> {
+    let class = |x: f64, c| {
+        if x.is_nan() {
+            Err(Error::NotANumber(c))
+        } else if x.is_infinite() {
+            Err(Error::Infinite(c))
+        } else {
+            Ok(())
+        }
+    };
+    class(u, Coordinate::U)?;
+    class(v, Coordinate::V)
 }
 
 /// The triangle test from the signs of `u`, `v` and of `u + v - 1`.

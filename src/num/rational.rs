@@ -28,10 +28,13 @@ pub trait Numerator: Clone {
     /// How the shared denominator is held (cheap to clone).
     type Denominator: Clone;
     /// `self + other`.
+    #[must_use]
     fn add(&self, other: &Self) -> Self;
     /// `self - other`.
+    #[must_use]
     fn sub(&self, other: &Self) -> Self;
     /// `2 * self`.
+    #[must_use]
     fn double(&self) -> Self;
     /// The denominator as a numerator (the value one).
     fn one(denominator: &Self::Denominator) -> Self;

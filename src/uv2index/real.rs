@@ -27,16 +27,15 @@ use num_rational::BigRational;
 /// );
 /// ```
 pub fn index_real(u: &BigRational, v: &BigRational, level: Level) -> Result<u64, Error> {
-    match over_common_denominator(u, v) {
-        Some((u, v, denominator)) => index(
+    if let Some((u, v, denominator)) = over_common_denominator(u, v) {
+        index(
             SmallRational::new(u, denominator),
             SmallRational::new(v, denominator),
             level,
-        ),
-        None => {
-            let (u, v) = BigShared::pair(u, v);
-            index(u, v, level)
-        }
+        )
+    } else {
+        let (u, v) = BigShared::pair(u, v);
+        index(u, v, level)
     }
 }
 

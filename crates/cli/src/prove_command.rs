@@ -388,7 +388,7 @@ fn print_json(report: &LevelReport, settings: &Settings) {
         threads: if settings.threads > 0 {
             settings.threads
         } else {
-            std::thread::available_parallelism().map_or(1, |n| n.get())
+            std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
         },
     };
     match serde_json::to_string(&line) {

@@ -3,6 +3,9 @@
 //!
 //! `cargo bench --bench prove`; the machine's load skews it, note `uptime`.
 
+// `criterion_group!` generates undocumented public functions.
+#![allow(missing_docs)]
+
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use micromap_index::Level;
 use micromap_index_verify::lattice::face_count;
@@ -32,7 +35,7 @@ fn bench_prove(c: &mut Criterion) {
                     prove_level(level, &settings, &Progress::new()).expect("level in range");
                 assert!(report.is_proof());
                 report
-            })
+            });
         });
     }
     group.finish();

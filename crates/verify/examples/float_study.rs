@@ -1,7 +1,7 @@
 //! How often, and where, the paper's walk evaluated in binary32 / binary64
 //! (`uv2index::index_in_f32_arithmetic`, `uv2index::index_in_f64_arithmetic`) differs from the exact
 //! walk (`uv2index::exact_index_f32` / `uv2index::exact_index_f64`, cross-checked with
-//! BigRational for every counterexample printed).
+//! `BigRational` for every counterexample printed).
 //!
 //! Reproduces the tables in `docs/float.md`:
 //!
@@ -13,7 +13,7 @@ use micromap_index::{uv2index, Level};
 use micromap_index_verify::rng::SplitMix64;
 use num_rational::BigRational;
 
-/// Sampling on the crate's SplitMix64 stream.
+/// Sampling on the crate's `SplitMix64` stream.
 struct Rng(SplitMix64);
 
 impl Rng {

@@ -236,6 +236,7 @@ struct InputLine {
 /// Evaluates one JSON input line `{"u": U, "v": V, "level": L}` and returns
 /// the output line (without newline): `{"index": N}` or `{"error": "..."}`.
 /// Never panics; every problem becomes an error line.
+#[must_use]
 pub fn eval_line(variant: Variant, line: &str) -> String {
     // serde would also read a struct from a JSON array (`["0.5", "0", 1]`);
     // the input format is an object, so anything else is malformed.
@@ -257,6 +258,7 @@ pub fn eval_line(variant: Variant, line: &str) -> String {
 
 /// [`eval_line`] on raw bytes: a line that is not UTF-8 yields an error
 /// line instead of being guessed at.
+#[must_use]
 pub fn eval_line_bytes(variant: Variant, line: &[u8]) -> String {
     match std::str::from_utf8(line) {
         Ok(text) => eval_line(variant, text),

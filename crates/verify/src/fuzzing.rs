@@ -127,6 +127,7 @@ impl SpecCase {
     /// let case = SpecCase { u: 0.5, v: 0.25, level: 3, index: 0 };
     /// assert_eq!(case.describe(), "u = 0x3f000000, v = 0x3e800000, level = 3");
     /// ```
+    #[must_use]
     pub fn describe(&self) -> String {
         format!(
             "u = 0x{:08x}, v = 0x{:08x}, level = {}",
@@ -310,7 +311,7 @@ impl Format {
     /// or `-0`), keeping the sign.
     fn nudge(self, bits: u64, delta: i8) -> u64 {
         let sign = bits & self.sign_bit();
-        let magnitude = (bits & !self.sign_bit()) as i128 + i128::from(delta);
+        let magnitude = i128::from(bits & !self.sign_bit()) + i128::from(delta);
         let max = i128::from(self.sign_bit() - 1);
         sign | magnitude.clamp(0, max) as u64
     }
@@ -341,7 +342,7 @@ impl Format {
 ///   the input. Otherwise each pattern is folded into `[0, 1]`: with bit 4,
 ///   over the whole range (sign cleared, a magnitude above `1.0` reduced
 ///   modulo `bits(1.0) + 1`: mostly tiny values, and binary64 subnormals
-///   make the BigRational walk slow); without it, near 1 (sign cleared,
+///   make the `BigRational` walk slow); without it, near 1 (sign cleared,
 ///   zero and subnormals kept, the exponent of 1 and of inf/NaN give `1.0`,
 ///   any other biased exponent `e` becomes `e(1) - 1 - e % K` with `K = 48`
 ///   for binary32 and 64 for binary64, fraction kept);
@@ -569,7 +570,7 @@ fn vertex_set(triangle: &MicroTriangle) -> [(u64, u64); 3] {
 /// Checks, with `V0, V1, V2` the micro-triangle's vertices:
 ///
 /// * the interior point `(2 Va + Vb + Vc) / 4` and the centroid map back to
-///   the index under the exact walk (BigRational and fast path; for the
+///   the index under the exact walk (`BigRational` and fast path; for the
 ///   centroid the fast path), the
 ///   fixed-point walk, and the reference over the reals (32-bit words up to
 ///   level 16, 64-bit words above; rational and dyadic versions); up to
@@ -638,7 +639,12 @@ pub fn inverse_round_trip(data: &[u8]) {
         );
     }
     let cross = |o: (u64, u64), s: (u64, u64), t: (u64, u64)| {
-        let d = |m: (u64, u64)| (m.0 as i128 - o.0 as i128, m.1 as i128 - o.1 as i128);
+        let d = |m: (u64, u64)| {
+            (
+                i128::from(m.0) - i128::from(o.0),
+                i128::from(m.1) - i128::from(o.1),
+            )
+        };
         let (s, t) = (d(s), d(t));
         s.0 * t.1 - s.1 * t.0
     };
@@ -861,35 +867,32 @@ fn check_value(value: &Value) {
     );
     let as_f32 = value.to_f32();
     let as_f64 = value.to_f64();
-    match value.to_exact() {
-        Ok(exact) => {
-            if let Ok(x) = as_f32 {
-                assert_eq!(
-                    BigRational::from_float(x).as_ref(),
-                    Some(&exact),
-                    "{text}: to_f32 = 0x{:08x} but to_exact = {exact}",
-                    x.to_bits()
-                );
-            }
-            if let Ok(x) = as_f64 {
-                assert_eq!(
-                    BigRational::from_float(x).as_ref(),
-                    Some(&exact),
-                    "{text}: to_f64 = 0x{:016x} but to_exact = {exact}",
-                    x.to_bits()
-                );
-            }
-        }
-        Err(_) => {
-            let non_finite = |x: Result<f64, _>| x.is_ok_and(|x: f64| !x.is_finite());
-            assert!(
-                non_finite(as_f32.clone().map(f64::from)) && non_finite(as_f64.clone()),
-                "{text}: no exact reading, but to_f32 = {as_f32:?}, to_f64 = {as_f64:?}"
+    if let Ok(exact) = value.to_exact() {
+        if let Ok(x) = as_f32 {
+            assert_eq!(
+                BigRational::from_float(x).as_ref(),
+                Some(&exact),
+                "{text}: to_f32 = 0x{:08x} but to_exact = {exact}",
+                x.to_bits()
             );
         }
+        if let Ok(x) = as_f64 {
+            assert_eq!(
+                BigRational::from_float(x).as_ref(),
+                Some(&exact),
+                "{text}: to_f64 = 0x{:016x} but to_exact = {exact}",
+                x.to_bits()
+            );
+        }
+    } else {
+        let non_finite = |x: Result<f64, _>| x.is_ok_and(|x: f64| !x.is_finite());
+        assert!(
+            non_finite(as_f32.clone().map(f64::from)) && non_finite(as_f64.clone()),
+            "{text}: no exact reading, but to_f32 = {as_f32:?}, to_f64 = {as_f64:?}"
+        );
     }
     if let Ok(x) = as_f32 {
-        let widened = as_f64.clone().map(|y| y.to_bits());
+        let widened = as_f64.clone().map(f64::to_bits);
         let expected = f64::from(x);
         assert!(
             as_f64.is_ok_and(|y| y == expected || (y.is_nan() && x.is_nan())),

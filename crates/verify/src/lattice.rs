@@ -44,11 +44,13 @@ pub enum FaceKind {
 
 impl FaceKind {
     /// Whether the face is the interior of a micro-triangle.
+    #[must_use]
     pub fn is_open_triangle(self) -> bool {
         matches!(self, FaceKind::Upright | FaceKind::UpsideDown)
     }
 
     /// A short lower-case name (`vertex`, `horizontal-edge`, ...).
+    #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             FaceKind::Vertex => "vertex",
@@ -76,11 +78,13 @@ pub struct Face {
 
 impl Face {
     /// `log2` of the denominator of the coordinates: `level + 2`.
+    #[must_use]
     pub fn scale_log2(&self) -> u32 {
         self.level.get() + 2
     }
 
     /// The point as exact rationals.
+    #[must_use]
     pub fn to_rational(&self) -> (BigRational, BigRational) {
         let denominator = BigInt::from(1u64) << self.scale_log2();
         (
@@ -90,6 +94,7 @@ impl Face {
     }
 
     /// The point in [`Fixed64`] (exact for every level up to 32).
+    #[must_use]
     pub fn to_fixed64(&self) -> (Fixed64, Fixed64) {
         let shift = Fixed64::ONE_LOG2 - self.scale_log2();
         (
@@ -101,6 +106,7 @@ impl Face {
 
 /// The number of faces at `level`: `(n+1)(n+2)/2` vertices, `3n(n+1)/2`
 /// edges and `n^2` micro-triangles, `n = 2^level`.
+#[must_use]
 pub fn face_count(level: Level) -> u128 {
     let n = 1u128 << level.get();
     (n + 1) * (n + 2) / 2 + 3 * n * (n + 1) / 2 + n * n
@@ -125,19 +131,26 @@ pub const FACE_OFFSETS: [(u64, u64, FaceKind); 6] = [
 ];
 
 /// The faces anchored at cell `(a, b)` of `level` that lie in the closed
-/// triangle.
+/// triangle. A cell outside the lattice (`a + b > 2^level`) has none.
 ///
 /// ```
 /// use micromap_index_verify::lattice::faces_of_cell;
 /// use micromap_index::Level;
+/// let level = Level::new(1).unwrap();
 /// // Cell (1, 0) at level 1 touches the hypotenuse: no upside-down
 /// // micro-triangle there.
-/// assert_eq!(faces_of_cell(Level::new(1).unwrap(), 1, 0).count(), 5);
+/// assert_eq!(faces_of_cell(level, 1, 0).count(), 5);
+/// // The vertex (1, 1) is past the hypotenuse, and (0, 0) is not it.
+/// assert_eq!(faces_of_cell(level, 1, 1).count(), 0);
+/// assert_eq!(faces_of_cell(level, u64::MAX, 0).count(), 0);
 /// ```
 pub fn faces_of_cell(level: Level, a: u64, b: u64) -> impl Iterator<Item = Face> {
+    let side = 1u64 << level.get();
+    let inside = a <= side && b <= side - a;
     let limit = 4 << level.get();
     FACE_OFFSETS
         .into_iter()
+        .filter(move |_| inside)
         .map(move |(dx, dy, kind)| Face {
             level,
             x: 4 * a + dx,

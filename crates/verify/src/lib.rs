@@ -9,6 +9,9 @@
 //! * [`rng`]: the deterministic generator every sampled check uses.
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
+// The checking functions panic on a disagreement by design: that is how a
+// fuzz target or a test reports it.
+#![allow(clippy::missing_panics_doc)]
 
 pub mod eval;
 #[cfg(feature = "fuzzing")]

@@ -80,6 +80,7 @@ impl WalkVersion {
     /// use micromap_index_verify::prove::WalkVersion;
     /// assert_eq!(WalkVersion::Version1.name(), "version1");
     /// ```
+    #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             WalkVersion::Version2 => "version2",
@@ -119,6 +120,7 @@ pub enum Reference {
 
 impl Reference {
     /// A short name: `spec` or `spec-wide`.
+    #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             Reference::Spec => "spec",
@@ -134,6 +136,7 @@ impl Reference {
     /// assert_eq!(Reference::Spec.max_level(), 16);
     /// assert_eq!(Reference::SpecWide.max_level(), 32);
     /// ```
+    #[must_use]
     pub fn max_level(self) -> u32 {
         match self {
             Reference::Spec => spec::MAX_LEVEL,
@@ -188,6 +191,7 @@ pub struct Progress {
 
 impl Progress {
     /// Nothing done, not cancelled.
+    #[must_use]
     pub fn new() -> Self {
         Progress::default()
     }
@@ -273,6 +277,7 @@ pub struct LevelReport {
 
 impl LevelReport {
     /// All mismatches found.
+    #[must_use]
     pub fn mismatches(&self) -> u128 {
         self.mismatches_by_kind.iter().sum()
     }
@@ -280,6 +285,7 @@ impl LevelReport {
     /// Whether this report proves the walk equal to the reference at the
     /// level: every face was compared, the count is the face count, and
     /// none differed.
+    #[must_use]
     pub fn is_proof(&self) -> bool {
         self.method == Method::Exhaustive
             && self.complete
@@ -562,12 +568,11 @@ impl Table {
                     top_flip: draft.flags.1,
                     owned: draft.owned,
                 };
-                let index = match states.iter().position(|&s| s == child_state) {
-                    Some(index) => index,
-                    None => {
-                        states.push(child_state);
-                        states.len() - 1
-                    }
+                let index = if let Some(index) = states.iter().position(|&s| s == child_state) {
+                    index
+                } else {
+                    states.push(child_state);
+                    states.len() - 1
                 };
                 row[digit] = Child {
                     digit: digit as u8,
@@ -613,6 +618,7 @@ impl Table {
     }
 
     /// The number of reachable node states.
+    #[must_use]
     pub fn state_count(&self) -> usize {
         self.states.len()
     }
@@ -932,14 +938,13 @@ pub fn for_each_face(
         level,
         visit,
     };
-    match level.get().checked_sub(1) {
-        Some(twig_depth) => descend(&table, &Node::root(level), twig_depth, &mut every_face),
-        None => {
-            // Level 0: the root is the only leaf.
-            let root = Node::root(level);
-            for &point in LeafFaces::of(root.corners, root.owned).as_slice() {
-                every_face.face(point, root.index);
-            }
+    if let Some(twig_depth) = level.get().checked_sub(1) {
+        descend(&table, &Node::root(level), twig_depth, &mut every_face)
+    } else {
+        // Level 0: the root is the only leaf.
+        let root = Node::root(level);
+        for &point in LeafFaces::of(root.corners, root.owned).as_slice() {
+            every_face.face(point, root.index);
         }
     }
     Ok(())
@@ -1019,7 +1024,7 @@ fn run_units(
     });
     let mut finished = finished
         .into_inner()
-        .unwrap_or_else(|poisoned| poisoned.into_inner());
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     finished.sort_unstable_by_key(|&(i, _)| i);
     Finished {
         all: finished.len() as u64 == units,
@@ -1031,7 +1036,7 @@ fn thread_count(settings: &Settings) -> usize {
     if settings.threads > 0 {
         settings.threads
     } else {
-        std::thread::available_parallelism().map_or(1, |n| n.get())
+        std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
     }
 }
 
@@ -1247,7 +1252,7 @@ impl Visitor for Checker<'_> {
             let own = cells[position];
             // `&`, not `&&`: no branch on data.
             differs |=
-                !((cell.iu == own.iu) & (cell.iv == own.iv) & (cell.diagonal == own.diagonal));
+                !((cell.iu == own.iu) && (cell.iv == own.iv) && (cell.diagonal == own.diagonal));
         }
         self.tally.faces += 4 + twig.boundary.len() as u64;
         if differs {

@@ -1,4 +1,4 @@
-//! SplitMix64, the small deterministic generator behind every sampled set in
+//! `SplitMix64`, the small deterministic generator behind every sampled set in
 //! this crate (conformance vectors, sampled proofs) and its tests: a
 //! well-known algorithm, so the streams depend on no crate's random-number
 //! implementation and anyone can regenerate them.
@@ -10,13 +10,14 @@
 //! assert!(rng.below(10) < 10);
 //! ```
 
-/// SplitMix64 (Steele, Lea and Flood, 2014): a 64-bit state advanced by the
+/// `SplitMix64` (Steele, Lea and Flood, 2014): a 64-bit state advanced by the
 /// golden-ratio increment and finished with a mixing function.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SplitMix64(u64);
 
 impl SplitMix64 {
     /// A generator whose state starts at `seed`.
+    #[must_use]
     pub const fn new(seed: u64) -> Self {
         SplitMix64(seed)
     }

@@ -332,6 +332,7 @@ fn pow2(e: i64) -> f64 {
 /// assert_eq!(next_up_f32(f32::MAX), f32::INFINITY);
 /// assert!(next_up_f32(f32::NAN).is_nan());
 /// ```
+#[must_use]
 pub fn next_up_f32(x: f32) -> f32 {
     if x.is_nan() || x == f32::INFINITY {
         x
@@ -353,6 +354,7 @@ pub fn next_up_f32(x: f32) -> f32 {
 /// assert_eq!(next_down_f32(0.0), -f32::from_bits(1));
 /// assert_eq!(next_down_f32(f32::NEG_INFINITY), f32::NEG_INFINITY);
 /// ```
+#[must_use]
 pub fn next_down_f32(x: f32) -> f32 {
     -next_up_f32(-x)
 }

@@ -122,7 +122,7 @@ fn quantize(x: f32, level: u32) -> (u32, f32) {
     (cell, scaled - cell as f32)
 }
 
-/// Drawing helpers on the crate's fixed-seed SplitMix64, so every run checks
+/// Drawing helpers on the crate's fixed-seed `SplitMix64`, so every run checks
 /// the same inputs.
 trait Draw {
     fn coordinate(&mut self) -> f32;

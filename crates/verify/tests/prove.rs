@@ -171,5 +171,11 @@ fn samples_agree_and_repeat_with_the_seed() {
     assert!(first.mismatches() > 0);
     assert_eq!(first.mismatches_by_kind, again.mismatches_by_kind);
     assert_eq!(first.examples, again.examples);
-    assert_eq!(FACE_KINDS.len(), first.mismatches_by_kind.len());
+    // Version 1 agrees with the reference inside every micro-triangle: its
+    // mismatches are all on edges and vertices.
+    for (kind, &count) in FACE_KINDS.iter().zip(&first.mismatches_by_kind) {
+        if kind.is_open_triangle() {
+            assert_eq!(count, 0, "{} faces", kind.name());
+        }
+    }
 }
