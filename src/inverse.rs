@@ -27,7 +27,7 @@
 //!
 //! Edges are numbered by the vertex they face: edge `i` joins the two
 //! vertices other than `vertices[i]`
-//! ([`edge_midpoints_rational`](MicroTriangle::edge_midpoints_rational),
+//! (`edge_midpoints_rational`, feature `exact`,
 //! [`neighbours`](MicroTriangle::neighbours)).
 //!
 //! ```

@@ -52,7 +52,7 @@
 //!   `uv2index::index_real`, `inverse::MicroTriangle::vertices_rational`, ...)
 //!   through `num-bigint` and `num-rational`; implies `std`.
 //! * `unstable-public-internals`: the test oracles the verification crate
-//!   needs ([`internals`]: `*_ref` twins, the talk's version 1 walk, the
+//!   needs (module `internals`: `*_ref` twins, the talk's version 1 walk, the
 //!   rounding-window predicate). Not covered by semver.
 //!
 //! With `default-features = false` the crate is `no_std`, allocation-free and

@@ -11,7 +11,7 @@ pub const MAX_SCALE_LOG2: u32 = 62;
 /// The reference's first half over the reals for the dyadic point
 /// `(u_scaled, v_scaled) / 2^scale_log2` (non-negative numerators;
 /// coordinates above 1 clamp to 1), with integers only. Equal to
-/// [`cell_real`](super::cell_real) on that point. Levels `0..=32`;
+/// `cell_real` (feature `exact`) on that point. Levels `0..=32`;
 /// [`Error::ScaleTooLarge`] when `scale_log2 > 62`.
 ///
 /// ```
@@ -61,7 +61,7 @@ pub fn cell_dyadic(
 
 /// The reference's steps over the reals for the dyadic point
 /// `(u_scaled, v_scaled) / 2^scale_log2` (see [`cell_dyadic`]): the same
-/// result as [`index_real`](super::index_real) on that point, with integers
+/// result as `index_real` (feature `exact`) on that point, with integers
 /// only.
 ///
 /// ```

@@ -53,7 +53,7 @@ integer_half!(
     /// words, a 16-bit prefix-XOR and interleave (so only levels `0..=16` give
     /// valid indices); shifts by `level >= 32` use `level % 32`.
     ///
-    /// Every narrow variant (binary32, exact, dyadic) computes its [`Cell`] its
+    /// Every narrow variant (binary32, exact, dyadic) computes its [`Cell`](super::Cell) its
     /// own way and shares this function.
     ///
     /// ```

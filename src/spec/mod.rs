@@ -29,7 +29,7 @@
 //!   reproduce a driver's answer to an out-of-range level.
 //! * [`index_f32_by_integers`] returns the same bits as [`index_f32`] for every
 //!   input, computed from the float bits with integer operations only.
-//! * [`index_real`] (feature `exact`) runs the same steps over the reals ("the
+//! * `index_real` (feature `exact`) runs the same steps over the reals ("the
 //!   rational reading of the spec"): exact products, floors and fractional
 //!   parts, and an exact `uf + vf >= 1`. It differs from [`index_f32`] on a
 //!   finite, in-range input only where binary32 rounds `uf + vf` up to

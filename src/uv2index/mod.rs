@@ -19,7 +19,7 @@
 //!   checked face by face (`docs/verification.md`); it defines the mapping
 //!   up to level 32. [`exact_index_f32`] and [`exact_index_f64`] give that
 //!   exact answer for every finite float point with integers only;
-//!   [`index_real`] (feature `exact`) for every rational point.
+//!   `index_real` (feature `exact`) for every rational point.
 //! * [`index_in_f32_arithmetic`] and [`index_in_f64_arithmetic`] evaluate each
 //!   expression left to right in that float type exactly as the talk's
 //!   Python writes it (`w - u - v` is `(w - u) - v`, `w = 1 - (u + v)`), so the

@@ -15,7 +15,7 @@
 //! | function | fuzz target | property |
 //! |---|---|---|
 //! | [`spec_vs_mirror`] | `spec_vs_mirror` | [`spec::index_f32`] = [`spec::reference_bits_f32_by_integers`] (and, in the target, = the C reference) for every `f32` pair and level |
-//! | [`exact_walk_vs_fixed`] | `exact_walk_vs_fixed` | [`micromap_index::internals::index_real_ref`] (BigRational) = [`uv2index::index_real`] = [`uv2index::exact_index_f32`] / [`uv2index::exact_index_f64`] on finite floats, levels `0..=32`, errors included |
+//! | [`exact_walk_vs_fixed`] | `exact_walk_vs_fixed` | [`internals::index_real_ref`] (BigRational) = [`uv2index::index_real`] = [`uv2index::exact_index_f32`] / [`uv2index::exact_index_f64`] on finite floats, levels `0..=32`, errors included |
 //! | [`inverse_round_trip`] | `inverse_round_trip` | [`inverse::micro_triangle`] and the walk invert each other |
 //! | [`eval_input`] | `eval_input` | [`eval::eval_line_bytes`] never panics and writes one JSON object line; [`Value::parse`] round-trips |
 //! | [`vector_reader`] | `vector_reader` | [`vectors::parse_vector_file`] and [`vectors::parse_answers`] never panic; what they accept round-trips; [`vectors::check`] adds up |
@@ -34,8 +34,8 @@
 //!
 //! [`spec::index_f32`]: micromap_index::spec::index_f32
 //! [`spec::reference_bits_f32_by_integers`]: micromap_index::spec::reference_bits_f32_by_integers
-//! [`micromap_index::internals::index_real_ref`]: crate::micromap_index::internals::index_real_ref
-//! [`uv2index::index_real`]: crate::uv2index::index_real
+//! [`internals::index_real_ref`]: micromap_index::internals::index_real_ref
+//! [`uv2index::index_real`]: micromap_index::uv2index::index_real
 //! [`uv2index::exact_index_f32`]: micromap_index::uv2index::exact_index_f32
 //! [`uv2index::exact_index_f64`]: micromap_index::uv2index::exact_index_f64
 //! [`inverse::micro_triangle`]: micromap_index::inverse::micro_triangle
@@ -325,7 +325,7 @@ impl Format {
 }
 
 /// Differential: the walk over exact rationals, all-BigRational
-/// ([`micromap_index::internals::index_real_ref`]), against the machine-integer fast path
+/// ([`internals::index_real_ref`](micromap_index::internals::index_real_ref)), against the machine-integer fast path
 /// ([`uv2index::index_real`], where the point has one) and the fixed-point engine
 /// ([`uv2index::exact_index_f32`] / [`uv2index::exact_index_f64`]) on finite binary32 or
 /// binary64 points, levels `0..=32`; the full `Result` must agree, so points
