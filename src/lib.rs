@@ -81,6 +81,11 @@ macro_rules! unstable_pub_fn {
     };
 }
 
+// The README's Rust example is compiled and run as a doc-test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
+
 mod error;
 pub mod inverse;
 mod level;
