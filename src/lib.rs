@@ -48,16 +48,19 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+#[cfg(feature = "alloc")]
+extern crate alloc;
+
 #[cfg(feature = "std")]
 pub mod eval;
 pub mod fixed;
-pub mod micromap;
 #[cfg(feature = "fuzzing")]
 pub mod fuzzing;
 #[cfg(feature = "std")]
 pub mod inverse;
 #[cfg(feature = "std")]
 pub mod lattice;
+pub mod micromap;
 #[cfg(feature = "std")]
 pub mod prove;
 #[cfg(feature = "std")]
