@@ -80,3 +80,11 @@ fn eval_input() {
 fn vector_reader() {
     replay("vector_reader", fuzzing::vector_reader);
 }
+
+#[test]
+fn micromap_buffers() {
+    replay(
+        "micromap_buffers",
+        micromap_index::micromap::fuzz_body::micromap_buffers,
+    );
+}

@@ -60,6 +60,8 @@
 
 #[cfg(feature = "alloc")]
 mod buffers;
+#[cfg(feature = "fuzzing")]
+pub mod fuzz_body;
 #[cfg(feature = "alloc")]
 mod map;
 #[cfg(feature = "alloc")]
