@@ -481,8 +481,8 @@ impl Micromap {
     }
 
     /// Like [`from_bytes`](Self::from_bytes), but bits past the last
-    /// micro-triangle are cleared instead of refused: the APIs ignore them
-    /// (Vulkan's micromap chapter and the glTF draft say so).
+    /// micro-triangle are cleared instead of refused: readers ignore them
+    /// (the glTF draft: they "MUST be ignored").
     ///
     /// ```
     /// use micromap_index::micromap::{Format, Micromap, State};

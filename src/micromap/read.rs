@@ -33,8 +33,8 @@ pub enum Overlap {
     /// overlap"). Every byte is then decoded at most once, so the micromaps
     /// returned take no more memory than the data given.
     Forbid,
-    /// Blocks may overlap or be shared (Vulkan and DXR state no rule against
-    /// it), as long as the decoded micromaps take at most
+    /// Blocks may overlap or be shared (no rule against it was found in the
+    /// Vulkan or DXR text, see `docs/micromaps.md`), as long as the decoded micromaps take at most
     /// `max_decoded_bytes` in total (many records on one large block would
     /// otherwise multiply the memory).
     Allow {
@@ -258,7 +258,8 @@ pub struct ReadBuffers {
     /// The triangle records as read.
     pub records: Vec<TriangleRecord>,
     /// The micromap of each record, in record order. Bits past the last
-    /// micro-triangle of a one-byte block are cleared (the APIs ignore them).
+    /// micro-triangle of a one-byte block are cleared (readers ignore them:
+    /// the glTF draft says so).
     pub micromaps: Vec<Micromap>,
     /// The geometry's per-triangle indices with the base triangle added,
     /// if an index buffer was given; every [`MicromapIndex::Record`] names
