@@ -644,7 +644,9 @@ impl Micromap {
         self.data
             .iter()
             .flat_map(move |&byte| (0..per_byte).map(move |k| (byte >> (k as u32 * bits)) & mask))
-            .take(len as usize)
+            // Only a one-byte map has slots past the last state; 4^16 would
+            // not fit a 32-bit usize, but then no slot is cut.
+            .take(usize::try_from(len).unwrap_or(usize::MAX))
             // Every 1- or 2-bit value is a state.
             .filter_map(State::from_bits)
     }
