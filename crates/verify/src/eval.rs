@@ -205,7 +205,7 @@ impl fmt::Display for EvalError {
             EvalError::Input(e) => e.fmt(f),
             EvalError::LevelTooHigh { variant, level } => write!(
                 f,
-                "level {level} is too high: {variant} supports levels 0..={}",
+                "level {level} is too high: this variant supports levels 0..={}",
                 variant.max_level()
             ),
         }
@@ -313,7 +313,7 @@ mod tests {
         let out = eval_line(Variant::WalkReal, r#"{"u": "0", "v": "0", "level": 33}"#);
         assert_eq!(
             out,
-            r#"{"error":"level 33 is too high: walk-real supports levels 0..=32"}"#
+            r#"{"error":"level 33 is too high: this variant supports levels 0..=32"}"#
         );
         let out = eval_line(
             Variant::SpecF32,
@@ -321,7 +321,7 @@ mod tests {
         );
         assert_eq!(
             out,
-            r#"{"error":"level 99999999999 is too high: spec-f32 supports levels 0..=16"}"#
+            r#"{"error":"level 99999999999 is too high: this variant supports levels 0..=16"}"#
         );
         let out = eval_line(
             Variant::SpecF32,

@@ -939,7 +939,7 @@ pub fn for_each_face(
         visit,
     };
     if let Some(twig_depth) = level.get().checked_sub(1) {
-        descend(&table, &Node::root(level), twig_depth, &mut every_face)
+        descend(&table, &Node::root(level), twig_depth, &mut every_face);
     } else {
         // Level 0: the root is the only leaf.
         let root = Node::root(level);

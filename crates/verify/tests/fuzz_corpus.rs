@@ -81,3 +81,11 @@ fn eval_input() {
 fn vector_reader() {
     replay("vector_reader", fuzzing::vector_reader);
 }
+
+#[test]
+fn micromap_buffers() {
+    replay(
+        "micromap_buffers",
+        micromap_index_verify::fuzzing::micromap_buffers,
+    );
+}

@@ -45,6 +45,9 @@
 //! [`vectors::parse_answers`]: crate::vectors::parse_answers
 //! [`vectors::check`]: crate::vectors::check
 
+mod micromap_buffers;
+pub use micromap_buffers::micromap_buffers;
+
 use crate::eval::{eval_line_bytes, Variant};
 use crate::value::{Value, MAX_VALUE_LEN};
 use crate::vectors;
