@@ -48,22 +48,27 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+#[cfg(feature = "alloc")]
+extern crate alloc;
+
 #[cfg(feature = "std")]
 pub mod eval;
 pub mod fixed;
-pub mod micromap;
 #[cfg(feature = "fuzzing")]
 pub mod fuzzing;
 #[cfg(feature = "std")]
 pub mod inverse;
 #[cfg(feature = "std")]
 pub mod lattice;
+pub mod micromap;
 #[cfg(feature = "std")]
 pub mod prove;
 #[cfg(feature = "std")]
 pub mod rational;
 pub mod rng;
 pub mod spec;
+#[cfg(feature = "alloc")]
+pub mod succinct;
 pub mod uv2index;
 #[cfg(feature = "std")]
 pub mod value;
