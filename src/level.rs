@@ -15,7 +15,7 @@ use core::fmt;
 /// assert_eq!(Level::new(33), Err(Error::LevelTooHigh { level: 33, max: 32 }));
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct Level(u8);
+pub struct Level(pub(crate) u8);
 
 impl Level {
     /// The highest level any function in this crate accepts.
@@ -74,7 +74,7 @@ impl fmt::Display for Level {
 /// assert_eq!(SpecLevel::try_from(Level::new(20).unwrap()), Err(Error::LevelTooHigh { level: 20, max: 16 }));
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct SpecLevel(u8);
+pub struct SpecLevel(pub(crate) u8);
 
 impl SpecLevel {
     /// The highest level the 32-bit reference computes valid indices for.

@@ -92,6 +92,8 @@ mod level;
 pub mod micromap;
 pub mod num;
 pub mod spec;
+#[cfg(feature = "alloc")]
+pub mod succinct;
 pub mod uv2index;
 
 pub use error::{Coordinate, Error, Outside};

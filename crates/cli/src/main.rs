@@ -5,6 +5,7 @@ mod check_command;
 mod eval_command;
 mod locate_command;
 mod prove_command;
+mod tree_command;
 mod vectors_command;
 
 use std::process::ExitCode;
@@ -34,6 +35,9 @@ commands:
                           with the vectors; report by tag. Exit 0 all match, 1 a
                           mismatch or missing/unknown id, 2 usage error or unreadable
                           or malformed file. Option: --examples K (per tag, default 5).
+  tree encode|lookup      the paper's succinct tree: encode a micromap given as
+                          states, or look a state up from tree bits and data
+                          (micromap-index tree --help).
   help                    this text";
 
 fn main() -> ExitCode {
@@ -45,6 +49,7 @@ fn main() -> ExitCode {
         Some((&"prove", options)) => prove_command::run(options),
         Some((&"vectors", options)) => vectors_command::run(options),
         Some((&"check", options)) => check_command::run(options),
+        Some((&"tree", options)) => tree_command::run(options),
         Some((&("help" | "--help" | "-h"), [])) => {
             println!("{USAGE}");
             println!("variants: {}", eval_command::variant_names());

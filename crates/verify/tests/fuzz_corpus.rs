@@ -89,3 +89,8 @@ fn micromap_buffers() {
         micromap_index_verify::fuzzing::micromap_buffers,
     );
 }
+
+#[test]
+fn succinct_tree() {
+    replay("succinct_tree", fuzzing::succinct_tree);
+}

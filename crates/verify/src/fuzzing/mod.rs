@@ -46,7 +46,9 @@
 //! [`vectors::check`]: crate::vectors::check
 
 mod micromap_buffers;
+mod succinct_tree;
 pub use micromap_buffers::micromap_buffers;
+pub use succinct_tree::succinct_tree;
 
 use crate::eval::{eval_line_bytes, Variant};
 use crate::value::{Value, MAX_VALUE_LEN};
