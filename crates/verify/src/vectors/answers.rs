@@ -17,8 +17,13 @@ use std::fmt::Write as _;
 pub enum Answer {
     /// `{"id": N, "index": I}`.
     Index(u64),
-    /// `{"id": N, "error": "..."}`: the implementation refused the input.
+    /// `{"id": N, "error": "..."}`: the implementation refused the input
+    /// (a mismatch).
     Refused(String),
+    /// `{"id": N, "unsupported": true}`: the implementation does not
+    /// support this case by design (a level above its maximum, an input it
+    /// rejects on purpose); counted apart from mismatches.
+    Unsupported,
 }
 
 impl fmt::Display for Answer {
@@ -26,6 +31,7 @@ impl fmt::Display for Answer {
         match self {
             Answer::Index(index) => index.fmt(f),
             Answer::Refused(message) => write!(f, "error {message:?}"),
+            Answer::Unsupported => f.write_str("unsupported"),
         }
     }
 }
@@ -39,7 +45,8 @@ pub struct Answers {
 
 impl Answers {
     /// The answers as JSON lines in id order, each ending with a newline:
-    /// `{"id":N,"index":I}` or `{"id":N,"error":"..."}`.
+    /// `{"id":N,"index":I}`, `{"id":N,"error":"..."}` or
+    /// `{"id":N,"unsupported":true}`.
     ///
     /// ```
     /// use micromap_index_verify::vectors::{parse_answers, Answer, Answers};
@@ -60,6 +67,7 @@ impl Answers {
                     "{{\"id\":{id},\"error\":{}}}",
                     serde_json::Value::from(message.as_str())
                 ),
+                Answer::Unsupported => writeln!(text, "{{\"id\":{id},\"unsupported\":true}}"),
             };
         }
         text

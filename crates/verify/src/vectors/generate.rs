@@ -1,6 +1,7 @@
 //! The generator: the candidate points of every class and level, the
 //! derived tags, and each set's cases ([`generate_sets`]).
 
+use super::classify::{place_of, Place};
 use super::format::{exact_of_f32, f32_text, rational_text};
 use super::{tag, Case, VectorFile, VectorSet};
 use super::{
@@ -498,6 +499,17 @@ fn add_derived_tags(candidate: &mut Candidate) {
     }
     if let Some(rounding) = binary32_rounding_tag(u, v, candidate.level) {
         derived.push(rounding);
+    }
+    let exact = match &candidate.exact {
+        Some(exact) => Some(exact.clone()),
+        None => exact_of_f32(u).zip(exact_of_f32(v)),
+    };
+    if let (Some((u, v)), Ok(level)) = (exact, Level::new(candidate.level)) {
+        match place_of(&u, &v, level) {
+            Place::SharedEdge => derived.push(tag::SHARED_EDGE),
+            Place::SharedVertex => derived.push(tag::SHARED_VERTEX),
+            Place::Outside | Place::OneMicroTriangle => {}
+        }
     }
     for name in derived {
         if !candidate.tags.contains(&name) {

@@ -43,6 +43,7 @@
 
 mod answers;
 mod check;
+mod classify;
 mod format;
 mod generate;
 mod read;
@@ -50,10 +51,14 @@ mod report;
 pub mod tag;
 
 pub use answers::{compute_answers, Answer, AnswerSource, Answers};
-pub use check::{check, CheckReport, Mismatch, Tally};
+pub use check::{
+    check, check_reader, check_selected, is_known_tag, CheckReport, Checker, Mismatch, Selection,
+    Tally, MAX_LISTED_IDS,
+};
+pub use classify::{classify, micro_triangle_contains, place_of, MismatchClass, Place};
 pub use format::{Case, VectorFile, VectorSet};
 pub use generate::{generate_sets, sampled_anchors};
-pub use read::{parse_answers, parse_vector_file, VectorError};
+pub use read::{parse_answers, parse_vector_file, read_vector_file, VectorError, VectorHeader};
 pub use report::exact_form;
 
 /// The `format` field of every vector file.

@@ -12,6 +12,14 @@ pub const HORIZONTAL_EDGE: &str = "horizontal-edge";
 pub const VERTICAL_EDGE: &str = "vertical-edge";
 /// On a line `u + v = k / 2^level`.
 pub const DIAGONAL_EDGE: &str = "diagonal-edge";
+/// The point lies on an edge shared by two micro-triangles (not at a
+/// vertex): which of the two is the index is a tie-break. Derived exactly
+/// from the point, whatever its class.
+pub const SHARED_EDGE: &str = "shared-edge";
+/// The point is a lattice vertex shared by two or more micro-triangles
+/// (any vertex but the base triangle's corners): a tie-break. Derived
+/// exactly from the point.
+pub const SHARED_VERTEX: &str = "shared-vertex";
 /// The centroid of a micro-triangle (exact in `spec-exact`, the nearest
 /// binary32 point elsewhere), with `upright` or `upside-down`.
 pub const CENTROID: &str = "centroid";
@@ -65,12 +73,14 @@ pub const SUBNORMAL: &str = "subnormal";
 pub const RANDOM: &str = "random";
 
 /// Every tag, in the order the docs list them.
-pub const ALL: [&str; 26] = [
+pub const ALL: [&str; 28] = [
     VERTEX,
     EDGE_MIDPOINT,
     HORIZONTAL_EDGE,
     VERTICAL_EDGE,
     DIAGONAL_EDGE,
+    SHARED_EDGE,
+    SHARED_VERTEX,
     CENTROID,
     UPRIGHT,
     UPSIDE_DOWN,
