@@ -401,11 +401,10 @@ fn check_scoping_classes_and_json() {
     // Without the bad answer, the capped implementation passes.
     let fixed = capped.replace(
         "{\"id\": 200, \"index\": 4294967296}",
-        &right
+        right
             .lines()
             .find(|l| l.starts_with("{\"id\":200,"))
-            .unwrap()
-            .to_string(),
+            .unwrap(),
     );
     let output = run(
         &["check", "--vectors", &spec_f32, "--answers", "-", "--json"],

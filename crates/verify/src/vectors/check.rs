@@ -82,7 +82,7 @@ impl Selection {
         let has = |names: &[String]| names.iter().any(|name| case.tags.contains(name));
         self.levels
             .as_ref()
-            .is_none_or(|levels| levels.contains(&case.level))
+            .map_or(true, |levels| levels.contains(&case.level))
             && (self.tags.is_empty() || has(&self.tags))
             && !has(&self.exclude_tags)
     }
