@@ -135,10 +135,14 @@ impl VectorFile {
     /// are per case and line-based readers work. Ends with a newline.
     ///
     /// ```
-    /// use micromap_index_verify::vectors::{parse_vector_file, VectorFile, FORMAT, VERSION};
+    /// use micromap_index_verify::vectors::{parse_vector_file, Case, VectorFile, FORMAT, VERSION};
+    /// let case = Case {
+    ///     id: 0, u: "0x3e800000".into(), v: "0x3e800000".into(), level: 2, index: 5,
+    ///     tags: vec!["vertex".into()], u_decimal: Some("0.25".into()), v_decimal: None,
+    /// };
     /// let file = VectorFile {
     ///     format: FORMAT.into(), version: VERSION, function: "spec-f32".into(),
-    ///     description: String::new(), cases: vec![],
+    ///     description: String::new(), cases: vec![case],
     /// };
     /// assert_eq!(parse_vector_file(file.to_json_text().as_bytes()).unwrap(), file);
     /// ```

@@ -150,7 +150,7 @@ impl CheckReport {
     /// let vectors = parse_vector_file(br#"{"format": "micromap-index-vectors", "version": 1,
     ///   "function": "spec-exact", "cases": [
     ///     {"id": 0, "u": "1/4", "v": "1/4", "level": 1, "index": 1, "tags": ["shared-edge"]}]}"#).unwrap();
-    /// let report = check(&vectors, &parse_answers(b"{"id":0,"index":4}").unwrap());
+    /// let report = check(&vectors, &parse_answers(br#"{"id":0,"index":4}"#).unwrap());
     /// let json = report.to_json(1);
     /// assert_eq!((json["mismatched"].as_u64(), json["out_of_range"].as_u64()), (Some(1), Some(1)));
     /// assert_eq!(json["by_class"]["out-of-range"], 1);
