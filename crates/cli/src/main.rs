@@ -50,7 +50,10 @@ fn main() -> ExitCode {
     };
     if let Some((name, _)) = help::COMMANDS.iter().find(|(name, _)| *name == command) {
         let _ = COMMAND.set(name);
-        if options.iter().any(|&option| option == "--help" || option == "-h") {
+        if options
+            .iter()
+            .any(|&option| option == "--help" || option == "-h")
+        {
             return print_help(help::command_help(command).unwrap_or_default());
         }
     }

@@ -73,7 +73,9 @@ impl Exit {
     pub(crate) fn meaning(self) -> &'static str {
         match self {
             Exit::Success => "success (prove, check: no mismatch)",
-            Exit::Failed => "the check failed: a mismatch (prove, check), a missing or unknown id (check)",
+            Exit::Failed => {
+                "the check failed: a mismatch (prove, check), a missing or unknown id (check)"
+            }
             Exit::Usage => {
                 "usage error or malformed input (bad option or value, malformed file, \
                  vectors --out refusing an existing file); nothing done"

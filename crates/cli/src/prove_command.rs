@@ -19,7 +19,6 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-
 struct Options {
     levels: RangeInclusive<u32>,
     settings: Settings,

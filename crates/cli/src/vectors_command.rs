@@ -31,7 +31,11 @@ pub(crate) fn run(options: &[&str]) -> Exit {
     if options.iter().filter(|&&o| o == "--force").count() > 1 {
         return usage("vectors: --force given twice");
     }
-    let options: Vec<&str> = options.iter().copied().filter(|&o| o != "--force").collect();
+    let options: Vec<&str> = options
+        .iter()
+        .copied()
+        .filter(|&o| o != "--force")
+        .collect();
     let options = match crate::check_command::named_options(
         "vectors",
         &options,

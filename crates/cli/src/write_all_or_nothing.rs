@@ -96,9 +96,8 @@ impl Staged {
         for (_, target) in &pairs {
             if fs::symlink_metadata(target).is_ok_and(|m| m.is_file()) {
                 let backup = PathBuf::from(format!("{}.{pid}.old", target.display()));
-                keep_copy(target, &backup).map_err(|e| {
-                    format!("cannot keep a backup of {}: {e}", target.display())
-                })?;
+                keep_copy(target, &backup)
+                    .map_err(|e| format!("cannot keep a backup of {}: {e}", target.display()))?;
                 self.backups.push((target.clone(), backup));
             }
         }
@@ -205,10 +204,16 @@ mod tests {
         fs::create_dir(dir.join("d")).unwrap();
         assert!(check_destination(&dir, &["x"], false).is_ok());
         let e = check_destination(&dir, &["x", "a"], false).unwrap_err();
-        assert!(e.ends_with("a exists; nothing written (--force replaces it)"), "{e}");
+        assert!(
+            e.ends_with("a exists; nothing written (--force replaces it)"),
+            "{e}"
+        );
         assert!(check_destination(&dir, &["a"], true).is_ok());
         let e = check_destination(&dir, &["d"], true).unwrap_err();
-        assert!(e.ends_with("d exists and is not a file; nothing written"), "{e}");
+        assert!(
+            e.ends_with("d exists and is not a file; nothing written"),
+            "{e}"
+        );
         let e = check_destination(&dir.join("a"), &["x"], false).unwrap_err();
         assert!(e.ends_with("a exists and is not a directory"), "{e}");
         let e = check_destination(Path::new(""), &["x"], false).unwrap_err();

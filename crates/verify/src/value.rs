@@ -475,8 +475,9 @@ mod tests {
             Err(ValueError::OverLimit(message)) => message,
             other => panic!("{:?}: {other:?}", shorten(text)),
         };
-        assert!(over("1e999999999")
-            .starts_with("exponent 999999999 is over the limit of 4096 in magnitude: \"1e999999999\""));
+        assert!(over("1e999999999").starts_with(
+            "exponent 999999999 is over the limit of 4096 in magnitude: \"1e999999999\""
+        ));
         assert!(over("1e-4097").starts_with("exponent -4097 is over the limit of 4096"));
         assert!(Value::parse("1e-4096").is_ok());
         assert!(Value::parse("1e+0004096").is_ok());
