@@ -61,6 +61,8 @@ pub mod lattice;
 #[cfg(feature = "std")]
 pub mod prove;
 #[cfg(feature = "std")]
+pub mod prove_all_levels;
+#[cfg(feature = "std")]
 pub mod rational;
 pub mod rng;
 pub mod spec;
