@@ -815,6 +815,8 @@ pub struct AllLevelsReport {
     pub verdict: Verdict,
     /// The walk transducer's reachable states, sorted (for the docs).
     pub walk_states: Vec<WalkState>,
+    /// Every product state reached, in the order the search found them.
+    pub product_states: Vec<ProductState>,
 }
 
 impl AllLevelsReport {
@@ -964,6 +966,7 @@ pub fn explore(machine: &Machine) -> AllLevelsReport {
             },
             verdict,
             walk_states,
+            product_states: states.to_vec(),
         }
     };
     for bits in bit_triples() {

@@ -4,6 +4,7 @@
 mod check_command;
 mod eval_command;
 mod locate_command;
+mod prove_all_levels_command;
 mod prove_command;
 mod vectors_command;
 
@@ -25,6 +26,9 @@ commands:
                           levels to 32), --version1 (the talk's first walk, which
                           fails), --sample N [--seed S] (N random faces, walked step
                           by step), --json, --threads T, --examples K.
+  prove --all-levels      the walk against the reference at every level at once
+                          (finite product of digit transducers); exit 0 proved, 1
+                          not. Options: --version1 (must fail, prints a face), --json.
   vectors --out DIR       write the conformance vector files (spec-f32, spec-exact,
                           uv2index-exact .json) into DIR.
   vectors --answers-from NAME --vectors FILE  print {\"id\": N, \"index\": I} lines

@@ -27,6 +27,9 @@ struct Options {
 }
 
 pub(crate) fn run(options: &[&str]) -> ExitCode {
+    if options.contains(&"--all-levels") {
+        return crate::prove_all_levels_command::run(options);
+    }
     match parse(options) {
         Ok(options) => prove(&options),
         Err(message) => usage_error(&format!("prove: {message}")),
