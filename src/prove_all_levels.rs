@@ -383,8 +383,9 @@ impl ReferenceColumns {
         let mut table = [[0; 8]; 2];
         for parity in 0..2 {
             for key in 0..8 {
-                table[parity][key] = digits[parity][key]
-                    .ok_or_else(|| format!("column (parity {parity}, bits {key:03b}) never seen"))?;
+                table[parity][key] = digits[parity][key].ok_or_else(|| {
+                    format!("column (parity {parity}, bits {key:03b}) never seen")
+                })?;
             }
         }
         Ok(ReferenceColumns { digits: table })
@@ -621,7 +622,9 @@ impl Machine {
         let advance = |x: Symbolic| {
             x.form
                 .advance(column.bits)
-                .filter(|f| f.ru.abs() <= 1 && f.rv.abs() <= 1 && f.constant.abs() <= CONSTANT_BOUND)
+                .filter(|f| {
+                    f.ru.abs() <= 1 && f.rv.abs() <= 1 && f.constant.abs() <= CONSTANT_BOUND
+                })
                 .ok_or_else(|| fail(&format!("step result {:?} leaves the finite set", x.form)))
         };
         let walk_state = WalkState {
@@ -684,7 +687,9 @@ impl Machine {
         let (mut walk_index, mut reference_index) = (0u64, 0u64);
         for &column in &columns[1..=n] {
             if !state.rest.admits(column.bits, column.rest) {
-                return Err(ModelError(format!("checker rejects the point's own column {column:?}")));
+                return Err(ModelError(format!(
+                    "checker rejects the point's own column {column:?}"
+                )));
             }
             let (walk_digit, reference_digit, next) = self.transition(&state, column)?;
             walk_index = walk_index << 2 | u64::from(walk_digit);
@@ -693,7 +698,9 @@ impl Machine {
             states.push(state);
         }
         if !self.level_may_end(&state.reference, state.rest) {
-            return Err(ModelError("the rule's own guess fails at the level end".into()));
+            return Err(ModelError(
+                "the rule's own guess fails at the level end".into(),
+            ));
         }
         Ok(PointRun {
             walk_index,
@@ -725,8 +732,10 @@ fn point_columns(x: u128, y: u128, scale_log2: u32, level: u32) -> Result<Vec<Co
     let shift = m - scale_log2;
     let (x, y) = (x << shift, y << shift);
     let one = 1u128 << m;
-    if x.checked_add(y).is_none_or(|sum| sum > one) {
-        return Err(ModelError(format!("({x}, {y}) / 2^{m} is outside the triangle")));
+    if !matches!(x.checked_add(y), Some(sum) if sum <= one) {
+        return Err(ModelError(format!(
+            "({x}, {y}) / 2^{m} is outside the triangle"
+        )));
     }
     let z = one - x - y;
     let values = [x, y, z];
@@ -817,6 +826,27 @@ pub struct AllLevelsReport {
     pub walk_states: Vec<WalkState>,
     /// Every product state reached, in the order the search found them.
     pub product_states: Vec<ProductState>,
+    /// Every transition compared, between indices of `product_states`.
+    pub transitions: Vec<Transition>,
+    /// The start of each state reached from a start (`None` for the others).
+    pub starts: Vec<Option<Start>>,
+}
+
+/// One transition of the product: both transducers read `column` in state
+/// `from` and emit `digit` (the same digit, or the search would have
+/// stopped).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Transition {
+    /// Index of the source state.
+    pub from: usize,
+    /// The column read.
+    pub column: Column,
+    /// The walk's digit.
+    pub walk_digit: u8,
+    /// The reference's digit.
+    pub reference_digit: u8,
+    /// Index of the target state.
+    pub to: usize,
 }
 
 impl AllLevelsReport {
@@ -838,7 +868,9 @@ fn completable() -> BTreeSet<Rest> {
         let before = done.len();
         for rest in Rest::all() {
             if !done.contains(&rest)
-                && bit_triples().any(|bits| Rest::all().any(|next| done.contains(&next) && rest.admits(bits, next)))
+                && bit_triples().any(|bits| {
+                    Rest::all().any(|next| done.contains(&next) && rest.admits(bits, next))
+                })
             {
                 done.insert(rest);
             }
@@ -853,7 +885,9 @@ fn completable() -> BTreeSet<Rest> {
 fn columns_after(rest: Rest, completable: &BTreeSet<Rest>) -> Vec<Column> {
     bit_triples()
         .flat_map(|bits| Rest::all().map(move |next| Column { bits, rest: next }))
-        .filter(|column| completable.contains(&column.rest) && rest.admits(column.bits, column.rest))
+        .filter(|column| {
+            completable.contains(&column.rest) && rest.admits(column.bits, column.rest)
+        })
         .collect()
 }
 
@@ -870,10 +904,12 @@ impl Liveness {
         let guesses: Vec<Guess> = completable
             .iter()
             .flat_map(|&rest| {
-                [None, Some(U), Some(V), Some(W)].into_iter().flat_map(move |g| {
-                    [(false, false), (false, true), (true, false), (true, true)]
-                        .map(|(uz, wz)| (rest, g, uz, wz))
-                })
+                [None, Some(U), Some(V), Some(W)]
+                    .into_iter()
+                    .flat_map(move |g| {
+                        [(false, false), (false, true), (true, false), (true, true)]
+                            .map(|(uz, wz)| (rest, g, uz, wz))
+                    })
             })
             .collect();
         let may_end = |&(rest, g, u_zero, w_zero): &Guess| {
@@ -951,7 +987,12 @@ pub fn explore(machine: &Machine) -> AllLevelsReport {
         live_guesses: liveness.to_end.len(),
         ..StateCounts::default()
     };
-    let finish = |counts: StateCounts, states: &[ProductState], verdict| {
+    let mut transitions: Vec<Transition> = Vec::new();
+    let finish = |counts: StateCounts,
+                  states: &[ProductState],
+                  parents: &[Parent],
+                  transitions: Vec<Transition>,
+                  verdict| {
         let walks: HashSet<WalkState> = states.iter().map(|s| s.walk).collect();
         let references: HashSet<ReferenceState> = states.iter().map(|s| s.reference).collect();
         let mut walk_states: Vec<WalkState> = walks.into_iter().collect();
@@ -967,6 +1008,14 @@ pub fn explore(machine: &Machine) -> AllLevelsReport {
             verdict,
             walk_states,
             product_states: states.to_vec(),
+            transitions,
+            starts: parents
+                .iter()
+                .map(|p| match p {
+                    Parent::Start(start) => Some(*start),
+                    Parent::Column(..) => None,
+                })
+                .collect(),
         }
     };
     for bits in bit_triples() {
@@ -982,13 +1031,18 @@ pub fn explore(machine: &Machine) -> AllLevelsReport {
                 };
                 let u_zero = !bits[U] && rest.zero[U];
                 let w_zero = !bits[W] && rest.zero[W];
-                if !liveness.to_end.contains_key(&(rest, decremented, u_zero, w_zero)) {
+                if !liveness
+                    .to_end
+                    .contains_key(&(rest, decremented, u_zero, w_zero))
+                {
                     continue;
                 }
                 counts.starts += 1;
                 let state = match machine.start(start) {
                     Ok(state) => state,
-                    Err(e) => return finish(counts, &states, Verdict::Failed(e)),
+                    Err(e) => {
+                        return finish(counts, &states, &parents, transitions, Verdict::Failed(e))
+                    }
                 };
                 if let std::collections::hash_map::Entry::Vacant(slot) = ids.entry(state) {
                     slot.insert(states.len());
@@ -1015,23 +1069,38 @@ pub fn explore(machine: &Machine) -> AllLevelsReport {
                 Err(e) => {
                     let path = path_to(&parents, id);
                     let why = format!("{e}; reached by {}", describe_path(&path, column));
-                    return finish(counts, &states, Verdict::Failed(ModelError(why)));
+                    let verdict = Verdict::Failed(ModelError(why));
+                    return finish(counts, &states, &parents, transitions, verdict);
                 }
             };
             if walk_digit != reference_digit {
-                let verdict =
-                    counterexample(machine, &liveness, &completable, &parents, id, column, &next);
-                return finish(counts, &states, verdict);
+                let verdict = counterexample(
+                    machine,
+                    &liveness,
+                    &completable,
+                    &parents,
+                    id,
+                    column,
+                    &next,
+                );
+                return finish(counts, &states, &parents, transitions, verdict);
             }
-            if let std::collections::hash_map::Entry::Vacant(slot) = ids.entry(next) {
-                slot.insert(states.len());
+            let to = *ids.entry(next).or_insert_with(|| {
                 queue.push_back(states.len());
                 states.push(next);
                 parents.push(Parent::Column(id, column));
-            }
+                states.len() - 1
+            });
+            transitions.push(Transition {
+                from: id,
+                column,
+                walk_digit,
+                reference_digit,
+                to,
+            });
         }
     }
-    finish(counts, &states, Verdict::Proved)
+    finish(counts, &states, &parents, transitions, Verdict::Proved)
 }
 
 /// The start and the columns that first reached state `id`.
@@ -1052,8 +1121,16 @@ fn path_to(parents: &[Parent], mut id: usize) -> (Start, Vec<Column>) {
 }
 
 fn describe_path((start, columns): &(Start, Vec<Column>), last: Column) -> String {
-    let bits = |b: [bool; 3]| b.map(|x| char::from(b'0' + u8::from(x))).iter().collect::<String>();
-    let mut text = format!("start {} guess {:?}", bits(start.column.bits), start.decremented);
+    let bits = |b: [bool; 3]| {
+        b.map(|x| char::from(b'0' + u8::from(x)))
+            .iter()
+            .collect::<String>()
+    };
+    let mut text = format!(
+        "start {} guess {:?}",
+        bits(start.column.bits),
+        start.decremented
+    );
     for column in columns.iter().chain([&last]) {
         text.push_str(&format!(" {}", bits(column.bits)));
     }
@@ -1226,6 +1303,125 @@ impl Counterexample {
     }
 }
 
+// ---------------------------------------------------------------------------
+// Printing (for `micromap-index prove --all-levels --list` and the docs).
+
+impl fmt::Display for Rest {
+    /// `D1 z=u-v` lists the sum and the coordinates whose rest is zero.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "D{} z={}", self.sum, coordinate_list(self.zero))
+    }
+}
+
+/// The names of the coordinates with a flag set, `-` for none.
+fn coordinate_list(flags: [bool; 3]) -> String {
+    let names: String = ["u", "v", "w"]
+        .iter()
+        .zip(flags)
+        .filter(|(_, set)| *set)
+        .map(|(name, _)| *name)
+        .collect();
+    if names.is_empty() {
+        "-".into()
+    } else {
+        names
+    }
+}
+
+impl fmt::Display for Column {
+    /// `bits uvw=010 then D1 z=u`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let bits: String = self
+            .bits
+            .iter()
+            .map(|&b| if b { '1' } else { '0' })
+            .collect();
+        write!(f, "bits {bits} then {}", self.rest)
+    }
+}
+
+impl fmt::Display for Form {
+    /// `1 - Ru - Rv` style.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let mut text = String::new();
+        for (coefficient, name) in [(self.constant, ""), (self.ru, "Ru"), (self.rv, "Rv")] {
+            if coefficient == 0 {
+                continue;
+            }
+            let sign = if coefficient < 0 { "-" } else { "+" };
+            let magnitude = coefficient.abs();
+            let term = match (magnitude, name) {
+                (m, "") => m.to_string(),
+                (1, n) => n.to_string(),
+                (m, n) => format!("{m}{n}"),
+            };
+            if text.is_empty() {
+                text = if coefficient < 0 {
+                    format!("-{term}")
+                } else {
+                    term
+                };
+            } else {
+                text.push_str(&format!(" {sign} {term}"));
+            }
+        }
+        if text.is_empty() {
+            text.push('0');
+        }
+        f.write_str(&text)
+    }
+}
+
+impl fmt::Display for WalkState {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "u={}, v={}, w={}", self.u, self.v, self.w)?;
+        match (self.mid_flip, self.top_flip) {
+            (false, false) => Ok(()),
+            (true, false) => f.write_str(", mid_flip"),
+            (false, true) => f.write_str(", top_flip"),
+            (true, true) => f.write_str(", mid_flip, top_flip"),
+        }
+    }
+}
+
+impl fmt::Display for ReferenceState {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let guess = self.decremented.map_or("-", |c| ["u", "v", "w"][c]);
+        write!(
+            f,
+            "parity {}, minus one on {guess}, zero: {}",
+            u8::from(self.parity),
+            coordinate_list([self.u_zero, false, self.w_zero])
+        )
+    }
+}
+
+impl AllLevelsReport {
+    /// Every state and transition of the product, one per line (what
+    /// `micromap-index prove --all-levels --list` prints).
+    #[must_use]
+    pub fn listing(&self) -> Vec<String> {
+        let mut lines = Vec::new();
+        for (id, state) in self.product_states.iter().enumerate() {
+            let start = match self.starts.get(id).copied().flatten() {
+                Some(start) => format!("  <- start: integer {}", start.column),
+                None => String::new(),
+            };
+            lines.push(format!(
+                "S{id}: {} | {} | {}{start}",
+                state.rest, state.walk, state.reference
+            ));
+        }
+        for t in &self.transitions {
+            lines.push(format!(
+                "S{} --[{}]--> S{}  digits walk {} reference {}",
+                t.from, t.column, t.to, t.walk_digit, t.reference_digit
+            ));
+        }
+        lines
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1262,9 +1458,14 @@ mod tests {
                     };
                     for (a, b) in [(1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (-1, -1), (0, 0)] {
                         for constant in -3..=3 {
-                            let form = Form { ru: a, rv: b, constant };
+                            let form = Form {
+                                ru: a,
+                                rv: b,
+                                constant,
+                            };
                             // value * den, exactly.
-                            let value = i64::from(a) * ru + i64::from(b) * rv + i64::from(constant) * den;
+                            let value =
+                                i64::from(a) * ru + i64::from(b) * rv + i64::from(constant) * den;
                             for half_units in [0, 1] {
                                 let exact = (2 * value).cmp(&(i64::from(half_units) * den));
                                 assert_eq!(
@@ -1276,7 +1477,12 @@ mod tests {
                         }
                     }
                     assert_eq!(
-                        Form { ru: 1, rv: -1, constant: 0 }.compare_with_half_units(1, input),
+                        Form {
+                            ru: 1,
+                            rv: -1,
+                            constant: 0
+                        }
+                        .compare_with_half_units(1, input),
                         None
                     );
                 }
@@ -1297,7 +1503,11 @@ mod tests {
                 let f = parity ^ t;
                 let b1 = ((f ^ u) & !b0) | t;
                 let digit = u8::from(b0) | u8::from(b1) << 1;
-                assert_eq!(columns.digit(parity, bits), (digit, parity ^ t), "{parity} {bits:?}");
+                assert_eq!(
+                    columns.digit(parity, bits),
+                    (digit, parity ^ t),
+                    "{parity} {bits:?}"
+                );
             }
         }
     }
@@ -1330,7 +1540,10 @@ mod tests {
         };
         let (walk, reference) = example.real.unwrap();
         assert_ne!(walk, reference);
-        assert_eq!((walk, reference), (example.walk_index, example.reference_index));
+        assert_eq!(
+            (walk, reference),
+            (example.walk_index, example.reference_index)
+        );
     }
 
     /// Version 2 with the tie rule on `v = 1/2` dropped: must be rejected.
@@ -1361,8 +1574,15 @@ mod tests {
             for key in 0..8 {
                 let mut wrong = columns;
                 wrong.digits[parity][key] ^= 1;
-                let report = explore(&Machine::with_parts(step_version2, wrong, decremented_coordinate));
-                assert!(!report.is_proof(), "entry ({parity}, {key:03b}) flipped still proved");
+                let report = explore(&Machine::with_parts(
+                    step_version2,
+                    wrong,
+                    decremented_coordinate,
+                ));
+                assert!(
+                    !report.is_proof(),
+                    "entry ({parity}, {key:03b}) flipped still proved"
+                );
             }
         }
         // A decrement rule that forgets the hypotenuse move.
@@ -1378,9 +1598,15 @@ mod tests {
         for level in 0..=4 {
             let level = Level::new(level).unwrap();
             for face in crate::lattice::faces(level) {
-                assert_eq!(face_containing(face.x, face.y, level.get() + 2, level), face);
+                assert_eq!(
+                    face_containing(face.x, face.y, level.get() + 2, level),
+                    face
+                );
                 // The same point at a finer scale.
-                assert_eq!(face_containing(face.x * 8, face.y * 8, level.get() + 5, level), face);
+                assert_eq!(
+                    face_containing(face.x * 8, face.y * 8, level.get() + 5, level),
+                    face
+                );
             }
         }
     }

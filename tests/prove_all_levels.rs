@@ -28,8 +28,12 @@ fn real_reference(face: &Face) -> u64 {
     let cell = spec::cell_dyadic(face.x, face.y, face.scale_log2(), face.level);
     let wide = spec::index_from_cell_wide(cell.iu, cell.iv, cell.diagonal, face.level.get());
     if face.level.get() <= spec::MAX_LEVEL {
-        let narrow =
-            spec::index_from_cell(cell.iu as u32, cell.iv as u32, cell.diagonal, face.level.get());
+        let narrow = spec::index_from_cell(
+            cell.iu as u32,
+            cell.iv as u32,
+            cell.diagonal,
+            face.level.get(),
+        );
         assert_eq!(u64::from(narrow), wide, "{face:?}");
     }
     wide
@@ -54,10 +58,19 @@ fn cross_check(
         let mut faces = 0u128;
         for_each_face(level, version, |face, descent_index| {
             let run = machine
-                .run_on_point(u128::from(face.x), u128::from(face.y), face.scale_log2(), level)
+                .run_on_point(
+                    u128::from(face.x),
+                    u128::from(face.y),
+                    face.scale_log2(),
+                    level,
+                )
                 .unwrap_or_else(|e| panic!("{face:?}: {e}"));
             assert_eq!(run.walk_index, descent_index, "walk, {version:?} {face:?}");
-            assert_eq!(run.reference_index, real_reference(&face), "reference, {face:?}");
+            assert_eq!(
+                run.reference_index,
+                real_reference(&face),
+                "reference, {face:?}"
+            );
             if run.walk_index != run.reference_index {
                 per_kind[kind_slot(face.kind)] += 1;
             }
@@ -95,7 +108,10 @@ fn transducers_equal_the_real_functions_on_every_face_of_levels_0_to_8() {
     let (visited, mismatches) = cross_check(WalkVersion::Version2, 0..=8);
     assert!(mismatches.iter().all(|m| *m == [0; 6]), "{mismatches:?}");
     let outside: Vec<_> = visited.difference(&explored).collect();
-    assert!(outside.is_empty(), "runs leave the explored product: {outside:?}");
+    assert!(
+        outside.is_empty(),
+        "runs leave the explored product: {outside:?}"
+    );
     let unvisited: Vec<_> = explored.difference(&visited).collect();
     assert!(
         unvisited.is_empty(),
@@ -109,7 +125,11 @@ fn transducers_equal_the_real_functions_on_every_face_of_levels_0_to_8() {
         let (table_level, expected) = VERSION1_MISMATCHES[n];
         assert_eq!(table_level, n as u32);
         assert_eq!(per_kind[..4], expected, "level {n}");
-        assert_eq!(per_kind[4..], [0, 0], "level {n}: version 1 inside a triangle");
+        assert_eq!(
+            per_kind[4..],
+            [0, 0],
+            "level {n}: version 1 inside a triangle"
+        );
     }
 }
 
@@ -126,7 +146,12 @@ fn transducers_equal_the_real_functions_on_every_face_of_levels_9_to_12() {
     assert!(visited.is_subset(&explored));
     let (_, mismatches) = cross_check(WalkVersion::Version1, 9..=10);
     for (i, per_kind) in mismatches.iter().enumerate() {
-        assert_eq!(per_kind[..4], VERSION1_MISMATCHES[9 + i].1, "level {}", 9 + i);
+        assert_eq!(
+            per_kind[..4],
+            VERSION1_MISMATCHES[9 + i].1,
+            "level {}",
+            9 + i
+        );
     }
 }
 
@@ -192,7 +217,9 @@ fn binary32_reference_is_the_transducers_reference_outside_the_rounding_window()
             // Aim at the window: vf just below 1 - uf, a few ulps down.
             let iv = rng.below(1 << n) as f64;
             let target = (iv + 1.0 - f64::from(fraction(u))) / f64::from(scale);
-            let v = (target as f32).to_bits().saturating_sub(rng.below(4) as u32);
+            let v = (target as f32)
+                .to_bits()
+                .saturating_sub(rng.below(4) as u32);
             f32::from_bits(v)
         } else {
             float(&mut rng)
@@ -206,7 +233,9 @@ fn binary32_reference_is_the_transducers_reference_outside_the_rounding_window()
         if v != 0.0 && v < 2f32.powi(-90) {
             continue;
         }
-        let run = machine.run_on_point(scaled(u), scaled(v), 120, level).unwrap();
+        let run = machine
+            .run_on_point(scaled(u), scaled(v), 120, level)
+            .unwrap();
         let by_f32 = u64::from(spec::index_f32(u, v, n));
         let walk = fixed::index_f32(u, v, level).unwrap();
         if spec::rounding_flips_diagonal(fraction(u), fraction(v)) {
@@ -223,9 +252,15 @@ fn binary32_reference_is_the_transducers_reference_outside_the_rounding_window()
             assert_eq!(by_f32, run.reference_index, "({u:e}, {v:e}) level {n}");
         }
         assert_eq!(walk, run.walk_index, "({u:e}, {v:e}) level {n}");
-        assert_eq!(run.walk_index, run.reference_index, "({u:e}, {v:e}) level {n}");
+        assert_eq!(
+            run.walk_index, run.reference_index,
+            "({u:e}, {v:e}) level {n}"
+        );
     }
-    assert!(inside > 100 && outside > 20_000, "inside {inside}, outside {outside}");
+    assert!(
+        inside > 100 && outside > 20_000,
+        "inside {inside}, outside {outside}"
+    );
 }
 
 /// The counterexample of version 1 is a face where the real functions
@@ -241,7 +276,10 @@ fn version1_counterexample_is_real() {
     let walk = uv2index::index_version1(u, v, face.level);
     let reference = spec::index_wide_dyadic(face.x, face.y, face.scale_log2(), face.level);
     assert_ne!(walk, reference);
-    assert_eq!((walk, reference), (example.walk_index, example.reference_index));
+    assert_eq!(
+        (walk, reference),
+        (example.walk_index, example.reference_index)
+    );
     assert_eq!(example.real, Some((walk, reference)));
     // The search explores the same product for a machine built from parts.
     let machine = Machine::new(WalkVersion::Version1).unwrap();

@@ -28,7 +28,8 @@ commands:
                           by step), --json, --threads T, --examples K.
   prove --all-levels      the walk against the reference at every level at once
                           (finite product of digit transducers); exit 0 proved, 1
-                          not. Options: --version1 (must fail, prints a face), --json.
+                          not. Options: --version1 (must fail, prints a face), --json,
+                          --list (every product state and transition).
   vectors --out DIR       write the conformance vector files (spec-f32, spec-exact,
                           uv2index-exact .json) into DIR.
   vectors --answers-from NAME --vectors FILE  print {\"id\": N, \"index\": I} lines

@@ -12,14 +12,16 @@ use std::time::Instant;
 pub(crate) fn run(options: &[&str]) -> ExitCode {
     let mut version = WalkVersion::Version2;
     let mut json = false;
+    let mut list = false;
     for &option in options {
         match option {
             "--all-levels" => {}
             "--version1" => version = WalkVersion::Version1,
             "--json" => json = true,
+            "--list" => list = true,
             other => {
                 return usage_error(&format!(
-                    "prove --all-levels: unknown option {other:?} (only --version1, --json)"
+                    "prove --all-levels: unknown option {other:?} (only --version1, --json, --list)"
                 ))
             }
         }
@@ -38,6 +40,11 @@ pub(crate) fn run(options: &[&str]) -> ExitCode {
         print_json(&report, seconds, confirmed);
     } else {
         print_text(&report, seconds, confirmed);
+    }
+    if list {
+        for line in report.listing() {
+            println!("{line}");
+        }
     }
     if report.is_proof() {
         ExitCode::SUCCESS
@@ -61,13 +68,34 @@ fn print_text(report: &AllLevelsReport, seconds: f64, confirmed: Option<bool>) {
     let name = report.walk.map_or("mutated walk", WalkVersion::name);
     let c = &report.counts;
     println!("{name} vs the reference (exact first half, unbounded integer half), every level:");
-    println!("  checker states (remainder sum, zero flags)  {:>8}", c.checker);
-    println!("  live (checker, reference guess) states      {:>8}", c.live_guesses);
-    println!("  start states                                {:>8}", c.starts);
-    println!("  walk transducer states reached              {:>8}", c.walk);
-    println!("  reference transducer states reached         {:>8}", c.reference);
-    println!("  product states reached                      {:>8}", c.product);
-    println!("  transitions compared                        {:>8}", c.transitions);
+    println!(
+        "  checker states (remainder sum, zero flags)  {:>8}",
+        c.checker
+    );
+    println!(
+        "  live (checker, reference guess) states      {:>8}",
+        c.live_guesses
+    );
+    println!(
+        "  start states                                {:>8}",
+        c.starts
+    );
+    println!(
+        "  walk transducer states reached              {:>8}",
+        c.walk
+    );
+    println!(
+        "  reference transducer states reached         {:>8}",
+        c.reference
+    );
+    println!(
+        "  product states reached                      {:>8}",
+        c.product
+    );
+    println!(
+        "  transitions compared                        {:>8}",
+        c.transitions
+    );
     match &report.verdict {
         Verdict::Proved => println!(
             "proved in {seconds:.3} s: no reachable state emits two different digits, so the \
@@ -87,7 +115,11 @@ fn print_text(report: &AllLevelsReport, seconds: f64, confirmed: Option<bool>) {
                 (Some((walk, reference)), Some(true)) => println!(
                     "  confirmed by the real functions: uv2index::{} = {walk}, \
                      spec::index_wide_dyadic = {reference}",
-                    if report.walk == Some(WalkVersion::Version1) { "index_version1" } else { "index" }
+                    if report.walk == Some(WalkVersion::Version1) {
+                        "index_version1"
+                    } else {
+                        "index"
+                    }
                 ),
                 (Some((walk, reference)), _) => println!(
                     "  NOT confirmed by the real functions (walk {walk}, reference {reference}): \
