@@ -119,6 +119,17 @@ impl Rest {
     /// Whether `self` (after column `k - 1`) may be followed by the column
     /// with these bits and the rest `next` (after column `k`):
     /// `R(k-1) = (bit + R(k)) / 2` summed and tested for zero.
+    ///
+    /// ```
+    /// use micromap_index::prove_all_levels::Rest;
+    /// // u = v = 1/4, w = 1/2: after the integer column the remainders are
+    /// // (1/4, 1/4, 1/2), none zero, sum 1; after the next column (bits
+    /// // 0, 0, 1) they are (1/2, 1/2, 0).
+    /// let before = Rest { sum: 1, zero: [false; 3] };
+    /// let after = Rest { sum: 1, zero: [false, false, true] };
+    /// assert!(before.admits([false, false, true], after));
+    /// assert!(!before.admits([true, false, false], after));
+    /// ```
     #[must_use]
     pub fn admits(self, bits: [bool; 3], next: Rest) -> bool {
         let ones = bits.iter().filter(|&&b| b).count() as u8;
@@ -209,6 +220,21 @@ impl Form {
     /// With `self = s R(d) + k` and `2 R(d) = bit + R(d+1)`: `2 self` vs
     /// `half_units` is `s R(d+1)` vs `T = half_units - 2k - s bit`, and
     /// `R(d+1)` is 0 (zero flag) or strictly between 0 and 1.
+    ///
+    /// ```
+    /// use micromap_index::prove_all_levels::{Column, Form, Rest, StepInput};
+    /// use std::cmp::Ordering;
+    /// // w = 1 - R_u - R_v with R = (1/4, 1/4, 1/2) at depth 0: w = 1/2
+    /// // exactly (w's next bit is 1 and nothing follows it).
+    /// let input = StepInput {
+    ///     sum: 1,
+    ///     next: Column { bits: [false, false, true], rest: Rest { sum: 1, zero: [false, false, true] } },
+    /// };
+    /// let w = Form { ru: -1, rv: -1, constant: 1 };
+    /// assert_eq!(w.compare_with_half_units(1, input), Some(Ordering::Equal));
+    /// let u = Form { ru: 1, rv: 0, constant: 0 };
+    /// assert_eq!(u.compare_with_half_units(1, input), Some(Ordering::Less));
+    /// ```
     #[must_use]
     pub fn compare_with_half_units(self, half_units: i32, input: StepInput) -> Option<Ordering> {
         let (coordinate, sign, constant) = self.single_remainder(input.sum)?;
@@ -315,8 +341,8 @@ pub struct WalkState {
 
 /// The bound on a form's constant beyond which the construction reports
 /// an error instead of exploring an unbounded state space (the walk's
-/// coordinates are barycentrics in `[0, 1]`, so their constants stay in
-/// `-2..=3`).
+/// coordinates are barycentrics in `[0, 1]`, so their constants stay
+/// small: the reached forms have constants in `-1..=1`).
 const CONSTANT_BOUND: i32 = 8;
 
 /// One step of the walk on symbolic numbers.
@@ -351,6 +377,16 @@ impl ReferenceColumns {
     /// (the code's `~(iu + iv)` and decrement, restated for cells inside
     /// the grid, where no clamp applies). Fails unless every key is seen
     /// and always with one digit.
+    ///
+    /// ```
+    /// use micromap_index::prove_all_levels::ReferenceColumns;
+    /// let columns = ReferenceColumns::learn().unwrap();
+    /// // Column (u, v, w) bits 0, 0, 1 is Left: digit 0, or 2 below an odd
+    /// // number of Top digits; 0, 1, 0 is Top (3) and flips the parity.
+    /// assert_eq!(columns.digit(false, [false, false, true]), (0, false));
+    /// assert_eq!(columns.digit(true, [false, false, true]), (2, true));
+    /// assert_eq!(columns.digit(false, [false, true, false]), (3, true));
+    /// ```
     pub fn learn() -> Result<ReferenceColumns, String> {
         let mut digits: [[Option<u8>; 8]; 2] = [[None; 8]; 2];
         for level in 1..=5u32 {
@@ -426,6 +462,17 @@ pub struct ReferenceState {
 ///   hypotenuse move, and the clamp of `u = 1`), or `iv = V - 1` when
 ///   `u = 0` (the clamp of `v = 1`);
 /// * otherwise the cell is `(U, V, W)`.
+///
+/// ```
+/// use micromap_index::prove_all_levels::{decremented_coordinate, U, V, W};
+/// // A vertex below the hypotenuse: iw = W - 1.
+/// assert_eq!(decremented_coordinate([true; 3], false, false), Some(W));
+/// // The vertex u = 1 (w = 0): iu clamped to U - 1; v = 1 (u = 0 too): iv.
+/// assert_eq!(decremented_coordinate([true; 3], false, true), Some(U));
+/// assert_eq!(decremented_coordinate([true; 3], true, true), Some(V));
+/// // Inside an upright micro-triangle: the cell is (U, V, W).
+/// assert_eq!(decremented_coordinate([false; 3], false, false), None);
+/// ```
 #[must_use]
 pub fn decremented_coordinate(rest_zero: [bool; 3], u_zero: bool, w_zero: bool) -> Option<usize> {
     if !w_zero && rest_zero[W] {
@@ -1246,9 +1293,13 @@ pub fn real_indices(version: WalkVersion, face: &Face) -> (u64, u64) {
 /// use micromap_index::lattice::FaceKind;
 /// use micromap_index::prove_all_levels::face_containing;
 /// use micromap_index::Level;
-/// // (3/16, 1/16) at level 2: inside the upside-down half of cell (0, 0).
-/// let face = face_containing(3, 1, 4, Level::new(2).unwrap());
+/// let level = Level::new(2).unwrap();
+/// // (1/16, 1/16): inside the upright micro-triangle of cell (0, 0) ...
+/// let face = face_containing(1, 1, 4, level);
 /// assert_eq!((face.x, face.y, face.kind), (1, 1, FaceKind::Upright));
+/// // ... (3/16, 1/16): on its diagonal edge u + v = 1/4.
+/// let face = face_containing(3, 1, 4, level);
+/// assert_eq!((face.x, face.y, face.kind), (2, 2, FaceKind::DiagonalEdge));
 /// ```
 #[must_use]
 pub fn face_containing(x: u64, y: u64, scale_log2: u32, level: Level) -> Face {

@@ -257,6 +257,7 @@ fn binary32_reference_is_the_transducers_reference_outside_the_rounding_window()
             "({u:e}, {v:e}) level {n}"
         );
     }
+    println!("binary32 points: {inside} in the rounding window, {outside} outside");
     assert!(
         inside > 100 && outside > 20_000,
         "inside {inside}, outside {outside}"
