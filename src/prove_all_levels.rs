@@ -283,6 +283,11 @@ impl Symbolic {
     }
 }
 
+thread_local! {
+    /// Set by [`Symbolic::cmp_half`] when a comparison cannot be decided.
+    static UNDECIDED: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
 impl WalkNumber for Symbolic {
     fn one_minus_sum(u: &Self, v: &Self) -> Self {
         let one = Form {
@@ -301,12 +306,16 @@ impl WalkNumber for Symbolic {
     fn minus(&self, other: &Self) -> Self {
         self.with(self.form.combine(other.form, -1))
     }
-    /// Exact when the form is a single remainder (the transducer checks
-    /// that before every step, so the fallback `Less` is never used).
+    /// Exact when the form is a single remainder. Otherwise it answers
+    /// `Less` and records that a comparison was undecided, which makes
+    /// [`Machine::transition`] fail: no step's outcome rests on a guess.
     fn cmp_half(&self) -> Ordering {
         self.form
             .compare_with_half_units(1, self.input)
-            .unwrap_or(Ordering::Less)
+            .unwrap_or_else(|| {
+                UNDECIDED.with(|flag| flag.set(true));
+                Ordering::Less
+            })
     }
     /// Decided exactly for single-remainder forms (the root's `u`, `v`,
     /// `1 - u - v` are); a form that cannot be decided is reported outside.
@@ -652,11 +661,6 @@ impl Machine {
         };
         let fail = |why: &str| ModelError(format!("{state:?} column {column:?}: {why}"));
         let s = &state.walk;
-        for form in [s.u, s.v, s.w] {
-            if form.compare_with_half_units(1, input).is_none() {
-                return Err(fail("a coordinate is not a single remainder"));
-            }
-        }
         let symbolic = |form| Symbolic { form, input };
         let mut walk = Walk {
             u: symbolic(s.u),
@@ -665,7 +669,13 @@ impl Machine {
             mid_flip: s.mid_flip,
             top_flip: s.top_flip,
         };
+        UNDECIDED.with(|flag| flag.set(false));
         let walk_digit = (self.step)(&mut walk);
+        if UNDECIDED.with(|flag| flag.get()) {
+            return Err(fail(
+                "the step compared a form that is not a single remainder",
+            ));
+        }
         let advance = |x: Symbolic| {
             x.form
                 .advance(column.bits)
@@ -1642,6 +1652,28 @@ mod tests {
         }
         let report = explore(&Machine::with_parts(step_version2, columns, no_move));
         assert!(!report.is_proof(), "{:?}", report.verdict);
+    }
+
+    /// A step that compares `u - v` (not a single remainder) with 1/2: the
+    /// transition must fail instead of trusting the fallback answer.
+    fn step_comparing_a_difference(walk: &mut Walk<Symbolic>) -> u8 {
+        let _ = walk.u.minus(&walk.v).cmp_half();
+        walk.step()
+    }
+
+    #[test]
+    fn undecided_comparisons_fail_the_construction() {
+        let machine = Machine::with_parts(
+            step_comparing_a_difference,
+            machine().columns(),
+            decremented_coordinate,
+        );
+        let report = explore(&machine);
+        assert!(
+            matches!(&report.verdict, Verdict::Failed(e) if e.0.contains("not a single remainder")),
+            "{:?}",
+            report.verdict
+        );
     }
 
     #[test]
