@@ -315,3 +315,23 @@ fn command_exits_0_when_proved_and_1_for_version1() {
     let bad = command(&["prove", "--all-levels", "--levels", "3"]);
     assert_eq!(bad.status.code(), Some(2));
 }
+
+/// The listing in `docs/results/all_levels_product.txt` (which
+/// `docs/verification.md` section 10.6 invites readers to check by hand)
+/// is the search's current output, state for state and transition for
+/// transition.
+#[test]
+fn documented_listing_is_the_current_product() {
+    let documented = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/docs/results/all_levels_product.txt"
+    ))
+    .unwrap();
+    let documented: Vec<&str> = documented
+        .lines()
+        .filter(|line| line.starts_with('S'))
+        .collect();
+    let report = prove_all_levels(WalkVersion::Version2).unwrap();
+    assert_eq!(report.listing(), documented);
+    assert_eq!(documented.len(), 34 + 106);
+}
