@@ -55,7 +55,7 @@
 //! at level `n` with at most one of them decremented by one
 //! ([`decremented_coordinate`], derived by hand from the clamps, the
 //! hypotenuse move and the diagonal test in `docs/verification.md`).
-//! Read from the top, "minus one" flips exactly the bits above which the
+//! Read from the top, "minus one" flips exactly the bits below which the
 //! number's rest is zero, so the transducer guesses the decremented
 //! coordinate at the start and the guess is checked where the level ends.
 //! Both restatements are cross-checked against the real functions on every
