@@ -27,7 +27,7 @@
 //!
 //! Edges are numbered by the vertex they face: edge `i` joins the two
 //! vertices other than `vertices[i]`
-//! ([`edge_midpoints_rational`](MicroTriangle::edge_midpoints_rational),
+//! (`edge_midpoints_rational`, feature `exact`,
 //! [`neighbours`](MicroTriangle::neighbours)).
 //!
 //! ```
@@ -40,16 +40,18 @@
 //! assert_eq!(triangle.vertices_scaled(), [(1, 1), (2, 1), (1, 2)]);
 //! assert!(triangle.upright());
 //! // Its centroid walks back to it.
-//! let (u, v) = triangle.centroid_rational();
-//! assert_eq!(uv2index::index_exact(&u, &v, level), Ok(5));
+//! let (u, v) = triangle.centroid_f64();
+//! assert_eq!(uv2index::exact_index_f64(u, v, level), Ok(5));
 //! ```
 //!
 //! [`Walk::step`]: crate::uv2index::Walk::step
 
-use crate::fixed::Fixed64;
+use crate::num::Fixed64;
 use crate::uv2index::{self, digit};
 use crate::{Error, Level};
+#[cfg(feature = "exact")]
 use num_bigint::BigInt;
+#[cfg(feature = "exact")]
 use num_rational::BigRational;
 
 /// One micro-triangle of a level-`n` micromap: its index, its exact
@@ -168,6 +170,7 @@ impl MicroTriangle {
     /// let level = Level::new(7).unwrap();
     /// assert_eq!(micro_triangle(level, 100).unwrap().level(), level);
     /// ```
+    #[must_use]
     pub fn level(&self) -> Level {
         self.level
     }
@@ -178,6 +181,7 @@ impl MicroTriangle {
     /// use micromap_index::{inverse::micro_triangle, Level};
     /// assert_eq!(micro_triangle(Level::new(7).unwrap(), 100).unwrap().index(), 100);
     /// ```
+    #[must_use]
     pub fn index(&self) -> u64 {
         self.index
     }
@@ -193,6 +197,7 @@ impl MicroTriangle {
     /// let upright: Vec<bool> = (0..4).map(|i| micro_triangle(level, i).unwrap().upright()).collect();
     /// assert_eq!(upright, [true, false, true, true]);
     /// ```
+    #[must_use]
     pub fn upright(&self) -> bool {
         self.upright
     }
@@ -207,10 +212,12 @@ impl MicroTriangle {
     /// let top = micro_triangle(Level::new(1).unwrap(), 3).unwrap();
     /// assert_eq!(top.vertices_scaled(), [(0, 1), (1, 1), (0, 2)]);
     /// ```
+    #[must_use]
     pub fn vertices_scaled(&self) -> [(u64, u64); 3] {
         self.vertices
     }
 
+    #[cfg(feature = "exact")]
     /// The vertices as exact `(u, v)` rationals.
     ///
     /// ```
@@ -220,6 +227,7 @@ impl MicroTriangle {
     /// let top = micro_triangle(Level::new(1).unwrap(), 3).unwrap();
     /// assert_eq!(top.vertices_rational()[1], (r("1/2"), r("1/2")));
     /// ```
+    #[must_use]
     pub fn vertices_rational(&self) -> [(BigRational, BigRational); 3] {
         let denominator = self.denominator();
         self.vertices.map(|(u, v)| {
@@ -238,6 +246,7 @@ impl MicroTriangle {
     /// let top = micro_triangle(Level::new(1).unwrap(), 3).unwrap();
     /// assert_eq!(top.vertices_f64(), [(0.0, 0.5), (0.5, 0.5), (0.0, 1.0)]);
     /// ```
+    #[must_use]
     pub fn vertices_f64(&self) -> [(f64, f64); 3] {
         let scale = self.scale_f64();
         // u64 -> f64 is exact below 2^53; multiplying by a power of two is exact.
@@ -254,13 +263,14 @@ impl MicroTriangle {
     /// use micromap_index::{inverse::micro_triangle, uv2index, Level};
     /// let level = Level::new(25).unwrap();
     /// // The micro-triangle in the corner at vertex 1, (u, v) = (1, 0).
-    /// let corner = micro_triangle(level, uv2index::index_f64(1.0, 0.0, level).unwrap()).unwrap();
+    /// let corner = micro_triangle(level, uv2index::exact_index_f64(1.0, 0.0, level).unwrap()).unwrap();
     /// let near_corner = ((1 << 25) - 1, 0); // (1 - 2^-25, 0)
     /// assert!(corner.vertices_scaled().contains(&near_corner));
     /// // 1 - 2^-25 is halfway between the f32 values 1 - 2^-24 and 1: it ties to 1.
     /// let rounded = corner.vertices_f32();
     /// assert_eq!(rounded.iter().filter(|&&p| p == (1.0, 0.0)).count(), 2);
     /// ```
+    #[must_use]
     pub fn vertices_f32(&self) -> [(f32, f32); 3] {
         let scale = self.scale_f32();
         // `as f32` rounds to nearest-even; the power-of-two scale is exact.
@@ -268,18 +278,19 @@ impl MicroTriangle {
             .map(|(u, v)| (u as f32 * scale, v as f32 * scale))
     }
 
+    #[cfg(feature = "exact")]
     /// The centroid, the mean of the vertices, as exact rationals. It lies
     /// strictly inside the micro-triangle, so every implementation in this
     /// crate maps it back to [`index`](Self::index) (the reference only up
     /// to its level 16).
     ///
     /// ```
-    /// use micromap_index::{inverse::micro_triangle, spec, Level};
-    /// use num_rational::BigRational;
-    /// let level = Level::new(3).unwrap();
-    /// let (u, v) = micro_triangle(level, 42).unwrap().centroid_rational();
-    /// assert_eq!(spec::index_exact(&u, &v, level), Ok(42));
+    /// use micromap_index::{inverse::micro_triangle, spec, Level, SpecLevel};
+    /// let level = SpecLevel::new(3).unwrap();
+    /// let (u, v) = micro_triangle(level.into(), 42).unwrap().centroid_rational();
+    /// assert_eq!(spec::index_real(&u, &v, level), 42);
     /// ```
+    #[must_use]
     pub fn centroid_rational(&self) -> (BigRational, BigRational) {
         let (u_sum, v_sum) = self.vertex_sums();
         let denominator = self.denominator() * BigInt::from(3);
@@ -296,6 +307,7 @@ impl MicroTriangle {
     /// let triangle = micro_triangle(Level::new(0).unwrap(), 0).unwrap();
     /// assert_eq!(triangle.centroid_f64(), (1.0 / 3.0, 1.0 / 3.0));
     /// ```
+    #[must_use]
     pub fn centroid_f64(&self) -> (f64, f64) {
         let (u_sum, v_sum) = self.vertex_sums();
         let scale = self.scale_f64();
@@ -311,8 +323,9 @@ impl MicroTriangle {
     /// use micromap_index::{inverse::micro_triangle, uv2index, Level};
     /// let level = Level::new(5).unwrap();
     /// let (u, v) = micro_triangle(level, 700).unwrap().centroid_f32();
-    /// assert_eq!(uv2index::index_f32(u, v, level), Ok(700));
+    /// assert_eq!(uv2index::exact_index_f32(u, v, level), Ok(700));
     /// ```
+    #[must_use]
     pub fn centroid_f32(&self) -> (f32, f32) {
         // Rounding the binary64 value again cannot double-round wrongly. For
         // x = (sum / 3) * 2^-level in [2^e, 2^(e+1)), a binary32 halfway point
@@ -325,6 +338,7 @@ impl MicroTriangle {
         (u as f32, v as f32)
     }
 
+    #[cfg(feature = "exact")]
     /// The midpoints of the three edges as exact rationals; entry `i` is the
     /// midpoint of edge `i`, the edge facing `vertices[i]`.
     ///
@@ -338,6 +352,7 @@ impl MicroTriangle {
     ///     [(r("1/2"), r("1/2")), (r("0"), r("1/2")), (r("1/2"), r("0"))]
     /// );
     /// ```
+    #[must_use]
     pub fn edge_midpoints_rational(&self) -> [(BigRational, BigRational); 3] {
         let denominator = self.denominator() * BigInt::from(2);
         self.edges().map(|[_, a, b]| {
@@ -364,6 +379,7 @@ impl MicroTriangle {
     /// // ... and each corner touches only the centre.
     /// assert_eq!(micro_triangle(level, 3).unwrap().neighbours(), [None, None, Some(1)]);
     /// ```
+    #[must_use]
     pub fn neighbours(&self) -> [Option<u64>; 3] {
         let side = 1i64 << self.level.get();
         self.edges().map(|edge| {
@@ -380,6 +396,7 @@ impl MicroTriangle {
         })
     }
 
+    #[cfg(feature = "exact")]
     /// `2^level` as a big integer.
     fn denominator(&self) -> BigInt {
         BigInt::from(1u64 << self.level.get())
@@ -414,6 +431,6 @@ impl MicroTriangle {
         // level + 2 <= 34 fractional bits fit in Fixed64's 60.
         let shift = Fixed64::ONE_LOG2 - (self.level.get() + 2);
         let to_fixed = |n: i64| Fixed64::from_raw(n << shift);
-        uv2index::index(to_fixed(x), to_fixed(y), self.level)
+        uv2index::index_unchecked(to_fixed(x), to_fixed(y), self.level)
     }
 }
