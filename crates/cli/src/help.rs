@@ -31,6 +31,7 @@ usage: micromap-index locate --level L --index I
 
 const PROVE: &str = "\
 usage: micromap-index prove --levels A..=B [OPTIONS]
+       micromap-index prove --all-levels [--version1] [--json] [--list]
   Compares the walk with the reference on every face of each level's lattice
   (a proof for all real points); per level: faces checked, mismatches,
   seconds. A..B excludes B; a single level N is N..=N; an empty range is a
@@ -41,7 +42,11 @@ usage: micromap-index prove --levels A..=B [OPTIONS]
   --seed S          the sample's seed (default 1)
   --json            one JSON line per level instead of the table
   --threads T       worker threads (default: all cores)
-  --examples K      mismatches shown per level";
+  --examples K      mismatches shown per level
+  --all-levels proves the walk equal to the reference at every level at once
+  by exploring the finite product of two digit transducers (milliseconds);
+  exit 0 proved, 1 not; with --version1 it must fail and prints a face; --list
+  prints every product state and transition (docs/verification.md section 10).";
 
 const VECTORS: &str = "\
 usage: micromap-index vectors --out DIR [--force]

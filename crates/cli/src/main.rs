@@ -25,6 +25,7 @@ mod help;
 mod input;
 mod locate_command;
 mod output;
+mod prove_all_levels_command;
 mod prove_command;
 mod tree_command;
 mod vectors_command;

@@ -28,6 +28,9 @@ struct Options {
 }
 
 pub(crate) fn run(options: &[&str]) -> Exit {
+    if options.contains(&"--all-levels") {
+        return crate::prove_all_levels_command::run(options);
+    }
     match parse(options) {
         Ok(options) => {
             let mut out = Stdout::line_by_line();

@@ -18,6 +18,7 @@ pub mod eval;
 pub mod fuzzing;
 pub mod lattice;
 pub mod prove;
+pub mod prove_all_levels;
 pub mod rng;
 pub mod value;
 pub mod vectors;

@@ -1,0 +1,239 @@
+//! `micromap-index prove --all-levels [--version1] [--json]`: the walk
+//! against the reference at every level at once, by exploring the product
+//! of two digit transducers (`micromap_index::prove_all_levels`).
+
+use crate::output::{report as report_error, Exit, Stdout};
+use crate::usage;
+use micromap_index_verify::prove::WalkVersion;
+use micromap_index_verify::prove_all_levels::{prove_all_levels, AllLevelsReport, Verdict};
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::time::Instant;
+
+pub(crate) fn run(options: &[&str]) -> Exit {
+    let mut version = WalkVersion::Version2;
+    let mut json = false;
+    let mut list = false;
+    for &option in options {
+        match option {
+            "--all-levels" => {}
+            "--version1" => version = WalkVersion::Version1,
+            "--json" => json = true,
+            "--list" => list = true,
+            other => {
+                return usage(&format!(
+                    "prove --all-levels: unknown option {other:?} (only --version1, --json, --list)"
+                ))
+            }
+        }
+    }
+    let started = Instant::now();
+    let report = match prove_all_levels(version) {
+        Ok(report) => report,
+        Err(e) => {
+            report_error(format_args!("prove --all-levels: {e}"));
+            return Exit::Failed;
+        }
+    };
+    let seconds = started.elapsed().as_secs_f64();
+    let confirmed = confirmed(&report);
+    let mut text = String::new();
+    if json {
+        print_json(&mut text, &report, seconds, confirmed);
+    } else {
+        print_text(&mut text, &report, seconds, confirmed);
+    }
+    if list {
+        for line in report.listing() {
+            let _ = writeln!(text, "{line}");
+        }
+    }
+    let verdict = if report.is_proof() {
+        Exit::Success
+    } else {
+        Exit::Failed
+    };
+    let mut out = Stdout::buffered();
+    let exit = match out.text(&text) {
+        Ok(()) => verdict,
+        Err(failure) => failure,
+    };
+    out.finish(exit)
+}
+
+/// For a counterexample: whether the real functions differ at the face
+/// and give the transducers' indices.
+fn confirmed(report: &AllLevelsReport) -> Option<bool> {
+    match &report.verdict {
+        Verdict::Counterexample(example) => Some(example.real.is_some_and(|(walk, reference)| {
+            walk != reference && (walk, reference) == (example.walk_index, example.reference_index)
+        })),
+        _ => None,
+    }
+}
+
+fn print_text(out: &mut String, report: &AllLevelsReport, seconds: f64, confirmed: Option<bool>) {
+    let name = report.walk.map_or("mutated walk", WalkVersion::name);
+    let c = &report.counts;
+    let _ = writeln!(
+        out,
+        "{name} vs the reference (exact first half, unbounded integer half), every level:"
+    );
+    let _ = writeln!(
+        out,
+        "  checker states (remainder sum, zero flags)  {:>8}",
+        c.checker
+    );
+    let _ = writeln!(
+        out,
+        "  live (checker, reference guess) states      {:>8}",
+        c.live_guesses
+    );
+    let _ = writeln!(
+        out,
+        "  start states                                {:>8}",
+        c.starts
+    );
+    let _ = writeln!(
+        out,
+        "  walk transducer states reached              {:>8}",
+        c.walk
+    );
+    let _ = writeln!(
+        out,
+        "  reference transducer states reached         {:>8}",
+        c.reference
+    );
+    let _ = writeln!(
+        out,
+        "  product states reached                      {:>8}",
+        c.product
+    );
+    let _ = writeln!(
+        out,
+        "  transitions compared                        {:>8}",
+        c.transitions
+    );
+    match &report.verdict {
+        Verdict::Proved => drop(writeln!(
+            out,
+            "proved in {seconds:.3} s: no reachable state emits two different digits, so the \
+             walk equals the reference at every real point of every level"
+        )),
+        Verdict::Counterexample(example) => {
+            let (u, v) = example.representative();
+            let _ = writeln!(
+                out,
+                "NOT proved: at level {} the {} with representative (u, v) = ({u}, {v}) gets \
+                 walk index {} and reference index {}",
+                example.level.get(),
+                example.face.kind.name(),
+                example.walk_index,
+                example.reference_index
+            );
+            match (example.real, confirmed) {
+                (Some((walk, reference)), Some(true)) => drop(writeln!(
+                    out,
+                    "  confirmed by the real functions: {} = {walk}, \
+                     spec::wide_index_dyadic = {reference}",
+                    if report.walk == Some(WalkVersion::Version1) {
+                        "internals::index_version1_unchecked"
+                    } else {
+                        "uv2index::index_unchecked"
+                    }
+                )),
+                (Some((walk, reference)), _) => {
+                    let _ = writeln!(out,
+                    "  NOT confirmed by the real functions (walk {walk}, reference {reference}): \
+                     the construction is wrong"
+                );
+                }
+                (None, _) => {
+                    let _ = writeln!(out, "  (no real walk to confirm it with)");
+                }
+            }
+        }
+        Verdict::Failed(e) => {
+            let _ = writeln!(out, "NOT proved: the construction failed: {e}");
+        }
+    }
+}
+
+#[derive(Serialize)]
+struct JsonCounterexample {
+    level: u32,
+    kind: &'static str,
+    u: String,
+    v: String,
+    walk: u64,
+    reference: u64,
+    real_walk: Option<u64>,
+    real_reference: Option<u64>,
+    confirmed: bool,
+}
+
+#[derive(Serialize)]
+struct JsonReport {
+    walk: &'static str,
+    reference: &'static str,
+    method: &'static str,
+    checker_states: usize,
+    live_guess_states: usize,
+    start_states: usize,
+    walk_states: usize,
+    reference_states: usize,
+    product_states: usize,
+    transitions: usize,
+    verdict: &'static str,
+    counterexample: Option<JsonCounterexample>,
+    error: Option<String>,
+    seconds: f64,
+}
+
+fn print_json(out: &mut String, report: &AllLevelsReport, seconds: f64, confirmed: Option<bool>) {
+    let c = &report.counts;
+    let (verdict, counterexample, error) = match &report.verdict {
+        Verdict::Proved => ("proved", None, None),
+        Verdict::Counterexample(example) => {
+            let (u, v) = example.representative();
+            (
+                "counterexample",
+                Some(JsonCounterexample {
+                    level: example.level.get(),
+                    kind: example.face.kind.name(),
+                    u,
+                    v,
+                    walk: example.walk_index,
+                    reference: example.reference_index,
+                    real_walk: example.real.map(|r| r.0),
+                    real_reference: example.real.map(|r| r.1),
+                    confirmed: confirmed == Some(true),
+                }),
+                None,
+            )
+        }
+        Verdict::Failed(e) => ("failed", None, Some(e.to_string())),
+    };
+    let line = JsonReport {
+        walk: report.walk.map_or("mutated", WalkVersion::name),
+        reference: "spec-unbounded",
+        method: "all-levels",
+        checker_states: c.checker,
+        live_guess_states: c.live_guesses,
+        start_states: c.starts,
+        walk_states: c.walk,
+        reference_states: c.reference,
+        product_states: c.product,
+        transitions: c.transitions,
+        verdict,
+        counterexample,
+        error,
+        seconds,
+    };
+    match serde_json::to_string(&line) {
+        Ok(text) => {
+            let _ = writeln!(out, "{text}");
+        }
+        Err(e) => report_error(format_args!("prove --all-levels: cannot write JSON: {e}")),
+    }
+}

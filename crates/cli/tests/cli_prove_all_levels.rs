@@ -1,0 +1,34 @@
+//! `micromap-index prove --all-levels`: exit 0 when the product search
+//! proves the walk for every level, 1 with a confirmed face for version 1,
+//! 2 on a usage error.
+
+use std::process::Command;
+
+fn command(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_micromap-index"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn command_exits_0_when_proved_and_1_for_version1() {
+    let proved = command(&["prove", "--all-levels"]);
+    let text = String::from_utf8_lossy(&proved.stdout);
+    assert_eq!(proved.status.code(), Some(0), "{text}");
+    assert!(text.contains("proved in"), "{text}");
+
+    let refuted = command(&["prove", "--all-levels", "--version1"]);
+    let text = String::from_utf8_lossy(&refuted.stdout);
+    assert_eq!(refuted.status.code(), Some(1), "{text}");
+    assert!(text.contains("confirmed by the real functions"), "{text}");
+
+    let json = command(&["prove", "--all-levels", "--version1", "--json"]);
+    let text = String::from_utf8_lossy(&json.stdout);
+    assert_eq!(json.status.code(), Some(1), "{text}");
+    assert!(text.contains("\"verdict\":\"counterexample\""), "{text}");
+    assert!(text.contains("\"confirmed\":true"), "{text}");
+
+    let bad = command(&["prove", "--all-levels", "--levels", "3"]);
+    assert_eq!(bad.status.code(), Some(2));
+}
