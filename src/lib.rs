@@ -45,9 +45,12 @@
 //!
 //! [`BigRational`]: num_rational::BigRational
 #![cfg_attr(not(feature = "std"), no_std)]
-#![forbid(unsafe_code)]
+// `deny`, not `forbid`: `batch::arch` (runtime-dispatched SIMD) is the one
+// module allowed `unsafe`, to call `#[target_feature]` functions.
+#![deny(unsafe_code)]
 #![deny(missing_docs)]
 
+pub mod batch;
 #[cfg(feature = "std")]
 pub mod eval;
 pub mod fixed;

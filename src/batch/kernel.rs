@@ -1,0 +1,297 @@
+//! The reference's steps rewritten without branches on the bits of the
+//! floats: safe code, one lane at a time, written so that a loop over slices
+//! vectorises. [`super::arch`] compiles the same loops again with AVX2 or
+//! AVX-512 enabled; everything here is `#[inline(always)]` so that each
+//! caller gets its own copy under its own target features.
+//!
+//! # The first half on the bits
+//!
+//! The Vulkan reference clamps `x` to `[0, 1]`, multiplies by `2^level`,
+//! truncates to the cell and keeps the fraction; every one of those binary32
+//! operations is exact. Only `uf + vf >= 1.0f` rounds: binary32
+//! round-to-nearest-even lifts every real sum in `[1 - 2^-25, 1)` to `1.0`
+//! and no smaller one, so the test is `uf + vf >= 1 - 2^-25` over the reals
+//! (`docs/fixed.md`).
+//!
+//! * **Clamp.** As an unsigned integer, every NaN and every negative value
+//!   (sign bit set) is above the bits of `+inf`, `0x7f80_0000`: they become
+//!   `+0`. Everything else is `min(bits, bits of 1.0)` (bits of non-negative
+//!   floats order like the floats; `+inf` becomes 1).
+//! * **Cell and fraction.** The clamped `x` is `m * 2^(e - 150)` with `m`
+//!   the 24-bit significand (hidden bit included) and `e = max(biased
+//!   exponent, 1)`. With `P` fraction bits, `floor(x * 2^(level + P)) =
+//!   floor(m * 2^(P - s))`, `s = 150 - level - e`: the cell is its integer
+//!   part and the fraction its low `P` bits, floored.
+//! * **Diagonal.** With `P = 31` the fractions are `Fu = floor(uf * 2^31)`,
+//!   `Fv` likewise, and the test is `Fu + Fv >= T` with `T = 2^31 - 2^6`
+//!   (`(1 - 2^-25) * 2^31`; the `exact` variants use `T = 2^31`, the real
+//!   `uf + vf >= 1`). Flooring keeps it exact: a fraction loses bits only if
+//!   its lowest bit is below `2^-31`, and then, having at most 24 significant
+//!   bits, it is below `2^-7`. If both lose bits the sum is below `2^-6`, far
+//!   from `T`. If one does, the other is exact, so `Fu + Fv` is the integer
+//!   part of the real `(uf + vf) * 2^31`, and an integer threshold `T` is
+//!   reached by a real number exactly when it is reached by its integer part.
+//!
+//! # The integer half
+//!
+//! From the cell `(iu, iv)` clamped to `last = 2^level - 1` and the diagonal
+//! outcome, the reference folds a cell past the hypotenuse back
+//! (`iu -= iu + iv - last`, i.e. `iu = min(iu, last - iv)`), subtracts one
+//! from `iw = ~(iu + iv)` on the diagonal when `iu + iv < last` (so
+//! `~iw = iu + iv + d` with `d` that outcome), and then
+//! `b0 = ~(iu ^ iw) & last = (iu ^ (iu + iv + d)) & last`. Nothing exceeds
+//! `last`, so 32-bit words hold every level `0..=32`. The prefix XOR and the
+//! bit interleave are the reference's; the interleave of `b0` and `b1` is one
+//! perfect shuffle of the word holding both (Hacker's Delight, 7-2).
+
+/// Bits of `1.0f32`.
+const ONE_BITS: u32 = 0x3f80_0000;
+/// Bits of `+inf`: everything above (as an unsigned integer) is NaN or negative.
+const INF_BITS: u32 = 0x7f80_0000;
+/// Fraction bits kept of `uf` and `vf`.
+pub(crate) const FRACTION_BITS: u32 = 31;
+/// `uf + vf >= 1.0f` in binary32: the real sum at least `1 - 2^-25`.
+pub(crate) const BINARY32_THRESHOLD: u32 = (1 << FRACTION_BITS) - (1 << (FRACTION_BITS - 25));
+/// `uf + vf >= 1` over the reals.
+pub(crate) const EXACT_THRESHOLD: u32 = 1 << FRACTION_BITS;
+
+/// What the per-element kernels need of the level, computed once per call.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Params {
+    /// `2^level - 1` (for level 32 all ones).
+    pub last: u32,
+    /// `150 - level`: `s = shift_base - e`.
+    pub shift_base: u32,
+    /// The diagonal threshold on `Fu + Fv`.
+    pub threshold: u32,
+}
+
+impl Params {
+    /// The parameters of `level` (`0..=32`, clamped there) and a threshold.
+    #[inline(always)]
+    pub const fn new(level: u32, threshold: u32) -> Params {
+        let level = if level > 32 { 32 } else { level };
+        Params {
+            last: ((1u64 << level) - 1) as u32,
+            shift_base: 150 - level,
+            threshold,
+        }
+    }
+}
+
+/// The clamped binary32 bits of `x` (as bits): NaN and negatives -> `+0`,
+/// `>= 1` (and `+inf`) -> `1.0`.
+#[inline(always)]
+fn clamp_bits(bits: u32) -> u32 {
+    let clamped = if bits < ONE_BITS { bits } else { ONE_BITS };
+    if bits > INF_BITS {
+        0
+    } else {
+        clamped
+    }
+}
+
+/// The significand `m` (24 bits, hidden bit included) and the shift `s`
+/// with `x * 2^level = m * 2^-s`, for clamped bits.
+#[inline(always)]
+fn significand_and_shift(clamped: u32, params: &Params) -> (u32, u32) {
+    let biased = clamped >> 23;
+    let hidden = if biased == 0 { 0 } else { 1 << 23 };
+    let m = (clamped & 0x7f_ffff) | hidden;
+    let e = if biased == 0 { 1 } else { biased };
+    // e <= 127 and level <= 32: s >= 150 - 32 - 127 = -9, wraps below 0.
+    (m, params.shift_base.wrapping_sub(e))
+}
+
+/// `x >> n`, or 0 when `n >= 32` (what AVX2's `vpsrlvd` computes).
+#[inline(always)]
+fn shr_or_zero(x: u32, n: u32) -> u32 {
+    if n < 32 {
+        x >> n
+    } else {
+        0
+    }
+}
+
+/// `x << n`, or 0 when `n >= 32` (what AVX2's `vpsllvd` computes).
+#[inline(always)]
+fn shl_or_zero(x: u32, n: u32) -> u32 {
+    if n < 32 {
+        x << n
+    } else {
+        0
+    }
+}
+
+/// Cell (unclamped, levels `0..=16` only) and `floor(fraction * 2^31)` of
+/// one coordinate, in 32-bit words.
+///
+/// For level <= 16, `s >= 150 - 16 - 127 = 7`: the cell is `m >> s`
+/// (at most `2^16`), and the fraction `floor(m * 2^(31 - s)) mod 2^31` is
+/// `m << (31 - s)` (the bits above 31 dropped) when `s <= 31`, else
+/// `m >> (s - 31)`. The shift that does not apply has a count `>= 32` as an
+/// unsigned number and gives 0.
+#[inline(always)]
+fn narrow_coordinate(bits: u32, params: &Params) -> (u32, u32) {
+    let (m, s) = significand_and_shift(clamp_bits(bits), params);
+    let cell = shr_or_zero(m, s);
+    let low = shl_or_zero(m, 31u32.wrapping_sub(s)) & 0x7fff_ffff;
+    let high = shr_or_zero(m, s.wrapping_sub(31));
+    (cell, low | high)
+}
+
+/// Cell clamped to `last` and `floor(fraction * 2^31)` of one coordinate,
+/// every level `0..=32`, in a 64-bit word: `V = floor(m * 2^(31 - s))` with
+/// `31 - s <= 40`, so `V < 2^64`; the cell is `V >> 31` (at most `2^32`,
+/// reached only by `x = 1`, whose cell clamps to `last` and whose fraction
+/// then no longer matters: `iu = last` rules the diagonal out).
+#[inline(always)]
+fn wide_coordinate(bits: u32, params: &Params) -> (u32, u32) {
+    let (m, s) = significand_and_shift(clamp_bits(bits), params);
+    let m = u64::from(m);
+    let up = 31u32.wrapping_sub(s);
+    let down = s.wrapping_sub(31);
+    let scaled = if up < 64 {
+        m << up
+    } else if down < 64 {
+        m >> down
+    } else {
+        0
+    };
+    let cell = scaled >> 31;
+    let cell = if cell > u64::from(params.last) {
+        params.last
+    } else {
+        cell as u32
+    };
+    (cell, scaled as u32 & 0x7fff_ffff)
+}
+
+/// The reference's integer half from clamped cells (`iu, iv <= last`):
+/// returns `(b0, b1)` before the interleave. `WIDE` adds the fifth
+/// prefix-XOR step that levels above 16 need.
+#[inline(always)]
+fn integer_half<const WIDE: bool>(iu: u32, iv: u32, diagonal: bool, last: u32) -> (u32, u32) {
+    let room = last - iv;
+    let d = u32::from(diagonal && iu < room);
+    let iu = if iu < room { iu } else { room };
+    let b0 = (iu ^ (iu + iv + d)) & last;
+    let t = (iu ^ iv) & b0;
+    let mut f = t;
+    f ^= f >> 1;
+    f ^= f >> 2;
+    f ^= f >> 4;
+    f ^= f >> 8;
+    if WIDE {
+        f ^= f >> 16;
+    }
+    let b1 = ((f ^ iu) & !b0) | t;
+    (b0, b1)
+}
+
+/// `b0` to the even bits and `b1` to the odd bits, for 16-bit halves: the
+/// outer perfect shuffle of `b1:b0`.
+#[inline(always)]
+fn interleave_16(b0: u32, b1: u32) -> u32 {
+    let mut x = b0 | (b1 << 16);
+    let mut t;
+    t = (x ^ (x >> 8)) & 0x0000_ff00;
+    x ^= t ^ (t << 8);
+    t = (x ^ (x >> 4)) & 0x00f0_00f0;
+    x ^= t ^ (t << 4);
+    t = (x ^ (x >> 2)) & 0x0c0c_0c0c;
+    x ^= t ^ (t << 2);
+    t = (x ^ (x >> 1)) & 0x2222_2222;
+    x ^= t ^ (t << 1);
+    x
+}
+
+/// [`interleave_16`] for 32-bit halves.
+#[inline(always)]
+fn interleave_32(b0: u32, b1: u32) -> u64 {
+    let mut x = u64::from(b0) | (u64::from(b1) << 32);
+    let mut t;
+    t = (x ^ (x >> 16)) & 0x0000_0000_ffff_0000;
+    x ^= t ^ (t << 16);
+    t = (x ^ (x >> 8)) & 0x0000_ff00_0000_ff00;
+    x ^= t ^ (t << 8);
+    t = (x ^ (x >> 4)) & 0x00f0_00f0_00f0_00f0;
+    x ^= t ^ (t << 4);
+    t = (x ^ (x >> 2)) & 0x0c0c_0c0c_0c0c_0c0c;
+    x ^= t ^ (t << 2);
+    t = (x ^ (x >> 1)) & 0x2222_2222_2222_2222;
+    x ^= t ^ (t << 1);
+    x
+}
+
+/// The reference in binary32 for one pair of bit patterns, levels `0..=16`
+/// (`params.level`): the same bits as `spec::index_f32`.
+#[inline(always)]
+pub(crate) fn narrow(u_bits: u32, v_bits: u32, params: &Params) -> u32 {
+    let (iu, uf) = narrow_coordinate(u_bits, params);
+    let (iv, vf) = narrow_coordinate(v_bits, params);
+    let last = params.last;
+    let iu = if iu < last { iu } else { last };
+    let iv = if iv < last { iv } else { last };
+    let (b0, b1) = integer_half::<false>(iu, iv, uf + vf >= params.threshold, last);
+    interleave_16(b0, b1)
+}
+
+/// The reference widened to 64 bits for one pair of bit patterns, levels
+/// `0..=32`: the same bits as `spec::index_wide_f32` (binary32 threshold) or
+/// the exact reading of the reference (exact threshold).
+#[inline(always)]
+pub(crate) fn wide(u_bits: u32, v_bits: u32, params: &Params) -> u64 {
+    let (iu, uf) = wide_coordinate(u_bits, params);
+    let (iv, vf) = wide_coordinate(v_bits, params);
+    let (b0, b1) = integer_half::<true>(iu, iv, uf + vf >= params.threshold, params.last);
+    interleave_32(b0, b1)
+}
+
+/// [`narrow`] over slices of equal length (checked by the caller).
+#[inline(always)]
+pub(crate) fn narrow_slice(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) {
+    for ((out, u), v) in out.iter_mut().zip(u).zip(v) {
+        *out = narrow(u.to_bits(), v.to_bits(), params);
+    }
+}
+
+/// [`wide`] over slices of equal length (checked by the caller).
+#[inline(always)]
+pub(crate) fn wide_slice(u: &[f32], v: &[f32], out: &mut [u64], params: &Params) {
+    for ((out, u), v) in out.iter_mut().zip(u).zip(v) {
+        *out = wide(u.to_bits(), v.to_bits(), params);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn interleave_puts_b0_on_even_bits() {
+        assert_eq!(interleave_16(0xffff, 0), 0x5555_5555);
+        assert_eq!(interleave_16(0, 0xffff), 0xaaaa_aaaa);
+        assert_eq!(interleave_16(0b10, 0b01), 0b0110);
+        assert_eq!(interleave_32(u32::MAX, 0), 0x5555_5555_5555_5555);
+        assert_eq!(interleave_32(0, 1 << 31), 1 << 63);
+    }
+
+    #[test]
+    fn coordinates_split_cell_and_fraction() {
+        let p = Params::new(1, BINARY32_THRESHOLD);
+        assert_eq!(narrow_coordinate(0.75f32.to_bits(), &p), (1, 1 << 30));
+        assert_eq!(narrow_coordinate(1.0f32.to_bits(), &p), (2, 0));
+        assert_eq!(narrow_coordinate(f32::NAN.to_bits(), &p), (0, 0));
+        assert_eq!(narrow_coordinate((-0.5f32).to_bits(), &p), (0, 0));
+        assert_eq!(narrow_coordinate(f32::INFINITY.to_bits(), &p), (2, 0));
+        // 2^-149 * 2: far below 2^-31, floors to 0.
+        assert_eq!(narrow_coordinate(1, &p), (0, 0));
+        let p = Params::new(32, BINARY32_THRESHOLD);
+        assert_eq!(wide_coordinate(1.0f32.to_bits(), &p), (u32::MAX, 0));
+        assert_eq!(wide_coordinate(0.5f32.to_bits(), &p), (1 << 31, 0));
+        // 2^-40 * 2^32 = 2^-8: fraction 2^-8 * 2^31.
+        assert_eq!(wide_coordinate(2f32.powi(-40).to_bits(), &p), (0, 1 << 23));
+        assert_eq!(wide_coordinate(1, &p), (0, 0));
+    }
+}
