@@ -40,7 +40,7 @@ pub(super) fn has_avx512() -> bool {
 
 #[target_feature(enable = "avx2")]
 fn narrow_avx2(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) {
-    kernel::narrow_slice(u, v, out, params);
+    kernel::narrow_slice::<false>(u, v, out, params);
 }
 
 #[target_feature(enable = "avx2")]
@@ -51,7 +51,7 @@ fn wide_avx2(u: &[f32], v: &[f32], out: &mut [u64], params: &Params) {
 #[cfg(micromap_avx512)]
 #[target_feature(enable = "avx512f,avx512bw,avx512vl,avx512dq")]
 fn narrow_avx512(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) {
-    kernel::narrow_slice(u, v, out, params);
+    kernel::narrow_slice::<false>(u, v, out, params);
 }
 
 #[cfg(micromap_avx512)]

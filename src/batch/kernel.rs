@@ -62,6 +62,8 @@ pub(crate) struct Params {
     pub last: u32,
     /// `150 - level`: `s = shift_base - e`.
     pub shift_base: u32,
+    /// `2^level` as a float (levels `0..=16` only).
+    pub scale: f32,
     /// The diagonal threshold on `Fu + Fv`.
     pub threshold: u32,
 }
@@ -74,6 +76,7 @@ impl Params {
         Params {
             last: ((1u64 << level) - 1) as u32,
             shift_base: 150 - level,
+            scale: (1u64 << level) as f32,
             threshold,
         }
     }
@@ -123,48 +126,55 @@ fn shl_or_zero(x: u32, n: u32) -> u32 {
     }
 }
 
-/// Cell (unclamped, levels `0..=16` only) and `floor(fraction * 2^31)` of
-/// one coordinate, in 32-bit words.
+/// Cell clamped to `last` and `floor(fraction * 2^31)` of one coordinate,
+/// in 32-bit words, every level `0..=32`.
 ///
-/// For level <= 16, `s >= 150 - 16 - 127 = 7`: the cell is `m >> s`
-/// (at most `2^16`), and the fraction `floor(m * 2^(31 - s)) mod 2^31` is
-/// `m << (31 - s)` (the bits above 31 dropped) when `s <= 31`, else
-/// `m >> (s - 31)`. The shift that does not apply has a count `>= 32` as an
-/// unsigned number and gives 0.
+/// `s >= 150 - 32 - 127 = -9`. For `s >= 0` the cell is `m >> s`; for
+/// `s < 0` (levels above 23 only) it is `m << -s`. Only `x = 1` has a cell
+/// beyond `last` (`2^level`, which wraps to 0 at level 32), so `x = 1` takes
+/// `last` directly; its fraction then no longer matters, since `iu = last`
+/// rules the diagonal out. The fraction `floor(m * 2^(31 - s)) mod 2^31` is `m << (31 - s)`
+/// with the bits above 31 dropped when `s <= 31` (0 when `s <= 0`), else
+/// `m >> (s - 31)`. Each shift that does not apply has a count `>= 32` as
+/// an unsigned number and gives 0.
 #[inline(always)]
-fn narrow_coordinate(bits: u32, params: &Params) -> (u32, u32) {
-    let (m, s) = significand_and_shift(clamp_bits(bits), params);
-    let cell = shr_or_zero(m, s);
+fn coordinate<const WIDE: bool>(bits: u32, params: &Params) -> (u32, u32) {
+    let clamped = clamp_bits(bits);
+    let (m, s) = significand_and_shift(clamped, params);
+    let mut cell = shr_or_zero(m, s);
+    if WIDE {
+        cell |= shl_or_zero(m, 0u32.wrapping_sub(s));
+    }
+    let cell = if clamped == ONE_BITS {
+        params.last
+    } else {
+        cell
+    };
     let low = shl_or_zero(m, 31u32.wrapping_sub(s)) & 0x7fff_ffff;
     let high = shr_or_zero(m, s.wrapping_sub(31));
     (cell, low | high)
 }
 
-/// Cell clamped to `last` and `floor(fraction * 2^31)` of one coordinate,
-/// every level `0..=32`, in a 64-bit word: `V = floor(m * 2^(31 - s))` with
-/// `31 - s <= 40`, so `V < 2^64`; the cell is `V >> 31` (at most `2^32`,
-/// reached only by `x = 1`, whose cell clamps to `last` and whose fraction
-/// then no longer matters: `iu = last` rules the diagonal out).
+/// Cell clamped to `last` and the exact binary32 fraction, by the
+/// reference's own float operations (every one exact): `fu = x * 2^level`,
+/// `iu = trunc(fu)`, `uf = fu - iu`. Levels `0..=16` (`fu <= 2^16`).
+///
+/// The truncation avoids a float-to-integer conversion, which baselines
+/// without a vector form of it (SSE2) do one lane at a time: adding `2^23`
+/// rounds `fu < 2^23` to an integer `r` in the low bits of the sum (exact),
+/// and `r - 1` is taken when `r > fu`.
 #[inline(always)]
-fn wide_coordinate(bits: u32, params: &Params) -> (u32, u32) {
-    let (m, s) = significand_and_shift(clamp_bits(bits), params);
-    let m = u64::from(m);
-    let up = 31u32.wrapping_sub(s);
-    let down = s.wrapping_sub(31);
-    let scaled = if up < 64 {
-        m << up
-    } else if down < 64 {
-        m >> down
-    } else {
-        0
-    };
-    let cell = scaled >> 31;
-    let cell = if cell > u64::from(params.last) {
-        params.last
-    } else {
-        cell as u32
-    };
-    (cell, scaled as u32 & 0x7fff_ffff)
+fn coordinate_float(bits: u32, params: &Params) -> (u32, f32) {
+    const MAGIC: f32 = 8_388_608.0; // 2^23
+    let x = f32::from_bits(clamp_bits(bits));
+    let fu = x * params.scale;
+    let sum = fu + MAGIC;
+    let rounded = sum - MAGIC;
+    let above = rounded > fu;
+    let truncated = if above { rounded - 1.0 } else { rounded };
+    let cell = (sum.to_bits() & 0x7f_ffff) - u32::from(above);
+    let uf = fu - truncated;
+    (if cell > params.last { params.last } else { cell }, uf)
 }
 
 /// The reference's integer half from clamped cells (`iu, iv <= last`):
@@ -206,34 +216,21 @@ fn interleave_16(b0: u32, b1: u32) -> u32 {
     x
 }
 
-/// [`interleave_16`] for 32-bit halves.
+/// The reference in binary32 for one pair of bit patterns, levels `0..=16`:
+/// the same bits as `spec::index_f32`. `FLOAT_CELL` picks
+/// [`coordinate_float`] over the integer [`coordinate`].
 #[inline(always)]
-fn interleave_32(b0: u32, b1: u32) -> u64 {
-    let mut x = u64::from(b0) | (u64::from(b1) << 32);
-    let mut t;
-    t = (x ^ (x >> 16)) & 0x0000_0000_ffff_0000;
-    x ^= t ^ (t << 16);
-    t = (x ^ (x >> 8)) & 0x0000_ff00_0000_ff00;
-    x ^= t ^ (t << 8);
-    t = (x ^ (x >> 4)) & 0x00f0_00f0_00f0_00f0;
-    x ^= t ^ (t << 4);
-    t = (x ^ (x >> 2)) & 0x0c0c_0c0c_0c0c_0c0c;
-    x ^= t ^ (t << 2);
-    t = (x ^ (x >> 1)) & 0x2222_2222_2222_2222;
-    x ^= t ^ (t << 1);
-    x
-}
-
-/// The reference in binary32 for one pair of bit patterns, levels `0..=16`
-/// (`params.level`): the same bits as `spec::index_f32`.
-#[inline(always)]
-pub(crate) fn narrow(u_bits: u32, v_bits: u32, params: &Params) -> u32 {
-    let (iu, uf) = narrow_coordinate(u_bits, params);
-    let (iv, vf) = narrow_coordinate(v_bits, params);
-    let last = params.last;
-    let iu = if iu < last { iu } else { last };
-    let iv = if iv < last { iv } else { last };
-    let (b0, b1) = integer_half::<false>(iu, iv, uf + vf >= params.threshold, last);
+pub(crate) fn narrow<const FLOAT_CELL: bool>(u_bits: u32, v_bits: u32, params: &Params) -> u32 {
+    let (iu, iv, diagonal) = if FLOAT_CELL {
+        let (iu, uf) = coordinate_float(u_bits, params);
+        let (iv, vf) = coordinate_float(v_bits, params);
+        (iu, iv, uf + vf >= 1.0)
+    } else {
+        let (iu, uf) = coordinate::<false>(u_bits, params);
+        let (iv, vf) = coordinate::<false>(v_bits, params);
+        (iu, iv, uf + vf >= params.threshold)
+    };
+    let (b0, b1) = integer_half::<false>(iu, iv, diagonal, params.last);
     interleave_16(b0, b1)
 }
 
@@ -242,17 +239,32 @@ pub(crate) fn narrow(u_bits: u32, v_bits: u32, params: &Params) -> u32 {
 /// the exact reading of the reference (exact threshold).
 #[inline(always)]
 pub(crate) fn wide(u_bits: u32, v_bits: u32, params: &Params) -> u64 {
-    let (iu, uf) = wide_coordinate(u_bits, params);
-    let (iv, vf) = wide_coordinate(v_bits, params);
-    let (b0, b1) = integer_half::<true>(iu, iv, uf + vf >= params.threshold, params.last);
-    interleave_32(b0, b1)
+    let (iu, uf) = coordinate::<true>(u_bits, params);
+    let (iv, vf) = coordinate::<true>(v_bits, params);
+    wide_from_clamped_cell(iu, iv, uf + vf >= params.threshold, params.last)
+}
+
+/// The wide integer half and interleave (two 16-bit interleaves in 32-bit
+/// words, then one widening) from cells already clamped to
+/// `last` (`iu, iv <= last`): `spec::index_from_cell_wide` on such cells.
+#[inline(always)]
+pub(crate) fn wide_from_clamped_cell(iu: u32, iv: u32, diagonal: bool, last: u32) -> u64 {
+    let (b0, b1) = integer_half::<true>(iu, iv, diagonal, last);
+    let low = interleave_16(b0 & 0xffff, b1 & 0xffff);
+    let high = interleave_16(b0 >> 16, b1 >> 16);
+    u64::from(low) | (u64::from(high) << 32)
 }
 
 /// [`narrow`] over slices of equal length (checked by the caller).
 #[inline(always)]
-pub(crate) fn narrow_slice(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) {
+pub(crate) fn narrow_slice<const FLOAT_CELL: bool>(
+    u: &[f32],
+    v: &[f32],
+    out: &mut [u32],
+    params: &Params,
+) {
     for ((out, u), v) in out.iter_mut().zip(u).zip(v) {
-        *out = narrow(u.to_bits(), v.to_bits(), params);
+        *out = narrow::<FLOAT_CELL>(u.to_bits(), v.to_bits(), params);
     }
 }
 
@@ -273,25 +285,23 @@ mod tests {
         assert_eq!(interleave_16(0xffff, 0), 0x5555_5555);
         assert_eq!(interleave_16(0, 0xffff), 0xaaaa_aaaa);
         assert_eq!(interleave_16(0b10, 0b01), 0b0110);
-        assert_eq!(interleave_32(u32::MAX, 0), 0x5555_5555_5555_5555);
-        assert_eq!(interleave_32(0, 1 << 31), 1 << 63);
     }
 
     #[test]
     fn coordinates_split_cell_and_fraction() {
         let p = Params::new(1, BINARY32_THRESHOLD);
-        assert_eq!(narrow_coordinate(0.75f32.to_bits(), &p), (1, 1 << 30));
-        assert_eq!(narrow_coordinate(1.0f32.to_bits(), &p), (2, 0));
-        assert_eq!(narrow_coordinate(f32::NAN.to_bits(), &p), (0, 0));
-        assert_eq!(narrow_coordinate((-0.5f32).to_bits(), &p), (0, 0));
-        assert_eq!(narrow_coordinate(f32::INFINITY.to_bits(), &p), (2, 0));
+        assert_eq!(coordinate::<false>(0.75f32.to_bits(), &p), (1, 1 << 30));
+        assert_eq!(coordinate::<false>(1.0f32.to_bits(), &p), (1, 0));
+        assert_eq!(coordinate::<false>(f32::NAN.to_bits(), &p), (0, 0));
+        assert_eq!(coordinate::<false>((-0.5f32).to_bits(), &p), (0, 0));
+        assert_eq!(coordinate::<false>(f32::INFINITY.to_bits(), &p), (1, 0));
         // 2^-149 * 2: far below 2^-31, floors to 0.
-        assert_eq!(narrow_coordinate(1, &p), (0, 0));
+        assert_eq!(coordinate::<false>(1, &p), (0, 0));
         let p = Params::new(32, BINARY32_THRESHOLD);
-        assert_eq!(wide_coordinate(1.0f32.to_bits(), &p), (u32::MAX, 0));
-        assert_eq!(wide_coordinate(0.5f32.to_bits(), &p), (1 << 31, 0));
+        assert_eq!(coordinate::<true>(1.0f32.to_bits(), &p), (u32::MAX, 0));
+        assert_eq!(coordinate::<true>(0.5f32.to_bits(), &p), (1 << 31, 0));
         // 2^-40 * 2^32 = 2^-8: fraction 2^-8 * 2^31.
-        assert_eq!(wide_coordinate(2f32.powi(-40).to_bits(), &p), (0, 1 << 23));
-        assert_eq!(wide_coordinate(1, &p), (0, 0));
+        assert_eq!(coordinate::<true>(2f32.powi(-40).to_bits(), &p), (0, 1 << 23));
+        assert_eq!(coordinate::<true>(1, &p), (0, 0));
     }
 }

@@ -43,7 +43,7 @@
 
 #[cfg(all(feature = "std", target_arch = "x86_64"))]
 mod arch;
-mod kernel;
+pub(crate) mod kernel;
 
 use crate::{Error, Level};
 use core::fmt;
@@ -246,7 +246,7 @@ pub fn index_f32_with(
     let params = kernel::Params::new(level.get(), kernel::BINARY32_THRESHOLD);
     let ran = match backend {
         Backend::Portable => {
-            kernel::narrow_slice(u, v, out, &params);
+            kernel::narrow_slice::<true>(u, v, out, &params);
             true
         }
         #[cfg(all(feature = "std", target_arch = "x86_64"))]
@@ -339,7 +339,7 @@ pub fn index_wide_f32_with(
 #[must_use]
 pub fn index_f32_one(u: f32, v: f32, level: ReferenceLevel) -> u32 {
     let params = kernel::Params::new(level.get(), kernel::BINARY32_THRESHOLD);
-    kernel::narrow(u.to_bits(), v.to_bits(), &params)
+    kernel::narrow::<false>(u.to_bits(), v.to_bits(), &params)
 }
 
 /// A [`Level`] checked once to be one the Vulkan reference supports
