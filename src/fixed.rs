@@ -202,16 +202,32 @@ fn check_float_point(u: f64, v: f64) -> Result<(), Error> {
     f64::check_point(&u, &v)
 }
 
-/// The exact walk's index for a finite binary32 point, on [`Fixed64`]:
+/// The exact walk's index for a finite binary32 point:
 /// equal to [`uv2index::index_exact`] of the
 /// same real point for every level `0..=32`. NaN, infinities and points
 /// outside the closed triangle are errors.
+///
+/// Computed by [`exact_float::index_f32`](crate::exact_float::index_f32):
+/// the reference's exact steps on the float's bits where they are proved
+/// equal to the walk, the walk ([`index_f32_ref`]) elsewhere.
 ///
 /// ```
 /// use micromap_index::{fixed, Level};
 /// assert_eq!(fixed::index_f32(0.3, 0.3, Level::new(2).unwrap()), Ok(5));
 /// ```
+#[inline]
 pub fn index_f32(u: f32, v: f32, level: Level) -> Result<u64, Error> {
+    crate::exact_float::index_f32(u, v, level)
+}
+
+/// [`index_f32`] by the walk itself on [`Fixed64`] (`level` steps): the
+/// oracle the closed form is checked against.
+///
+/// ```
+/// use micromap_index::{fixed, Level};
+/// assert_eq!(fixed::index_f32_ref(0.3, 0.3, Level::new(2).unwrap()), Ok(5));
+/// ```
+pub fn index_f32_ref(u: f32, v: f32, level: Level) -> Result<u64, Error> {
     let (u, v) = (f64::from(u), f64::from(v));
     check_float_point(u, v)?;
     let p = Fixed64::ONE_LOG2;
@@ -220,15 +236,27 @@ pub fn index_f32(u: f32, v: f32, level: Level) -> Result<u64, Error> {
     Ok(uv2index::index(to_fixed(u), to_fixed(v), level))
 }
 
-/// The exact walk's index for a finite binary64 point, on [`Fixed128`]:
+/// The exact walk's index for a finite binary64 point:
 /// equal to [`uv2index::index_exact`] of the
-/// same real point for every level `0..=32`.
+/// same real point for every level `0..=32`. Computed like [`index_f32`]
+/// ([`exact_float::index_f64`](crate::exact_float::index_f64)).
 ///
 /// ```
 /// use micromap_index::{fixed, Level};
 /// assert_eq!(fixed::index_f64(0.28, 0.4, Level::new(1).unwrap()), Ok(1));
 /// ```
+#[inline]
 pub fn index_f64(u: f64, v: f64, level: Level) -> Result<u64, Error> {
+    crate::exact_float::index_f64(u, v, level)
+}
+
+/// [`index_f64`] by the walk itself on [`Fixed128`]: the oracle.
+///
+/// ```
+/// use micromap_index::{fixed, Level};
+/// assert_eq!(fixed::index_f64_ref(0.28, 0.4, Level::new(1).unwrap()), Ok(1));
+/// ```
+pub fn index_f64_ref(u: f64, v: f64, level: Level) -> Result<u64, Error> {
     check_float_point(u, v)?;
     let p = Fixed128::ONE_LOG2;
     let to_fixed = |x| Fixed128::from_raw(sticky_scaled(x, p));

@@ -53,6 +53,7 @@
 pub mod batch;
 #[cfg(feature = "std")]
 pub mod eval;
+pub mod exact_float;
 pub mod fixed;
 pub mod micromap;
 #[cfg(feature = "fuzzing")]
