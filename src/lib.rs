@@ -56,6 +56,7 @@ pub mod eval;
 pub mod exact_float;
 pub mod fixed;
 pub mod micromap;
+pub mod microtri;
 #[cfg(feature = "fuzzing")]
 pub mod fuzzing;
 #[cfg(feature = "std")]
