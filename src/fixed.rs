@@ -322,6 +322,7 @@ fn mirror_cell_and_fraction(x: f32, level: u32) -> (u32, u128) {
 ///     assert_eq!(fixed::index_mirror_f32(u, v, 2), spec::index_f32(u, v, 2));
 /// }
 /// ```
+#[inline]
 pub fn index_mirror_f32(u: f32, v: f32, level: u32) -> u32 {
     let level = level % 32;
     let (iu, uf) = mirror_cell_and_fraction(u, level);
@@ -338,6 +339,7 @@ pub fn index_mirror_f32(u: f32, v: f32, level: u32) -> u32 {
 /// assert_eq!(fixed::index_mirror_f32_checked(0.3, 0.3, Level::new(2).unwrap()), Ok(5));
 /// assert!(fixed::index_mirror_f32_checked(0.3, 0.3, Level::new(17).unwrap()).is_err());
 /// ```
+#[inline]
 pub fn index_mirror_f32_checked(u: f32, v: f32, level: Level) -> Result<u32, Error> {
     let level = level.at_most(crate::spec::MAX_LEVEL)?;
     Ok(index_mirror_f32(u, v, level.get()))

@@ -96,6 +96,7 @@ impl Level {
     pub const MAX: u32 = 32;
 
     /// A level, or [`Error::LevelTooHigh`] above [`Level::MAX`].
+    #[inline]
     pub const fn new(level: u32) -> Result<Level, Error> {
         if level > Self::MAX {
             Err(Error::LevelTooHigh {
@@ -108,16 +109,19 @@ impl Level {
     }
 
     /// The level as a number.
+    #[inline]
     pub const fn get(self) -> u32 {
         self.0 as u32
     }
 
     /// The number of micro-triangles, `4^level`.
+    #[inline]
     pub const fn micro_triangle_count(self) -> u128 {
         1u128 << (2 * self.0 as u32)
     }
 
     /// The level, or [`Error::LevelTooHigh`] if it is above `max`.
+    #[inline]
     pub(crate) const fn at_most(self, max: u32) -> Result<Level, Error> {
         if self.get() > max {
             Err(Error::LevelTooHigh {

@@ -66,6 +66,7 @@ pub const MAX_LEVEL: u32 = 16;
 
 /// The reference in binary32, total: defined for every input (see the
 /// module docs for levels above 16).
+#[inline]
 pub fn index_f32(u: f32, v: f32, level: u32) -> u32 {
     let level = level % 32; // C's `1u << level` as x86 / SPIR-V hardware shifts
     let cell = cell_f32(u, v, level);
@@ -95,6 +96,7 @@ pub struct Cell {
 /// assert_eq!(cell_f32(0.375, 0.125, 2), Cell { iu: 1, iv: 0, diagonal: true });
 /// assert_eq!(cell_f32(f32::NAN, 2.0, 3), Cell { iu: 0, iv: 8, diagonal: false });
 /// ```
+#[inline]
 pub fn cell_f32(u: f32, v: f32, level: u32) -> Cell {
     let u = clamp_unit(u);
     let v = clamp_unit(v);
@@ -124,6 +126,7 @@ pub fn cell_f32(u: f32, v: f32, level: u32) -> Cell {
 ///     Err(Error::LevelTooHigh { level: 20, max: 16 })
 /// );
 /// ```
+#[inline]
 pub fn index_f32_checked(u: f32, v: f32, level: Level) -> Result<u32, Error> {
     let level = level.at_most(MAX_LEVEL)?;
     Ok(index_f32(u, v, level.get()))
@@ -142,6 +145,7 @@ pub fn index_f32_checked(u: f32, v: f32, level: Level) -> Result<u32, Error> {
 /// // One ulp further down, the sum rounds to 1 - 2^-24.
 /// assert!(!diagonal_decision_f32(0.5, f32::from_bits(below.to_bits() - 1)));
 /// ```
+#[inline]
 pub fn diagonal_decision_f32(uf: f32, vf: f32) -> bool {
     uf + vf >= 1.0
 }
@@ -152,6 +156,7 @@ pub fn diagonal_decision_f32(uf: f32, vf: f32) -> bool {
 /// signalling NaN, so a libm-based C build would map it to 1 instead; the C
 /// oracle in `reference/` clamps with comparisons for that reason.)
 #[allow(clippy::manual_clamp)] // `f32::clamp` keeps NaN; the reference must not
+#[inline]
 fn clamp_unit(x: f32) -> f32 {
     x.max(0.0).min(1.0)
 }
@@ -168,6 +173,7 @@ macro_rules! integer_half {
         interleave: [$(($shift:expr, $mask:expr)),*]
     ) => {
         $(#[$doc])*
+        #[inline]
         pub fn $name(iu: $uint, iv: $uint, diagonal: bool, level: u32) -> $uint {
             let cells = (1 as $uint).wrapping_shl(level);
             let last = cells.wrapping_sub(1);
@@ -349,6 +355,7 @@ fn clamp_rational(x: &BigRational) -> BigRational {
 /// // (1/8, 1/8) with 8 = 2^3.
 /// assert_eq!(spec::index_exact_dyadic(1, 1, 3, level), Ok(1));
 /// ```
+#[inline]
 pub fn index_exact_dyadic(
     u_scaled: u64,
     v_scaled: u64,
@@ -373,6 +380,7 @@ pub fn index_exact_dyadic(
 /// // (3/8, 5/8) at level 2: cell (1, 2), fractions 1/2 + 1/2 >= 1.
 /// assert_eq!(cell_dyadic(3, 5, 3, Level::new(2).unwrap()), Cell { iu: 1, iv: 2, diagonal: true });
 /// ```
+#[inline]
 pub fn cell_dyadic(u_scaled: u64, v_scaled: u64, scale_log2: u32, level: Level) -> Cell {
     let scale_log2 = scale_log2.min(62);
     let one = 1u64 << scale_log2;
@@ -412,6 +420,7 @@ pub fn cell_dyadic(u_scaled: u64, v_scaled: u64, scale_log2: u32, level: Level) 
 ///     assert_eq!(spec::index_wide_f32(u, v, top), fixed::index_f32(u, v, top).unwrap());
 /// }
 /// ```
+#[inline]
 pub fn index_wide_f32(u: f32, v: f32, level: Level) -> u64 {
     let cell = cell_f32(u, v, level.get());
     index_from_cell_wide(cell.iu, cell.iv, cell.diagonal, level.get())
@@ -427,6 +436,7 @@ pub fn index_wide_exact(u: &BigRational, v: &BigRational, level: Level) -> u64 {
 
 /// [`index_wide_exact`] for dyadic points, with integers only (see
 /// [`cell_dyadic`]).
+#[inline]
 pub fn index_wide_dyadic(u_scaled: u64, v_scaled: u64, scale_log2: u32, level: Level) -> u64 {
     let cell = cell_dyadic(u_scaled, v_scaled, scale_log2, level);
     index_from_cell_wide(cell.iu, cell.iv, cell.diagonal, level.get())
@@ -435,6 +445,7 @@ pub fn index_wide_dyadic(u_scaled: u64, v_scaled: u64, scale_log2: u32, level: L
 /// Whether the reals `uf + vf` (exact) and the binary32 sum disagree about
 /// `>= 1`; `uf`, `vf` are the reference's exact fractional parts. Used to
 /// state precisely where [`index_f32`] and [`index_exact`] may differ.
+#[inline]
 pub fn rounding_flips_diagonal(uf: f32, vf: f32) -> bool {
     let exact = f64::from(uf) + f64::from(vf); // exact: both have 24-bit significands
     (exact >= 1.0) != diagonal_decision_f32(uf, vf)

@@ -289,6 +289,7 @@ pub fn index_exact_ref(u: &BigRational, v: &BigRational, level: Level) -> Result
 /// let level = Level::new(4).unwrap();
 /// assert_eq!(uv2index::index_f32(f32::NAN, 0.0, level), Err(Error::NotANumber(Coordinate::U)));
 /// ```
+#[inline]
 pub fn index_f32(u: f32, v: f32, level: Level) -> Result<u64, Error> {
     index_checked(u, v, level)
 }
@@ -300,6 +301,7 @@ pub fn index_f32(u: f32, v: f32, level: Level) -> Result<u64, Error> {
 /// use micromap_index::{uv2index, Level};
 /// assert_eq!(uv2index::index_f64(0.28, 0.4, Level::new(1).unwrap()), Ok(1));
 /// ```
+#[inline]
 pub fn index_f64(u: f64, v: f64, level: Level) -> Result<u64, Error> {
     index_checked(u, v, level)
 }
