@@ -55,14 +55,14 @@ pub mod batch;
 pub mod eval;
 pub mod exact_float;
 pub mod fixed;
-pub mod micromap;
-pub mod microtri;
 #[cfg(feature = "fuzzing")]
 pub mod fuzzing;
 #[cfg(feature = "std")]
 pub mod inverse;
 #[cfg(feature = "std")]
 pub mod lattice;
+pub mod micromap;
+pub mod microtri;
 #[cfg(feature = "std")]
 pub mod prove;
 #[cfg(feature = "std")]

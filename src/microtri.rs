@@ -384,7 +384,10 @@ mod tests {
         assert_eq!(all.by_ref().last().map(|t| t.index()), Some(15));
         assert_eq!(all.next(), None);
         let mut root = triangles(Level::new(0).unwrap());
-        assert_eq!(root.next().map(|t| t.vertices_scaled()), Some([(0, 0), (1, 0), (0, 1)]));
+        assert_eq!(
+            root.next().map(|t| t.vertices_scaled()),
+            Some([(0, 0), (1, 0), (0, 1)])
+        );
         assert_eq!(root.next(), None);
     }
 }

@@ -43,7 +43,15 @@ fn edge_values() -> Vec<f32> {
     for m in 0..=26 {
         let scale = 2f32.powi(-m);
         let top = 1u32 << m.min(24);
-        for k in [1, 3, top / 2, top.saturating_sub(1), top, top + 1, 0x5a5a5 % top.max(1)] {
+        for k in [
+            1,
+            3,
+            top / 2,
+            top.saturating_sub(1),
+            top,
+            top + 1,
+            0x5a5a5 % top.max(1),
+        ] {
             let x = k as f32 * scale;
             for steps in -2i32..=2 {
                 let bits = (x.to_bits() as i64 + i64::from(steps)).max(0) as u32;
@@ -305,7 +313,10 @@ fn errors_write_nothing() {
     );
     assert_eq!(
         batch::index_f32(&[0.5, 0.5], &[0.5, 0.1], Level::new(17).unwrap(), &mut out),
-        Err(BatchError::Level(Error::LevelTooHigh { level: 17, max: 16 }))
+        Err(BatchError::Level(Error::LevelTooHigh {
+            level: 17,
+            max: 16
+        }))
     );
     assert_eq!(out, [7, 7]);
     let mut wide = [7u64; 1];

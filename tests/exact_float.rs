@@ -152,7 +152,13 @@ proptest! {
 /// up to 24 and their neighbours, subnormals, 0, 1 and values outside.
 #[test]
 fn structured_pairs_every_level() {
-    let mut values = vec![0.0f32, -0.0, 1.0, f32::from_bits(1), f32::from_bits(0x007f_ffff)];
+    let mut values = vec![
+        0.0f32,
+        -0.0,
+        1.0,
+        f32::from_bits(1),
+        f32::from_bits(0x007f_ffff),
+    ];
     for m in 0..=24 {
         for k in [1u32, 3, 1 << m.max(1) >> 1, (1 << m) - 1, 1 << m] {
             let x = k as f32 * 2f32.powi(-m);

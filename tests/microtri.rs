@@ -70,7 +70,10 @@ fn last_triangles_and_range() {
         if level.get() < 32 {
             assert_eq!(
                 triangle(level, last + 1),
-                Err(Error::IndexOutOfRange { index: last + 1, level: level.get() })
+                Err(Error::IndexOutOfRange {
+                    index: last + 1,
+                    level: level.get()
+                })
             );
         }
     }
@@ -87,8 +90,14 @@ fn centroids_map_back_under_the_reference() {
         for t in triangles(level) {
             let [a, b, c] = t.vertices_scaled();
             let (iu, iv) = t.cell();
-            let (u, v) = if t.upright() { (4 * iu + 1, 4 * iv + 1) } else { (4 * iu + 3, 4 * iv + 3) };
-            assert!([a, b, c].iter().all(|&(x, y)| x <= 1 << level.get() && y <= 1 << level.get()));
+            let (u, v) = if t.upright() {
+                (4 * iu + 1, 4 * iv + 1)
+            } else {
+                (4 * iu + 3, 4 * iv + 3)
+            };
+            assert!([a, b, c]
+                .iter()
+                .all(|&(x, y)| x <= 1 << level.get() && y <= 1 << level.get()));
             let index = spec::index_wide_dyadic(u, v, level.get() + 2, level);
             assert_eq!(index, t.index(), "level {level}, triangle {t:?}");
         }

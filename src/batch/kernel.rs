@@ -174,7 +174,14 @@ fn coordinate_float(bits: u32, params: &Params) -> (u32, f32) {
     let truncated = if above { rounded - 1.0 } else { rounded };
     let cell = (sum.to_bits() & 0x7f_ffff) - u32::from(above);
     let uf = fu - truncated;
-    (if cell > params.last { params.last } else { cell }, uf)
+    (
+        if cell > params.last {
+            params.last
+        } else {
+            cell
+        },
+        uf,
+    )
 }
 
 /// The reference's integer half from clamped cells (`iu, iv <= last`):
@@ -301,7 +308,10 @@ mod tests {
         assert_eq!(coordinate::<true>(1.0f32.to_bits(), &p), (u32::MAX, 0));
         assert_eq!(coordinate::<true>(0.5f32.to_bits(), &p), (1 << 31, 0));
         // 2^-40 * 2^32 = 2^-8: fraction 2^-8 * 2^31.
-        assert_eq!(coordinate::<true>(2f32.powi(-40).to_bits(), &p), (0, 1 << 23));
+        assert_eq!(
+            coordinate::<true>(2f32.powi(-40).to_bits(), &p),
+            (0, 1 << 23)
+        );
         assert_eq!(coordinate::<true>(1, &p), (0, 0));
     }
 }

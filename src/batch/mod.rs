@@ -93,7 +93,9 @@ impl Backend {
     /// assert_eq!(Backend::available().next(), Some(Backend::Portable));
     /// ```
     pub fn available() -> impl Iterator<Item = Backend> {
-        Backend::ALL.into_iter().filter(|backend| backend.is_available())
+        Backend::ALL
+            .into_iter()
+            .filter(|backend| backend.is_available())
     }
 
     /// The fastest available backend; detected on the first call and cached.
