@@ -61,7 +61,7 @@ pub const CLOSED_FORM_PROVED_MAX_LEVEL: u32 = 19;
 /// are errors.
 ///
 /// Levels up to [`CLOSED_FORM_PROVED_MAX_LEVEL`] use the closed form (see
-/// the module docs), higher ones the walk.
+/// the module docs; in 32-bit words up to level 16), higher ones the walk.
 ///
 /// ```
 /// use micromap_index::{exact_float, Error, Level, Outside};
@@ -76,12 +76,40 @@ pub const CLOSED_FORM_PROVED_MAX_LEVEL: u32 = 19;
 /// ```
 #[inline]
 pub fn index_f32(u: f32, v: f32, level: Level) -> Result<u64, Error> {
-    f32::check_point(&u, &v)?;
-    if level.get() <= CLOSED_FORM_PROVED_MAX_LEVEL {
+    // Bits of non-negative floats order like the floats; -0.0, NaN and
+    // everything negative are above 1.0's bits and take the full check.
+    let one = 1f32.to_bits();
+    let simple = u.to_bits() <= one && v.to_bits() <= one && !sum_above_one(u, v);
+    if !simple {
+        f32::check_point(&u, &v)?;
+    }
+    if level.get() <= crate::spec::MAX_LEVEL {
+        let params = Params::new(level.get(), kernel::EXACT_THRESHOLD);
+        Ok(u64::from(kernel::narrow::<false>(
+            u.to_bits(),
+            v.to_bits(),
+            &params,
+        )))
+    } else if level.get() <= CLOSED_FORM_PROVED_MAX_LEVEL {
         Ok(closed_form_f32(u, v, level))
     } else {
         crate::fixed::index_f32_ref(u, v, level)
     }
+}
+
+/// `u + v > 1` exactly, for `u, v` in `[0, 1]`: the binary64 sum rounds
+/// monotonically and 1 is representable, so only a sum that rounds to
+/// exactly 1 needs its rounding error (Knuth's two-sum, exact here).
+#[inline]
+fn sum_above_one(u: f32, v: f32) -> bool {
+    let (u, v) = (f64::from(u), f64::from(v));
+    let sum = u + v;
+    if sum != 1.0 {
+        return sum > 1.0;
+    }
+    let v_part = sum - u;
+    let u_part = sum - v_part;
+    (u - u_part) + (v - v_part) > 0.0
 }
 
 /// [`index_f32`] for binary64 points: equal to
