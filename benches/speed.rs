@@ -12,6 +12,10 @@
 //! Ratios between rows of one run are the result (`docs/performance.md`);
 //! absolute times depend on the CPU and its load.
 
+// Loops index `u`, `v` and `out` together, as a caller's loop over
+// parallel arrays does.
+#![allow(clippy::needless_range_loop)]
+
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use micromap_index::batch::{self, Backend, ReferenceLevel};
 use micromap_index::{exact_float, fixed, inverse, microtri, spec, uv2index, Level};
