@@ -97,11 +97,10 @@ impl Triangle {
     #[must_use]
     pub fn vertices_scaled(&self) -> [(u64, u64); 3] {
         let (a, b) = self.origin;
-        if self.upright {
-            [(a, b), (a + 1, b), (a, b + 1)]
-        } else {
-            [(a, b), (a + 1, b), (a + 1, b - 1)]
-        }
+        // Third vertex (a, b + 1) upright, (a + 1, b - 1) upside down,
+        // without a branch (the orientation is irregular along the curve).
+        let down = u64::from(!self.upright);
+        [(a, b), (a + 1, b), (a + down, (b + 1).wrapping_sub(2 * down))]
     }
 
     /// The grid cell `(iu, iv)` holding the micro-triangle: numerators of the
