@@ -28,7 +28,11 @@
 //! sticky bit when both are below `2^(s+1-P)` (`s` the significand width), so
 //! their sum stays below the first lattice line. `docs/fixed.md` spells the
 //! argument out. With `P = 60` ([`Fixed64`], binary32) and `P = 124`
-//! ([`Fixed128`], binary64) every level up to 32 is covered.
+//! ([`Fixed128`], binary64) every level up to 32 is covered. That walk is
+//! [`index_f32_ref`] / [`index_f64_ref`]; [`index_f32`] and [`index_f64`]
+//! return the same answers faster through
+//! [`exact_float`](crate::exact_float) (the reference's exact steps on the
+//! float bits, where those are proved equal to the walk).
 //!
 //! # Mirroring the GPU
 //!
