@@ -4,8 +4,7 @@
 //! Ray tracers and bakers map millions of hits per frame. [`index_f32`]
 //! validates the level and the slice lengths once, then runs a branch-free
 //! rewrite of the reference's steps on the float bits (see
-//! `src/batch/kernel.rs` for the derivation) over the whole slice. The rewrite
-//! uses integer operations only, so it is the same function on every CPU:
+//! `src/batch/kernel.rs` for the derivation) over the whole slice:
 //!
 //! * NaN and negatives clamp to 0, everything from 1 up (`+inf` too) to 1,
 //!   by comparisons on the bits;
@@ -14,6 +13,10 @@
 //! * the reference's `uf + vf >= 1.0f`, rounded in binary32, is decided
 //!   exactly as `uf + vf >= 1 - 2^-25` on 31-bit fractions;
 //! * the fold, prefix XOR and interleave are the reference's integer half.
+//!
+//! The portable build takes the cell and fraction with the reference's own
+//! float operations instead (all exact; SSE2 has no per-lane shifts), with
+//! subnormals flushed first; either way the result is the reference's bits.
 //!
 //! # Backends
 //!
