@@ -7,225 +7,152 @@
 //! micro-triangle on that curve, exactly as the Vulkan specification's
 //! reference code `BarycentricsToSpaceFillingCurveIndex` does.
 //!
+//! ```
+//! use micromap_index::SpecLevel;
+//!
+//! let level = SpecLevel::new(3)?;
+//! // What a GPU's micromap lookup reads for the hit (0.28, 0.4).
+//! assert_eq!(micromap_index::index(0.28, 0.4, level), 23);
+//! # Ok::<(), micromap_index::Error>(())
+//! ```
+//!
 //! # Implementations
 //!
-//! Sibling modules compute the same mapping in different ways; each states
-//! its guarantees in its own docs.
+//! Sibling functions compute the same mapping in different ways; the name
+//! says the guarantee, and each module states its guarantees in its docs.
 //!
-//! | module / function | number type | levels | what "exact" means |
+//! | function | numbers | levels | guarantee |
 //! |---|---|---|---|
-//! | [`spec::index_f32`] | IEEE binary32 | 0..=16 | bit-for-bit the Vulkan reference on a GPU, for every pair of `f32` including NaN, ±inf, subnormals and points outside the triangle (checked against the C reference) |
-//! | [`fixed::index_mirror_f32`] | integers | 0..=16 | the same bits as [`spec::index_f32`] for every pair of `f32`, with integer operations only |
-//! | [`spec::index_exact`] | exact rationals | 0..=16 | the reference's steps over the reals: exact floor, fractions and `uf + vf >= 1`; differs from binary32 only where `uf + vf` is in `[1 - 2^-25, 1)` |
-//! | [`spec::index_wide_exact`], [`spec::index_wide_f32`] | exact / binary32 | 0..=32 | the reference widened to 64-bit words (the original is wrong above 16) |
-//! | [`uv2index::index_exact`] | exact rationals | 0..=32 | the paper's walk (Algorithm 4) over the reals; equal to the reference at every real point of levels 0..=16 ([`prove`]) |
-//! | [`uv2index::index_f32`], [`uv2index::index_f64`] | binary32 / binary64 | 0..=32 | the paper's walk evaluated left to right in that float type, as the talk's Python reads; *not* the exact answer near lattice lines (see `docs/float.md`) |
-//! | [`fixed::index_f32`], [`fixed::index_f64`] | integers | 0..=32 | the walk on fixed-point numbers; equal to [`uv2index::index_exact`] for every finite float |
-//! | [`uv2index::index_version1`] | any | 0..=32 | the talk's first walk (rotations, no flip flags): an oracle that shows why the flags exist |
-//! | [`inverse::micro_triangle`] | integers | 0..=32 | the inverse: index → the micro-triangle's vertices as exact dyadic numerators, replaying the walk's digits and flags; the walk maps every point inside it back to the index |
+//! | [`index`] = [`spec::index_f32`] | binary32 | 0..=16 | bit for bit the Vulkan reference on a GPU, for every pair of `f32` including NaN, ±inf, subnormals and points outside the triangle (checked against the C reference) |
+//! | [`spec::index_f32_by_integers`] | integers | 0..=16 | the same bits as [`spec::index_f32`], with integer operations only |
+//! | [`spec::reference_bits_f32`] | binary32 | any `u32` | the reference's C code literally, including its wrong answers above 16 and `level % 32` |
+//! | `spec::index_real` (`exact`), [`spec::index_dyadic`] | exact | 0..=16 | the reference's steps over the reals; differs from binary32 only where `uf + vf` is in `[1 - 2^-25, 1)` |
+//! | [`spec::wide_index_f32`], `spec::wide_index_real` (`exact`), [`spec::wide_index_dyadic`] | binary32 / exact | 0..=32 | the reference widened to 64-bit words (the 32-bit original is wrong above 16) |
+//! | [`uv2index::exact_index_f32`], [`uv2index::exact_index_f64`] | integers | 0..=32 | the paper's walk over the reals, for every finite float point; equal to the reference's real reading at every real point of levels 0..=16 (proved face by face) |
+//! | `uv2index::index_real` (`exact`) | exact rationals | 0..=32 | the paper's walk (Algorithm 4) over the reals, for rational points |
+//! | [`uv2index::index_in_f32_arithmetic`], [`uv2index::index_in_f64_arithmetic`] | binary32 / binary64 | 0..=32 | the walk evaluated in that float type as the talk's Python reads; **not** exact near lattice lines (`docs/float.md`) |
+//! | [`uv2index::index`], [`uv2index::index_unchecked`] | any [`num::WalkNumber`] | 0..=32 | the walk written once, generic over the number type |
+//! | [`batch::index_f32`], [`batch::wide_index_f32`] | binary32 slices | 0..=16 / 0..=32 | [`spec::index_f32`] / [`spec::wide_index_f32`] bit for bit on every element, branch-free over slices, with AVX2 / AVX-512 picked at run time ([`batch::Backend`]) |
+//! | [`inverse::micro_triangle`] | integers | 0..=32 | the inverse: index → the micro-triangle's exact vertices in constant time; the walk maps every point inside it back to the index |
+//! | [`inverse::micro_triangles`] | integers | 0..=32 | every micro-triangle of a level in curve order, each equal to [`inverse::micro_triangle`] of its index |
 //!
-//! Exact functions run on machine integers when the inputs allow
-//! ([`rational`]) and keep all-[`BigRational`] `*_ref` twins for the tests.
-//! Without the default `std` feature the crate is `no_std` and builds the
-//! integer core only: [`spec`]'s float and dyadic steps, the generic walk in
-//! [`uv2index`], and [`fixed`].
+//! # Validation, one convention
 //!
-//! [`prove`] checks the walk against the reference on every face of a
-//! level's lattice, which decides every real point (`docs/verification.md`).
+//! Levels are validated once, by their type: [`Level`] (`0..=32`) for the
+//! walk and the widened reference, [`SpecLevel`] (`0..=16`) for the 32-bit
+//! reference. Functions that can reject a point (NaN, infinite, outside the
+//! closed triangle) return `Result<_, Error>`; those that accept every input
+//! return the index directly and say in their docs what they do with every
+//! input; `_unchecked` marks the one that validates nothing.
 //!
-//! ```
-//! use micromap_index::{spec, uv2index, Level};
+//! # Crate features
 //!
-//! let level = Level::new(3).unwrap();
-//! // The micro-triangle holding the centroid-ish point (0.28, 0.4).
-//! let by_spec = spec::index_f32_checked(0.28, 0.4, level).unwrap();
-//! let by_walk = uv2index::index_f32(0.28, 0.4, level).unwrap();
-//! assert_eq!(u64::from(by_spec), by_walk);
-//! ```
+//! * `std` (default): implies `alloc`; nothing else at present (the error
+//!   type implements `core::error::Error` either way).
+//! * `alloc`: micromap containers and the succinct trees (they own buffers).
+//! * `exact`: exact rational inputs (`spec::index_real`,
+//!   `uv2index::index_real`, `inverse::MicroTriangle::vertices_rational`, ...)
+//!   through `num-bigint` and `num-rational`; implies `std`.
+//! * `unstable-public-internals`: the test oracles the verification crate
+//!   needs (module `internals`: `*_ref` twins, the talk's version 1 walk, the
+//!   rounding-window predicate). Not covered by semver.
 //!
-//! [`BigRational`]: num_rational::BigRational
+//! With `default-features = false` the crate is `no_std`, allocation-free and
+//! dependency-free: the reference in binary32, by integers and on dyadics, the
+//! generic walk with fixed point, the exact-for-every-float walk, the batch
+//! API (portable backend; AVX2 / AVX-512 dispatch needs `std` for CPU
+//! feature detection) and the inverse.
 #![cfg_attr(not(feature = "std"), no_std)]
-// `deny`, not `forbid`: `batch::arch` (runtime-dispatched SIMD) is the one
-// module allowed `unsafe`, to call `#[target_feature]` functions.
+// `deny` (also the workspace lint), not `forbid`: `batch::arch`
+// (runtime-dispatched SIMD) is the one module allowed `unsafe`, to call
+// `#[target_feature]` functions behind CPU feature checks.
 #![deny(unsafe_code)]
 #![deny(missing_docs)]
 
+#[cfg(feature = "alloc")]
+extern crate alloc;
+
+/// Declares a function `pub` with the `unstable-public-internals` feature
+/// (so [`internals`] can re-export it) and `pub(crate)` without it: test
+/// oracles are never stable API.
+macro_rules! unstable_pub_fn {
+    ($(#[$meta:meta])* fn $($rest:tt)*) => {
+        #[cfg(feature = "unstable-public-internals")]
+        $(#[$meta])*
+        pub fn $($rest)*
+        #[cfg(not(feature = "unstable-public-internals"))]
+        $(#[$meta])*
+        #[allow(dead_code)]
+        pub(crate) fn $($rest)*
+    };
+}
+
+// The README's Rust example is compiled and run as a doc-test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
+
 pub mod batch;
-#[cfg(feature = "std")]
-pub mod eval;
-pub mod exact_float;
-pub mod fixed;
-#[cfg(feature = "fuzzing")]
-pub mod fuzzing;
-#[cfg(feature = "std")]
+mod error;
 pub mod inverse;
-#[cfg(feature = "std")]
-pub mod lattice;
+mod level;
 pub mod micromap;
-pub mod microtri;
-#[cfg(feature = "std")]
-pub mod prove;
-#[cfg(feature = "std")]
-pub mod rational;
-pub mod rng;
+pub mod num;
 pub mod spec;
+#[cfg(feature = "alloc")]
+pub mod succinct;
 pub mod uv2index;
-#[cfg(feature = "std")]
-pub mod value;
-#[cfg(feature = "std")]
-pub mod vectors;
 
-use core::fmt;
+pub use error::{Coordinate, Error, Outside};
+pub use level::{Level, SpecLevel};
 
-/// A subdivision level: the micromap has `4^level` micro-triangles.
-///
-/// Every level `0..=32` can be represented (the index of a level-32
-/// micro-triangle fills a `u64`); functions with a lower limit, such as the
-/// Vulkan reference (16), check it themselves and say so in their error.
+/// The micro-triangle index a GPU reads for the ray hit `(u, v)` at
+/// `level`: the Vulkan reference in binary32, bit for bit, for every pair of
+/// `f32` ([`spec::index_f32`]; NaN and values outside `[0, 1]` are clamped as
+/// the reference does, points past the hypotenuse are folded back).
 ///
 /// ```
-/// use micromap_index::{Level, Error};
-/// assert_eq!(Level::new(12).unwrap().get(), 12);
-/// assert_eq!(Level::new(33), Err(Error::LevelTooHigh { level: 33, max: 32 }));
+/// use micromap_index::SpecLevel;
+/// let level = SpecLevel::new(2)?;
+/// assert_eq!(micromap_index::index(0.3, 0.3, level), 5);
+/// assert_eq!(micromap_index::index(f32::NAN, 1.0, level), 15);
+/// # Ok::<(), micromap_index::Error>(())
 /// ```
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct Level(u8);
-
-impl Level {
-    /// The highest level any function in this crate accepts.
-    pub const MAX: u32 = 32;
-
-    /// A level, or [`Error::LevelTooHigh`] above [`Level::MAX`].
-    #[inline]
-    pub const fn new(level: u32) -> Result<Level, Error> {
-        if level > Self::MAX {
-            Err(Error::LevelTooHigh {
-                level,
-                max: Self::MAX,
-            })
-        } else {
-            Ok(Level(level as u8))
-        }
-    }
-
-    /// The level as a number.
-    #[inline]
-    pub const fn get(self) -> u32 {
-        self.0 as u32
-    }
-
-    /// The number of micro-triangles, `4^level`.
-    #[inline]
-    pub const fn micro_triangle_count(self) -> u128 {
-        1u128 << (2 * self.0 as u32)
-    }
-
-    /// The level, or [`Error::LevelTooHigh`] if it is above `max`.
-    #[inline]
-    pub(crate) const fn at_most(self, max: u32) -> Result<Level, Error> {
-        if self.get() > max {
-            Err(Error::LevelTooHigh {
-                level: self.get(),
-                max,
-            })
-        } else {
-            Ok(self)
-        }
-    }
+#[inline]
+#[must_use]
+pub fn index(u: f32, v: f32, level: SpecLevel) -> u32 {
+    spec::index_f32(u, v, level)
 }
 
-impl fmt::Display for Level {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        self.0.fmt(f)
+/// Test oracles for the verification crate: slow `*_ref` twins, the talk's
+/// version 1 walk and the binary32 rounding-window predicate. Enabled by the
+/// `unstable-public-internals` feature; **not** part of the stable API.
+#[cfg(feature = "unstable-public-internals")]
+pub mod internals {
+    pub use crate::inverse::micro_triangle_ref;
+    pub use crate::spec::rounding_flips_diagonal;
+    pub use crate::uv2index::index_version1_unchecked;
+    pub use crate::uv2index::{
+        cell_real_f32, cell_real_f64, exact_index_f32_ref, exact_index_f64_ref,
+    };
+
+    /// The highest level at which `uv2index::exact_index_f32` / `_f64` use
+    /// the reference's closed form (proved equal to the walk there); above
+    /// it they walk.
+    pub const CLOSED_FORM_PROVED_MAX_LEVEL: u32 = crate::uv2index::CLOSED_FORM_PROVED_MAX_LEVEL;
+
+    /// One step of the talk's version 1 walk: fixed digits, the Top child
+    /// re-oriented by rotating the coordinates; the flags stay untouched.
+    pub fn step_version1<T: crate::num::WalkNumber>(walk: &mut crate::uv2index::Walk<T>) -> u8 {
+        walk.step_version1()
     }
-}
 
-/// Which barycentric coordinate an error is about.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Coordinate {
-    /// `u`, the weight of vertex 1.
-    U,
-    /// `v`, the weight of vertex 2.
-    V,
+    #[cfg(feature = "exact")]
+    pub use crate::num::rational::{
+        over_common_denominator, BigShared, Numerator, Shared, SmallRational,
+    };
+    #[cfg(feature = "exact")]
+    pub use crate::spec::cell_real_ref;
+    #[cfg(feature = "exact")]
+    pub use crate::uv2index::index_real_ref;
 }
-
-impl fmt::Display for Coordinate {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Coordinate::U => "u",
-            Coordinate::V => "v",
-        })
-    }
-}
-
-/// What was wrong with an input.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
-#[non_exhaustive]
-pub enum Error {
-    /// The level is above what the function supports.
-    LevelTooHigh {
-        /// The level asked for.
-        level: u32,
-        /// The highest level the function supports.
-        max: u32,
-    },
-    /// A coordinate is NaN.
-    NotANumber(Coordinate),
-    /// A coordinate is +inf or -inf.
-    Infinite(Coordinate),
-    /// The point is not in the closed triangle `u >= 0, v >= 0, u + v <= 1`
-    /// (decided exactly, not after rounding).
-    OutsideTriangle {
-        /// Which of the three conditions failed first (`u < 0`, `v < 0`,
-        /// `u + v > 1`).
-        reason: Outside,
-    },
-    /// The micro-triangle index is not below `4^level`.
-    IndexOutOfRange {
-        /// The index asked for.
-        index: u64,
-        /// The level it was asked for at.
-        level: u32,
-    },
-}
-
-/// Which side of the triangle a point is outside of.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Outside {
-    /// `u < 0`.
-    NegativeU,
-    /// `v < 0`.
-    NegativeV,
-    /// `u + v > 1` (so `w < 0`).
-    SumAboveOne,
-}
-
-impl fmt::Display for Error {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Error::LevelTooHigh { level, max } => {
-                write!(
-                    f,
-                    "level {level} is too high: this function supports levels 0..={max}"
-                )
-            }
-            Error::NotANumber(c) => write!(f, "{c} is NaN"),
-            Error::Infinite(c) => write!(f, "{c} is infinite"),
-            Error::OutsideTriangle { reason } => f.write_str(match reason {
-                Outside::NegativeU => "point is outside the triangle: u < 0",
-                Outside::NegativeV => "point is outside the triangle: v < 0",
-                Outside::SumAboveOne => "point is outside the triangle: u + v > 1",
-            }),
-            Error::IndexOutOfRange { index, level } => {
-                write!(f, "index {index} is out of range for level {level}")?;
-                // 4^level overflows u128 only for levels no function accepts.
-                match 1u128.checked_shl(level.saturating_mul(2)) {
-                    Some(count) => write!(f, ": valid indices are 0..={}", count - 1),
-                    None => Ok(()),
-                }
-            }
-        }
-    }
-}
-
-impl core::error::Error for Error {}

@@ -1,14 +1,18 @@
-//! `exact_float::index_f32` / `index_f64` (the reference's exact steps on
-//! the float bits) against the walk they replace (`fixed::index_f32_ref`,
-//! `fixed::index_f64_ref`, the oracle) and `cell_f32` / `cell_f64` against
-//! the BigRational `spec::cell_exact`: proptest over any bit pattern of the
+//! `uv2index::exact_index_f32` / `exact_index_f64` (the reference's exact
+//! steps on the float bits) against the walk (`internals::exact_index_f32_ref`,
+//! `exact_index_f64_ref`, the oracle) and `internals::cell_real_f32` /
+//! `cell_real_f64` against the `BigRational` `spec::cell_real`: proptest over any bit pattern of the
 //! closed triangle, dyadics `k / 2^m` a few ulps off lattice lines,
 //! subnormals, and points outside (errors must agree too), at every level.
 
-use micromap_index::exact_float::{self, CLOSED_FORM_PROVED_MAX_LEVEL};
-use micromap_index::spec::{self, index_from_cell_wide};
-use micromap_index::uv2index::WalkNumber;
-use micromap_index::{fixed, Level};
+use micromap_index::internals::{
+    cell_real_f32, cell_real_f64, exact_index_f32_ref, exact_index_f64_ref,
+    CLOSED_FORM_PROVED_MAX_LEVEL,
+};
+use micromap_index::num::WalkNumber;
+use micromap_index::spec::{self, wide_index_from_cell};
+use micromap_index::uv2index::{exact_index_f32, exact_index_f64};
+use micromap_index::Level;
 use num_rational::BigRational;
 use proptest::prelude::*;
 
@@ -19,7 +23,7 @@ fn nudge_f32(x: f32, steps: i32) -> f32 {
 }
 
 fn nudge_f64(x: f64, steps: i64) -> f64 {
-    f64::from_bits((x.to_bits() as i128 + i128::from(steps)).max(0) as u64)
+    f64::from_bits((i128::from(x.to_bits()) + i128::from(steps)).max(0) as u64)
 }
 
 /// A dyadic `k / 2^m` (`k <= 2^m`) moved by a few ulps: near a lattice line
@@ -80,7 +84,7 @@ fn in_triangle_f32() -> impl Strategy<Value = (f32, f32)> {
 
 fn exact_cell(u: f64, v: f64, level: Level) -> spec::Cell {
     let r = |x: f64| BigRational::from_float(x).unwrap_or_default();
-    spec::cell_exact(&r(u), &r(v), level)
+    spec::cell_real(&r(u), &r(v), level)
 }
 
 proptest! {
@@ -90,8 +94,8 @@ proptest! {
     fn f32_equals_the_walk(u in any_f32(), v in any_f32(), level in 0u32..=CLOSED_FORM_PROVED_MAX_LEVEL) {
         let level = Level::new(level).unwrap();
         prop_assert_eq!(
-            exact_float::index_f32(u, v, level),
-            fixed::index_f32_ref(u, v, level),
+            exact_index_f32(u, v, level),
+            exact_index_f32_ref(u, v, level),
             "u = {:#010x}, v = {:#010x}, level {}", u.to_bits(), v.to_bits(), level
         );
     }
@@ -99,13 +103,13 @@ proptest! {
     #[test]
     fn f32_in_triangle_equals_the_walk((u, v) in in_triangle_f32(), level in 0u32..=32) {
         let level = Level::new(level).unwrap();
-        let walk = fixed::index_f32_ref(u, v, level);
+        let walk = exact_index_f32_ref(u, v, level);
         prop_assert!(walk.is_ok());
-        prop_assert_eq!(exact_float::index_f32(u, v, level), walk.clone(),
+        prop_assert_eq!(exact_index_f32(u, v, level), walk.clone(),
             "u = {:#010x}, v = {:#010x}, level {}", u.to_bits(), v.to_bits(), level);
         // The closed form at every level (sampled evidence above 19).
-        let cell = exact_float::cell_f32(u, v, level);
-        prop_assert_eq!(Ok(index_from_cell_wide(cell.iu, cell.iv, cell.diagonal, level.get())), walk,
+        let cell = cell_real_f32(u, v, level);
+        prop_assert_eq!(Ok(wide_index_from_cell(cell.iu, cell.iv, cell.diagonal, level.get())), walk,
             "closed form: u = {:#010x}, v = {:#010x}, level {}", u.to_bits(), v.to_bits(), level);
     }
 
@@ -113,8 +117,8 @@ proptest! {
     fn f64_equals_the_walk(u in any_f64(), v in any_f64(), level in 0u32..=CLOSED_FORM_PROVED_MAX_LEVEL) {
         let level = Level::new(level).unwrap();
         prop_assert_eq!(
-            exact_float::index_f64(u, v, level),
-            fixed::index_f64_ref(u, v, level),
+            exact_index_f64(u, v, level),
+            exact_index_f64_ref(u, v, level),
             "u = {:#018x}, v = {:#018x}, level {}", u.to_bits(), v.to_bits(), level
         );
     }
@@ -124,12 +128,12 @@ proptest! {
         let (u, v) = (u.min(1.0), v.min(1.0));
         let v = if u + v > 1.0 { nudge_f64(1.0 - u, -1) } else { v };
         let level = Level::new(level).unwrap();
-        let walk = fixed::index_f64_ref(u, v, level);
-        prop_assert_eq!(exact_float::index_f64(u, v, level), walk.clone(),
+        let walk = exact_index_f64_ref(u, v, level);
+        prop_assert_eq!(exact_index_f64(u, v, level), walk.clone(),
             "u = {:#018x}, v = {:#018x}, level {}", u.to_bits(), v.to_bits(), level);
         if let Ok(walk) = walk {
-            let cell = exact_float::cell_f64(u, v, level);
-            prop_assert_eq!(index_from_cell_wide(cell.iu, cell.iv, cell.diagonal, level.get()), walk,
+            let cell = cell_real_f64(u, v, level);
+            prop_assert_eq!(wide_index_from_cell(cell.iu, cell.iv, cell.diagonal, level.get()), walk,
                 "closed form: u = {:#018x}, v = {:#018x}, level {}", u.to_bits(), v.to_bits(), level);
         }
     }
@@ -140,10 +144,10 @@ proptest! {
         // Non-finite values have no rational; the clamp sends NaN to 0 and
         // +inf to 1, so compare those with what they clamp to.
         let finite = |x: f64| if x.is_nan() { 0.0 } else { x.clamp(-1.0, 2.0) };
-        prop_assert_eq!(exact_float::cell_f64(u, v, level), exact_cell(finite(u), finite(v), level),
+        prop_assert_eq!(cell_real_f64(u, v, level), exact_cell(finite(u), finite(v), level),
             "u = {:#018x}, v = {:#018x}, level {}", u.to_bits(), v.to_bits(), level);
         let (u32_, v32) = (u as f32, v as f32);
-        prop_assert_eq!(exact_float::cell_f32(u32_, v32, level),
+        prop_assert_eq!(cell_real_f32(u32_, v32, level),
             exact_cell(finite(f64::from(u32_)), finite(f64::from(v32)), level));
     }
 }
@@ -175,20 +179,20 @@ fn structured_pairs_every_level() {
         let level = Level::new(level).unwrap();
         for &u in &values {
             for &v in &values {
-                let walk = fixed::index_f32_ref(u, v, level);
+                let walk = exact_index_f32_ref(u, v, level);
                 assert_eq!(
-                    exact_float::index_f32(u, v, level),
+                    exact_index_f32(u, v, level),
                     walk,
                     "u = {:#010x}, v = {:#010x}, level {level}",
                     u.to_bits(),
                     v.to_bits()
                 );
                 let (u64_, v64) = (f64::from(u), f64::from(v));
-                assert_eq!(exact_float::index_f64(u64_, v64, level), walk);
-                assert_eq!(fixed::index_f64_ref(u64_, v64, level), walk);
+                assert_eq!(exact_index_f64(u64_, v64, level), walk);
+                assert_eq!(exact_index_f64_ref(u64_, v64, level), walk);
                 compared += 1;
             }
         }
     }
-    eprintln!("exact_float: {compared} structured pairs compared with the walk");
+    eprintln!("exact_index_f32/_f64: {compared} structured pairs compared with the walk");
 }

@@ -1,28 +1,28 @@
 //! Named regressions: inputs where the paper's walk evaluated in binary32 /
 //! binary64 (as the talk's Python reads) differs from the exact walk.
 //! Found by `cargo run --release --example float_study` (docs/float.md);
-//! every expected exact index is confirmed here by BigRational arithmetic.
+//! every expected exact index is confirmed here by `BigRational` arithmetic.
 
-use micromap_index::{fixed, spec, uv2index, Level};
+use micromap_index::{spec, uv2index, Level};
 use num_rational::BigRational;
 
-/// The exact walk's index of the real point `(u, v)`, by BigRational
+/// The exact walk's index of the real point `(u, v)`, by `BigRational`
 /// (f32 values widen to f64 exactly).
 fn exact_by_bigrational(u: f64, v: f64, level: Level) -> u64 {
     let exact = |x: f64| BigRational::from_float(x).unwrap();
-    uv2index::index_exact(&exact(u), &exact(v), level).unwrap()
+    uv2index::index_real(&exact(u), &exact(v), level).unwrap()
 }
 
 fn exact_f32(u: u32, v: u32, level: u32) -> u64 {
     let (u, v) = (f32::from_bits(u), f32::from_bits(v));
     let level = Level::new(level).unwrap();
     let exact = exact_by_bigrational(u.into(), v.into(), level);
-    assert_eq!(fixed::index_f32(u, v, level), Ok(exact));
+    assert_eq!(uv2index::exact_index_f32(u, v, level), Ok(exact));
     exact
 }
 
 fn float_f32(u: u32, v: u32, level: u32) -> u64 {
-    uv2index::index_f32(
+    uv2index::index_in_f32_arithmetic(
         f32::from_bits(u),
         f32::from_bits(v),
         Level::new(level).unwrap(),
@@ -34,12 +34,12 @@ fn exact_f64(u: u64, v: u64, level: u32) -> u64 {
     let (u, v) = (f64::from_bits(u), f64::from_bits(v));
     let level = Level::new(level).unwrap();
     let exact = exact_by_bigrational(u, v, level);
-    assert_eq!(fixed::index_f64(u, v, level), Ok(exact));
+    assert_eq!(uv2index::exact_index_f64(u, v, level), Ok(exact));
     exact
 }
 
 fn float_f64(u: u64, v: u64, level: u32) -> u64 {
-    uv2index::index_f64(
+    uv2index::index_in_f64_arithmetic(
         f64::from_bits(u),
         f64::from_bits(v),
         Level::new(level).unwrap(),
@@ -54,7 +54,7 @@ fn f32_w_rounds_onto_one_half_at_level_1() {
     let (u, v) = (0x3eff_ffff, 0x0000_0000);
     assert_eq!((float_f32(u, v, 1), exact_f32(u, v, 1)), (1, 0));
     // The reference itself, in binary32, gets this one right.
-    assert_eq!(spec::index_f32(f32::from_bits(u), 0.0, 1), 0);
+    assert_eq!(spec::reference_bits_f32(f32::from_bits(u), 0.0, 1), 0);
 }
 
 #[test]

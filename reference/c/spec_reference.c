@@ -2,7 +2,15 @@
  * BarycentricsToSpaceFillingCurveIndex, from the "Reference Code" section of
  * the Vulkan specification (Khronos Vulkan-Docs,
  * appendices/VK_EXT_opacity_micromap.adoc; identical in
- * appendices/VK_KHR_opacity_micromap.adoc).
+ * appendices/VK_KHR_opacity_micromap.adoc), read at Vulkan-Docs commit
+ * 090f1b190d60ced4a1d198fd3747d071cc271b1c (Vulkan 1.4.360); the function is
+ * unchanged since 2022 but for whitespace.
+ *
+ * Origin and licence of that text:
+ *   Copyright 2022-2023 The Khronos Group Inc.
+ *   SPDX-License-Identifier: CC-BY-4.0
+ * This copy keeps the attribution above; the comments and the wrapper are
+ * micromap-index's own (MIT OR Apache-2.0).
  *
  * The body is the reference token for token, except that the C++
  * functional cast `float(iu)` is written as the C cast `(float)(iu)` and the

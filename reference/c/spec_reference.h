@@ -1,7 +1,8 @@
 /*
  * C oracle for micromap-index: the Vulkan specification's reference
  * BarycentricsToSpaceFillingCurveIndex, compiled as an independent check of
- * the Rust port (src/spec.rs). Used only by tests and benches.
+ * the Rust port (src/spec/). Used only by tests and benches. Origin and
+ * licence of the reference code: see spec_reference.c (Khronos, CC-BY-4.0).
  */
 #ifndef MICROMAP_SPEC_REFERENCE_H
 #define MICROMAP_SPEC_REFERENCE_H

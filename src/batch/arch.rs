@@ -38,25 +38,35 @@ pub(super) fn has_avx512() -> bool {
     }
 }
 
+// `unsafe fn`, not a safe `#[target_feature]` function: the latter needs
+// Rust 1.86, above the crate's minimum supported version.
+/// # Safety
+/// The CPU must support AVX2.
 #[target_feature(enable = "avx2")]
-fn narrow_avx2(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) {
+unsafe fn narrow_avx2(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) {
     kernel::narrow_slice::<false>(u, v, out, params);
 }
 
+/// # Safety
+/// The CPU must support AVX2.
 #[target_feature(enable = "avx2")]
-fn wide_avx2(u: &[f32], v: &[f32], out: &mut [u64], params: &Params) {
+unsafe fn wide_avx2(u: &[f32], v: &[f32], out: &mut [u64], params: &Params) {
     kernel::wide_slice(u, v, out, params);
 }
 
 #[cfg(micromap_avx512)]
+/// # Safety
+/// The CPU must support AVX-512 F, BW, VL and DQ.
 #[target_feature(enable = "avx512f,avx512bw,avx512vl,avx512dq")]
-fn narrow_avx512(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) {
+unsafe fn narrow_avx512(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) {
     kernel::narrow_slice::<false>(u, v, out, params);
 }
 
 #[cfg(micromap_avx512)]
+/// # Safety
+/// The CPU must support AVX-512 F, BW, VL and DQ.
 #[target_feature(enable = "avx512f,avx512bw,avx512vl,avx512dq")]
-fn wide_avx512(u: &[f32], v: &[f32], out: &mut [u64], params: &Params) {
+unsafe fn wide_avx512(u: &[f32], v: &[f32], out: &mut [u64], params: &Params) {
     kernel::wide_slice(u, v, out, params);
 }
 
@@ -66,8 +76,8 @@ pub(super) fn narrow_slice_avx2(u: &[f32], v: &[f32], out: &mut [u32], params: &
     if !has_avx2() {
         return false;
     }
-    // SAFETY: `narrow_avx2` enables only "avx2", which the CPU has (checked
-    // just above); the function itself is safe code on valid slices.
+    // SAFETY: `narrow_avx2`'s only requirement is AVX2, which the CPU has
+    // (checked just above); its body is safe code on valid slices.
     unsafe { narrow_avx2(u, v, out, params) };
     true
 }

@@ -166,9 +166,9 @@ fn coordinate<const WIDE: bool>(bits: u32, params: &Params) -> (u32, u32) {
 #[inline(always)]
 fn coordinate_float(bits: u32, params: &Params) -> (u32, f32) {
     const MAGIC: f32 = 8_388_608.0; // 2^23
-    // Subnormals flushed to 0 (CPUs take slow paths on them): their cell is
-    // 0 and their fraction, below 2^-110 at level 16, cannot move `uf + vf`
-    // across `1 - 2^-25` (the other fraction is at most 1 - 2^-24).
+                                    // Subnormals flushed to 0 (CPUs take slow paths on them): their cell is
+                                    // 0 and their fraction, below 2^-110 at level 16, cannot move `uf + vf`
+                                    // across `1 - 2^-25` (the other fraction is at most 1 - 2^-24).
     let clamped = clamp_bits(bits);
     let x = f32::from_bits(if clamped < 0x0080_0000 { 0 } else { clamped });
     let fu = x * params.scale;

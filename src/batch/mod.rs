@@ -1,5 +1,5 @@
 //! The Vulkan reference over slices: many points, one level, bit-identical
-//! to [`spec::index_f32`] / [`spec::index_wide_f32`] on every input.
+//! to [`spec::index_f32`] / [`spec::wide_index_f32`] on every input.
 //!
 //! Ray tracers and bakers map millions of hits per frame. [`index_f32`]
 //! validates the level and the slice lengths once, then runs a branch-free
@@ -29,26 +29,28 @@
 //! and benchmarks.
 //!
 //! ```
-//! use micromap_index::{batch, spec, Level};
+//! use micromap_index::{batch, spec, SpecLevel};
 //!
+//! let level = SpecLevel::new(1)?;
 //! let u = [0.1, 0.4, f32::NAN, 0.9];
 //! let v = [0.1, 0.4, 2.0, 0.05];
 //! let mut out = [0u32; 4];
-//! batch::index_f32(&u, &v, Level::new(1).unwrap(), &mut out).unwrap();
+//! batch::index_f32(&u, &v, level, &mut out)?;
 //! assert_eq!(out, [0, 1, 3, 2]);
 //! for i in 0..4 {
-//!     assert_eq!(out[i], spec::index_f32(u[i], v[i], 1));
+//!     assert_eq!(out[i], spec::index_f32(u[i], v[i], level));
 //! }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
 //! [`spec::index_f32`]: crate::spec::index_f32
-//! [`spec::index_wide_f32`]: crate::spec::index_wide_f32
+//! [`spec::wide_index_f32`]: crate::spec::wide_index_f32
 
 #[cfg(all(feature = "std", target_arch = "x86_64"))]
 mod arch;
 pub(crate) mod kernel;
 
-use crate::{Error, Level};
+use crate::{Level, SpecLevel};
 use core::fmt;
 use core::sync::atomic::{AtomicU8, Ordering};
 
@@ -143,13 +145,11 @@ impl fmt::Display for Backend {
     }
 }
 
-/// Why a batch call wrote nothing.
+/// Why a batch call wrote nothing. (Levels are validated by their types,
+/// [`SpecLevel`] and [`Level`], before a call.)
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub enum BatchError {
-    /// The level is above what the function supports (16 for the
-    /// reference's 32-bit words, 32 for the wide form).
-    Level(Error),
     /// `u`, `v` and `out` do not all have the same length.
     LengthMismatch {
         /// `u.len()`.
@@ -166,7 +166,6 @@ pub enum BatchError {
 impl fmt::Display for BatchError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            BatchError::Level(error) => error.fmt(f),
             BatchError::LengthMismatch { u, v, out } => write!(
                 f,
                 "slice lengths differ: u has {u}, v has {v}, out has {out} elements"
@@ -180,12 +179,6 @@ impl fmt::Display for BatchError {
 
 impl core::error::Error for BatchError {}
 
-impl From<Error> for BatchError {
-    fn from(error: Error) -> Self {
-        BatchError::Level(error)
-    }
-}
-
 fn check_lengths(u: usize, v: usize, out: usize) -> Result<(), BatchError> {
     if u == v && v == out {
         Ok(())
@@ -197,29 +190,28 @@ fn check_lengths(u: usize, v: usize, out: usize) -> Result<(), BatchError> {
 /// `out[i] = spec::index_f32(u[i], v[i], level)` for every `i`, with the
 /// fastest backend this CPU has ([`Backend::best`]).
 ///
-/// Levels `0..=16` (the reference's; [`Error::LevelTooHigh`] above). The
-/// three slices must have the same length ([`BatchError::LengthMismatch`]);
-/// on an error nothing is written.
+/// The three slices must have the same length
+/// ([`BatchError::LengthMismatch`]); on an error nothing is written.
 ///
 /// ```
 /// use micromap_index::batch::{self, BatchError};
-/// use micromap_index::{Error, Level};
+/// use micromap_index::SpecLevel;
+/// let level = SpecLevel::new(2).unwrap();
 /// let mut out = [0u32; 2];
-/// batch::index_f32(&[0.3, 0.3], &[0.3, 0.6], Level::new(2).unwrap(), &mut out).unwrap();
+/// batch::index_f32(&[0.3, 0.3], &[0.3, 0.6], level, &mut out).unwrap();
 /// assert_eq!(out, [5, 12]);
 /// assert_eq!(
-///     batch::index_f32(&[0.3], &[0.3, 0.6], Level::new(2).unwrap(), &mut out),
+///     batch::index_f32(&[0.3], &[0.3, 0.6], level, &mut out),
 ///     Err(BatchError::LengthMismatch { u: 1, v: 2, out: 2 })
 /// );
-/// assert_eq!(
-///     batch::index_f32(&[0.3], &[0.3], Level::new(17).unwrap(), &mut out[..1]),
-///     Err(BatchError::Level(Error::LevelTooHigh { level: 17, max: 16 }))
-/// );
 /// ```
-///
-/// [`Error::LevelTooHigh`]: crate::Error::LevelTooHigh
 #[inline]
-pub fn index_f32(u: &[f32], v: &[f32], level: Level, out: &mut [u32]) -> Result<(), BatchError> {
+pub fn index_f32(
+    u: &[f32],
+    v: &[f32],
+    level: SpecLevel,
+    out: &mut [u32],
+) -> Result<(), BatchError> {
     index_f32_with(Backend::best(), u, v, level, out)
 }
 
@@ -228,9 +220,9 @@ pub fn index_f32(u: &[f32], v: &[f32], level: Level, out: &mut [u32]) -> Result<
 ///
 /// ```
 /// use micromap_index::batch::{self, Backend};
-/// use micromap_index::Level;
+/// use micromap_index::SpecLevel;
 /// let (u, v) = ([0.28f32; 3], [0.4f32; 3]);
-/// let level = Level::new(3).unwrap();
+/// let level = SpecLevel::new(3).unwrap();
 /// let mut expected = [0u32; 3];
 /// batch::index_f32_with(Backend::Portable, &u, &v, level, &mut expected).unwrap();
 /// for backend in Backend::available() {
@@ -243,10 +235,9 @@ pub fn index_f32_with(
     backend: Backend,
     u: &[f32],
     v: &[f32],
-    level: Level,
+    level: SpecLevel,
     out: &mut [u32],
 ) -> Result<(), BatchError> {
-    let level = level.at_most(crate::spec::MAX_LEVEL)?;
     check_lengths(u.len(), v.len(), out.len())?;
     let params = kernel::Params::new(level.get(), kernel::BINARY32_THRESHOLD);
     let ran = match backend {
@@ -268,7 +259,7 @@ pub fn index_f32_with(
     }
 }
 
-/// `out[i] = spec::index_wide_f32(u[i], v[i], level)` for every `i`: the
+/// `out[i] = spec::wide_index_f32(u[i], v[i], level)` for every `i`: the
 /// reference widened to 64-bit words in binary32, levels `0..=32`, with the
 /// fastest backend this CPU has.
 ///
@@ -277,31 +268,31 @@ pub fn index_f32_with(
 /// let level = Level::new(24).unwrap();
 /// let (u, v) = ([0.1f32, 1.0, -3.0], [0.2f32, 0.0, f32::INFINITY]);
 /// let mut out = [0u64; 3];
-/// batch::index_wide_f32(&u, &v, level, &mut out).unwrap();
+/// batch::wide_index_f32(&u, &v, level, &mut out).unwrap();
 /// for i in 0..3 {
-///     assert_eq!(out[i], spec::index_wide_f32(u[i], v[i], level));
+///     assert_eq!(out[i], spec::wide_index_f32(u[i], v[i], level));
 /// }
 /// ```
 #[inline]
-pub fn index_wide_f32(
+pub fn wide_index_f32(
     u: &[f32],
     v: &[f32],
     level: Level,
     out: &mut [u64],
 ) -> Result<(), BatchError> {
-    index_wide_f32_with(Backend::best(), u, v, level, out)
+    wide_index_f32_with(Backend::best(), u, v, level, out)
 }
 
-/// [`index_wide_f32`] on a chosen backend.
+/// [`wide_index_f32`] on a chosen backend.
 ///
 /// ```
 /// use micromap_index::batch::{self, Backend};
 /// use micromap_index::Level;
 /// let mut out = [0u64; 1];
-/// batch::index_wide_f32_with(Backend::Portable, &[1.0], &[0.0], Level::new(32).unwrap(), &mut out).unwrap();
+/// batch::wide_index_f32_with(Backend::Portable, &[1.0], &[0.0], Level::new(32).unwrap(), &mut out).unwrap();
 /// assert_eq!(out[0], 2 * 0x5555_5555_5555_5555); // the Right corner, all digits 2
 /// ```
-pub fn index_wide_f32_with(
+pub fn wide_index_f32_with(
     backend: Backend,
     u: &[f32],
     v: &[f32],
@@ -329,60 +320,20 @@ pub fn index_wide_f32_with(
     }
 }
 
-/// The reference in binary32 for one point, levels `0..=16` validated once
-/// in a [`ReferenceLevel`]: the batch kernel on one lane, the same bits as
-/// [`spec::index_f32`](crate::spec::index_f32). Infallible, so a caller's
-/// loop carries no `Result`.
+/// The reference in binary32 for one point: the batch kernel on one lane,
+/// the same bits as [`spec::index_f32`](crate::spec::index_f32) (which runs
+/// the reference's own float steps). Infallible, so a caller's loop carries
+/// no `Result`.
 ///
 /// ```
-/// use micromap_index::batch::{index_f32_one, ReferenceLevel};
-/// use micromap_index::Level;
-/// let level = ReferenceLevel::new(Level::new(2).unwrap()).unwrap();
-/// assert_eq!(index_f32_one(0.3, 0.3, level), 5);
+/// use micromap_index::{batch, spec, SpecLevel};
+/// let level = SpecLevel::new(2).unwrap();
+/// assert_eq!(batch::index_f32_one(0.3, 0.3, level), 5);
+/// assert_eq!(batch::index_f32_one(f32::NAN, 2.0, level), spec::index_f32(f32::NAN, 2.0, level));
 /// ```
 #[inline]
 #[must_use]
-pub fn index_f32_one(u: f32, v: f32, level: ReferenceLevel) -> u32 {
+pub fn index_f32_one(u: f32, v: f32, level: SpecLevel) -> u32 {
     let params = kernel::Params::new(level.get(), kernel::BINARY32_THRESHOLD);
     kernel::narrow::<false>(u.to_bits(), v.to_bits(), &params)
-}
-
-/// A [`Level`] checked once to be one the Vulkan reference supports
-/// (`0..=16`).
-///
-/// ```
-/// use micromap_index::batch::ReferenceLevel;
-/// use micromap_index::{Error, Level};
-/// assert_eq!(ReferenceLevel::new(Level::new(16).unwrap()).unwrap().get(), 16);
-/// assert_eq!(
-///     ReferenceLevel::new(Level::new(17).unwrap()),
-///     Err(Error::LevelTooHigh { level: 17, max: 16 })
-/// );
-/// ```
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct ReferenceLevel(Level);
-
-impl ReferenceLevel {
-    /// `level` if it is at most 16, else [`Error::LevelTooHigh`].
-    #[inline]
-    pub const fn new(level: Level) -> Result<ReferenceLevel, Error> {
-        match level.at_most(crate::spec::MAX_LEVEL) {
-            Ok(level) => Ok(ReferenceLevel(level)),
-            Err(error) => Err(error),
-        }
-    }
-
-    /// The level as a number, `0..=16`.
-    #[inline]
-    #[must_use]
-    pub const fn get(self) -> u32 {
-        self.0.get()
-    }
-
-    /// The level.
-    #[inline]
-    #[must_use]
-    pub const fn level(self) -> Level {
-        self.0
-    }
 }

@@ -1,9 +1,11 @@
 //! The Vulkan specification's reference `BarycentricsToSpaceFillingCurveIndex`,
 //! compiled from C (`reference/c/spec_reference.c`), as an independent oracle
-//! for `micromap_index::spec::index_f32`. A dev-dependency of `micromap-index`
-//! only; never part of the library.
+//! for `micromap_index::spec::reference_bits_f32`. A dev-dependency of the
+//! verification crate (`crates/verify`) only; never part of the library.
 
-// The one unsafe operation in this crate is the call in `spec_index`.
+// The one unsafe operation in this crate is the call in `spec_index`: the
+// C oracle is reached through FFI (the workspace denies unsafe elsewhere).
+#![allow(unsafe_code)]
 extern "C" {
     fn micromap_spec_reference_index(u: f32, v: f32, level: u32) -> u32;
 }
@@ -18,6 +20,7 @@ extern "C" {
 /// assert_eq!(spec_index(0.4, 0.4, 1), 1);
 /// assert_eq!(spec_index(f32::NAN, f32::INFINITY, 1), 3);
 /// ```
+#[must_use]
 pub fn spec_index(u: f32, v: f32, level: u32) -> u32 {
     // SAFETY: the C function takes plain values, touches no memory but its
     // locals, and is defined for every input (it shifts by `level % 32`).

@@ -1,0 +1,229 @@
+//! `micromap-index vectors` and `micromap-index check`: the built binary's
+//! files, reports and exit codes (0 all match, 1 mismatch / missing /
+//! unknown id, 2 usage error or unreadable / malformed file).
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn run(args: &[&str], stdin: Option<&[u8]>) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_micromap-index"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    if let Some(bytes) = stdin {
+        child.stdin.take().unwrap().write_all(bytes).unwrap();
+    }
+    drop(child.stdin.take());
+    child.wait_with_output().unwrap()
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+fn committed(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join("reference/vectors")
+        .join(name)
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// A fresh directory under cargo's per-test scratch space.
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cli_vectors_{name}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// `vectors --answers-from NAME --vectors FILE`, which must succeed.
+fn answers_from(source: &str, vectors: &str) -> Vec<u8> {
+    let output = run(
+        &["vectors", "--answers-from", source, "--vectors", vectors],
+        None,
+    );
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
+    output.stdout
+}
+
+#[test]
+fn vectors_writes_the_committed_files() {
+    let dir = scratch("out");
+    let out = dir.join("sets");
+    let output = run(&["vectors", "--out", out.to_str().unwrap()], None);
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
+    for name in ["spec-f32.json", "spec-exact.json", "uv2index-exact.json"] {
+        let written = std::fs::read(out.join(name)).unwrap();
+        let committed = std::fs::read(committed(name)).unwrap();
+        assert!(
+            written == committed,
+            "{name} differs from reference/vectors/"
+        );
+        assert!(text(&output.stdout).contains(name));
+    }
+}
+
+#[test]
+fn check_exit_codes() {
+    let spec_f32 = committed("spec-f32.json");
+    let uv2index = committed("uv2index-exact.json");
+    let dir = scratch("check");
+
+    // The crate's own functions: 0 when right ...
+    let right = answers_from("fixed-mirror", &spec_f32);
+    let output = run(
+        &["check", "--vectors", &spec_f32, "--answers", "-"],
+        Some(&right),
+    );
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output.stdout));
+    assert!(text(&output.stdout).starts_with("spec-f32: "));
+    assert!(text(&output.stdout)
+        .lines()
+        .next()
+        .unwrap()
+        .ends_with("PASS"));
+
+    // ... 1 for the float walk, with the failures under their tags.
+    let float_walk = dir.join("uv2index-f32.jsonl");
+    std::fs::write(&float_walk, answers_from("uv2index-f32", &uv2index)).unwrap();
+    let output = run(
+        &[
+            "check",
+            "--vectors",
+            &uv2index,
+            "--answers",
+            float_walk.to_str().unwrap(),
+            "--examples=2",
+        ],
+        None,
+    );
+    assert_eq!(output.status.code(), Some(1));
+    let report = text(&output.stdout);
+    assert!(report.contains("FAIL"), "{report}");
+    assert!(
+        report.contains("mismatches tagged rounding-window ("),
+        "{report}"
+    );
+
+    // A missing answer alone fails; so does an id not in the file.
+    let mut lines: Vec<&[u8]> = right.split(|&b| b == b'\n').collect();
+    lines.remove(0);
+    let missing_first = lines.join(&b'\n');
+    let output = run(
+        &["check", "--vectors", &spec_f32, "--answers", "-"],
+        Some(&missing_first),
+    );
+    assert_eq!(output.status.code(), Some(1));
+    assert!(text(&output.stdout).contains("missing ids (1): 0"));
+    let mut extra = right.clone();
+    extra.extend_from_slice(b"{\"id\": 99999999, \"index\": 0}\n");
+    let output = run(
+        &["check", "--vectors", &spec_f32, "--answers", "-"],
+        Some(&extra),
+    );
+    assert_eq!(output.status.code(), Some(1));
+    assert!(text(&output.stdout).contains("unknown ids (1): 99999999"));
+}
+
+#[test]
+fn unreadable_or_malformed_files_exit_2() {
+    let spec_f32 = committed("spec-f32.json");
+    let dir = scratch("malformed");
+    let not_vectors = dir.join("not-vectors.json");
+    std::fs::write(&not_vectors, b"{\"format\": \"something else\"}").unwrap();
+    let missing = dir.join("does-not-exist.json");
+    let cases: [(Vec<&str>, &[u8], &str); 5] = [
+        (
+            vec![
+                "check",
+                "--vectors",
+                missing.to_str().unwrap(),
+                "--answers",
+                "-",
+            ],
+            b"",
+            "cannot read",
+        ),
+        (
+            vec![
+                "check",
+                "--vectors",
+                not_vectors.to_str().unwrap(),
+                "--answers",
+                "-",
+            ],
+            b"",
+            "not-vectors.json",
+        ),
+        (
+            vec!["check", "--vectors", &spec_f32, "--answers", "-"],
+            b"{\"id\": 0, \"index\": 0}\n{\"id\": 0, \"index\": 0}\n",
+            "stdin: line 2: duplicate id 0",
+        ),
+        (
+            vec!["check", "--vectors", &spec_f32, "--answers", "-"],
+            b"not json\n",
+            "stdin: line 1: bad JSON",
+        ),
+        (
+            vec![
+                "vectors",
+                "--answers-from",
+                "spec-f32",
+                "--vectors",
+                missing.to_str().unwrap(),
+            ],
+            b"",
+            "cannot read",
+        ),
+    ];
+    for (args, stdin, message) in cases {
+        let output = run(&args, Some(stdin));
+        assert_eq!(output.status.code(), Some(2), "{args:?}");
+        assert!(
+            text(&output.stderr).contains(message),
+            "{args:?}: {}",
+            text(&output.stderr)
+        );
+        assert!(!text(&output.stderr).contains("panicked"));
+    }
+}
+
+#[test]
+fn usage_errors_exit_2() {
+    for args in [
+        vec!["vectors"],
+        vec!["vectors", "--out"],
+        vec!["vectors", "--out", "a", "--out", "b"],
+        vec!["vectors", "--out", "a", "--answers-from", "spec-f32"],
+        vec![
+            "vectors",
+            "--answers-from",
+            "no-such-variant",
+            "--vectors",
+            "x",
+        ],
+        vec!["vectors", "--bogus", "1"],
+        vec!["check"],
+        vec!["check", "--vectors", "x"],
+        vec![
+            "check",
+            "--vectors",
+            "x",
+            "--answers",
+            "y",
+            "--examples",
+            "many",
+        ],
+    ] {
+        let output = run(&args, None);
+        assert_eq!(output.status.code(), Some(2), "{args:?}");
+        assert!(text(&output.stderr).contains("usage:"), "{args:?}");
+    }
+}

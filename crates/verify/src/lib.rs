@@ -1,0 +1,23 @@
+//! The verification lab of `micromap-index` (not published): everything that
+//! checks the library rather than being it.
+//!
+//! * [`prove`]: the face-by-face proof that the walk equals the reference
+//!   on every face of a level's lattice ([`lattice`]).
+//! * [`vectors`]: the conformance vectors, their generator and checker.
+//! * [`eval`] and [`value`]: the engine and value syntax of the CLI's `eval`.
+//! * [`fuzzing`] (feature `fuzzing`): the bodies of the fuzz targets.
+//! * [`rng`]: the deterministic generator every sampled check uses.
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]
+// The checking functions panic on a disagreement by design: that is how a
+// fuzz target or a test reports it.
+#![allow(clippy::missing_panics_doc)]
+
+pub mod eval;
+#[cfg(feature = "fuzzing")]
+pub mod fuzzing;
+pub mod lattice;
+pub mod prove;
+pub mod rng;
+pub mod value;
+pub mod vectors;

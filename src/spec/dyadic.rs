@@ -1,0 +1,109 @@
+//! The reference's steps over the reals for dyadic points, with integers
+//! only: what the face-by-face proof feeds the reference.
+
+use super::{index_from_cell, wide_index_from_cell, Cell};
+use crate::{Error, Level, SpecLevel};
+
+/// The largest `scale_log2` the dyadic functions accept: the clamped
+/// numerators stay at most `2^62`, so the fraction sums fit a `u64`.
+pub const MAX_SCALE_LOG2: u32 = 62;
+
+/// The reference's first half over the reals for the dyadic point
+/// `(u_scaled, v_scaled) / 2^scale_log2` (non-negative numerators;
+/// coordinates above 1 clamp to 1), with integers only. Equal to
+/// `cell_real` (feature `exact`) on that point. Levels `0..=32`;
+/// [`Error::ScaleTooLarge`] when `scale_log2 > 62`.
+///
+/// ```
+/// use micromap_index::{spec::{cell_dyadic, Cell}, Error, Level};
+/// // (3/8, 5/8) at level 2: cell (1, 2), fractions 1/2 + 1/2 >= 1.
+/// let level = Level::new(2).unwrap();
+/// assert_eq!(cell_dyadic(3, 5, 3, level), Ok(Cell { iu: 1, iv: 2, diagonal: true }));
+/// assert_eq!(
+///     cell_dyadic(1 << 62, 0, 63, Level::new(1).unwrap()),
+///     Err(Error::ScaleTooLarge { scale_log2: 63, max: 62 })
+/// );
+/// ```
+#[inline]
+pub fn cell_dyadic(
+    u_scaled: u64,
+    v_scaled: u64,
+    scale_log2: u32,
+    level: Level,
+) -> Result<Cell, Error> {
+    if scale_log2 > MAX_SCALE_LOG2 {
+        return Err(Error::ScaleTooLarge {
+            scale_log2,
+            max: MAX_SCALE_LOG2,
+        });
+    }
+    let one = 1u64 << scale_log2;
+    let u = u_scaled.min(one);
+    let v = v_scaled.min(one);
+    Ok(if scale_log2 >= level.get() {
+        let shift = scale_log2 - level.get();
+        let mask = (1u64 << shift) - 1;
+        Cell {
+            iu: u >> shift,
+            iv: v >> shift,
+            diagonal: (u & mask) + (v & mask) > mask,
+        }
+    } else {
+        // Coarser than the lattice: every such point is a lattice vertex.
+        let shift = level.get() - scale_log2;
+        Cell {
+            iu: u << shift,
+            iv: v << shift,
+            diagonal: false,
+        }
+    })
+}
+
+/// The reference's steps over the reals for the dyadic point
+/// `(u_scaled, v_scaled) / 2^scale_log2` (see [`cell_dyadic`]): the same
+/// result as `index_real` (feature `exact`) on that point, with integers
+/// only.
+///
+/// ```
+/// use micromap_index::{spec, SpecLevel};
+/// // (1/8, 1/8) with 8 = 2^3: on the diagonal, the flipped triangle.
+/// assert_eq!(spec::index_dyadic(1, 1, 3, SpecLevel::new(2).unwrap()), Ok(1));
+/// ```
+#[inline]
+pub fn index_dyadic(
+    u_scaled: u64,
+    v_scaled: u64,
+    scale_log2: u32,
+    level: SpecLevel,
+) -> Result<u32, Error> {
+    let cell = cell_dyadic(u_scaled, v_scaled, scale_log2, level.level())?;
+    // level <= 16: cells are at most 2^16.
+    Ok(index_from_cell(
+        cell.iu as u32,
+        cell.iv as u32,
+        cell.diagonal,
+        level.get(),
+    ))
+}
+
+/// [`index_dyadic`] widened to 64-bit words: levels `0..=32`.
+///
+/// ```
+/// use micromap_index::{spec, Level};
+/// assert_eq!(spec::wide_index_dyadic(1, 1, 3, Level::new(2).unwrap()), Ok(1));
+/// ```
+#[inline]
+pub fn wide_index_dyadic(
+    u_scaled: u64,
+    v_scaled: u64,
+    scale_log2: u32,
+    level: Level,
+) -> Result<u64, Error> {
+    let cell = cell_dyadic(u_scaled, v_scaled, scale_log2, level)?;
+    Ok(wide_index_from_cell(
+        cell.iu,
+        cell.iv,
+        cell.diagonal,
+        level.get(),
+    ))
+}

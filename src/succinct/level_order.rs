@@ -1,0 +1,332 @@
+//! The level-order layout (k²-tree style): O(level) lookups with one rank
+//! query per level.
+
+use super::bits::{BitVec, PackedStates, RankBits};
+use super::merge::Pyramid;
+use super::{check_flat, digit, micro_triangle_count, Layout, PaperTree, TreeError};
+use crate::micromap::{Format, State};
+use crate::{spec, Level};
+use alloc::vec;
+use alloc::vec::Vec;
+
+/// The paper's merged tree in level order: nodes are numbered breadth-first
+/// (depth by depth, and within a depth by micro-triangle index, which is the
+/// order of their parents and then of the digit), the bit of every node
+/// above the map's level says internal (1) or leaf (0), and the leaf states
+/// follow in node order. The nodes at the map's own level are always leaves,
+/// so they have no bit.
+///
+/// The children of the internal node at position `p` are at
+/// `1 + 4 rank1(p) + c`, `c = 0..=3` (`rank1(p)`: the ones before `p`), and
+/// the leaf at position `x` holds state number `x - rank1(x)`. A rank
+/// directory (one `u32` per 512 bits, the count of ones before the block)
+/// makes each rank a directory read plus at most eight popcounts within one
+/// 64-byte block.
+///
+/// Every value of this type is a valid, merged tree of its level.
+///
+/// ```
+/// use micromap_index::micromap::{Format, State};
+/// use micromap_index::succinct::{LevelOrderTree, PaperTree};
+/// use micromap_index::Level;
+///
+/// let mut states = [State::Opaque; 16];
+/// states[5] = State::UnknownOpaque;
+/// let level = Level::new(2).unwrap();
+/// let tree = LevelOrderTree::encode(level, Format::FourState, &states).unwrap();
+/// // Depth 0: the root (internal); depth 1: leaf, internal, leaf, leaf;
+/// // depth 2 (no bits): the four children of node 2.
+/// assert_eq!(tree.internal_bits(), 5);
+/// assert_eq!(tree.directory_bits(), 0);
+/// assert_eq!(tree.get(5), Some(State::UnknownOpaque));
+/// assert_eq!(tree.get(4), Some(State::Opaque));
+/// let paper = PaperTree::encode(level, Format::FourState, &states).unwrap();
+/// assert_eq!(LevelOrderTree::from_paper(&paper), tree);
+/// ```
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct LevelOrderTree {
+    level: Level,
+    format: Format,
+    internal: RankBits,
+    data: PackedStates,
+}
+
+impl LevelOrderTree {
+    /// Encodes a flat micromap (`4^level` states in index order): Algorithm
+    /// 1, then the merged tree breadth-first.
+    ///
+    /// Errors: as [`PaperTree::encode`].
+    pub fn encode(level: Level, format: Format, states: &[State]) -> Result<Self, TreeError> {
+        let deepest = check_flat(level, format, states)? as usize;
+        let pyramid = Pyramid::merge_uniform_quadrants(deepest as u32, states);
+        let mut internal = BitVec::new();
+        let mut data = PackedStates::new(format);
+        let mut nodes = vec![0usize];
+        for depth in 0..=deepest {
+            let mut next = Vec::new();
+            for &index in &nodes {
+                if let Some(state) = pyramid.uniform(depth, index) {
+                    if depth < deepest {
+                        internal.push(false);
+                    }
+                    data.push(state);
+                } else {
+                    internal.push(true);
+                    next.extend(4 * index..4 * index + 4);
+                }
+            }
+            nodes = next;
+        }
+        Ok(LevelOrderTree {
+            level,
+            format,
+            internal: RankBits::new(internal),
+            data,
+        })
+    }
+
+    /// The same tree in level order, from the paper's layout: the pre-order
+    /// visits the nodes of each depth in index order, so sorting its nodes by
+    /// depth (stably) is the level order.
+    #[must_use]
+    pub fn from_paper(paper: &PaperTree) -> Self {
+        let deepest = paper.level().get() as usize;
+        let format = paper.format();
+        let mut bits_by_depth = vec![BitVec::new(); deepest];
+        let mut leaves_by_depth = vec![PackedStates::new(format); deepest + 1];
+        // Children still to come of each open internal node.
+        let mut open: Vec<u8> = Vec::with_capacity(deepest + 1);
+        let mut d = 0;
+        for bit in paper.tree_bit_iter() {
+            let depth = open.len();
+            if depth < deepest {
+                bits_by_depth[depth].push(bit);
+            }
+            if bit {
+                open.push(4);
+                continue;
+            }
+            // A valid tree has a state for every leaf.
+            leaves_by_depth[depth].push(paper.data.get(d).unwrap_or(State::Transparent));
+            d += 1;
+            while let Some(left) = open.last_mut() {
+                *left -= 1;
+                if *left > 0 {
+                    break;
+                }
+                open.pop();
+            }
+        }
+        let mut internal = BitVec::new();
+        for bits in &bits_by_depth {
+            for t in 0..bits.len() {
+                internal.push(bits.get(t));
+            }
+        }
+        let mut data = PackedStates::new(format);
+        for leaves in &leaves_by_depth {
+            for i in 0..leaves.len() {
+                data.push(leaves.get(i).unwrap_or(State::Transparent));
+            }
+        }
+        LevelOrderTree {
+            level: paper.level(),
+            format,
+            internal: RankBits::new(internal),
+            data,
+        }
+    }
+
+    /// Checks the structure: the bits of depth `d + 1` are four per one-bit
+    /// of depth `d`, nothing is left over, one state per leaf, merged.
+    pub(super) fn checked(
+        level: u32,
+        format: Format,
+        bits: BitVec,
+        data: PackedStates,
+    ) -> Result<Self, TreeError> {
+        let internal = RankBits::new(bits);
+        let tree_bits = internal.len();
+        let (mut start, mut count) = (0usize, 1usize);
+        for _ in 0..level {
+            if count == 0 {
+                break;
+            }
+            let end = start + count;
+            if end > tree_bits {
+                return Err(TreeError::TreeEndsEarly {
+                    tree_bits: tree_bits as u64,
+                });
+            }
+            let ones = internal.rank1(end) - internal.rank1(start);
+            (start, count) = (end, 4 * ones);
+        }
+        if start != tree_bits {
+            return Err(TreeError::TreeBitsLeftOver {
+                used: start as u64,
+                tree_bits: tree_bits as u64,
+            });
+        }
+        // `count`: the nodes at the map's level (0 if the tree stops above).
+        let leaves = tree_bits - internal.count_ones() + count;
+        if leaves != data.len() {
+            return Err(TreeError::LeafCount {
+                leaves: leaves as u64,
+                data: data.len() as u64,
+            });
+        }
+        let tree = LevelOrderTree {
+            level: Level(level as u8),
+            format,
+            internal,
+            data,
+        };
+        for p in 0..tree_bits {
+            if let Ok(first_child) = tree.node(p) {
+                let mut children = (first_child..first_child + 4).map(|x| tree.node(x));
+                let first = children.next();
+                if matches!(first, Some(Err(_))) && children.all(|child| Some(child) == first) {
+                    return Err(TreeError::Unmerged { position: p as u64 });
+                }
+            }
+        }
+        Ok(tree)
+    }
+
+    /// The node at position `p`: `Ok(first child's position)` if internal,
+    /// `Err(state)` if a leaf.
+    #[inline]
+    pub(super) fn node(&self, p: usize) -> Result<usize, State> {
+        let (internal, rank) = self.internal.bit_and_rank(p);
+        if internal {
+            Ok(1 + 4 * rank)
+        } else {
+            // A valid tree has a state for every leaf position.
+            Err(self.data.get(p - rank).unwrap_or(State::Transparent))
+        }
+    }
+
+    /// The flat micromap: `4^level` states in index order.
+    #[must_use]
+    pub fn decode(&self) -> Vec<State> {
+        let deepest = self.level.get();
+        let mut out = vec![State::Transparent; micro_triangle_count(deepest) as usize];
+        // Breadth-first: (position, index) of the nodes of one depth.
+        let mut nodes = vec![(0usize, 0usize)];
+        for depth in 0..=deepest {
+            let mut next = Vec::new();
+            for &(p, index) in &nodes {
+                match self.node(p) {
+                    Ok(first_child) => {
+                        next.extend((0..4).map(|c| (first_child + c, 4 * index + c)));
+                    }
+                    Err(state) => {
+                        let shift = 2 * (deepest - depth);
+                        out[index << shift..(index + 1) << shift].fill(state);
+                    }
+                }
+            }
+            nodes = next;
+        }
+        out
+    }
+
+    /// The state of micro-triangle `index`: from the root, one rank query
+    /// per level to the child on the index's path. `None` if `index` is not
+    /// below `4^level`.
+    #[must_use]
+    #[inline]
+    pub fn get(&self, index: u64) -> Option<State> {
+        let deepest = self.level.get();
+        if index >= micro_triangle_count(deepest) {
+            return None;
+        }
+        let mut p = 0usize;
+        for depth in 0..deepest {
+            let (internal, rank) = self.internal.bit_and_rank(p);
+            if !internal {
+                return self.data.get(p - rank);
+            }
+            p = 1 + 4 * rank + digit(index, deepest, depth);
+        }
+        self.data.get(p - self.internal.count_ones())
+    }
+
+    /// The state a ray hit at `(u, v)` reads, through [`spec::index_f32`]
+    /// (see [`PaperTree::get_f32`]). Always `Some`.
+    #[must_use]
+    #[inline]
+    pub fn get_f32(&self, u: f32, v: f32) -> Option<State> {
+        // Tree levels are at most MAX_TREE_LEVEL = SpecLevel::MAX.
+        self.get(u64::from(spec::index_f32(
+            u,
+            v,
+            crate::SpecLevel(self.level.0),
+        )))
+    }
+
+    /// The subdivision level.
+    #[must_use]
+    pub fn level(&self) -> Level {
+        self.level
+    }
+
+    /// The format (bits per leaf state).
+    #[must_use]
+    pub fn format(&self) -> Format {
+        self.format
+    }
+
+    /// The internal/leaf bits (one per node above the map's level).
+    #[must_use]
+    pub fn internal_bits(&self) -> u64 {
+        self.internal.len() as u64
+    }
+
+    /// The rank directory's bits: 32 per 512 internal bits after the first
+    /// 512.
+    #[must_use]
+    pub fn directory_bits(&self) -> u64 {
+        self.internal.directory_bits()
+    }
+
+    /// The data bits: leaves times the format's bits per state.
+    #[must_use]
+    pub fn data_bits(&self) -> u64 {
+        self.data.bit_len() as u64
+    }
+
+    /// Internal bits, directory and data: the size in memory, in bits
+    /// (before rounding each part up to whole words).
+    #[must_use]
+    pub fn total_bits(&self) -> u64 {
+        self.internal_bits() + self.directory_bits() + self.data_bits()
+    }
+
+    /// The number of leaves.
+    #[must_use]
+    pub fn leaf_count(&self) -> u64 {
+        self.data.len() as u64
+    }
+
+    /// The byte format of the [module docs](super), layout 1 (without the
+    /// rank directory).
+    #[must_use]
+    pub fn to_bytes(&self) -> Vec<u8> {
+        super::bytes::write(
+            Layout::LevelOrder,
+            self.level.get(),
+            self.format,
+            self.internal.bits(),
+            &self.data,
+        )
+    }
+
+    /// Reads [`to_bytes`](Self::to_bytes)'s output back, checking
+    /// everything and rebuilding the directory: any other input is a
+    /// [`TreeError`].
+    pub fn from_bytes(bytes: &[u8]) -> Result<Self, TreeError> {
+        let (level, format, bits, data) = super::bytes::read(Layout::LevelOrder, bytes)?;
+        Self::checked(level, format, bits, data)
+    }
+}
