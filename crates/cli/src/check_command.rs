@@ -1,25 +1,49 @@
-//! `micromap-index check --vectors FILE --answers FILE [--examples K]`:
-//! compares another implementation's answers with a vector file and prints
-//! the report (`micromap_index_verify::vectors::CheckReport`) to stdout.
+//! `micromap-index check --vectors FILE --answers FILE [--levels A..=B]
+//! [--tags T,..] [--exclude-tags T,..] [--examples K] [--json]`: compares
+//! another implementation's answers with a vector file and prints the
+//! report (`micromap_index_verify::vectors::CheckReport`) to stdout.
 //!
-//! `--answers -` reads the answers from stdin. Exit codes:
+//! The answers are read first (`--answers -` reads stdin), then the vector
+//! file is streamed case by case: memory for the answers and one case.
+//! `--levels`/`--tags`/`--exclude-tags` select cases (the others count as
+//! skipped); answers `{"id": N, "unsupported": true}` are counted apart.
+//! `--json` prints one JSON object instead of the text. Exit codes:
 //!
-//! * 0 — every case answered with its expected index, no other ids;
-//! * 1 — a mismatch, a refused or missing case, or an id not in the file;
-//! * 2 — usage error, or a file that cannot be read or parsed (nothing was
-//!   checked; the message names the file and, for answers, the line).
+//! * 0 — every selected case answered with its expected index (or
+//!   unsupported), at least one matched, no other ids;
+//! * 1 — a mismatch, a refused or missing case, an id not in the file, or
+//!   nothing matched;
+//! * 2 — usage error, or a file that cannot be read or parsed, or is
+//!   malformed (no cases, an expected index `>= 4^level`, an unknown
+//!   `function`), or a selection that covers no case (nothing was checked;
+//!   the message names the file and, for answers, the line).
 
 use crate::usage_error;
-use micromap_index_verify::vectors::{check, parse_answers, parse_vector_file, VectorFile};
+use micromap_index_verify::vectors::{
+    check_reader, is_known_tag, parse_answers, parse_vector_file, tag, Selection, VectorFile,
+};
 use std::collections::BTreeMap;
-use std::io::{self, Read, Write};
+use std::io::{self, BufReader, Read, Write};
 use std::process::ExitCode;
 
-/// Examples per tag when `--examples` is not given.
+/// Examples per class when `--examples` is not given.
 const DEFAULT_EXAMPLES: usize = 5;
 
 pub(crate) fn run(options: &[&str]) -> ExitCode {
-    let options = match named_options("check", options, &["--vectors", "--answers", "--examples"]) {
+    let json = options.contains(&"--json");
+    let options: Vec<&str> = options.iter().copied().filter(|o| *o != "--json").collect();
+    let options = match named_options(
+        "check",
+        &options,
+        &[
+            "--vectors",
+            "--answers",
+            "--examples",
+            "--levels",
+            "--tags",
+            "--exclude-tags",
+        ],
+    ) {
         Ok(options) => options,
         Err(message) => return usage_error(&message),
     };
@@ -28,14 +52,17 @@ pub(crate) fn run(options: &[&str]) -> ExitCode {
     else {
         return usage_error("check needs --vectors FILE and --answers FILE");
     };
+    if vectors_path == "-" && answers_path == "-" {
+        return usage_error("check: --vectors and --answers cannot both be stdin");
+    }
     let examples = match options.get("--examples").map(|text| text.parse::<usize>()) {
         None => DEFAULT_EXAMPLES,
         Some(Ok(examples)) => examples,
         Some(Err(_)) => return usage_error("check: --examples needs a whole number"),
     };
-    let vectors = match read_vectors(vectors_path) {
-        Ok(vectors) => vectors,
-        Err(message) => return cannot_check(&message),
+    let selection = match selection(&options) {
+        Ok(selection) => selection,
+        Err(message) => return usage_error(&message),
     };
     let answers = match read_bytes(answers_path).and_then(|bytes| {
         parse_answers(&bytes).map_err(|e| format!("{}: {e}", shown_path(answers_path)))
@@ -43,10 +70,21 @@ pub(crate) fn run(options: &[&str]) -> ExitCode {
         Ok(answers) => answers,
         Err(message) => return cannot_check(&message),
     };
-    let report = check(&vectors, &answers);
+    let report = match open(vectors_path).and_then(|reader| {
+        check_reader(reader, &answers, selection)
+            .map_err(|e| format!("{}: {e}", shown_path(vectors_path)))
+    }) {
+        Ok(report) => report,
+        Err(message) => return cannot_check(&message),
+    };
+    let text = if json {
+        format!("{}\n", report.to_json(examples))
+    } else {
+        report.render(examples)
+    };
     let mut out = io::stdout().lock();
     if out
-        .write_all(report.render(examples).as_bytes())
+        .write_all(text.as_bytes())
         .and_then(|()| out.flush())
         .is_err()
     {
@@ -56,6 +94,51 @@ pub(crate) fn run(options: &[&str]) -> ExitCode {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE
+    }
+}
+
+/// `--levels A..=B` (or `N`), `--tags T,..`, `--exclude-tags T,..`.
+fn selection(options: &BTreeMap<String, &str>) -> Result<Selection, String> {
+    let mut selection = Selection::default();
+    if let Some(text) = options.get("--levels") {
+        let bad = || format!("check: --levels needs A..=B or N with levels 0..=32, not {text:?}");
+        let (low, high) = match text.split_once("..=") {
+            Some((low, high)) => (low, high),
+            None => (*text, *text),
+        };
+        let parse = |t: &str| t.trim().parse::<u32>().ok().filter(|level| *level <= 32);
+        match (parse(low), parse(high)) {
+            (Some(low), Some(high)) if low <= high => selection.levels = Some(low..=high),
+            _ => return Err(bad()),
+        }
+    }
+    for (option, target) in [
+        ("--tags", &mut selection.tags),
+        ("--exclude-tags", &mut selection.exclude_tags),
+    ] {
+        if let Some(text) = options.get(option) {
+            for name in text.split(',').map(str::trim) {
+                if !is_known_tag(name) {
+                    return Err(format!(
+                        "check: {option}: unknown tag {name:?}; tags: {}",
+                        tag::ALL.join(", ")
+                    ));
+                }
+                target.push(name.to_owned());
+            }
+        }
+    }
+    Ok(selection)
+}
+
+/// The file (`-`: stdin) as a buffered reader, or a message naming it.
+fn open(path: &str) -> Result<Box<dyn Read>, String> {
+    if path == "-" {
+        return Ok(Box::new(BufReader::new(io::stdin())));
+    }
+    match std::fs::File::open(path) {
+        Ok(file) => Ok(Box::new(BufReader::new(file))),
+        Err(e) => Err(format!("cannot read {path}: {e}")),
     }
 }
 

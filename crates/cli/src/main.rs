@@ -32,9 +32,11 @@ commands:
                           for FILE's cases computed by NAME (a variant, or
                           uv2index-version1-exact / uv2index-version1-f32).
   check --vectors FILE --answers FILE  compare answer lines (FILE or - for stdin)
-                          with the vectors; report by tag. Exit 0 all match, 1 a
-                          mismatch or missing/unknown id, 2 usage error or unreadable
-                          or malformed file. Option: --examples K (per tag, default 5).
+                          with the vectors; report by class, tag and level. Exit 0 all
+                          match, 1 a mismatch or missing/unknown id, 2 usage error or
+                          unreadable or malformed file. Options: --levels A..=B,
+                          --tags T,.. / --exclude-tags T,.. (select cases), --json,
+                          --examples K (per class, default 5).
   tree encode|lookup      the paper's succinct tree: encode a micromap given as
                           states, or look a state up from tree bits and data
                           (micromap-index tree --help).

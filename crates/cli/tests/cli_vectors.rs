@@ -2,6 +2,7 @@
 //! files, reports and exit codes (0 all match, 1 mismatch / missing /
 //! unknown id, 2 usage error or unreadable / malformed file).
 
+use std::fmt::Write as _;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -107,7 +108,7 @@ fn check_exit_codes() {
     let report = text(&output.stdout);
     assert!(report.contains("FAIL"), "{report}");
     assert!(
-        report.contains("mismatches tagged rounding-window ("),
+        report.contains("\nrounding-window (287; first 2)"),
         "{report}"
     );
 
@@ -138,6 +139,66 @@ fn unreadable_or_malformed_files_exit_2() {
     let not_vectors = dir.join("not-vectors.json");
     std::fs::write(&not_vectors, b"{\"format\": \"something else\"}").unwrap();
     let missing = dir.join("does-not-exist.json");
+    let header =
+        r#"{"format": "micromap-index-vectors", "version": 1, "function": "spec-f32", "cases": ["#;
+    let case =
+        r#"{"id": 0, "u": "0x3e800000", "v": "0x3e800000", "level": 2, "index": 5, "tags": []}"#;
+    let malformed = [
+        ("empty.json", format!("{header}]}}"), "no cases"),
+        (
+            "too-big.json",
+            format!(
+                "{header}{}]}}",
+                case.replace("\"index\": 5", "\"index\": 16")
+            ),
+            "not below 4^2",
+        ),
+        (
+            "unknown-function.json",
+            format!("{header}{case}]}}").replace("spec-f32", "my-function"),
+            "\"my-function\" is not a function",
+        ),
+    ];
+    for (name, content, message) in malformed {
+        let path = dir.join(name);
+        std::fs::write(&path, content).unwrap();
+        let output = run(
+            &[
+                "check",
+                "--vectors",
+                path.to_str().unwrap(),
+                "--answers",
+                "-",
+            ],
+            Some(b"{\"id\": 0, \"index\": 5}\n"),
+        );
+        assert_eq!(
+            output.status.code(),
+            Some(2),
+            "{name}: {}",
+            text(&output.stdout)
+        );
+        assert!(
+            text(&output.stderr).contains(message),
+            "{name}: {}",
+            text(&output.stderr)
+        );
+    }
+    // A selection that covers nothing checks nothing: exit 2, not a pass.
+    let output = run(
+        &[
+            "check",
+            "--vectors",
+            &spec_f32,
+            "--answers",
+            "-",
+            "--levels",
+            "17..=20",
+        ],
+        Some(b""),
+    );
+    assert_eq!(output.status.code(), Some(2));
+    assert!(text(&output.stderr).contains("nothing was checked"));
     let cases: [(Vec<&str>, &[u8], &str); 5] = [
         (
             vec![
@@ -218,6 +279,34 @@ fn usage_errors_exit_2() {
             "x",
             "--answers",
             "y",
+            "--levels",
+            "3..=1",
+        ],
+        vec![
+            "check",
+            "--vectors",
+            "x",
+            "--answers",
+            "y",
+            "--levels",
+            "0..=33",
+        ],
+        vec![
+            "check",
+            "--vectors",
+            "x",
+            "--answers",
+            "y",
+            "--tags",
+            "no-such-tag",
+        ],
+        vec!["check", "--vectors", "-", "--answers", "-"],
+        vec![
+            "check",
+            "--vectors",
+            "x",
+            "--answers",
+            "y",
             "--examples",
             "many",
         ],
@@ -226,4 +315,104 @@ fn usage_errors_exit_2() {
         assert_eq!(output.status.code(), Some(2), "{args:?}");
         assert!(text(&output.stderr).contains("usage:"), "{args:?}");
     }
+}
+
+/// A capped implementation (levels 0..=12, the rest `"unsupported"`), one
+/// out-of-range answer: flagged first; `--levels` and `--json` scope and
+/// summarise the run.
+#[test]
+fn check_scoping_classes_and_json() {
+    let spec_f32 = committed("spec-f32.json");
+    let right = text(&answers_from("spec-f32", &spec_f32));
+    let vectors = std::fs::read_to_string(&spec_f32).unwrap();
+    let level_of = |id: &str| {
+        let key = format!("{{\"id\":{id},");
+        let line = vectors
+            .lines()
+            .find(|l| l.trim_start().starts_with(&key))
+            .unwrap();
+        let level = line.split("\"level\":").nth(1).unwrap();
+        level.split(',').next().unwrap().parse::<u32>().unwrap()
+    };
+    let mut capped = String::new();
+    for line in right.lines() {
+        let id = line.split(&[':', ','][..]).nth(1).unwrap();
+        if level_of(id) > 12 {
+            let _ = writeln!(capped, "{{\"id\": {id}, \"unsupported\": true}}");
+        } else if id == "200" {
+            capped.push_str("{\"id\": 200, \"index\": 4294967296}\n");
+        } else {
+            capped.push_str(line);
+            capped.push('\n');
+        }
+    }
+    let output = run(
+        &[
+            "check",
+            "--vectors",
+            &spec_f32,
+            "--answers",
+            "-",
+            "--examples",
+            "1",
+        ],
+        Some(capped.as_bytes()),
+    );
+    assert_eq!(output.status.code(), Some(1));
+    let report = text(&output.stdout);
+    let lines: Vec<&str> = report.lines().collect();
+    assert!(lines[0].ends_with("FAIL"), "{report}");
+    assert!(
+        lines[1].starts_with("DANGER: 1 answers are >= 4^level"),
+        "{report}"
+    );
+    assert!(report.contains("by class: out-of-range 1"), "{report}");
+    assert!(report.contains("unsupported by level: 13: "), "{report}");
+
+    let output = run(
+        &[
+            "check",
+            "--vectors",
+            &spec_f32,
+            "--answers",
+            "-",
+            "--json",
+            "--levels",
+            "0..=12",
+        ],
+        Some(capped.as_bytes()),
+    );
+    assert_eq!(output.status.code(), Some(1));
+    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(json["out_of_range"], 1);
+    assert_eq!(json["mismatched"], 1);
+    assert_eq!(json["unsupported"], 0);
+    assert_eq!(json["by_class"]["out-of-range"], 1);
+    let skipped = json["skipped"].as_u64().unwrap();
+    assert_eq!(json["checked"].as_u64().unwrap() + skipped, 9393);
+    assert!(skipped > 0);
+    let by_class: u64 = json["by_class"]
+        .as_object()
+        .unwrap()
+        .values()
+        .map(|v| v.as_u64().unwrap())
+        .sum();
+    assert_eq!(by_class, 1);
+
+    // Without the bad answer, the capped implementation passes.
+    let fixed = capped.replace(
+        "{\"id\": 200, \"index\": 4294967296}",
+        right
+            .lines()
+            .find(|l| l.starts_with("{\"id\":200,"))
+            .unwrap(),
+    );
+    let output = run(
+        &["check", "--vectors", &spec_f32, "--answers", "-", "--json"],
+        Some(fixed.as_bytes()),
+    );
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output.stdout));
+    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(json["passed"], true);
+    assert!(json["unsupported"].as_u64().unwrap() > 0);
 }

@@ -140,8 +140,9 @@ pub const FACE_OFFSETS: [(u64, u64, FaceKind); 6] = [
 /// // Cell (1, 0) at level 1 touches the hypotenuse: no upside-down
 /// // micro-triangle there.
 /// assert_eq!(faces_of_cell(level, 1, 0).count(), 5);
-/// // The vertex (1, 1) is past the hypotenuse, and (0, 0) is not it.
-/// assert_eq!(faces_of_cell(level, 1, 1).count(), 0);
+/// // At (1, 1) only the vertex (1/2, 1/2) is in the triangle; (2, 1) is past it.
+/// assert_eq!(faces_of_cell(level, 1, 1).count(), 1);
+/// assert_eq!(faces_of_cell(level, 2, 1).count(), 0);
 /// assert_eq!(faces_of_cell(level, u64::MAX, 0).count(), 0);
 /// ```
 pub fn faces_of_cell(level: Level, a: u64, b: u64) -> impl Iterator<Item = Face> {

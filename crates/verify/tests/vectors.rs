@@ -10,8 +10,9 @@ use micromap_index::{spec, uv2index, Level, SpecLevel};
 use micromap_index_c_reference::spec_index;
 use micromap_index_verify::value::Value;
 use micromap_index_verify::vectors::{
-    check, compute_answers, exact_form, generate_sets, parse_answers, parse_vector_file, tag,
-    Answer, AnswerSource, Answers, Case, VectorError, VectorFile, VectorSet, LEVELS,
+    check, check_reader, compute_answers, exact_form, generate_sets, micro_triangle_contains,
+    parse_answers, parse_vector_file, tag, Answer, AnswerSource, Answers, Case, MismatchClass,
+    Selection, VectorError, VectorFile, VectorSet, LEVELS,
 };
 use num_rational::BigRational;
 use std::collections::BTreeSet;
@@ -381,6 +382,7 @@ fn check_passes_correct_answers_and_pins_down_wrong_ones() {
             let expected = usize::from(victim.tags.contains(name));
             assert_eq!(tally.mismatched, expected, "tag {name}: {report}");
         }
+        assert_eq!(report.by_class.values().sum::<usize>(), 1, "{report}");
         let text = report.render(3);
         assert!(
             text.contains(&format!("id {} level {}", victim.id, victim.level)),
@@ -396,7 +398,10 @@ fn check_passes_correct_answers_and_pins_down_wrong_ones() {
         partial.by_id.insert(last, Answer::Refused("no".into()));
         partial.by_id.insert(u64::MAX, Answer::Index(0));
         let report = check(&file, &partial);
-        assert_eq!(report.missing, [first]);
+        assert_eq!(
+            (report.missing, report.missing_ids.as_slice()),
+            (1, &[first][..])
+        );
         assert_eq!(report.unknown, [u64::MAX]);
         assert_eq!(report.mismatches.len(), 1);
         assert_eq!(report.mismatches[0].got, Answer::Refused("no".into()));
@@ -424,7 +429,7 @@ fn malformed_files_are_errors_not_panics() {
     let valid_case =
         r#"{"id": 0, "u": "0x3e800000", "v": "1/4", "level": 2, "index": 5, "tags": []}"#;
     let file_with = |header: &str, cases: &str| format!("{{{header}, \"cases\": [{cases}]}}");
-    let header = r#""format": "micromap-index-vectors", "version": 1, "function": "f""#;
+    let header = r#""format": "micromap-index-vectors", "version": 1, "function": "spec-f32""#;
     assert!(parse_vector_file(file_with(header, valid_case).as_bytes()).is_ok());
     let bad_files: Vec<Vec<u8>> = vec![
         vec![],
@@ -439,6 +444,22 @@ fn malformed_files_are_errors_not_panics() {
         )
         .into_bytes(),
         file_with(header, &format!("{valid_case}, {valid_case}")).into_bytes(),
+        // Vacuous, unknown function, expected index >= 4^level, ids not increasing.
+        file_with(header, "").into_bytes(),
+        file_with(
+            r#""format": "micromap-index-vectors", "version": 1, "function": "f""#,
+            valid_case,
+        )
+        .into_bytes(),
+        file_with(header, &valid_case.replace("\"index\": 5", "\"index\": 16")).into_bytes(),
+        file_with(
+            header,
+            &format!(
+                "{}, {valid_case}",
+                valid_case.replace("\"id\": 0", "\"id\": 1")
+            ),
+        )
+        .into_bytes(),
         file_with(header, &valid_case.replace("0x3e800000", "0x3e8")).into_bytes(),
         file_with(header, &valid_case.replace("1/4", "1/0")).into_bytes(),
         file_with(header, &valid_case.replace("\"level\": 2", "\"level\": 33")).into_bytes(),
@@ -468,7 +489,9 @@ fn malformed_files_are_errors_not_panics() {
         Err(VectorError::DuplicateId { id: 0, line: None })
     );
 
-    let bad_answers: [&[u8]; 10] = [
+    let bad_answers: [&[u8]; 12] = [
+        b"{\"id\": 1, \"index\": 1, \"unsupported\": true}",
+        b"{\"id\": 1, \"unsupported\": 1}",
         b"{",
         b"{\"id\": 1}",
         b"{\"id\": 1, \"index\": -1}",
@@ -491,7 +514,8 @@ fn malformed_files_are_errors_not_panics() {
         parse_answers(b"{\"id\": 1, \"index\": 1}\r\n\n{\"id\": 2}"),
         Err(VectorError::BadAnswer {
             line: 3,
-            message: "needs \"index\" (a non-negative integer) or \"error\"".into()
+            message: "needs \"index\" (a non-negative integer), \"error\" or \"unsupported\": true"
+                .into()
         })
     );
     assert_eq!(parse_answers(b""), Ok(Answers::default()));
@@ -519,4 +543,197 @@ fn readers_survive_edited_bytes() {
             }
         }
     }
+}
+
+/// The `shared-edge` / `shared-vertex` tags, checked against a brute-force
+/// count of the closed micro-triangles that contain the point (levels
+/// `0..=3`, every index): 2 on a shared edge, 3 or more at a shared vertex,
+/// 1 elsewhere in the triangle.
+#[test]
+fn shared_tags_match_the_count_of_containing_micro_triangles() {
+    for set in VectorSet::ALL {
+        let file = committed(set);
+        let mut seen = [0usize; 3];
+        for case in file.cases.iter().filter(|c| c.level <= 3) {
+            let (Ok(u), Ok(v)) = (
+                Value::parse(&case.u).unwrap().to_exact(),
+                Value::parse(&case.v).unwrap().to_exact(),
+            ) else {
+                continue; // NaN or infinite
+            };
+            let level = Level::new(case.level).unwrap();
+            let containing = (0..1u64 << (2 * case.level))
+                .filter(|&index| micro_triangle_contains(level, index, &u, &v) == Some(true))
+                .count();
+            let expected = match containing {
+                0 | 1 => None,
+                2 => Some(tag::SHARED_EDGE),
+                _ => Some(tag::SHARED_VERTEX),
+            };
+            for name in [tag::SHARED_EDGE, tag::SHARED_VERTEX] {
+                assert_eq!(
+                    has(case, name),
+                    expected == Some(name),
+                    "{name}: {containing} micro-triangles contain {}",
+                    shown(case)
+                );
+            }
+            seen[containing.min(2)] += 1;
+        }
+        // Some points of one micro-triangle and some shared ones (and, for
+        // the clamping sets, some outside the triangle).
+        assert!(seen[1] > 0 && seen[2] > 0, "{}: {seen:?}", file.function);
+    }
+}
+
+/// The classes of known implementations: version 1 only breaks ties
+/// differently (every mismatch on a shared edge or vertex, and the answered
+/// micro-triangle contains the point); the float walk also names wrong
+/// micro-triangles; the exact reading of the reference differs from the
+/// binary32 set exactly by the rounding window and its refusals of NaN
+/// and infinities. Every class agrees with the exact containment test.
+#[test]
+fn mismatch_classes_of_known_implementations() {
+    let walk_set = committed(VectorSet::Uv2indexExact);
+    let spec_f32 = committed(VectorSet::SpecF32);
+    let runs = [
+        ("uv2index-version1-exact", &walk_set),
+        ("uv2index-f32", &walk_set),
+        ("spec-exact", &spec_f32),
+    ];
+    for (source, file) in runs {
+        let answers = compute_answers(AnswerSource::from_name(source).unwrap(), file);
+        let report = check(file, &answers);
+        assert_eq!(
+            report.by_class.values().sum::<usize>(),
+            report.mismatches.len(),
+            "{source}: {report}"
+        );
+        assert_eq!(report.out_of_range(), 0, "{source}");
+        for m in &report.mismatches {
+            let context = format!("{source}: id {} ({:?}) got {}", m.id, m.class, m.got);
+            let exact = |text: &str| Value::parse(text).unwrap().to_exact().ok();
+            let level = Level::new(m.level).unwrap();
+            let contains = match (&m.got, exact(&m.u), exact(&m.v)) {
+                (Answer::Index(index), Some(u), Some(v)) => {
+                    micro_triangle_contains(level, *index, &u, &v)
+                }
+                _ => None,
+            };
+            match m.class {
+                MismatchClass::WrongTriangle => assert_eq!(contains, Some(false), "{context}"),
+                MismatchClass::TieBreakEdge => {
+                    assert_eq!(contains, Some(true), "{context}");
+                    assert!(m.tags.iter().any(|t| t == tag::SHARED_EDGE), "{context}");
+                }
+                MismatchClass::TieBreakVertex => {
+                    assert_eq!(contains, Some(true), "{context}");
+                    assert!(m.tags.iter().any(|t| t == tag::SHARED_VERTEX), "{context}");
+                }
+                _ => {}
+            }
+        }
+        let count = |class| report.by_class.get(&class).copied().unwrap_or(0);
+        match source {
+            "uv2index-version1-exact" => {
+                let ties =
+                    count(MismatchClass::TieBreakEdge) + count(MismatchClass::TieBreakVertex);
+                assert!(ties > 0 && ties == report.mismatches.len(), "{report}");
+            }
+            "uv2index-f32" => {
+                assert!(count(MismatchClass::WrongTriangle) > 0, "{report}");
+                assert_eq!(
+                    count(MismatchClass::RoundingWindow),
+                    report.by_tag[tag::ROUNDING_WINDOW].mismatched,
+                    "{report}"
+                );
+            }
+            _ => {
+                assert_eq!(
+                    count(MismatchClass::RoundingWindow),
+                    report.by_tag[tag::ROUNDING_WINDOW].cases,
+                    "{report}"
+                );
+                let not_real = spec_f32
+                    .cases
+                    .iter()
+                    .filter(|c| has(c, tag::NAN) || has(c, tag::INFINITY))
+                    .count();
+                assert_eq!(count(MismatchClass::Refused), not_real, "{report}");
+                assert_eq!(
+                    report.mismatches.len(),
+                    count(MismatchClass::RoundingWindow) + not_real
+                );
+            }
+        }
+    }
+}
+
+/// An index `>= 4^level` is flagged first; `"unsupported"` answers are
+/// counted apart and do not fail; a selection skips cases; the streaming
+/// check equals the in-memory one.
+#[test]
+fn out_of_range_unsupported_and_selection() {
+    let file = committed(VectorSet::SpecF32);
+    let bytes = std::fs::read(vectors_dir().join(VectorSet::SpecF32.file_name())).unwrap();
+    let mut answers = correct_answers(&file);
+    let victim = file
+        .cases
+        .iter()
+        .find(|c| c.level == 2 && has(c, tag::NAN))
+        .unwrap();
+    answers.by_id.insert(victim.id, Answer::Index(16));
+    let capped: Vec<u64> = file
+        .cases
+        .iter()
+        .filter(|c| c.level > 12)
+        .map(|c| c.id)
+        .collect();
+    for id in &capped {
+        answers.by_id.insert(*id, Answer::Unsupported);
+    }
+    let report = check(&file, &answers);
+    assert_eq!(
+        report,
+        check_reader(&bytes[..], &answers, Selection::default()).unwrap()
+    );
+    assert_eq!(report.out_of_range(), 1, "{report}");
+    assert_eq!(report.mismatches[0].class, MismatchClass::OutOfRange);
+    assert_eq!(report.unsupported, capped.len());
+    assert_eq!(report.matched + report.unsupported + 1, file.cases.len());
+    let text = report.render(1);
+    let danger = text
+        .lines()
+        .position(|l| l.starts_with("DANGER: 1 answers are >= 4^level"));
+    assert_eq!(danger, Some(1), "{text}");
+    assert!(text.contains("got 16 (>= 4^2 = 16)"), "{text}");
+    assert!(text.lines().count() < 16, "{text}");
+
+    // Leaving out the NaN cases: the unsupported levels alone still pass.
+    let selection = Selection {
+        exclude_tags: vec![tag::NAN.into()],
+        ..Selection::default()
+    };
+    let report = check_reader(&bytes[..], &answers, selection).unwrap();
+    assert!(report.passed(), "{report}");
+    let nan_cases = file.cases.iter().filter(|c| has(c, tag::NAN)).count();
+    assert_eq!(report.skipped, nan_cases);
+    assert_eq!(report.checked + report.skipped, file.cases.len());
+    let json = report.to_json(0);
+    assert_eq!(json["skipped"], nan_cases);
+    assert_eq!(json["mismatched"], 0);
+    assert_eq!(json["unsupported"], report.unsupported);
+
+    // Every answer unsupported: nothing matched, not a pass.
+    let mut nothing = Answers::default();
+    for case in &file.cases {
+        nothing.by_id.insert(case.id, Answer::Unsupported);
+    }
+    assert!(!check(&file, &nothing).passed());
+    // A selection that covers nothing is an error, not a vacuous pass.
+    let none = Selection {
+        levels: Some(17..=32),
+        ..Selection::default()
+    };
+    assert!(check_reader(&bytes[..], &answers, none).is_err());
 }

@@ -74,7 +74,7 @@ fn hex(bytes: &[u8]) -> String {
 /// Panics only when one of these fails, printing the input in hex.
 ///
 /// ```
-/// use micromap_index::micromap::fuzz_body::micromap_buffers;
+/// use micromap_index_verify::fuzzing::micromap_buffers;
 /// for data in [&[][..], &[0xff; 40][..], &[2, 8, 0, 0, 0, 2, 0, 0, 0, 0, 0, 1, 0, 1, 0, 0, 0, 0x5a]] {
 ///     micromap_buffers(data);
 /// }

@@ -990,14 +990,21 @@ fn check_answers_round_trip(answers: &vectors::Answers) {
 /// The counts of [`vectors::check`] are consistent.
 fn check_report_adds_up(file: &vectors::VectorFile, answers: &vectors::Answers) {
     let report = vectors::check(file, answers);
-    let accounted = report.matched + report.mismatches.len() + report.missing.len();
+    let accounted = report.matched + report.unsupported + report.mismatches.len() + report.missing;
     let by_level: usize = report.by_level.values().map(|tally| tally.cases).sum();
+    let by_class: usize = report.by_class.values().sum();
     assert!(
         report.cases == file.cases.len()
+            && report.checked == report.cases
             && accounted == report.cases
             && by_level == report.cases
-            && report.passed() == (accounted == report.matched && report.unknown.is_empty()),
+            && by_class == report.mismatches.len()
+            && report.passed()
+                == (report.matched > 0
+                    && accounted == report.matched + report.unsupported
+                    && report.unknown.is_empty()),
         "check of {file:?} against {answers:?} does not add up: {report:?}"
     );
     let _ = report.render(3);
+    let _ = report.to_json(3);
 }
