@@ -47,8 +47,10 @@
 //!
 //! # Crate features
 //!
-//! * `std` (default): implies `alloc`; nothing else at present (the error
-//!   type implements `core::error::Error` either way).
+//! * `std` (default): implies `alloc`; run-time CPU feature detection, so
+//!   that [`batch`] can pick its AVX2 / AVX-512 backends on x86-64 (without
+//!   `std` it runs the portable backend). The error types implement
+//!   `core::error::Error` either way.
 //! * `alloc`: micromap containers and the succinct trees (they own buffers).
 //! * `exact`: exact rational inputs (`spec::index_real`,
 //!   `uv2index::index_real`, `inverse::MicroTriangle::vertices_rational`, ...)

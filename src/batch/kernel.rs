@@ -246,7 +246,7 @@ pub(crate) fn narrow<const FLOAT_CELL: bool>(u_bits: u32, v_bits: u32, params: &
 }
 
 /// The reference widened to 64 bits for one pair of bit patterns, levels
-/// `0..=32`: the same bits as `spec::index_wide_f32` (binary32 threshold) or
+/// `0..=32`: the same bits as `spec::wide_index_f32` (binary32 threshold) or
 /// the exact reading of the reference (exact threshold).
 #[inline(always)]
 pub(crate) fn wide(u_bits: u32, v_bits: u32, params: &Params) -> u64 {
@@ -257,7 +257,7 @@ pub(crate) fn wide(u_bits: u32, v_bits: u32, params: &Params) -> u64 {
 
 /// The wide integer half and interleave (two 16-bit interleaves in 32-bit
 /// words, then one widening) from cells already clamped to
-/// `last` (`iu, iv <= last`): `spec::index_from_cell_wide` on such cells.
+/// `last` (`iu, iv <= last`): `spec::wide_index_from_cell` on such cells.
 #[inline(always)]
 pub(crate) fn wide_from_clamped_cell(iu: u32, iv: u32, diagonal: bool, last: u32) -> u64 {
     let (b0, b1) = integer_half::<true>(iu, iv, diagonal, last);
