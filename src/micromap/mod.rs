@@ -27,6 +27,7 @@
 //!   round-trip (property-tested and fuzzed, `fuzz/fuzz_targets/micromap_buffers.rs`).
 //!
 //! ```
+//! # #[cfg(feature = "alloc")] {
 //! use micromap_index::micromap::{
 //!     read_buffers, BufferBytes, Format, IndexWidth, Micromap, MicromapBuffers, State,
 //!     TriangleOpacity,
@@ -56,6 +57,7 @@
 //!     &Default::default(),
 //! ).unwrap();
 //! assert_eq!(read.micromaps, [map]);
+//! # }
 //! ```
 
 #[cfg(feature = "alloc")]

@@ -13,17 +13,20 @@
 //!   unsupported), at least one matched, no other ids;
 //! * 1 — a mismatch, a refused or missing case, an id not in the file, or
 //!   nothing matched;
-//! * 2 — usage error, or a file that cannot be read or parsed, or is
-//!   malformed (no cases, an expected index `>= 4^level`, an unknown
-//!   `function`), or a selection that covers no case (nothing was checked;
-//!   the message names the file and, for answers, the line).
+//! * 2 — usage error, or a file that cannot be parsed or is malformed (no
+//!   cases, an expected index `>= 4^level`, an unknown `function`), or a
+//!   selection that covers no case (nothing was checked; the message names
+//!   the file and, for answers, the line);
+//! * 3 — a file that cannot be read;
+//! * 141 — stdout closed by its reader (the table in `micromap-index help`).
 
+use crate::output::{report, Exit, Stdout};
 use crate::usage_error;
 use micromap_index_verify::vectors::{
     check_reader, is_known_tag, parse_answers, parse_vector_file, tag, Selection, VectorFile,
 };
 use std::collections::BTreeMap;
-use std::io::{self, BufReader, Read, Write};
+use std::io::{self, BufReader, Read};
 use std::process::ExitCode;
 
 /// Examples per class when `--examples` is not given.
@@ -64,37 +67,36 @@ pub(crate) fn run(options: &[&str]) -> ExitCode {
         Ok(selection) => selection,
         Err(message) => return usage_error(&message),
     };
-    let answers = match read_bytes(answers_path).and_then(|bytes| {
-        parse_answers(&bytes).map_err(|e| format!("{}: {e}", shown_path(answers_path)))
-    }) {
-        Ok(answers) => answers,
-        Err(message) => return cannot_check(&message),
+    let answers = match read_bytes(answers_path) {
+        Ok(bytes) => match parse_answers(&bytes) {
+            Ok(answers) => answers,
+            Err(e) => return cannot_check(&format!("{}: {e}", shown_path(answers_path))),
+        },
+        Err(message) => return unreadable(&message),
     };
-    let report = match open(vectors_path).and_then(|reader| {
-        check_reader(reader, &answers, selection)
-            .map_err(|e| format!("{}: {e}", shown_path(vectors_path)))
-    }) {
-        Ok(report) => report,
-        Err(message) => return cannot_check(&message),
+    let report = match open(vectors_path) {
+        Ok(reader) => match check_reader(reader, &answers, selection) {
+            Ok(report) => report,
+            Err(e) => return cannot_check(&format!("{}: {e}", shown_path(vectors_path))),
+        },
+        Err(message) => return unreadable(&message),
     };
     let text = if json {
         format!("{}\n", report.to_json(examples))
     } else {
         report.render(examples)
     };
-    let mut out = io::stdout().lock();
-    if out
-        .write_all(text.as_bytes())
-        .and_then(|()| out.flush())
-        .is_err()
-    {
-        return ExitCode::from(2);
-    }
-    if report.passed() {
-        ExitCode::SUCCESS
+    let verdict = if report.passed() {
+        Exit::Success
     } else {
-        ExitCode::FAILURE
-    }
+        Exit::Failed
+    };
+    let mut out = Stdout::buffered();
+    let exit = match out.text(&text) {
+        Ok(()) => verdict,
+        Err(failure) => failure,
+    };
+    out.finish(exit).into()
 }
 
 /// `--levels A..=B` (or `N`), `--tags T,..`, `--exclude-tags T,..`.
@@ -142,9 +144,16 @@ fn open(path: &str) -> Result<Box<dyn Read>, String> {
     }
 }
 
+/// A malformed file: exit 2, nothing checked.
 fn cannot_check(message: &str) -> ExitCode {
-    eprintln!("micromap-index: {message}");
-    ExitCode::from(2)
+    report(message);
+    Exit::Usage.into()
+}
+
+/// A file that cannot be read: exit 3.
+fn unreadable(message: &str) -> ExitCode {
+    report(message);
+    Exit::Io.into()
 }
 
 fn shown_path(path: &str) -> &str {

@@ -5,28 +5,28 @@
 //! with the vertices as `(u, v)` pairs in the walk's local order (see
 //! `micromap_index::inverse`). Every coordinate is a reduced fraction written
 //! `"p/q"` even when it is an integer (`"0/1"`, `"1/1"`); `q` is a power of
-//! two. A command line of the wrong shape is a usage error (exit 2); a level
-//! or index that is not a number or out of range is an error (exit 1).
+//! two. A command line of the wrong shape, or a level or index that is not a
+//! number or out of range, is exit 2 (usage error or malformed input; the
+//! message says what is wrong); exit 3 or 141 if stdout cannot be written.
 
-use crate::usage_error;
+use crate::output::{self, Exit, Stdout};
+use crate::usage;
 use micromap_index::inverse::{micro_triangle, MicroTriangle};
 use micromap_index::Level;
 use num_rational::BigRational;
 use serde::Serialize;
-use std::io::{self, Write};
 use std::num::IntErrorKind;
-use std::process::ExitCode;
 
-pub(crate) fn run(options: &[&str]) -> ExitCode {
+pub(crate) fn run(options: &[&str]) -> Exit {
     let (level, index) = match level_and_index_options(options) {
         Ok(texts) => texts,
-        Err(message) => return usage_error(&message),
+        Err(message) => return usage(&message),
     };
     match locate(level, index) {
         Ok(triangle) => print_line(&triangle),
         Err(message) => {
-            eprintln!("micromap-index: {message}");
-            ExitCode::FAILURE
+            output::report(message);
+            Exit::Usage
         }
     }
 }
@@ -108,7 +108,7 @@ fn fraction(value: &BigRational) -> String {
     format!("{}/{}", value.numer(), value.denom())
 }
 
-fn print_line(triangle: &MicroTriangle) -> ExitCode {
+fn print_line(triangle: &MicroTriangle) -> Exit {
     let line = LocateLine {
         level: triangle.level().get(),
         index: triangle.index(),
@@ -117,14 +117,13 @@ fn print_line(triangle: &MicroTriangle) -> ExitCode {
             .vertices_rational()
             .map(|(u, v)| [fraction(&u), fraction(&v)]),
     };
-    let written = serde_json::to_string(&line)
-        .map_err(io::Error::from)
-        .and_then(|json| writeln!(io::stdout().lock(), "{json}"));
-    match written {
-        Ok(()) => ExitCode::SUCCESS,
+    let mut out = Stdout::buffered();
+    let written = match serde_json::to_string(&line) {
+        Ok(json) => out.line(json).map(|()| Exit::Success),
         Err(e) => {
-            eprintln!("micromap-index: writing stdout: {e}");
-            ExitCode::FAILURE
+            output::report(format_args!("cannot write JSON: {e}"));
+            Err(Exit::Io)
         }
-    }
+    };
+    out.finish(output::either(written))
 }

@@ -1,68 +1,104 @@
 //! `micromap-index`: the command-line front end. Parsing and printing only;
-//! the work is in the library. Each command lives in its own module.
+//! the work is in the library and in `micromap-index-verify`. Each command
+//! lives in its own module; `help` has the usage texts, `output` the one
+//! output layer (stdout and stderr writers that never panic) and the
+//! exit-code table.
+//!
+//! # Exit codes (the same for every command; also in `micromap-index help`
+//! and `docs/cli.md`)
+//!
+//! | code | meaning |
+//! |------|---------|
+//! | 0 | success (`prove`, `check`: no mismatch) |
+//! | 1 | the check failed: a mismatch (`prove`, `check`), a missing or unknown id (`check`) |
+//! | 2 | usage error or malformed input: a bad option or value (`locate --level 33`, `prove --sample 0`), a malformed file, `vectors --out` refusing an existing file; nothing was done |
+//! | 3 | I/O error: unreadable input (a missing file, a directory as stdin), unwritable output (a full disk) |
+//! | 130 | interrupted by Ctrl-C |
+//! | 141 | stdout closed by its reader (`... \| head -1`): the command stops quietly, as shells report a GNU tool killed by SIGPIPE |
+//!
+//! A failed write to stderr is ignored (there is nowhere left to report it);
+//! the exit code still tells.
 
 mod check_command;
 mod eval_command;
+mod help;
+mod input;
 mod locate_command;
+mod output;
 mod prove_command;
 mod tree_command;
 mod vectors_command;
+mod write_all_or_nothing;
 
+use output::{Exit, Stdout};
 use std::process::ExitCode;
+use std::sync::OnceLock;
 
-const USAGE: &str = "\
-usage: micromap-index COMMAND [OPTIONS]
-commands:
-  eval --variant NAME     evaluate JSON lines {\"u\": U, \"v\": V, \"level\": L} from
-                          stdin; one line {\"index\": N} or {\"error\": \"...\"} each.
-                          U and V: \"0x\" + 8 hex digits (binary32 bits), \"0x\" + 16
-                          hex digits (binary64 bits), or an exact decimal or
-                          rational (\"0.375\", \"-3/8\").
-  locate --level L --index I  print micro-triangle I's exact vertices as one JSON line.
-  prove --levels A..=B    compare the walk with the reference on every face of each
-                          level's lattice (a proof for all real points); per level
-                          faces checked, mismatches, seconds. Exit 0 equal, 1 mismatch,
-                          130 interrupted. Options: --spec-wide (64-bit reference,
-                          levels to 32), --version1 (the talk's first walk, which
-                          fails), --sample N [--seed S] (N random faces, walked step
-                          by step), --json, --threads T, --examples K.
-  vectors --out DIR       write the conformance vector files (spec-f32, spec-exact,
-                          uv2index-exact .json) into DIR.
-  vectors --answers-from NAME --vectors FILE  print {\"id\": N, \"index\": I} lines
-                          for FILE's cases computed by NAME (a variant, or
-                          uv2index-version1-exact / uv2index-version1-f32).
-  check --vectors FILE --answers FILE  compare answer lines (FILE or - for stdin)
-                          with the vectors; report by class, tag and level. Exit 0 all
-                          match, 1 a mismatch or missing/unknown id, 2 usage error or
-                          unreadable or malformed file. Options: --levels A..=B,
-                          --tags T,.. / --exclude-tags T,.. (select cases), --json,
-                          --examples K (per class, default 5).
-  tree encode|lookup      the paper's succinct tree: encode a micromap given as
-                          states, or look a state up from tree bits and data
-                          (micromap-index tree --help).
-  help                    this text";
+/// The command being run, for the usage text after a usage error.
+static COMMAND: OnceLock<&'static str> = OnceLock::new();
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    match args.split_first() {
-        Some((&"eval", options)) => eval_command::run(options),
-        Some((&"locate", options)) => locate_command::run(options),
-        Some((&"prove", options)) => prove_command::run(options),
-        Some((&"vectors", options)) => vectors_command::run(options),
-        Some((&"check", options)) => check_command::run(options),
-        Some((&"tree", options)) => tree_command::run(options),
-        Some((&("help" | "--help" | "-h"), [])) => {
-            println!("{USAGE}");
-            println!("variants: {}", eval_command::variant_names());
-            ExitCode::SUCCESS
+    let mut args = Vec::new();
+    for arg in std::env::args_os().skip(1) {
+        match arg.into_string() {
+            Ok(arg) => args.push(arg),
+            Err(arg) => return usage_error(&format!("argument {arg:?} is not UTF-8")),
         }
-        _ => usage_error("expected a command"),
+    }
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let Some((&command, options)) = args.split_first() else {
+        return usage_error("expected a command");
+    };
+    if let Some((name, _)) = help::COMMANDS.iter().find(|(name, _)| *name == command) {
+        let _ = COMMAND.set(name);
+        if options
+            .iter()
+            .any(|&option| option == "--help" || option == "-h")
+        {
+            return print_help(help::command_help(command).unwrap_or_default());
+        }
+    }
+    match (command, options) {
+        ("eval", options) => eval_command::run(options).into(),
+        ("locate", options) => locate_command::run(options).into(),
+        ("prove", options) => prove_command::run(options).into(),
+        ("vectors", options) => vectors_command::run(options).into(),
+        ("check", options) => check_command::run(options),
+        ("tree", options) => tree_command::run(options),
+        ("help" | "--help" | "-h", []) => print_help(help::full_help()),
+        ("help", [topic]) => match help::command_help(topic) {
+            Some(text) => print_help(text),
+            None => usage_error(&format!("help: unknown command {topic:?}")),
+        },
+        ("help", _) => usage_error("help takes at most one command"),
+        _ => usage_error(&format!("unknown command {command:?}")),
     }
 }
 
-/// Prints `message` and the usage to stderr; exit code 2.
+fn print_help(text: String) -> ExitCode {
+    let mut out = Stdout::buffered();
+    let exit = match out.line(text) {
+        Ok(()) => Exit::Success,
+        Err(failure) => failure,
+    };
+    out.finish(exit).into()
+}
+
+/// Reports `message` and the usage (of the command being run, or of all) on
+/// stderr; exit code 2.
 pub(crate) fn usage_error(message: &str) -> ExitCode {
-    eprintln!("micromap-index: {message}\n{USAGE}");
-    ExitCode::from(2)
+    usage(message).into()
+}
+
+/// [`usage_error`] as an [`Exit`].
+pub(crate) fn usage(message: &str) -> Exit {
+    let usage = match COMMAND.get() {
+        Some(command) => format!(
+            "{}\nrun `micromap-index help` for every command and the exit codes",
+            help::usage_of(command).unwrap_or_default()
+        ),
+        None => help::full_help(),
+    };
+    output::report(format_args!("{message}\n{usage}"));
+    Exit::Usage
 }

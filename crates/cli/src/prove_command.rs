@@ -1,22 +1,23 @@
 //! `micromap-index prove --levels A..=B`: the walk against the reference on
 //! every face of each level (or on random faces with `--sample N`).
+//!
+//! Exit 0 equal on every face, 1 a mismatch, 2 usage error (an empty level
+//! range or `--sample 0` included: a check of nothing is not a success),
+//! 130 interrupted, 3 or 141 if stdout cannot be written.
 
-use crate::usage_error;
+use crate::output::{self, Exit, Stdout};
+use crate::usage;
 use micromap_index::Level;
 use micromap_index_verify::prove::{
     prove_level, sample_level, LevelReport, Method, Mismatch, Progress, ProveError, Reference,
     Settings, WalkVersion, FACE_KINDS,
 };
 use serde::Serialize;
-use std::io::{IsTerminal, Write};
+use std::io::IsTerminal;
 use std::ops::RangeInclusive;
-use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-
-/// Exit code after Ctrl-C, as shells report a SIGINT death.
-const INTERRUPTED: u8 = 130;
 
 struct Options {
     levels: RangeInclusive<u32>,
@@ -26,10 +27,14 @@ struct Options {
     json: bool,
 }
 
-pub(crate) fn run(options: &[&str]) -> ExitCode {
+pub(crate) fn run(options: &[&str]) -> Exit {
     match parse(options) {
-        Ok(options) => prove(&options),
-        Err(message) => usage_error(&format!("prove: {message}")),
+        Ok(options) => {
+            let mut out = Stdout::line_by_line();
+            let result = prove(&options, &mut out);
+            out.finish(output::either(result))
+        }
+        Err(message) => usage(&format!("prove: {message}")),
     }
 }
 
@@ -79,6 +84,9 @@ fn parse(args: &[&str]) -> Result<Options, String> {
                 ""
             }
         ));
+    }
+    if sample == Some(0) {
+        return Err("--sample 0 checks nothing; give at least 1 face".into());
     }
     if seed.is_some() && sample.is_none() {
         return Err("--seed only applies with --sample".into());
@@ -145,19 +153,19 @@ fn parse_small(text: &str, name: &str) -> Result<usize, String> {
         .ok_or_else(|| format!("bad {name} {text:?}"))
 }
 
-fn prove(options: &Options) -> ExitCode {
+fn prove(options: &Options, out: &mut Stdout) -> Result<Exit, Exit> {
     let progress = Arc::new(Progress::new());
     install_ctrl_c(&progress);
     let show_bar = std::io::stderr().is_terminal();
     if !options.json {
-        print_header(options);
+        print_header(options, out)?;
     }
     let started = Instant::now();
     let mut any_mismatch = false;
     for level in options.levels.clone() {
         // Levels were checked against the reference's limit when parsing.
         let Ok(level) = Level::new(level) else {
-            return usage_error("prove: level above 32");
+            return Err(usage("prove: level above 32"));
         };
         let report = with_progress_bar(show_bar, level, &progress, || match options.sample {
             Some(samples) => {
@@ -167,28 +175,28 @@ fn prove(options: &Options) -> ExitCode {
         });
         let report = match report {
             Ok(report) => report,
-            Err(ProveError::Level(e)) => return usage_error(&format!("prove: {e}")),
+            Err(ProveError::Level(e)) => return Err(usage(&format!("prove: {e}"))),
             Err(e) => {
-                eprintln!("micromap-index: prove: {e}");
-                return ExitCode::FAILURE;
+                output::report(format_args!("prove: {e}"));
+                return Err(Exit::Failed);
             }
         };
         any_mismatch |= report.mismatches() > 0
             || (report.complete && report.faces_checked != report.faces_expected);
         if options.json {
-            print_json(&report, &options.settings);
+            print_json(&report, &options.settings, out)?;
         } else {
-            print_row(&report);
+            print_row(&report, out)?;
         }
         if !report.complete {
-            eprintln!(
-                "micromap-index: prove: interrupted during level {level}; the row above counts only the finished part"
-            );
-            return ExitCode::from(INTERRUPTED);
+            output::report(format_args!(
+                "prove: interrupted during level {level}; the row above counts only the finished part"
+            ));
+            return Ok(Exit::Interrupted);
         }
     }
     if !options.json {
-        println!(
+        out.line(format_args!(
             "total {:.1} s; {}",
             started.elapsed().as_secs_f64(),
             if any_mismatch {
@@ -198,13 +206,13 @@ fn prove(options: &Options) -> ExitCode {
             } else {
                 "equal on every face: proved for these levels"
             }
-        );
+        ))?;
     }
-    if any_mismatch {
-        ExitCode::FAILURE
+    Ok(if any_mismatch {
+        Exit::Failed
     } else {
-        ExitCode::SUCCESS
-    }
+        Exit::Success
+    })
 }
 
 /// First Ctrl-C: ask the check to stop after the work in flight, so the
@@ -213,12 +221,14 @@ fn install_ctrl_c(progress: &Arc<Progress>) {
     let progress = Arc::clone(progress);
     let result = ctrlc::set_handler(move || {
         if progress.is_cancelled() {
-            std::process::exit(i32::from(INTERRUPTED));
+            std::process::exit(i32::from(Exit::Interrupted.code()));
         }
         progress.cancel();
     });
     if let Err(e) = result {
-        eprintln!("micromap-index: prove: cannot catch Ctrl-C ({e}); it will end the run at once");
+        output::report(format_args!(
+            "prove: cannot catch Ctrl-C ({e}); it will end the run at once"
+        ));
     }
 }
 
@@ -240,7 +250,7 @@ fn with_progress_bar<T>(
                 draw_bar(level, progress, started);
                 std::thread::sleep(Duration::from_millis(200));
             }
-            eprint!("\r\x1b[K");
+            output::to_stderr("\r\x1b[K");
         });
         let result = work();
         finished.store(true, Ordering::Relaxed);
@@ -253,33 +263,32 @@ fn draw_bar(level: Level, progress: &Progress, started: Instant) {
     let (done, total) = progress.units();
     let filled = (done * WIDTH).checked_div(total).unwrap_or(0).min(WIDTH) as usize;
     let percent = (done as f64 * 100.0) / (total.max(1) as f64);
-    eprint!(
+    output::to_stderr(format_args!(
         "\rlevel {level:>2} [{}{}] {percent:5.1}% {:7.1} s",
         "#".repeat(filled),
         ".".repeat(WIDTH as usize - filled),
         started.elapsed().as_secs_f64()
-    );
-    let _ = std::io::stderr().flush();
+    ));
 }
 
-fn print_header(options: &Options) {
+fn print_header(options: &Options, out: &mut Stdout) -> Result<(), Exit> {
     let what = match options.sample {
         Some(samples) => format!("{samples} random faces per level (seed {})", options.seed),
         None => "every face of the lattice".into(),
     };
-    println!(
+    out.line(format_args!(
         "{} vs {}: {what}",
         options.settings.walk.name(),
         options.settings.reference.name()
-    );
-    println!(
+    ))?;
+    out.line(format_args!(
         "{:>5} {:>16} {:>16} {:>12} {:>10}",
         "level", "faces checked", "expected", "mismatches", "seconds"
-    );
+    ))
 }
 
-fn print_row(report: &LevelReport) {
-    println!(
+fn print_row(report: &LevelReport, out: &mut Stdout) -> Result<(), Exit> {
+    out.line(format_args!(
         "{:>5} {:>16} {:>16} {:>12} {:>10.3}{}",
         report.level.get(),
         report.faces_checked,
@@ -291,7 +300,7 @@ fn print_row(report: &LevelReport) {
         } else {
             "  (interrupted)"
         }
-    );
+    ))?;
     if report.mismatches() > 0 {
         let per_kind: Vec<String> = FACE_KINDS
             .iter()
@@ -299,10 +308,10 @@ fn print_row(report: &LevelReport) {
             .filter(|(_, count)| *count > 0)
             .map(|(kind, count)| format!("{} {count}", kind.name()))
             .collect();
-        println!("      by kind: {}", per_kind.join(", "));
+        out.line(format_args!("      by kind: {}", per_kind.join(", ")))?;
         for example in &report.examples {
             let shown = ShownMismatch::from(example);
-            println!(
+            out.line(format_args!(
                 "      (u, v) = ({}, {}), {}: walk {}, {} {}",
                 shown.u,
                 shown.v,
@@ -310,9 +319,10 @@ fn print_row(report: &LevelReport) {
                 shown.walk,
                 report.reference.name(),
                 shown.reference
-            );
+            ))?;
         }
     }
+    Ok(())
 }
 
 /// One level as a JSON line.
@@ -356,7 +366,7 @@ impl From<&Mismatch> for ShownMismatch {
     }
 }
 
-fn print_json(report: &LevelReport, settings: &Settings) {
+fn print_json(report: &LevelReport, settings: &Settings, out: &mut Stdout) -> Result<(), Exit> {
     let (method, seed) = match report.method {
         Method::Exhaustive => ("exhaustive", None),
         Method::Sampled { seed } => ("sampled", Some(seed)),
@@ -392,7 +402,10 @@ fn print_json(report: &LevelReport, settings: &Settings) {
         },
     };
     match serde_json::to_string(&line) {
-        Ok(text) => println!("{text}"),
-        Err(e) => eprintln!("micromap-index: prove: cannot write JSON: {e}"),
+        Ok(text) => out.line(text),
+        Err(e) => {
+            output::report(format_args!("prove: cannot write JSON: {e}"));
+            Err(Exit::Io)
+        }
     }
 }

@@ -7,15 +7,16 @@
 //! paper's Algorithm 3 and the level-order layout disagree: a bug, please
 //! report it).
 
+use crate::output::{report, Exit, Stdout};
 use micromap_index::micromap::{Format, State};
 use micromap_index::succinct::{LevelOrderTree, PaperTree, TreeError, MAX_TREE_LEVEL};
 use micromap_index::Level;
 use micromap_index_verify::value::Value;
 use serde::Serialize;
-use std::io::{self, Read, Write};
+use std::io::{self, Read};
 use std::process::ExitCode;
 
-const USAGE: &str = "\
+pub(crate) const USAGE: &str = "\
 usage: micromap-index tree encode --format 2|4 --level L [--states S]
        micromap-index tree lookup --format 2|4 --level L --tree BITS --data STATES
                                   (--index I | --u X --v Y)
@@ -33,69 +34,59 @@ lookup: the state of micro-triangle I, or of the binary32 hit (X, Y) through
         decimal or p/q that is a binary32 value), read from the tree by the
         paper's Algorithm 3 and by the level-order layout. Prints
         {\"state\": s}.
-levels: 0..=16. Exit 0 ok, 1 value out of range, 2 malformed command line,
-        states, bits or data, 3 the two lookups disagree (internal error).";
+levels: 0..=16. Exit 0 ok, 1 the two lookups disagree (a bug: please report
+        it), 2 malformed command line, states, bits or data, or a value out
+        of range, 3 standard input unreadable.";
 
 pub(crate) fn run(options: &[&str]) -> ExitCode {
+    // `tree --help`, `tree encode --help` and `help tree` are handled by
+    // main through `help::command_help("tree")`.
     match options.split_first() {
-        Some((&"encode", rest)) if wants_help(rest) => help(),
-        Some((&"lookup", rest)) if wants_help(rest) => help(),
         Some((&"encode", rest)) => finish(encode(rest)),
         Some((&"lookup", rest)) => finish(lookup(rest)),
-        Some((&("help" | "--help" | "-h"), [])) => help(),
-        _ => tree_usage_error("tree needs a subcommand: encode or lookup"),
+        _ => crate::usage_error("tree needs a subcommand: encode or lookup"),
     }
 }
 
-fn wants_help(options: &[&str]) -> bool {
-    options.iter().any(|&o| o == "--help" || o == "-h")
-}
-
-fn help() -> ExitCode {
-    println!("{USAGE}");
-    ExitCode::SUCCESS
-}
-
-fn tree_usage_error(message: &str) -> ExitCode {
-    eprintln!("micromap-index: {message}\n{USAGE}");
-    ExitCode::from(2)
-}
-
-/// What went wrong, by exit code.
+/// What went wrong, by exit code (the table in `micromap-index help`).
 enum Failure {
     /// Exit 2, with the usage.
     Usage(String),
     /// Exit 2: the states, bits, data or a value are malformed.
     Malformed(String),
-    /// Exit 1.
+    /// Exit 2: a value is out of range (a level, an index).
     OutOfRange(String),
-    /// Exit 3.
-    Internal(String),
+    /// Exit 1: Algorithm 3 and the level-order lookup disagree (a bug).
+    Disagree(String),
+    /// Exit 3: standard input could not be read.
+    Io(String),
 }
 
 fn finish(outcome: Result<String, Failure>) -> ExitCode {
-    match outcome {
+    let exit = match outcome {
         Ok(line) => {
-            let mut out = io::stdout().lock();
-            if writeln!(out, "{line}").and_then(|()| out.flush()).is_err() {
-                return ExitCode::FAILURE;
-            }
-            ExitCode::SUCCESS
+            let mut out = Stdout::buffered();
+            let exit = match out.line(line) {
+                Ok(()) => Exit::Success,
+                Err(failure) => failure,
+            };
+            out.finish(exit)
         }
-        Err(Failure::Usage(message)) => tree_usage_error(&message),
-        Err(Failure::Malformed(message)) => {
-            eprintln!("micromap-index: {message}");
-            ExitCode::from(2)
+        Err(Failure::Usage(message)) => crate::usage(&message),
+        Err(Failure::Malformed(message) | Failure::OutOfRange(message)) => {
+            report(message);
+            Exit::Usage
         }
-        Err(Failure::OutOfRange(message)) => {
-            eprintln!("micromap-index: {message}");
-            ExitCode::FAILURE
+        Err(Failure::Io(message)) => {
+            report(message);
+            Exit::Io
         }
-        Err(Failure::Internal(message)) => {
-            eprintln!("micromap-index: internal error: {message}");
-            ExitCode::from(3)
+        Err(Failure::Disagree(message)) => {
+            report(format_args!("internal error: {message}"));
+            Exit::Failed
         }
-    }
+    };
+    exit.into()
 }
 
 /// The values of `--name VALUE` / `--name=VALUE` options, each at most
@@ -237,7 +228,7 @@ fn encode(given: &[&str]) -> Result<String, Failure> {
             let mut buffer = String::new();
             io::stdin()
                 .read_to_string(&mut buffer)
-                .map_err(|e| Failure::Malformed(format!("reading the states from stdin: {e}")))?;
+                .map_err(|e| Failure::Io(format!("reading the states from stdin: {e}")))?;
             stdin_text = buffer;
             stdin_text.trim_end()
         }
@@ -265,7 +256,7 @@ fn encode(given: &[&str]) -> Result<String, Failure> {
         level_order_internal_bits: fast.internal_bits(),
         level_order_directory_bits: fast.directory_bits(),
     };
-    serde_json::to_string(&encoded).map_err(|e| Failure::Internal(e.to_string()))
+    serde_json::to_string(&encoded).map_err(|e| Failure::Disagree(e.to_string()))
 }
 
 fn lookup(given: &[&str]) -> Result<String, Failure> {
@@ -337,7 +328,7 @@ fn lookup(given: &[&str]) -> Result<String, Failure> {
         (Some(by_paper), Some(by_level_order)) if by_paper == by_level_order => {
             Ok(format!("{{\"state\":{}}}", by_paper.bits()))
         }
-        (by_paper, by_level_order) => Err(Failure::Internal(format!(
+        (by_paper, by_level_order) => Err(Failure::Disagree(format!(
             "index {index}: Algorithm 3 reads {by_paper:?}, the level-order layout {by_level_order:?}"
         ))),
     }

@@ -79,7 +79,7 @@ fn agrees_with_the_library() {
 }
 
 #[test]
-fn bad_values_exit_1_with_a_message() {
+fn bad_values_exit_2_with_a_message() {
     for (args, message) in [
         (
             ["--level", "33", "--index", "0"],
@@ -107,7 +107,7 @@ fn bad_values_exit_1_with_a_message() {
         ),
     ] {
         let output = locate(&args);
-        assert_eq!(output.status.code(), Some(1), "{args:?}");
+        assert_eq!(output.status.code(), Some(2), "{args:?}");
         assert!(output.stdout.is_empty(), "{args:?}");
         assert!(
             stderr(&output).contains(message),

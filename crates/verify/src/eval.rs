@@ -13,6 +13,7 @@
 use crate::value::{Value, ValueError};
 use micromap_index::{spec, uv2index, Error, Level, SpecLevel};
 use serde::Deserialize;
+use serde_json::value::RawValue;
 use std::fmt;
 
 /// The implementations the CLI can evaluate. Each CLI name says the
@@ -188,6 +189,15 @@ pub enum EvalError {
     Value(ValueError),
     /// The function rejected the input.
     Input(Error),
+    /// The line's `level` is a JSON number that is not an integer in
+    /// `0..=u64::MAX` (negative, fractional, or larger): not a level of any
+    /// variant.
+    LevelNotAnInteger {
+        /// The variant asked for.
+        variant: Variant,
+        /// The number as written (shortened if long).
+        text: String,
+    },
     /// The level is above what the variant supports.
     LevelTooHigh {
         /// The variant asked for.
@@ -203,9 +213,14 @@ impl fmt::Display for EvalError {
             EvalError::Malformed(why) => write!(f, "malformed input line: {why}"),
             EvalError::Value(e) => e.fmt(f),
             EvalError::Input(e) => e.fmt(f),
+            EvalError::LevelNotAnInteger { variant, text } => write!(
+                f,
+                "level {text} is not an integer in 0..={}, the levels {variant} supports",
+                variant.max_level()
+            ),
             EvalError::LevelTooHigh { variant, level } => write!(
                 f,
-                "level {level} is too high: this variant supports levels 0..={}",
+                "level {level} is too high: {variant} supports levels 0..={}",
                 variant.max_level()
             ),
         }
@@ -230,7 +245,34 @@ impl From<Error> for EvalError {
 struct InputLine {
     u: String,
     v: String,
-    level: u64,
+    /// Read as written: serde would turn `18446744073709551616` into a
+    /// float and report "invalid type: floating point".
+    level: Box<RawValue>,
+}
+
+/// The line's `level` (its JSON text): digits that fit a `u64`, or an
+/// error that says what it is.
+fn parse_level(variant: Variant, raw: &RawValue) -> Result<u64, EvalError> {
+    let text = raw.get().trim();
+    if !text.is_empty() && text.bytes().all(|b| b.is_ascii_digit()) {
+        if let Ok(level) = text.parse::<u64>() {
+            return Ok(level);
+        }
+    }
+    let mut shown: String = text.chars().take(40).collect();
+    if shown.len() < text.len() {
+        shown.push('…');
+    }
+    if text.starts_with(|c: char| c == '-' || c.is_ascii_digit()) {
+        Err(EvalError::LevelNotAnInteger {
+            variant,
+            text: shown,
+        })
+    } else {
+        Err(EvalError::Malformed(format!(
+            "level must be an integer, got {shown}"
+        )))
+    }
 }
 
 /// Evaluates one JSON input line `{"u": U, "v": V, "level": L}` and returns
@@ -246,9 +288,10 @@ pub fn eval_line(variant: Variant, line: &str) -> String {
         Err(EvalError::Malformed("expected a JSON object".into()))
     }
     .and_then(|input| {
+        let level = parse_level(variant, &input.level)?;
         let u = Value::parse(&input.u)?;
         let v = Value::parse(&input.v)?;
-        variant.evaluate(&u, &v, input.level)
+        variant.evaluate(&u, &v, level)
     });
     match result {
         Ok(index) => format!("{{\"index\":{index}}}"),
@@ -286,9 +329,9 @@ mod tests {
             "{",
             "[]",
             r#"{"u": 0.5, "v": "0", "level": 1}"#,
-            r#"{"u": "0.5", "v": "0", "level": -1}"#,
-            r#"{"u": "0.5", "v": "0", "level": 99999999999999999999}"#,
             r#"{"u": "0.5", "v": "0"}"#,
+            r#"{"u": "0.5", "v": "0", "level": "3"}"#,
+            r#"{"u": "0.5", "v": "0", "level": null}"#,
             r#"["0x3f000000", "0x3e800000", 1]"#,
         ] {
             let out = eval_line(Variant::SpecF32, line);
@@ -313,7 +356,7 @@ mod tests {
         let out = eval_line(Variant::WalkReal, r#"{"u": "0", "v": "0", "level": 33}"#);
         assert_eq!(
             out,
-            r#"{"error":"level 33 is too high: this variant supports levels 0..=32"}"#
+            r#"{"error":"level 33 is too high: walk-real supports levels 0..=32"}"#
         );
         let out = eval_line(
             Variant::SpecF32,
@@ -321,12 +364,62 @@ mod tests {
         );
         assert_eq!(
             out,
-            r#"{"error":"level 99999999999 is too high: this variant supports levels 0..=16"}"#
+            r#"{"error":"level 99999999999 is too high: spec-f32 supports levels 0..=16"}"#
         );
         let out = eval_line(
             Variant::SpecF32,
             r#"{"u": "0x7fc00000", "v": "0", "level": 16}"#,
         );
         assert_eq!(out, r#"{"index":0}"#);
+    }
+
+    /// Issue 9: a level that is not a `u64` said "invalid type: floating
+    /// point"; a level above 16 for spec-f32 said "supports levels 0..=32".
+    #[test]
+    fn level_messages_name_the_variants_range() {
+        let line = |level: &str| format!(r#"{{"u": "0", "v": "0", "level": {level}}}"#);
+        for (variant, level, message) in [
+            (
+                Variant::SpecF32,
+                "33",
+                "level 33 is too high: spec-f32 supports levels 0..=16",
+            ),
+            (
+                Variant::SpecF32,
+                "17",
+                "level 17 is too high: spec-f32 supports levels 0..=16",
+            ),
+            (
+                Variant::SpecF32,
+                "18446744073709551616",
+                "level 18446744073709551616 is not an integer in 0..=16, the levels spec-f32 supports",
+            ),
+            (
+                Variant::WalkReal,
+                "18446744073709551615",
+                "level 18446744073709551615 is too high: walk-real supports levels 0..=32",
+            ),
+            (
+                Variant::WalkReal,
+                "-1",
+                "level -1 is not an integer in 0..=32, the levels walk-real supports",
+            ),
+            (
+                Variant::WalkReal,
+                "1.5",
+                "level 1.5 is not an integer in 0..=32, the levels walk-real supports",
+            ),
+            (
+                Variant::SpecWideReal,
+                "1e400",
+                "level 1e400 is not an integer in 0..=32, the levels spec-wide-real supports",
+            ),
+        ] {
+            let out = eval_line(variant, &line(level));
+            let expected = serde_json::json!({ "error": message }).to_string();
+            assert_eq!(out, expected, "{variant} at level {level}");
+        }
+        assert_eq!(eval_line(Variant::SpecF32, &line("16")), r#"{"index":0}"#);
+        assert_eq!(eval_line(Variant::WalkReal, &line("32")), r#"{"index":0}"#);
     }
 }

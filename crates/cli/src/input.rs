@@ -1,0 +1,126 @@
+//! Reading input lines with a bounded buffer: a line longer than the cap is
+//! skipped (its bytes read and dropped as they come) and reported, so one
+//! 200 MB line costs a bounded amount of memory, not 200 MB.
+
+use std::io::{self, BufRead};
+
+/// The longest `eval` input line, in bytes (without the newline). A valid
+/// line is far shorter: two values of at most 20,000 characters
+/// (`micromap_index_verify::value::MAX_VALUE_LEN`) and a level.
+pub(crate) const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// One input line.
+#[derive(Debug, PartialEq, Eq)]
+pub(crate) enum Line<'a> {
+    /// The line's bytes, without the `\n` (a trailing `\r` is kept).
+    Text(&'a [u8]),
+    /// The line was longer than the cap; `bytes` is its length without the
+    /// `\n`.
+    TooLong {
+        /// The line's length.
+        bytes: u64,
+    },
+}
+
+/// Lines of `reader`, each at most `max` bytes kept in memory.
+pub(crate) struct BoundedLines<R> {
+    reader: R,
+    line: Vec<u8>,
+    max: usize,
+}
+
+impl<R: BufRead> BoundedLines<R> {
+    pub(crate) fn new(reader: R, max: usize) -> Self {
+        BoundedLines {
+            reader,
+            line: Vec::new(),
+            max,
+        }
+    }
+
+    /// The reader, to ask whether input is already buffered.
+    pub(crate) fn reader(&self) -> &R {
+        &self.reader
+    }
+
+    /// The next line, or `None` at the end of the input. A last line without
+    /// a newline is still a line; an empty input has no lines.
+    pub(crate) fn next_line(&mut self) -> io::Result<Option<Line<'_>>> {
+        self.line.clear();
+        let mut length: u64 = 0;
+        let mut any = false;
+        loop {
+            let available = match self.reader.fill_buf() {
+                Ok(available) => available,
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+                Err(e) => return Err(e),
+            };
+            if available.is_empty() {
+                if !any {
+                    return Ok(None);
+                }
+                break;
+            }
+            any = true;
+            let (part, newline) = match available.iter().position(|&b| b == b'\n') {
+                Some(at) => (&available[..at], true),
+                None => (available, false),
+            };
+            length += part.len() as u64;
+            if length <= self.max as u64 {
+                self.line.extend_from_slice(part);
+            }
+            let used = part.len() + usize::from(newline);
+            self.reader.consume(used);
+            if newline {
+                break;
+            }
+        }
+        Ok(Some(if length > self.max as u64 {
+            Line::TooLong { bytes: length }
+        } else {
+            Line::Text(&self.line)
+        }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// All lines of `input` read through a `capacity`-byte buffer.
+    fn lines(input: &[u8], capacity: usize, max: usize) -> Vec<Result<Vec<u8>, u64>> {
+        let reader = io::BufReader::with_capacity(capacity, input);
+        let mut lines = BoundedLines::new(reader, max);
+        let mut out = Vec::new();
+        while let Some(line) = lines.next_line().unwrap() {
+            out.push(match line {
+                Line::Text(bytes) => Ok(bytes.to_vec()),
+                Line::TooLong { bytes } => Err(bytes),
+            });
+        }
+        out
+    }
+
+    #[test]
+    fn splits_like_split_newline_and_caps_long_lines() {
+        let input = b"ab\n\nabcdef\nabcde\r\nxyz";
+        for capacity in [1, 2, 3, 7, 64] {
+            assert_eq!(
+                lines(input, capacity, 5),
+                vec![
+                    Ok(b"ab".to_vec()),
+                    Ok(Vec::new()),
+                    Err(6),
+                    Err(6), // "abcde\r": the \r counts
+                    Ok(b"xyz".to_vec()),
+                ],
+                "buffer of {capacity} bytes"
+            );
+        }
+        // Exactly at the cap is kept.
+        assert_eq!(lines(b"abcde\n", 2, 5), vec![Ok(b"abcde".to_vec())]);
+        assert_eq!(lines(b"", 4, 5), Vec::<Result<Vec<u8>, u64>>::new());
+        assert_eq!(lines(b"\n", 4, 5), vec![Ok(Vec::new())]);
+    }
+}

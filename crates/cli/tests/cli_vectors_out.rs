@@ -1,0 +1,147 @@
+//! `vectors --out DIR` writes all three files or none, refuses an empty or
+//! non-directory path and existing vector files (unless `--force`), and
+//! leaves no temporary behind.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+const NAMES: [&str; 3] = ["spec-exact.json", "spec-f32.json", "uv2index-exact.json"];
+
+fn vectors(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_micromap-index"))
+        .arg("vectors")
+        .args(args)
+        .stdin(Stdio::null())
+        .output()
+        .expect("the binary runs")
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cli_vectors_out_{name}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    names.sort();
+    names
+}
+
+fn committed(name: &str) -> Vec<u8> {
+    std::fs::read(
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../reference/vectors")
+            .join(name),
+    )
+    .unwrap()
+}
+
+/// Issue 9: `mkdir -p DIR/spec-exact.json; vectors --out DIR` wrote one file
+/// and exited 1. Now nothing is written, exit 2, even with `--force`.
+#[test]
+fn a_directory_in_the_way_writes_nothing() {
+    let dir = scratch("blocked");
+    std::fs::create_dir(dir.join("spec-exact.json")).unwrap();
+    for force in [false, true] {
+        let mut args = vec!["--out", dir.to_str().unwrap()];
+        if force {
+            args.push("--force");
+        }
+        let output = vectors(&args);
+        assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+        assert!(output.stdout.is_empty());
+        assert!(
+            stderr(&output).contains("spec-exact.json exists and is not a file; nothing written"),
+            "{}",
+            stderr(&output)
+        );
+        assert_eq!(listing(&dir), ["spec-exact.json"]);
+    }
+}
+
+#[test]
+fn existing_files_need_force() {
+    let dir = scratch("force");
+    std::fs::write(dir.join("spec-f32.json"), "old").unwrap();
+    let out = dir.to_str().unwrap();
+    let output = vectors(&["--out", out]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(
+        stderr(&output).contains("spec-f32.json exists; nothing written (--force replaces it)"),
+        "{}",
+        stderr(&output)
+    );
+    assert_eq!(listing(&dir), ["spec-f32.json"]);
+    assert_eq!(std::fs::read(dir.join("spec-f32.json")).unwrap(), b"old");
+
+    let output = vectors(&["--out", out, "--force"]);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    assert_eq!(listing(&dir), NAMES);
+    for name in NAMES {
+        assert!(
+            std::fs::read(dir.join(name)).unwrap() == committed(name),
+            "{name}"
+        );
+    }
+    // A second run without --force refuses again; with it, succeeds again.
+    assert_eq!(vectors(&["--out", out]).status.code(), Some(2));
+    assert_eq!(vectors(&["--force", "--out", out]).status.code(), Some(0));
+    assert_eq!(listing(&dir), NAMES);
+}
+
+#[test]
+fn bad_out_paths_are_usage_errors() {
+    let dir = scratch("paths");
+    let file = dir.join("a-file");
+    std::fs::write(&file, "x").unwrap();
+    for (args, message) in [
+        (
+            vec!["--out", ""],
+            "--out needs a directory path, got an empty one",
+        ),
+        (
+            vec!["--out", file.to_str().unwrap()],
+            "a-file exists and is not a directory",
+        ),
+        (
+            vec!["--out", dir.to_str().unwrap(), "--force", "--force"],
+            "--force given twice",
+        ),
+        (
+            vec!["--answers-from", "spec-f32", "--vectors", "x", "--force"],
+            "vectors needs --out DIR",
+        ),
+    ] {
+        let output = vectors(&args);
+        assert_eq!(output.status.code(), Some(2), "{args:?}");
+        assert!(
+            stderr(&output).contains(message),
+            "{args:?}: {}",
+            stderr(&output)
+        );
+    }
+    assert_eq!(listing(&dir), ["a-file"]);
+}
+
+/// A new directory (with parents) is created; the summary names each file.
+#[test]
+fn writes_into_a_new_directory() {
+    let dir = scratch("new").join("a").join("b");
+    let output = vectors(&["--out", dir.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    assert_eq!(listing(&dir), NAMES);
+    let summary = String::from_utf8(output.stdout).unwrap();
+    assert_eq!(summary.lines().count(), 3);
+    for name in NAMES {
+        assert!(summary.contains(name), "{summary}");
+    }
+}
