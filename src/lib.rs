@@ -32,7 +32,9 @@
 //! | `uv2index::index_real` (`exact`) | exact rationals | 0..=32 | the paper's walk (Algorithm 4) over the reals, for rational points |
 //! | [`uv2index::index_in_f32_arithmetic`], [`uv2index::index_in_f64_arithmetic`] | binary32 / binary64 | 0..=32 | the walk evaluated in that float type as the talk's Python reads; **not** exact near lattice lines (`docs/float.md`) |
 //! | [`uv2index::index`], [`uv2index::index_unchecked`] | any [`num::WalkNumber`] | 0..=32 | the walk written once, generic over the number type |
-//! | [`inverse::micro_triangle`] | integers | 0..=32 | the inverse: index → the micro-triangle's exact vertices; the walk maps every point inside it back to the index |
+//! | [`batch::index_f32`], [`batch::wide_index_f32`] | binary32 slices | 0..=16 / 0..=32 | [`spec::index_f32`] / [`spec::wide_index_f32`] bit for bit on every element, branch-free over slices, with AVX2 / AVX-512 picked at run time ([`batch::Backend`]) |
+//! | [`inverse::micro_triangle`] | integers | 0..=32 | the inverse: index → the micro-triangle's exact vertices in constant time; the walk maps every point inside it back to the index |
+//! | [`inverse::micro_triangles`] | integers | 0..=32 | every micro-triangle of a level in curve order, each equal to [`inverse::micro_triangle`] of its index |
 //!
 //! # Validation, one convention
 //!
@@ -45,8 +47,10 @@
 //!
 //! # Crate features
 //!
-//! * `std` (default): implies `alloc`; nothing else at present (the error
-//!   type implements `core::error::Error` either way).
+//! * `std` (default): implies `alloc`; run-time CPU feature detection, so
+//!   that [`batch`] can pick its AVX2 / AVX-512 backends on x86-64 (without
+//!   `std` it runs the portable backend). The error types implement
+//!   `core::error::Error` either way.
 //! * `alloc`: micromap containers and the succinct trees (they own buffers).
 //! * `exact`: exact rational inputs (`spec::index_real`,
 //!   `uv2index::index_real`, `inverse::MicroTriangle::vertices_rational`, ...)
@@ -57,10 +61,14 @@
 //!
 //! With `default-features = false` the crate is `no_std`, allocation-free and
 //! dependency-free: the reference in binary32, by integers and on dyadics, the
-//! generic walk with fixed point, the exact-for-every-float walk and the
-//! inverse.
+//! generic walk with fixed point, the exact-for-every-float walk, the batch
+//! API (portable backend; AVX2 / AVX-512 dispatch needs `std` for CPU
+//! feature detection) and the inverse.
 #![cfg_attr(not(feature = "std"), no_std)]
-#![forbid(unsafe_code)]
+// `deny` (also the workspace lint), not `forbid`: `batch::arch`
+// (runtime-dispatched SIMD) is the one module allowed `unsafe`, to call
+// `#[target_feature]` functions behind CPU feature checks.
+#![deny(unsafe_code)]
 #![deny(missing_docs)]
 
 #[cfg(feature = "alloc")]
@@ -86,6 +94,7 @@ macro_rules! unstable_pub_fn {
 #[doc = include_str!("../README.md")]
 mod readme {}
 
+pub mod batch;
 mod error;
 pub mod inverse;
 mod level;
@@ -122,8 +131,17 @@ pub fn index(u: f32, v: f32, level: SpecLevel) -> u32 {
 /// `unstable-public-internals` feature; **not** part of the stable API.
 #[cfg(feature = "unstable-public-internals")]
 pub mod internals {
+    pub use crate::inverse::micro_triangle_ref;
     pub use crate::spec::rounding_flips_diagonal;
     pub use crate::uv2index::index_version1_unchecked;
+    pub use crate::uv2index::{
+        cell_real_f32, cell_real_f64, exact_index_f32_ref, exact_index_f64_ref,
+    };
+
+    /// The highest level at which `uv2index::exact_index_f32` / `_f64` use
+    /// the reference's closed form (proved equal to the walk there); above
+    /// it they walk.
+    pub const CLOSED_FORM_PROVED_MAX_LEVEL: u32 = crate::uv2index::CLOSED_FORM_PROVED_MAX_LEVEL;
 
     /// One step of the talk's version 1 walk: fixed digits, the Top child
     /// re-oriented by rotating the coordinates; the flags stay untouched.

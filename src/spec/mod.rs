@@ -153,11 +153,13 @@ pub fn cell_f32(u: f32, v: f32, level: u32) -> Cell {
     let scale = (1u64 << level.min(32)) as f32;
     let fu = u * scale;
     let fv = v * scale;
-    // `fu`, `fv` are in [0, 2^32]: the cast truncates like C's.
-    let iu = fu as u64;
-    let iv = fv as u64;
-    let uf = fu - iu as f32;
-    let vf = fv - iv as f32;
+    // `fu`, `fv` are in [0, 2^32]: the cast truncates like C's. Through
+    // `i64` (exact on that range), whose conversions are single x86-64
+    // instructions; `u64`'s need fix-ups for values this cannot reach.
+    let iu = fu as i64 as u64;
+    let iv = fv as i64 as u64;
+    let uf = fu - iu as i64 as f32;
+    let vf = fv - iv as i64 as f32;
     Cell {
         iu,
         iv,

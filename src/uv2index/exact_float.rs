@@ -1,53 +1,270 @@
-//! The exact walk's answer for every finite float, with fixed point.
+//! The exact walk's answer for every finite float, with integers only, at
+//! the cost of the reference's steps.
+//!
+//! # Why the reference's steps give the walk's answer
+//!
+//! `docs/verification.md` proves that at every real point of the closed
+//! triangle the walk equals the reference's steps read over the reals
+//! (exact `floor`, fractions and `uf + vf >= 1`) with the integer half
+//! widened to 64-bit words: for levels `0..=16` (the reference's own) and
+//! `17..=19` (spec-wide), by checking one point of every face of the level's
+//! lattice. Those steps are exact integer operations on a float's bits:
+//!
+//! * the cell `floor(x * 2^level)` is the significand shifted by the
+//!   exponent;
+//! * the fractions are kept floored to 31 (binary32) or 62 (binary64) bits,
+//!   and `uf + vf >= 1` is decided on them exactly: a fraction loses bits
+//!   only when it is tiny (below `2^-7`, resp. `2^-9`, as it has at most
+//!   24, resp. 53, significant bits), and then the other is exact, so the
+//!   floored sum is the integer part of the real sum (in units of the last
+//!   kept bit) and reaches the integer threshold exactly when the real sum
+//!   does.
+//!
+//! For levels `20..=32` the closed form is only sampled (10^9 random faces
+//! per level, `docs/verification.md` section 7.4), not proved; there
+//! [`exact_index_f32`] and [`exact_index_f64`] run the walk itself, so every
+//! level keeps the proved guarantee.
+//!
+//! # The walk, the oracle
 //!
 //! The walk only compares the point against lattice lines (`u = k/2^level`,
 //! `v = k/2^level`, `u + v = k/2^level`), so any point in the same lattice
-//! face gives the same index: the functions here do not need every bit of
-//! the input. Each coordinate is rounded down to `P - 1` fractional bits and
-//! a *sticky* bit, set when anything was cut off, is appended as the `P`-th
-//! bit. Per coordinate this preserves the side of every line at multiples of
+//! face gives the same index: it does not need every bit of the input. Each
+//! coordinate is rounded down to `P - 1` fractional bits and a *sticky* bit,
+//! set when anything was cut off, is appended as the `P`-th bit. Per
+//! coordinate this preserves the side of every line at multiples of
 //! `2^-(P-1)`; for the sum it does so as long as `P >= level + 26` (binary32
 //! inputs, 24-bit significands) or `P >= level + 55` (binary64, 53 bits):
 //! both coordinates can only carry a sticky bit when both are below
 //! `2^(s+1-P)` (`s` the significand width), so their sum stays below the
 //! first lattice line. `docs/fixed.md` spells the argument out. With `P = 60`
 //! ([`Fixed64`], binary32) and `P = 124` ([`Fixed128`], binary64) every level
-//! up to 32 is covered.
+//! up to 32 is covered. That walk (`exact_index_f32_ref`,
+//! `exact_index_f64_ref`, in `internals` with the
+//! `unstable-public-internals` feature) is what the closed form is tested
+//! against, and what runs above level 19.
 
 use super::index_unchecked;
+use crate::batch::kernel::{self, Params};
 use crate::num::fixed::sticky_scaled;
 use crate::num::{Fixed128, Fixed64, WalkNumber};
+use crate::spec::Cell;
 use crate::{Error, Level};
+
+/// The highest level at which the reference's closed form is proved equal
+/// to the walk at every real point (exhaustive lattice checks,
+/// `docs/verification.md`); above it [`exact_index_f32`] and
+/// [`exact_index_f64`] walk.
+pub(crate) const CLOSED_FORM_PROVED_MAX_LEVEL: u32 = 19;
 
 /// The exact walk's index for a finite binary32 point: equal to the walk
 /// over the reals (`index_real`, feature `exact`) at the same point, for
-/// every level `0..=32`, with integers only. NaN, infinities and points
-/// outside the closed triangle are errors.
+/// every level `0..=32`, with integers only. NaN ([`Error::NotANumber`]),
+/// infinities ([`Error::Infinite`]) and points outside the closed triangle
+/// ([`Error::OutsideTriangle`], decided exactly) are errors.
+///
+/// Levels up to 19 use the reference's steps on the float's bits (proved
+/// equal to the walk there; the argument is in `src/uv2index/exact_float.rs`
+/// and `docs/verification.md`; in 32-bit words up to level 16), higher ones
+/// the walk.
 ///
 /// ```
-/// use micromap_index::{uv2index, Level};
-/// assert_eq!(uv2index::exact_index_f32(0.3, 0.3, Level::new(2).unwrap()), Ok(5));
+/// use micromap_index::{uv2index, Error, Level, Outside};
+/// let level = Level::new(2).unwrap();
+/// assert_eq!(uv2index::exact_index_f32(0.3, 0.3, level), Ok(5));
+/// // (1/4, 1/4) lies on a lattice vertex; the walk puts it in triangle 5.
+/// assert_eq!(uv2index::exact_index_f32(0.25, 0.25, level), Ok(5));
+/// assert_eq!(
+///     uv2index::exact_index_f32(1.0, f32::from_bits(1), level),
+///     Err(Error::OutsideTriangle { reason: Outside::SumAboveOne })
+/// );
 /// ```
+#[inline]
 pub fn exact_index_f32(u: f32, v: f32, level: Level) -> Result<u64, Error> {
+    // Bits of non-negative floats order like the floats; -0.0, NaN and
+    // everything negative are above 1.0's bits and take the full check.
+    let one = 1f32.to_bits();
+    let simple = u.to_bits() <= one && v.to_bits() <= one && !sum_above_one(u, v);
+    if !simple {
+        f32::check_point(&u, &v)?;
+    }
+    if level.get() <= crate::spec::MAX_LEVEL {
+        let params = Params::new(level.get(), kernel::EXACT_THRESHOLD);
+        Ok(u64::from(kernel::narrow::<false>(
+            u.to_bits(),
+            v.to_bits(),
+            &params,
+        )))
+    } else if level.get() <= CLOSED_FORM_PROVED_MAX_LEVEL {
+        let params = Params::new(level.get(), kernel::EXACT_THRESHOLD);
+        Ok(kernel::wide(u.to_bits(), v.to_bits(), &params))
+    } else {
+        exact_index_f32_ref(u, v, level)
+    }
+}
+
+/// `u + v > 1` exactly, for `u, v` in `[0, 1]`: the binary64 sum rounds
+/// monotonically and 1 is representable, so only a sum that rounds to
+/// exactly 1 needs its rounding error (Knuth's two-sum, exact here).
+#[inline]
+fn sum_above_one(u: f32, v: f32) -> bool {
     let (u, v) = (f64::from(u), f64::from(v));
-    f64::check_point(&u, &v)?;
-    let p = Fixed64::ONE_LOG2;
-    // In [0, 2^60]: fits.
-    let to_fixed = |x| Fixed64::from_raw(sticky_scaled(x, p) as i64);
-    Ok(index_unchecked(to_fixed(u), to_fixed(v), level))
+    let sum = u + v;
+    if sum != 1.0 {
+        return sum > 1.0;
+    }
+    let v_part = sum - u;
+    let u_part = sum - v_part;
+    (u - u_part) + (v - v_part) > 0.0
 }
 
 /// The exact walk's index for a finite binary64 point: equal to the walk
-/// over the reals at the same point, for every level `0..=32`, with integers
-/// only.
+/// over the reals at the same point, for every level `0..=32`, with
+/// integers only (computed like [`exact_index_f32`]).
 ///
 /// ```
 /// use micromap_index::{uv2index, Level};
 /// assert_eq!(uv2index::exact_index_f64(0.28, 0.4, Level::new(1).unwrap()), Ok(1));
 /// ```
+#[inline]
 pub fn exact_index_f64(u: f64, v: f64, level: Level) -> Result<u64, Error> {
     f64::check_point(&u, &v)?;
-    let p = Fixed128::ONE_LOG2;
-    let to_fixed = |x| Fixed128::from_raw(sticky_scaled(x, p));
-    Ok(index_unchecked(to_fixed(u), to_fixed(v), level))
+    if level.get() <= CLOSED_FORM_PROVED_MAX_LEVEL {
+        Ok(closed_form_f64(u, v, level))
+    } else {
+        exact_index_f64_ref(u, v, level)
+    }
+}
+
+unstable_pub_fn! {
+    /// [`exact_index_f32`] by the walk itself on [`Fixed64`] (`level`
+    /// steps): the oracle the closed form is checked against.
+    fn exact_index_f32_ref(u: f32, v: f32, level: Level) -> Result<u64, Error> {
+        let (u, v) = (f64::from(u), f64::from(v));
+        f64::check_point(&u, &v)?;
+        let p = Fixed64::ONE_LOG2;
+        // In [0, 2^60]: fits.
+        let to_fixed = |x| Fixed64::from_raw(sticky_scaled(x, p) as i64);
+        Ok(index_unchecked(to_fixed(u), to_fixed(v), level))
+    }
+}
+
+unstable_pub_fn! {
+    /// [`exact_index_f64`] by the walk itself on [`Fixed128`]: the oracle.
+    fn exact_index_f64_ref(u: f64, v: f64, level: Level) -> Result<u64, Error> {
+        f64::check_point(&u, &v)?;
+        let p = Fixed128::ONE_LOG2;
+        let to_fixed = |x| Fixed128::from_raw(sticky_scaled(x, p));
+        Ok(index_unchecked(to_fixed(u), to_fixed(v), level))
+    }
+}
+
+/// The reference's exact steps, widened, on a binary64 point (clamped like
+/// the reference).
+#[inline]
+fn closed_form_f64(u: f64, v: f64, level: Level) -> u64 {
+    let last = ((1u64 << level.get()) - 1) as u32;
+    let (iu, uf) = coordinate_f64(u, level.get());
+    let (iv, vf) = coordinate_f64(v, level.get());
+    let clamp = |cell: u64| cell.min(u64::from(last)) as u32;
+    kernel::wide_from_clamped_cell(clamp(iu), clamp(iv), uf + vf >= F64_ONE, last)
+}
+
+/// Fraction bits kept of a binary64 coordinate's fraction.
+const F64_FRACTION_BITS: u32 = 62;
+/// `1` in units of the last kept fraction bit.
+const F64_ONE: u64 = 1 << F64_FRACTION_BITS;
+
+/// The cell `floor(x * 2^level)` (at most `2^32`) and
+/// `floor(fraction * 2^62)` of `x` clamped to `[0, 1]` (NaN and negatives to
+/// 0). `x = m * 2^(e - 1075)` with `m < 2^53` and `e <= 1023`, so
+/// `x * 2^level = m >> s` with `s = 1075 - level - e >= 20`.
+#[inline]
+fn coordinate_f64(x: f64, level: u32) -> (u64, u64) {
+    let bits = x.to_bits();
+    let clamped = if bits > 0x7ff0_0000_0000_0000 {
+        0 // NaN or negative
+    } else {
+        bits.min(1f64.to_bits())
+    };
+    let biased = (clamped >> 52) as u32;
+    let hidden = if biased == 0 { 0 } else { 1 << 52 };
+    let m = (clamped & ((1 << 52) - 1)) | hidden;
+    let s = 1075 - level - biased.max(1);
+    let cell = m.checked_shr(s).unwrap_or(0);
+    let fraction = m & 1u64.checked_shl(s).map_or(u64::MAX, |bit| bit - 1);
+    let scaled = if s <= F64_FRACTION_BITS {
+        fraction << (F64_FRACTION_BITS - s)
+    } else {
+        fraction.checked_shr(s - F64_FRACTION_BITS).unwrap_or(0)
+    };
+    (cell, scaled)
+}
+
+unstable_pub_fn! {
+    /// The reference's first half over the reals for a binary32 point, from
+    /// its bits: equal to `spec::cell_real` (feature `exact`) on the float's
+    /// exact value (clamped to `[0, 1]`, NaN to 0), every level `0..=32`.
+    /// With [`spec::wide_index_from_cell`](crate::spec::wide_index_from_cell)
+    /// it is the closed form of the module docs at any level (for the tests).
+    #[must_use]
+    fn cell_real_f32(u: f32, v: f32, level: Level) -> Cell {
+        cell_real_f64(f64::from(u), f64::from(v), level)
+    }
+}
+
+unstable_pub_fn! {
+    /// [`cell_real_f32`] for a binary64 point.
+    #[must_use]
+    fn cell_real_f64(u: f64, v: f64, level: Level) -> Cell {
+        let (iu, uf) = coordinate_f64(u, level.get());
+        let (iv, vf) = coordinate_f64(v, level.get());
+        Cell {
+            iu,
+            iv,
+            diagonal: uf + vf >= F64_ONE,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn closed_form_equals_the_walk_on_lattice_points() {
+        // Vertices, edge midpoints and cell centres of levels 0..=5, at
+        // levels up to 22 (both sides of the switch to the walk).
+        for level in 0..=22 {
+            let level = Level::new(level).unwrap();
+            for a in 0..=64u32 {
+                for b in 0..=(64 - a) {
+                    let (u, v) = (a as f32 / 64.0, b as f32 / 64.0);
+                    assert_eq!(
+                        exact_index_f32(u, v, level),
+                        exact_index_f32_ref(u, v, level),
+                        "f32 ({u}, {v}) level {level}"
+                    );
+                    let (u, v) = (f64::from(u), f64::from(v));
+                    assert_eq!(
+                        exact_index_f64(u, v, level),
+                        exact_index_f64_ref(u, v, level),
+                        "f64 ({u}, {v}) level {level}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn f64_coordinates_split_cell_and_fraction() {
+        assert_eq!(coordinate_f64(0.75, 1), (1, 1 << 61));
+        assert_eq!(coordinate_f64(1.0, 32), (1 << 32, 0));
+        assert_eq!(coordinate_f64(f64::NAN, 3), (0, 0));
+        assert_eq!(coordinate_f64(-0.5, 3), (0, 0));
+        assert_eq!(coordinate_f64(2.0, 3), (8, 0));
+        // 2^-70 at level 0: floors to 0 at 62 bits.
+        assert_eq!(coordinate_f64(2f64.powi(-70), 0), (0, 0));
+        assert_eq!(coordinate_f64(2f64.powi(-62), 0), (0, 1));
+    }
 }

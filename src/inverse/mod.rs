@@ -1,11 +1,17 @@
 //! The inverse map: from a micro-triangle's index to its vertices.
 //!
-//! [`micro_triangle`] reads the index's base-4 digits from the top and
-//! replays the [`uv2index`] walk: each digit picks the Left, Middle, Right
-//! or Top child exactly as [`Walk::step`] numbers them (a `top_flip`,
-//! toggled by every Top step, swaps the digits of Left and Right), and the
-//! current triangle's vertices are replaced by the child's. The vertices stay exact: at level `n` every vertex is a lattice
-//! point `(a / 2^n, b / 2^n)`, stored as the integer numerators `(a, b)`.
+//! [`micro_triangle`] inverts the reference's integer half in a fixed number
+//! of word operations, whatever the level (the derivation is in
+//! `src/inverse/by_bits.rs`); [`micro_triangles`] visits every
+//! micro-triangle of a level in curve order, for bakers. Both are checked
+//! against the oracle `micro_triangle_ref` (in `internals`), which reads the
+//! index's base-4 digits from the top and replays the [`uv2index`] walk:
+//! each digit picks the Left, Middle, Right or Top child exactly as
+//! [`Walk::step`] numbers them (a `top_flip`, toggled by every Top step,
+//! swaps the digits of Left and Right), and the current triangle's vertices
+//! are replaced by the child's. The vertices stay exact: at level `n` every
+//! vertex is a lattice point `(a / 2^n, b / 2^n)`, stored as the integer
+//! numerators `(a, b)`.
 //!
 //! # Vertex order
 //!
@@ -21,7 +27,10 @@
 //!
 //! The Left, Right and Top children keep their parent's orientation and the
 //! Middle child turns it upside down; in the local frame the Middle child's
-//! vertex order also reverses its winding. Hence the vertices wind
+//! vertex order also reverses its winding. The order depends only on the
+//! orientation (every child is its parent's affine image): an upright
+//! micro-triangle in cell `(a, b)` is always `(a, b), (a + 1, b), (a, b + 1)`
+//! and an upside-down one `(a, b + 1), (a + 1, b + 1), (a + 1, b)`. Hence the vertices wind
 //! counter-clockwise in the `(u, v)` plane exactly when the micro-triangle is
 //! [upright](MicroTriangle::upright).
 //!
@@ -45,6 +54,11 @@
 //! ```
 //!
 //! [`Walk::step`]: crate::uv2index::Walk::step
+
+mod by_bits;
+mod iter;
+
+pub use iter::{micro_triangles, MicroTriangles};
 
 use crate::num::Fixed64;
 use crate::uv2index::{self, digit};
@@ -115,8 +129,8 @@ fn midpoint(a: (u64, u64), b: (u64, u64)) -> (u64, u64) {
 /// The micro-triangle with index `index` at `level`: its vertices (in the
 /// walk's local order, see the [module docs](self)) and orientation.
 ///
-/// Every level `0..=32` is supported; an index `>= 4^level` is
-/// [`Error::IndexOutOfRange`]. Never panics.
+/// Every level `0..=32` is supported, in constant time; an index
+/// `>= 4^level` is [`Error::IndexOutOfRange`]. Never panics.
 ///
 /// ```
 /// use micromap_index::inverse::micro_triangle;
@@ -132,13 +146,39 @@ fn midpoint(a: (u64, u64), b: (u64, u64)) -> (u64, u64) {
 ///     Err(Error::IndexOutOfRange { index: 4, level: 1 })
 /// );
 /// ```
+#[inline]
 pub fn micro_triangle(level: Level, index: u64) -> Result<MicroTriangle, Error> {
+    check_index(level, index)?;
+    let ((iu, iv), upright) = by_bits::cell_and_orientation(level, index);
+    let origin = if upright { (iu, iv) } else { (iu, iv + 1) };
+    Ok(MicroTriangle::from_origin(level, index, origin, upright))
+}
+
+/// [`Error::IndexOutOfRange`] unless `index < 4^level`.
+#[inline]
+fn check_index(level: Level, index: u64) -> Result<(), Error> {
     if u128::from(index) >= level.micro_triangle_count() {
-        return Err(Error::IndexOutOfRange {
+        Err(Error::IndexOutOfRange {
             index,
             level: level.get(),
-        });
+        })
+    } else {
+        Ok(())
     }
+}
+
+unstable_pub_fn! {
+    /// [`micro_triangle`] by replaying the walk digit by digit (see the
+    /// [module docs](self)): the oracle the constant-time inversion and the
+    /// iterator are tested against.
+    fn micro_triangle_ref(level: Level, index: u64) -> Result<MicroTriangle, Error> {
+        check_index(level, index)?;
+        Ok(replay(level, index))
+    }
+}
+
+/// The digit replay of [`micro_triangle_ref`], for an index in range.
+fn replay(level: Level, index: u64) -> MicroTriangle {
     let side = 1u64 << level.get();
     let mut vertices = [(0, 0), (side, 0), (0, side)];
     let mut top_flip = false;
@@ -154,15 +194,58 @@ pub fn micro_triangle(level: Level, index: u64) -> Result<MicroTriangle, Error> 
             Child::Left | Child::Right => {}
         }
     }
-    Ok(MicroTriangle {
+    MicroTriangle {
         level,
         index,
         vertices,
         upright,
-    })
+    }
 }
 
 impl MicroTriangle {
+    /// The micro-triangle whose `vertices[0]` is `origin` (numerators over
+    /// `2^level`): the other two follow from the orientation (module docs).
+    #[inline]
+    fn from_origin(level: Level, index: u64, origin: (u64, u64), upright: bool) -> MicroTriangle {
+        let (a, b) = origin;
+        // Third vertex (a, b + 1) upright, (a + 1, b - 1) upside down,
+        // without a branch (the orientation is irregular along the curve).
+        let down = u64::from(!upright);
+        MicroTriangle {
+            level,
+            index,
+            vertices: [
+                (a, b),
+                (a + 1, b),
+                (a + down, (b + 1).wrapping_sub(2 * down)),
+            ],
+            upright,
+        }
+    }
+
+    /// The grid cell `(iu, iv)` holding the micro-triangle: numerators over
+    /// `2^level` of the lower-left corner of the square it lies in (the
+    /// upside-down triangle is the upper-right half of its cell), as the
+    /// reference's `trunc(u * 2^level)`, `trunc(v * 2^level)` of its
+    /// interior points.
+    ///
+    /// ```
+    /// use micromap_index::{inverse::micro_triangle, Level};
+    /// let level = Level::new(1).unwrap();
+    /// assert_eq!(micro_triangle(level, 1).unwrap().cell(), (0, 0));
+    /// assert_eq!(micro_triangle(level, 3).unwrap().cell(), (0, 1));
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn cell(&self) -> (u64, u64) {
+        let (a, b) = self.vertices[0];
+        if self.upright {
+            (a, b)
+        } else {
+            (a, b - 1)
+        }
+    }
+
     /// The subdivision level.
     ///
     /// ```

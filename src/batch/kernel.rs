@@ -1,0 +1,321 @@
+//! The reference's steps rewritten without branches on the bits of the
+//! floats: safe code, one lane at a time, written so that a loop over slices
+//! vectorises. [`super::arch`] compiles the same loops again with AVX2 or
+//! AVX-512 enabled; everything here is `#[inline(always)]` so that each
+//! caller gets its own copy under its own target features.
+//!
+//! # The first half on the bits
+//!
+//! The Vulkan reference clamps `x` to `[0, 1]`, multiplies by `2^level`,
+//! truncates to the cell and keeps the fraction; every one of those binary32
+//! operations is exact. Only `uf + vf >= 1.0f` rounds: binary32
+//! round-to-nearest-even lifts every real sum in `[1 - 2^-25, 1)` to `1.0`
+//! and no smaller one, so the test is `uf + vf >= 1 - 2^-25` over the reals
+//! (`docs/fixed.md`).
+//!
+//! * **Clamp.** As an unsigned integer, every NaN and every negative value
+//!   (sign bit set) is above the bits of `+inf`, `0x7f80_0000`: they become
+//!   `+0`. Everything else is `min(bits, bits of 1.0)` (bits of non-negative
+//!   floats order like the floats; `+inf` becomes 1).
+//! * **Cell and fraction.** The clamped `x` is `m * 2^(e - 150)` with `m`
+//!   the 24-bit significand (hidden bit included) and `e = max(biased
+//!   exponent, 1)`. With `P` fraction bits, `floor(x * 2^(level + P)) =
+//!   floor(m * 2^(P - s))`, `s = 150 - level - e`: the cell is its integer
+//!   part and the fraction its low `P` bits, floored.
+//! * **Diagonal.** With `P = 31` the fractions are `Fu = floor(uf * 2^31)`,
+//!   `Fv` likewise, and the test is `Fu + Fv >= T` with `T = 2^31 - 2^6`
+//!   (`(1 - 2^-25) * 2^31`; the `exact` variants use `T = 2^31`, the real
+//!   `uf + vf >= 1`). Flooring keeps it exact: a fraction loses bits only if
+//!   its lowest bit is below `2^-31`, and then, having at most 24 significant
+//!   bits, it is below `2^-7`. If both lose bits the sum is below `2^-6`, far
+//!   from `T`. If one does, the other is exact, so `Fu + Fv` is the integer
+//!   part of the real `(uf + vf) * 2^31`, and an integer threshold `T` is
+//!   reached by a real number exactly when it is reached by its integer part.
+//!
+//! # The integer half
+//!
+//! From the cell `(iu, iv)` clamped to `last = 2^level - 1` and the diagonal
+//! outcome, the reference folds a cell past the hypotenuse back
+//! (`iu -= iu + iv - last`, i.e. `iu = min(iu, last - iv)`), subtracts one
+//! from `iw = ~(iu + iv)` on the diagonal when `iu + iv < last` (so
+//! `~iw = iu + iv + d` with `d` that outcome), and then
+//! `b0 = ~(iu ^ iw) & last = (iu ^ (iu + iv + d)) & last`. Nothing exceeds
+//! `last`, so 32-bit words hold every level `0..=32`. The prefix XOR and the
+//! bit interleave are the reference's; the interleave of `b0` and `b1` is one
+//! perfect shuffle of the word holding both (Hacker's Delight, 7-2).
+
+/// Bits of `1.0f32`.
+const ONE_BITS: u32 = 0x3f80_0000;
+/// Bits of `+inf`: everything above (as an unsigned integer) is NaN or negative.
+const INF_BITS: u32 = 0x7f80_0000;
+/// Fraction bits kept of `uf` and `vf`.
+pub(crate) const FRACTION_BITS: u32 = 31;
+/// `uf + vf >= 1.0f` in binary32: the real sum at least `1 - 2^-25`.
+pub(crate) const BINARY32_THRESHOLD: u32 = (1 << FRACTION_BITS) - (1 << (FRACTION_BITS - 25));
+/// `uf + vf >= 1` over the reals.
+pub(crate) const EXACT_THRESHOLD: u32 = 1 << FRACTION_BITS;
+
+/// What the per-element kernels need of the level, computed once per call.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Params {
+    /// `2^level - 1` (for level 32 all ones).
+    pub last: u32,
+    /// `150 - level`: `s = shift_base - e`.
+    pub shift_base: u32,
+    /// `2^level` as a float (levels `0..=16` only).
+    pub scale: f32,
+    /// The diagonal threshold on `Fu + Fv`.
+    pub threshold: u32,
+}
+
+impl Params {
+    /// The parameters of `level` (`0..=32`, clamped there) and a threshold.
+    #[inline(always)]
+    pub const fn new(level: u32, threshold: u32) -> Params {
+        let level = if level > 32 { 32 } else { level };
+        Params {
+            last: ((1u64 << level) - 1) as u32,
+            shift_base: 150 - level,
+            scale: (1u64 << level) as f32,
+            threshold,
+        }
+    }
+}
+
+/// The clamped binary32 bits of `x` (as bits): NaN and negatives -> `+0`,
+/// `>= 1` (and `+inf`) -> `1.0`.
+#[inline(always)]
+fn clamp_bits(bits: u32) -> u32 {
+    let clamped = if bits < ONE_BITS { bits } else { ONE_BITS };
+    if bits > INF_BITS {
+        0
+    } else {
+        clamped
+    }
+}
+
+/// The significand `m` (24 bits, hidden bit included) and the shift `s`
+/// with `x * 2^level = m * 2^-s`, for clamped bits.
+#[inline(always)]
+fn significand_and_shift(clamped: u32, params: &Params) -> (u32, u32) {
+    let biased = clamped >> 23;
+    let hidden = if biased == 0 { 0 } else { 1 << 23 };
+    let m = (clamped & 0x7f_ffff) | hidden;
+    let e = if biased == 0 { 1 } else { biased };
+    // e <= 127 and level <= 32: s >= 150 - 32 - 127 = -9, wraps below 0.
+    (m, params.shift_base.wrapping_sub(e))
+}
+
+/// `x >> n`, or 0 when `n >= 32` (what AVX2's `vpsrlvd` computes).
+#[inline(always)]
+fn shr_or_zero(x: u32, n: u32) -> u32 {
+    if n < 32 {
+        x >> n
+    } else {
+        0
+    }
+}
+
+/// `x << n`, or 0 when `n >= 32` (what AVX2's `vpsllvd` computes).
+#[inline(always)]
+fn shl_or_zero(x: u32, n: u32) -> u32 {
+    if n < 32 {
+        x << n
+    } else {
+        0
+    }
+}
+
+/// Cell clamped to `last` and `floor(fraction * 2^31)` of one coordinate,
+/// in 32-bit words, every level `0..=32`.
+///
+/// `s >= 150 - 32 - 127 = -9`. For `s >= 0` the cell is `m >> s`; for
+/// `s < 0` (levels above 23 only) it is `m << -s`. Only `x = 1` has a cell
+/// beyond `last` (`2^level`, which wraps to 0 at level 32), so `x = 1` takes
+/// `last` directly; its fraction then no longer matters, since `iu = last`
+/// rules the diagonal out. The fraction `floor(m * 2^(31 - s)) mod 2^31` is `m << (31 - s)`
+/// with the bits above 31 dropped when `s <= 31` (0 when `s <= 0`), else
+/// `m >> (s - 31)`. Each shift that does not apply has a count `>= 32` as
+/// an unsigned number and gives 0.
+#[inline(always)]
+fn coordinate<const WIDE: bool>(bits: u32, params: &Params) -> (u32, u32) {
+    let clamped = clamp_bits(bits);
+    let (m, s) = significand_and_shift(clamped, params);
+    let mut cell = shr_or_zero(m, s);
+    if WIDE {
+        cell |= shl_or_zero(m, 0u32.wrapping_sub(s));
+    }
+    let cell = if clamped == ONE_BITS {
+        params.last
+    } else {
+        cell
+    };
+    let low = shl_or_zero(m, 31u32.wrapping_sub(s)) & 0x7fff_ffff;
+    let high = shr_or_zero(m, s.wrapping_sub(31));
+    (cell, low | high)
+}
+
+/// Cell clamped to `last` and the exact binary32 fraction, by the
+/// reference's own float operations (every one exact): `fu = x * 2^level`,
+/// `iu = trunc(fu)`, `uf = fu - iu`. Levels `0..=16` (`fu <= 2^16`).
+///
+/// The truncation avoids a float-to-integer conversion, which baselines
+/// without a vector form of it (SSE2) do one lane at a time: adding `2^23`
+/// rounds `fu < 2^23` to an integer `r` in the low bits of the sum (exact),
+/// and `r - 1` is taken when `r > fu`.
+#[inline(always)]
+fn coordinate_float(bits: u32, params: &Params) -> (u32, f32) {
+    const MAGIC: f32 = 8_388_608.0; // 2^23
+                                    // Subnormals flushed to 0 (CPUs take slow paths on them): their cell is
+                                    // 0 and their fraction, below 2^-110 at level 16, cannot move `uf + vf`
+                                    // across `1 - 2^-25` (the other fraction is at most 1 - 2^-24).
+    let clamped = clamp_bits(bits);
+    let x = f32::from_bits(if clamped < 0x0080_0000 { 0 } else { clamped });
+    let fu = x * params.scale;
+    let sum = fu + MAGIC;
+    let rounded = sum - MAGIC;
+    let above = rounded > fu;
+    let truncated = if above { rounded - 1.0 } else { rounded };
+    let cell = (sum.to_bits() & 0x7f_ffff) - u32::from(above);
+    let uf = fu - truncated;
+    (
+        if cell > params.last {
+            params.last
+        } else {
+            cell
+        },
+        uf,
+    )
+}
+
+/// The reference's integer half from clamped cells (`iu, iv <= last`):
+/// returns `(b0, b1)` before the interleave. `WIDE` adds the fifth
+/// prefix-XOR step that levels above 16 need.
+#[inline(always)]
+fn integer_half<const WIDE: bool>(iu: u32, iv: u32, diagonal: bool, last: u32) -> (u32, u32) {
+    let room = last - iv;
+    let d = u32::from(diagonal && iu < room);
+    let iu = if iu < room { iu } else { room };
+    let b0 = (iu ^ (iu + iv + d)) & last;
+    let t = (iu ^ iv) & b0;
+    let mut f = t;
+    f ^= f >> 1;
+    f ^= f >> 2;
+    f ^= f >> 4;
+    f ^= f >> 8;
+    if WIDE {
+        f ^= f >> 16;
+    }
+    let b1 = ((f ^ iu) & !b0) | t;
+    (b0, b1)
+}
+
+/// `b0` to the even bits and `b1` to the odd bits, for 16-bit halves: the
+/// outer perfect shuffle of `b1:b0`.
+#[inline(always)]
+fn interleave_16(b0: u32, b1: u32) -> u32 {
+    let mut x = b0 | (b1 << 16);
+    let mut t;
+    t = (x ^ (x >> 8)) & 0x0000_ff00;
+    x ^= t ^ (t << 8);
+    t = (x ^ (x >> 4)) & 0x00f0_00f0;
+    x ^= t ^ (t << 4);
+    t = (x ^ (x >> 2)) & 0x0c0c_0c0c;
+    x ^= t ^ (t << 2);
+    t = (x ^ (x >> 1)) & 0x2222_2222;
+    x ^= t ^ (t << 1);
+    x
+}
+
+/// The reference in binary32 for one pair of bit patterns, levels `0..=16`:
+/// the same bits as `spec::index_f32`. `FLOAT_CELL` picks
+/// [`coordinate_float`] over the integer [`coordinate`].
+#[inline(always)]
+pub(crate) fn narrow<const FLOAT_CELL: bool>(u_bits: u32, v_bits: u32, params: &Params) -> u32 {
+    let (iu, iv, diagonal) = if FLOAT_CELL {
+        let (iu, uf) = coordinate_float(u_bits, params);
+        let (iv, vf) = coordinate_float(v_bits, params);
+        (iu, iv, uf + vf >= 1.0)
+    } else {
+        let (iu, uf) = coordinate::<false>(u_bits, params);
+        let (iv, vf) = coordinate::<false>(v_bits, params);
+        (iu, iv, uf + vf >= params.threshold)
+    };
+    let (b0, b1) = integer_half::<false>(iu, iv, diagonal, params.last);
+    interleave_16(b0, b1)
+}
+
+/// The reference widened to 64 bits for one pair of bit patterns, levels
+/// `0..=32`: the same bits as `spec::wide_index_f32` (binary32 threshold) or
+/// the exact reading of the reference (exact threshold).
+#[inline(always)]
+pub(crate) fn wide(u_bits: u32, v_bits: u32, params: &Params) -> u64 {
+    let (iu, uf) = coordinate::<true>(u_bits, params);
+    let (iv, vf) = coordinate::<true>(v_bits, params);
+    wide_from_clamped_cell(iu, iv, uf + vf >= params.threshold, params.last)
+}
+
+/// The wide integer half and interleave (two 16-bit interleaves in 32-bit
+/// words, then one widening) from cells already clamped to
+/// `last` (`iu, iv <= last`): `spec::wide_index_from_cell` on such cells.
+#[inline(always)]
+pub(crate) fn wide_from_clamped_cell(iu: u32, iv: u32, diagonal: bool, last: u32) -> u64 {
+    let (b0, b1) = integer_half::<true>(iu, iv, diagonal, last);
+    let low = interleave_16(b0 & 0xffff, b1 & 0xffff);
+    let high = interleave_16(b0 >> 16, b1 >> 16);
+    u64::from(low) | (u64::from(high) << 32)
+}
+
+/// [`narrow`] over slices of equal length (checked by the caller).
+#[inline(always)]
+pub(crate) fn narrow_slice<const FLOAT_CELL: bool>(
+    u: &[f32],
+    v: &[f32],
+    out: &mut [u32],
+    params: &Params,
+) {
+    for ((out, u), v) in out.iter_mut().zip(u).zip(v) {
+        *out = narrow::<FLOAT_CELL>(u.to_bits(), v.to_bits(), params);
+    }
+}
+
+/// [`wide`] over slices of equal length (checked by the caller).
+#[inline(always)]
+pub(crate) fn wide_slice(u: &[f32], v: &[f32], out: &mut [u64], params: &Params) {
+    for ((out, u), v) in out.iter_mut().zip(u).zip(v) {
+        *out = wide(u.to_bits(), v.to_bits(), params);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn interleave_puts_b0_on_even_bits() {
+        assert_eq!(interleave_16(0xffff, 0), 0x5555_5555);
+        assert_eq!(interleave_16(0, 0xffff), 0xaaaa_aaaa);
+        assert_eq!(interleave_16(0b10, 0b01), 0b0110);
+    }
+
+    #[test]
+    fn coordinates_split_cell_and_fraction() {
+        let p = Params::new(1, BINARY32_THRESHOLD);
+        assert_eq!(coordinate::<false>(0.75f32.to_bits(), &p), (1, 1 << 30));
+        assert_eq!(coordinate::<false>(1.0f32.to_bits(), &p), (1, 0));
+        assert_eq!(coordinate::<false>(f32::NAN.to_bits(), &p), (0, 0));
+        assert_eq!(coordinate::<false>((-0.5f32).to_bits(), &p), (0, 0));
+        assert_eq!(coordinate::<false>(f32::INFINITY.to_bits(), &p), (1, 0));
+        // 2^-149 * 2: far below 2^-31, floors to 0.
+        assert_eq!(coordinate::<false>(1, &p), (0, 0));
+        let p = Params::new(32, BINARY32_THRESHOLD);
+        assert_eq!(coordinate::<true>(1.0f32.to_bits(), &p), (u32::MAX, 0));
+        assert_eq!(coordinate::<true>(0.5f32.to_bits(), &p), (1 << 31, 0));
+        // 2^-40 * 2^32 = 2^-8: fraction 2^-8 * 2^31.
+        assert_eq!(
+            coordinate::<true>(2f32.powi(-40).to_bits(), &p),
+            (0, 1 << 23)
+        );
+        assert_eq!(coordinate::<true>(1, &p), (0, 0));
+    }
+}

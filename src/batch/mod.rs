@@ -1,0 +1,339 @@
+//! The Vulkan reference over slices: many points, one level, bit-identical
+//! to [`spec::index_f32`] / [`spec::wide_index_f32`] on every input.
+//!
+//! Ray tracers and bakers map millions of hits per frame. [`index_f32`]
+//! validates the level and the slice lengths once, then runs a branch-free
+//! rewrite of the reference's steps on the float bits (see
+//! `src/batch/kernel.rs` for the derivation) over the whole slice:
+//!
+//! * NaN and negatives clamp to 0, everything from 1 up (`+inf` too) to 1,
+//!   by comparisons on the bits;
+//! * the cell `trunc(x * 2^level)` and the fraction come from the exponent
+//!   and significand by shifts;
+//! * the reference's `uf + vf >= 1.0f`, rounded in binary32, is decided
+//!   exactly as `uf + vf >= 1 - 2^-25` on 31-bit fractions;
+//! * the fold, prefix XOR and interleave are the reference's integer half.
+//!
+//! The portable build takes the cell and fraction with the reference's own
+//! float operations instead (all exact; SSE2 has no per-lane shifts), with
+//! subnormals flushed first; either way the result is the reference's bits.
+//!
+//! # Backends
+//!
+//! The loop is compiled several times ([`Backend`]): for the target's
+//! baseline ([`Backend::Portable`], vectorised as far as the baseline allows:
+//! SSE2 on x86-64) and, on x86-64 with `std`, with AVX2 and with AVX-512
+//! enabled, picked at run time by CPU feature detection (done once and
+//! cached). All backends run the same safe kernel; only the instructions the
+//! compiler may use differ. [`index_f32_with`] forces a backend, for tests
+//! and benchmarks.
+//!
+//! ```
+//! use micromap_index::{batch, spec, SpecLevel};
+//!
+//! let level = SpecLevel::new(1)?;
+//! let u = [0.1, 0.4, f32::NAN, 0.9];
+//! let v = [0.1, 0.4, 2.0, 0.05];
+//! let mut out = [0u32; 4];
+//! batch::index_f32(&u, &v, level, &mut out)?;
+//! assert_eq!(out, [0, 1, 3, 2]);
+//! for i in 0..4 {
+//!     assert_eq!(out[i], spec::index_f32(u[i], v[i], level));
+//! }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! [`spec::index_f32`]: crate::spec::index_f32
+//! [`spec::wide_index_f32`]: crate::spec::wide_index_f32
+
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+mod arch;
+pub(crate) mod kernel;
+
+use crate::{Level, SpecLevel};
+use core::fmt;
+use core::sync::atomic::{AtomicU8, Ordering};
+
+/// One compilation of the batch loop.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Backend {
+    /// The loop compiled for the target's baseline features (SSE2 on
+    /// x86-64). Always available.
+    Portable,
+    /// x86-64 with AVX2 (8 lanes of 32 bits).
+    Avx2,
+    /// x86-64 with AVX-512 F, BW, VL and DQ (16 lanes of 32 bits). Built only
+    /// by compilers that support it (Rust 1.89 and later).
+    Avx512,
+}
+
+impl Backend {
+    /// Every backend, available here or not, fastest last.
+    pub const ALL: [Backend; 3] = [Backend::Portable, Backend::Avx2, Backend::Avx512];
+
+    /// Whether this CPU (and this build) can run the backend.
+    ///
+    /// ```
+    /// use micromap_index::batch::Backend;
+    /// assert!(Backend::Portable.is_available());
+    /// ```
+    #[must_use]
+    pub fn is_available(self) -> bool {
+        match self {
+            Backend::Portable => true,
+            #[cfg(all(feature = "std", target_arch = "x86_64"))]
+            Backend::Avx2 => arch::has_avx2(),
+            #[cfg(all(feature = "std", target_arch = "x86_64"))]
+            Backend::Avx512 => arch::has_avx512(),
+            #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+            Backend::Avx2 | Backend::Avx512 => false,
+        }
+    }
+
+    /// The backends this CPU can run, in the order of [`Backend::ALL`].
+    ///
+    /// ```
+    /// use micromap_index::batch::Backend;
+    /// assert_eq!(Backend::available().next(), Some(Backend::Portable));
+    /// ```
+    pub fn available() -> impl Iterator<Item = Backend> {
+        Backend::ALL
+            .into_iter()
+            .filter(|backend| backend.is_available())
+    }
+
+    /// The fastest available backend; detected on the first call and cached.
+    ///
+    /// ```
+    /// use micromap_index::batch::Backend;
+    /// assert!(Backend::best().is_available());
+    /// ```
+    #[must_use]
+    pub fn best() -> Backend {
+        static BEST: AtomicU8 = AtomicU8::new(u8::MAX);
+        let cached = BEST.load(Ordering::Relaxed);
+        if let Some(&backend) = Backend::ALL.get(usize::from(cached)) {
+            return backend;
+        }
+        let best = Backend::available().last().unwrap_or(Backend::Portable);
+        let position = Backend::ALL.iter().position(|&b| b == best).unwrap_or(0);
+        // Racing first calls store the same value.
+        BEST.store(position as u8, Ordering::Relaxed);
+        best
+    }
+
+    /// A short lowercase name (`portable`, `avx2`, `avx512`).
+    ///
+    /// ```
+    /// use micromap_index::batch::Backend;
+    /// assert_eq!(Backend::Avx2.name(), "avx2");
+    /// ```
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Backend::Portable => "portable",
+            Backend::Avx2 => "avx2",
+            Backend::Avx512 => "avx512",
+        }
+    }
+}
+
+impl fmt::Display for Backend {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Why a batch call wrote nothing. (Levels are validated by their types,
+/// [`SpecLevel`] and [`Level`], before a call.)
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum BatchError {
+    /// `u`, `v` and `out` do not all have the same length.
+    LengthMismatch {
+        /// `u.len()`.
+        u: usize,
+        /// `v.len()`.
+        v: usize,
+        /// `out.len()`.
+        out: usize,
+    },
+    /// The backend asked for cannot run on this CPU (or was not built).
+    BackendUnavailable(Backend),
+}
+
+impl fmt::Display for BatchError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            BatchError::LengthMismatch { u, v, out } => write!(
+                f,
+                "slice lengths differ: u has {u}, v has {v}, out has {out} elements"
+            ),
+            BatchError::BackendUnavailable(backend) => {
+                write!(f, "the {backend} backend is not available on this CPU")
+            }
+        }
+    }
+}
+
+impl core::error::Error for BatchError {}
+
+fn check_lengths(u: usize, v: usize, out: usize) -> Result<(), BatchError> {
+    if u == v && v == out {
+        Ok(())
+    } else {
+        Err(BatchError::LengthMismatch { u, v, out })
+    }
+}
+
+/// `out[i] = spec::index_f32(u[i], v[i], level)` for every `i`, with the
+/// fastest backend this CPU has ([`Backend::best`]).
+///
+/// The three slices must have the same length
+/// ([`BatchError::LengthMismatch`]); on an error nothing is written.
+///
+/// ```
+/// use micromap_index::batch::{self, BatchError};
+/// use micromap_index::SpecLevel;
+/// let level = SpecLevel::new(2).unwrap();
+/// let mut out = [0u32; 2];
+/// batch::index_f32(&[0.3, 0.3], &[0.3, 0.6], level, &mut out).unwrap();
+/// assert_eq!(out, [5, 12]);
+/// assert_eq!(
+///     batch::index_f32(&[0.3], &[0.3, 0.6], level, &mut out),
+///     Err(BatchError::LengthMismatch { u: 1, v: 2, out: 2 })
+/// );
+/// ```
+#[inline]
+pub fn index_f32(
+    u: &[f32],
+    v: &[f32],
+    level: SpecLevel,
+    out: &mut [u32],
+) -> Result<(), BatchError> {
+    index_f32_with(Backend::best(), u, v, level, out)
+}
+
+/// [`index_f32`] on a chosen backend ([`BatchError::BackendUnavailable`] if
+/// this CPU cannot run it). Every backend writes the same bits.
+///
+/// ```
+/// use micromap_index::batch::{self, Backend};
+/// use micromap_index::SpecLevel;
+/// let (u, v) = ([0.28f32; 3], [0.4f32; 3]);
+/// let level = SpecLevel::new(3).unwrap();
+/// let mut expected = [0u32; 3];
+/// batch::index_f32_with(Backend::Portable, &u, &v, level, &mut expected).unwrap();
+/// for backend in Backend::available() {
+///     let mut out = [0u32; 3];
+///     batch::index_f32_with(backend, &u, &v, level, &mut out).unwrap();
+///     assert_eq!(out, expected);
+/// }
+/// ```
+pub fn index_f32_with(
+    backend: Backend,
+    u: &[f32],
+    v: &[f32],
+    level: SpecLevel,
+    out: &mut [u32],
+) -> Result<(), BatchError> {
+    check_lengths(u.len(), v.len(), out.len())?;
+    let params = kernel::Params::new(level.get(), kernel::BINARY32_THRESHOLD);
+    let ran = match backend {
+        Backend::Portable => {
+            kernel::narrow_slice::<true>(u, v, out, &params);
+            true
+        }
+        #[cfg(all(feature = "std", target_arch = "x86_64"))]
+        Backend::Avx2 => arch::narrow_slice_avx2(u, v, out, &params),
+        #[cfg(all(feature = "std", target_arch = "x86_64"))]
+        Backend::Avx512 => arch::narrow_slice_avx512(u, v, out, &params),
+        #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+        Backend::Avx2 | Backend::Avx512 => false,
+    };
+    if ran {
+        Ok(())
+    } else {
+        Err(BatchError::BackendUnavailable(backend))
+    }
+}
+
+/// `out[i] = spec::wide_index_f32(u[i], v[i], level)` for every `i`: the
+/// reference widened to 64-bit words in binary32, levels `0..=32`, with the
+/// fastest backend this CPU has.
+///
+/// ```
+/// use micromap_index::{batch, spec, Level};
+/// let level = Level::new(24).unwrap();
+/// let (u, v) = ([0.1f32, 1.0, -3.0], [0.2f32, 0.0, f32::INFINITY]);
+/// let mut out = [0u64; 3];
+/// batch::wide_index_f32(&u, &v, level, &mut out).unwrap();
+/// for i in 0..3 {
+///     assert_eq!(out[i], spec::wide_index_f32(u[i], v[i], level));
+/// }
+/// ```
+#[inline]
+pub fn wide_index_f32(
+    u: &[f32],
+    v: &[f32],
+    level: Level,
+    out: &mut [u64],
+) -> Result<(), BatchError> {
+    wide_index_f32_with(Backend::best(), u, v, level, out)
+}
+
+/// [`wide_index_f32`] on a chosen backend.
+///
+/// ```
+/// use micromap_index::batch::{self, Backend};
+/// use micromap_index::Level;
+/// let mut out = [0u64; 1];
+/// batch::wide_index_f32_with(Backend::Portable, &[1.0], &[0.0], Level::new(32).unwrap(), &mut out).unwrap();
+/// assert_eq!(out[0], 2 * 0x5555_5555_5555_5555); // the Right corner, all digits 2
+/// ```
+pub fn wide_index_f32_with(
+    backend: Backend,
+    u: &[f32],
+    v: &[f32],
+    level: Level,
+    out: &mut [u64],
+) -> Result<(), BatchError> {
+    check_lengths(u.len(), v.len(), out.len())?;
+    let params = kernel::Params::new(level.get(), kernel::BINARY32_THRESHOLD);
+    let ran = match backend {
+        Backend::Portable => {
+            kernel::wide_slice(u, v, out, &params);
+            true
+        }
+        #[cfg(all(feature = "std", target_arch = "x86_64"))]
+        Backend::Avx2 => arch::wide_slice_avx2(u, v, out, &params),
+        #[cfg(all(feature = "std", target_arch = "x86_64"))]
+        Backend::Avx512 => arch::wide_slice_avx512(u, v, out, &params),
+        #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+        Backend::Avx2 | Backend::Avx512 => false,
+    };
+    if ran {
+        Ok(())
+    } else {
+        Err(BatchError::BackendUnavailable(backend))
+    }
+}
+
+/// The reference in binary32 for one point: the batch kernel on one lane,
+/// the same bits as [`spec::index_f32`](crate::spec::index_f32) (which runs
+/// the reference's own float steps). Infallible, so a caller's loop carries
+/// no `Result`.
+///
+/// ```
+/// use micromap_index::{batch, spec, SpecLevel};
+/// let level = SpecLevel::new(2).unwrap();
+/// assert_eq!(batch::index_f32_one(0.3, 0.3, level), 5);
+/// assert_eq!(batch::index_f32_one(f32::NAN, 2.0, level), spec::index_f32(f32::NAN, 2.0, level));
+/// ```
+#[inline]
+#[must_use]
+pub fn index_f32_one(u: f32, v: f32, level: SpecLevel) -> u32 {
+    let params = kernel::Params::new(level.get(), kernel::BINARY32_THRESHOLD);
+    kernel::narrow::<false>(u.to_bits(), v.to_bits(), &params)
+}
