@@ -9,9 +9,9 @@ use std::fmt::Write as _;
 /// One vector file: a function and its cases.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct VectorFile {
-    /// Always [`FORMAT`].
+    /// Always [`FORMAT`](super::FORMAT).
     pub format: String,
-    /// Always [`VERSION`].
+    /// Always [`VERSION`](super::VERSION).
     pub version: u64,
     /// The function the expected indices are of: an `eval` variant name
     /// (`spec-f32`, `spec-exact`, `uv2index-exact`).
@@ -28,7 +28,7 @@ pub struct VectorFile {
 pub struct Case {
     /// Unique within the file.
     pub id: u64,
-    /// `u` in the `eval` value syntax ([`Value::parse`]).
+    /// `u` in the `eval` value syntax ([`Value::parse`](crate::value::Value::parse)).
     pub u: String,
     /// `v` in the `eval` value syntax.
     pub v: String,
@@ -36,7 +36,7 @@ pub struct Case {
     pub level: u32,
     /// The expected micro-triangle index.
     pub index: u64,
-    /// The classes the case belongs to ([`tag`]).
+    /// The classes the case belongs to ([`tag`](super::tag)).
     pub tags: Vec<String>,
     /// For reading only: the shortest decimal that reads back as the same
     /// binary32 value (binary32 set); `u` is normative.
@@ -47,14 +47,14 @@ pub struct Case {
     pub v_decimal: Option<String>,
 }
 
-/// The three sets [`generate_sets`] writes.
+/// The three sets [`generate_sets`](super::generate_sets) writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum VectorSet {
-    /// [`spec::index_f32`] on binary32 bit patterns.
+    /// [`spec::index_f32`](micromap_index::spec::index_f32) on binary32 bit patterns.
     SpecF32,
-    /// [`spec::index_real`] on exact rationals.
+    /// [`spec::index_real`](micromap_index::spec::index_real) on exact rationals.
     SpecExact,
-    /// [`uv2index::index_real`] on exact rationals of the closed triangle.
+    /// [`uv2index::index_real`](micromap_index::uv2index::index_real) on exact rationals of the closed triangle.
     Uv2indexExact,
 }
 

@@ -7,16 +7,16 @@
 //!
 //! [`generate_sets`] builds one [`VectorFile`] per [`VectorSet`]:
 //!
-//! * `spec-f32` — the Vulkan reference in binary32 ([`spec::index_f32`]):
+//! * `spec-f32` — the Vulkan reference in binary32 ([`spec::index_f32`](micromap_index::spec::index_f32)):
 //!   what a GPU must return. Coordinates are binary32 bit patterns
 //!   (`"0x3e000000"`), including NaN, ±inf, -0, subnormals and points outside
 //!   the triangle.
 //! * `spec-exact` — the reference's steps over the reals
-//!   ([`spec::index_real`]). Coordinates are exact rationals `"p/q"`: the
+//!   ([`spec::index_real`](micromap_index::spec::index_real)). Coordinates are exact rationals `"p/q"`: the
 //!   finite points of `spec-f32` (so the two sets disagree exactly on the
 //!   cases tagged `rounding-window`) and the exact centroids.
 //! * `uv2index-exact` — the paper's walk over the reals
-//!   ([`uv2index::index_real`]), only on points of the closed triangle (the
+//!   ([`uv2index::index_real`](micromap_index::uv2index::index_real)), only on points of the closed triangle (the
 //!   walk rejects the others, so the clamping classes are left out). Every
 //!   coordinate is also exactly a binary32 value, so float implementations of
 //!   the walk can be run on it without rounding their input.
