@@ -155,7 +155,10 @@ impl RankBits {
             in_block += words[i].count_ones();
             i += 1;
         }
-        ((word >> (p % 64)) & 1 == 1, before_block + in_block as usize)
+        (
+            (word >> (p % 64)) & 1 == 1,
+            before_block + in_block as usize,
+        )
     }
 
     /// `rank1(p)`: the ones in bits `0..p`, for any `p` (all ones past the
