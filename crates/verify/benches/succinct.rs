@@ -2,11 +2,11 @@
 //! APIs store it), the paper's Algorithm 3 on its depth-first tree, and the
 //! level-order layout. The map is the 2-state micromap of the Crytek Sponza
 //! thorn texture (first triangle, nearest texel at centroids; see
-//! `tests/common/succinct_maps.rs`). Two query streams of 256 indices:
+//! `crates/verify/tests/common/succinct_maps.rs`). Two query streams of 256 indices:
 //! random (uniform over the map) and coherent (256 consecutive indices from
 //! a random start: neighbours on the curve are neighbours in space).
 //!
-//! `cargo bench --bench succinct`; per-query time = reported time / 256.
+//! `cargo bench -p micromap-index-verify --bench succinct`; per-query time = reported time / 256.
 
 // `criterion_group!` generates undocumented public functions.
 #![allow(missing_docs)]
