@@ -95,8 +95,9 @@ mod paper;
 pub use level_order::LevelOrderTree;
 pub use paper::PaperTree;
 
-use crate::micromap::{Format, State};
+use crate::micromap::{Format, Micromap, MicromapError, State};
 use crate::Level;
+use alloc::vec::Vec;
 use core::fmt;
 
 /// The highest level a tree accepts: the level range of the Vulkan
@@ -344,3 +345,37 @@ fn digit(index: u64, level: u32, depth: u32) -> usize {
 fn micro_triangle_count(level: u32) -> u64 {
     1u64 << (2 * level)
 }
+
+/// Conversions between a tree layout and the packed [`Micromap`], written
+/// once for both layouts.
+macro_rules! micromap_conversions {
+    ($tree:ident) => {
+        impl $tree {
+            /// Encodes a packed micromap (its level, format and states).
+            ///
+            /// ```
+            /// use micromap_index::micromap::{Format, Micromap, State};
+            #[doc = concat!("use micromap_index::succinct::", stringify!($tree), ";")]
+            /// use micromap_index::Level;
+            /// let map = Micromap::from_index_fn(Level::new(3).unwrap(), Format::TwoState, |i| {
+            ///     if i < 16 { State::Opaque } else { State::Transparent }
+            /// }).unwrap();
+            #[doc = concat!("let tree = ", stringify!($tree), "::from_micromap(&map).unwrap();")]
+            /// assert_eq!(tree.to_micromap().unwrap(), map);
+            /// ```
+            pub fn from_micromap(map: &Micromap) -> Result<Self, TreeError> {
+                let states: Vec<State> = map.states().collect();
+                Self::encode(map.level(), map.format(), &states)
+            }
+
+            /// The packed micromap the tree encodes; an error only if the
+            /// memory for it cannot be had.
+            pub fn to_micromap(&self) -> Result<Micromap, MicromapError> {
+                Micromap::from_states(self.level(), self.format(), self.decode())
+            }
+        }
+    };
+}
+
+micromap_conversions!(PaperTree);
+micromap_conversions!(LevelOrderTree);
