@@ -5,7 +5,7 @@ use super::bits::{BitVec, PackedStates, RankBits};
 use super::merge::Pyramid;
 use super::{check_flat, digit, micro_triangle_count, Layout, PaperTree, TreeError};
 use crate::micromap::{Format, State};
-use crate::{spec, Level};
+use crate::Level;
 use alloc::vec;
 use alloc::vec::Vec;
 
@@ -45,8 +45,8 @@ use alloc::vec::Vec;
 /// ```
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct LevelOrderTree {
-    level: Level,
-    format: Format,
+    pub(super) level: Level,
+    pub(super) format: Format,
     internal: RankBits,
     data: PackedStates,
 }
@@ -250,31 +250,6 @@ impl LevelOrderTree {
             p = 1 + 4 * rank + digit(index, deepest, depth);
         }
         self.data.get(p - self.internal.count_ones())
-    }
-
-    /// The state a ray hit at `(u, v)` reads, through [`spec::index_f32`]
-    /// (see [`PaperTree::get_f32`]). Always `Some`.
-    #[must_use]
-    #[inline]
-    pub fn get_f32(&self, u: f32, v: f32) -> Option<State> {
-        // Tree levels are at most MAX_TREE_LEVEL = SpecLevel::MAX.
-        self.get(u64::from(spec::index_f32(
-            u,
-            v,
-            crate::SpecLevel(self.level.0),
-        )))
-    }
-
-    /// The subdivision level.
-    #[must_use]
-    pub fn level(&self) -> Level {
-        self.level
-    }
-
-    /// The format (bits per leaf state).
-    #[must_use]
-    pub fn format(&self) -> Format {
-        self.format
     }
 
     /// The internal/leaf bits (one per node above the map's level).

@@ -346,11 +346,36 @@ fn micro_triangle_count(level: u32) -> u64 {
     1u64 << (2 * level)
 }
 
-/// Conversions between a tree layout and the packed [`Micromap`], written
-/// once for both layouts.
-macro_rules! micromap_conversions {
+/// What both layouts share: their level and format, the lookup of a ray hit,
+/// and the conversions to and from the packed [`Micromap`], written once.
+macro_rules! common_tree_methods {
     ($tree:ident) => {
         impl $tree {
+            /// The subdivision level.
+            #[must_use]
+            pub fn level(&self) -> Level {
+                self.level
+            }
+
+            /// The format (bits per leaf state).
+            #[must_use]
+            pub fn format(&self) -> Format {
+                self.format
+            }
+
+            /// The state a ray hit at `(u, v)` reads: the Vulkan reference
+            /// index in binary32 ([`spec::index_f32`](crate::spec::index_f32), the GPU's answer for
+            /// every pair of `f32`, NaN and points outside the triangle
+            /// included), then `get`. Always `Some` (the index is in range at
+            /// every level a tree takes).
+            #[must_use]
+            #[inline]
+            pub fn get_f32(&self, u: f32, v: f32) -> Option<State> {
+                // Tree levels are at most MAX_TREE_LEVEL = SpecLevel::MAX.
+                let level = crate::SpecLevel(self.level.0);
+                self.get(u64::from(crate::spec::index_f32(u, v, level)))
+            }
+
             /// Encodes a packed micromap (its level, format and states).
             ///
             /// ```
@@ -377,5 +402,5 @@ macro_rules! micromap_conversions {
     };
 }
 
-micromap_conversions!(PaperTree);
-micromap_conversions!(LevelOrderTree);
+common_tree_methods!(PaperTree);
+common_tree_methods!(LevelOrderTree);

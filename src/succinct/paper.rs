@@ -8,7 +8,7 @@ use super::{
     TreeError,
 };
 use crate::micromap::{Format, State};
-use crate::{spec, Level};
+use crate::Level;
 use alloc::string::String;
 use alloc::vec;
 use alloc::vec::Vec;
@@ -38,8 +38,8 @@ use alloc::vec::Vec;
 /// ```
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct PaperTree {
-    level: Level,
-    format: Format,
+    pub(super) level: Level,
+    pub(super) format: Format,
     pub(super) tree: BitVec,
     pub(super) data: PackedStates,
 }
@@ -284,33 +284,6 @@ impl PaperTree {
             t += 1;
         }
         (t, d)
-    }
-
-    /// The state a ray hit at `(u, v)` reads: the micro-triangle through the
-    /// Vulkan reference index in binary32 ([`spec::index_f32`], the GPU's
-    /// answer for every pair of `f32`, NaN and points outside the triangle
-    /// included), then [`get`](Self::get). Always `Some` (the index is in
-    /// range at every level a tree takes).
-    #[must_use]
-    pub fn get_f32(&self, u: f32, v: f32) -> Option<State> {
-        // Tree levels are at most MAX_TREE_LEVEL = SpecLevel::MAX.
-        self.get(u64::from(spec::index_f32(
-            u,
-            v,
-            crate::SpecLevel(self.level.0),
-        )))
-    }
-
-    /// The subdivision level.
-    #[must_use]
-    pub fn level(&self) -> Level {
-        self.level
-    }
-
-    /// The format (bits per leaf state).
-    #[must_use]
-    pub fn format(&self) -> Format {
-        self.format
     }
 
     /// The number of tree bits (nodes).

@@ -20,7 +20,7 @@
 //! * 3 — a file that cannot be read;
 //! * 141 — stdout closed by its reader (the table in `micromap-index help`).
 
-use crate::output::{report, Exit, Stdout};
+use crate::output::{print_then, report, Exit};
 use crate::usage_error;
 use micromap_index_verify::vectors::{
     check_reader, is_known_tag, parse_answers, parse_vector_file, tag, Selection, VectorFile,
@@ -91,12 +91,7 @@ pub(crate) fn run(options: &[&str]) -> ExitCode {
     } else {
         Exit::Failed
     };
-    let mut out = Stdout::buffered();
-    let exit = match out.text(&text) {
-        Ok(()) => verdict,
-        Err(failure) => failure,
-    };
-    out.finish(exit).into()
+    print_then(&text, verdict).into()
 }
 
 /// `--levels A..=B` (or `N`), `--tags T,..`, `--exclude-tags T,..`.

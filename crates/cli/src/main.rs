@@ -31,7 +31,7 @@ mod tree_command;
 mod vectors_command;
 mod write_all_or_nothing;
 
-use output::{Exit, Stdout};
+use output::Exit;
 use std::process::ExitCode;
 use std::sync::OnceLock;
 
@@ -56,7 +56,7 @@ fn main() -> ExitCode {
             .iter()
             .any(|&option| option == "--help" || option == "-h")
         {
-            return print_help(help::command_help(command).unwrap_or_default());
+            return print_help(&help::command_help(command).unwrap_or_default());
         }
     }
     match (command, options) {
@@ -66,9 +66,9 @@ fn main() -> ExitCode {
         ("vectors", options) => vectors_command::run(options).into(),
         ("check", options) => check_command::run(options),
         ("tree", options) => tree_command::run(options),
-        ("help" | "--help" | "-h", []) => print_help(help::full_help()),
+        ("help" | "--help" | "-h", []) => print_help(&help::full_help()),
         ("help", [topic]) => match help::command_help(topic) {
-            Some(text) => print_help(text),
+            Some(text) => print_help(&text),
             None => usage_error(&format!("help: unknown command {topic:?}")),
         },
         ("help", _) => usage_error("help takes at most one command"),
@@ -76,13 +76,8 @@ fn main() -> ExitCode {
     }
 }
 
-fn print_help(text: String) -> ExitCode {
-    let mut out = Stdout::buffered();
-    let exit = match out.line(text) {
-        Ok(()) => Exit::Success,
-        Err(failure) => failure,
-    };
-    out.finish(exit).into()
+fn print_help(text: &str) -> ExitCode {
+    output::print_then(&format!("{text}\n"), Exit::Success).into()
 }
 
 /// Reports `message` and the usage (of the command being run, or of all) on

@@ -212,6 +212,18 @@ impl Stdout {
     }
 }
 
+/// Writes `text` to stdout and returns `verdict`, or the failure of the
+/// write (for commands that print one finished report).
+#[must_use]
+pub(crate) fn print_then(text: &str, verdict: Exit) -> Exit {
+    let mut out = Stdout::buffered();
+    let exit = match out.text(text) {
+        Ok(()) => verdict,
+        Err(failure) => failure,
+    };
+    out.finish(exit)
+}
+
 /// `Ok(exit)` or `Err(exit)` as one exit.
 #[must_use]
 pub(crate) fn either(result: Result<Exit, Exit>) -> Exit {

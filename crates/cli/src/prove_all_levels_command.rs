@@ -2,7 +2,7 @@
 //! against the reference at every level at once, by exploring the product
 //! of two digit transducers (`micromap_index::prove_all_levels`).
 
-use crate::output::{report as report_error, Exit, Stdout};
+use crate::output::{print_then, report as report_error, Exit};
 use crate::usage;
 use micromap_index_verify::prove::WalkVersion;
 use micromap_index_verify::prove_all_levels::{prove_all_levels, AllLevelsReport, Verdict};
@@ -53,12 +53,7 @@ pub(crate) fn run(options: &[&str]) -> Exit {
     } else {
         Exit::Failed
     };
-    let mut out = Stdout::buffered();
-    let exit = match out.text(&text) {
-        Ok(()) => verdict,
-        Err(failure) => failure,
-    };
-    out.finish(exit)
+    print_then(&text, verdict)
 }
 
 /// For a counterexample: whether the real functions differ at the face

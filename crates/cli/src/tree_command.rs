@@ -7,7 +7,7 @@
 //! paper's Algorithm 3 and the level-order layout disagree: a bug, please
 //! report it).
 
-use crate::output::{report, Exit, Stdout};
+use crate::output::{print_then, report, Exit};
 use micromap_index::micromap::{Format, State};
 use micromap_index::succinct::{LevelOrderTree, PaperTree, TreeError, MAX_TREE_LEVEL};
 use micromap_index::Level;
@@ -64,14 +64,7 @@ enum Failure {
 
 fn finish(outcome: Result<String, Failure>) -> ExitCode {
     let exit = match outcome {
-        Ok(line) => {
-            let mut out = Stdout::buffered();
-            let exit = match out.line(line) {
-                Ok(()) => Exit::Success,
-                Err(failure) => failure,
-            };
-            out.finish(exit)
-        }
+        Ok(line) => print_then(&format!("{line}\n"), Exit::Success),
         Err(Failure::Usage(message)) => crate::usage(&message),
         Err(Failure::Malformed(message) | Failure::OutOfRange(message)) => {
             report(message);
