@@ -94,6 +94,8 @@ macro_rules! unstable_pub_fn {
 #[doc = include_str!("../README.md")]
 mod readme {}
 
+#[cfg(feature = "alloc")]
+pub mod bake;
 pub mod batch;
 mod error;
 pub mod inverse;

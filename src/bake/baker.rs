@@ -1,0 +1,488 @@
+//! [`Baker`]: one texture, sampler and cutoff; bakes and verifies triangles.
+
+use super::classify::{Block, Classes, Search, TexelClasses};
+use super::exact::{AxisFrame, ExactTriangle, FrameError};
+use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
+use crate::inverse::micro_triangles;
+use crate::micromap::{Format, Micromap, MicromapError, State, TriangleOpacity, UnknownPolicy};
+use crate::Level;
+use alloc::vec::Vec;
+use core::fmt;
+
+/// A mesh triangle's texture coordinates `[(u, v); 3]` for its vertices 0,
+/// 1, 2: the hit with barycentrics `(b1, b2)` reads the texture at
+/// `(1 - b1 - b2) uv[0] + b1 uv[1] + b2 uv[2]`.
+pub type UvTriangle = [[f32; 2]; 3];
+
+/// Block tests a micro-triangle may use before the baker calls it unknown
+/// (see [`Baker::with_block_budget`]).
+pub const DEFAULT_BLOCK_BUDGET: u32 = 4096;
+
+/// How a triangle was baked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum TriangleStatus {
+    /// Every micro-triangle classified exactly.
+    Exact,
+    /// A texture coordinate is NaN or infinite: the whole triangle is the
+    /// unknown-opaque special index (-4), whatever the format (the OMM
+    /// SDK's default for such triangles too).
+    NotFinite,
+    /// The coordinates' binary exponents are too far apart for the exact
+    /// 100-bit grid (e.g. `1e-30` next to `1.0`, or values near `1e30`):
+    /// the whole triangle is unknown-opaque (-4), which is sound.
+    OutOfExactRange,
+    /// Some micro-triangles needed more block tests than the budget; those
+    /// are unknown (sound, maybe not tight). Never happens to a
+    /// micro-triangle whose footprint spans fewer texels than the budget.
+    BudgetExceeded,
+}
+
+/// One baked triangle: its opacity (a micromap, or a special index for a
+/// triangle the baker could not place on its grid) and what it found.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct BakedTriangle {
+    /// The micromap, or [`State::UnknownOpaque`] as a special index when
+    /// [`status`](Self::status) is `NotFinite` or `OutOfExactRange`.
+    pub opacity: BakedOpacity,
+    /// How it went.
+    pub status: TriangleStatus,
+    /// Micro-triangles per state, indexed by [`State::bits`], counted
+    /// before a 2-state format resolves the unknowns (so a 2-state bake
+    /// still tells how many were unknown).
+    pub counts: [u64; 4],
+}
+
+/// What a triangle's micromap index will point at.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum BakedOpacity {
+    /// A micromap of the requested level and format.
+    Map(Micromap),
+    /// One state for the whole triangle (a special index).
+    Special(State),
+}
+
+impl BakedOpacity {
+    /// The form [`MicromapBuffersBuilder`](crate::micromap::MicromapBuffersBuilder)
+    /// takes.
+    #[must_use]
+    pub fn as_opacity(&self) -> TriangleOpacity<'_> {
+        match self {
+            BakedOpacity::Map(map) => TriangleOpacity::Micromap(map),
+            BakedOpacity::Special(state) => TriangleOpacity::Special(*state),
+        }
+    }
+}
+
+/// Why [`Baker::bake`] failed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum BakeError {
+    /// The micromap could not be made (level above 16, allocation).
+    Micromap(MicromapError),
+}
+
+impl fmt::Display for BakeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            BakeError::Micromap(e) => write!(f, "cannot bake: {e}"),
+        }
+    }
+}
+
+impl core::error::Error for BakeError {}
+
+impl From<MicromapError> for BakeError {
+    fn from(e: MicromapError) -> Self {
+        BakeError::Micromap(e)
+    }
+}
+
+/// An exact point in texel space: `x / 2^shift_x` texels from the texture's
+/// left edge, `y / 2^shift_y` from its top (the texture repeats, mirrors or
+/// clamps beyond as the sampler says).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TexelPoint {
+    /// Numerator of the horizontal texel coordinate.
+    pub x: i128,
+    /// Its power-of-two denominator's exponent.
+    pub shift_x: u32,
+    /// Numerator of the vertical texel coordinate.
+    pub y: i128,
+    /// Its power-of-two denominator's exponent.
+    pub shift_y: u32,
+}
+
+impl TexelPoint {
+    /// The point's texture coordinates `(u, v)`, rounded to `f64`.
+    #[must_use]
+    pub fn uv_f64(&self, width: u32, height: u32) -> (f64, f64) {
+        let scale = |n: i128, shift: u32, size: u32| {
+            n as f64 * libm_exp2(-(shift as i32)) / f64::from(size)
+        };
+        (
+            scale(self.x, self.shift_x, width),
+            scale(self.y, self.shift_y, height),
+        )
+    }
+}
+
+/// `2^e` for the exponents a [`TexelPoint`] can have (no `std` needed).
+fn libm_exp2(e: i32) -> f64 {
+    let mut r = 1.0f64;
+    let step = if e < 0 { 0.5 } else { 2.0 };
+    for _ in 0..e.unsigned_abs() {
+        r *= step;
+    }
+    r
+}
+
+/// A micro-triangle whose known state the texture contradicts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Contradiction {
+    /// The micro-triangle's index (0 for a special index).
+    pub micro_triangle: u64,
+    /// The state the micromap gives it.
+    pub state: State,
+    /// A point of the closed micro-triangle whose footprint holds a texel of
+    /// the other class (`None` only if the exact point search gave up, in
+    /// which case the block search alone proved the contradiction).
+    pub witness: Option<TexelPoint>,
+    /// The texel of the other class in that footprint, after wrapping
+    /// (`None`: the border colour).
+    pub texel: Option<(u32, u32)>,
+}
+
+/// What [`Baker::verify`] found for one triangle.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Verification {
+    /// Micro-triangles whose known state the texture contradicts.
+    pub contradictions: Vec<Contradiction>,
+    /// Known micro-triangles checked.
+    pub known: u64,
+    /// Unknown micro-triangles (nothing to check).
+    pub unknown: u64,
+    /// Known micro-triangles the block budget could not decide (neither
+    /// confirmed nor contradicted).
+    pub undecided: u64,
+    /// `false` when the coordinates are not finite or off the exact grid:
+    /// then nothing was checked.
+    pub checked: bool,
+}
+
+/// A texture under a sampler and a cutoff, ready to bake and verify
+/// micromaps exactly (see the [module docs](super) for the model).
+///
+/// ```
+/// use micromap_index::bake::{Baker, Cutoff, Sampler, Unorm8Texture};
+/// use micromap_index::micromap::{Format, State};
+/// use micromap_index::Level;
+///
+/// // Left column opaque, right column transparent.
+/// let texels = [255u8, 0, 255, 0];
+/// let texture = Unorm8Texture::new(2, 2, &texels).unwrap();
+/// let baker = Baker::new(&texture, Sampler::default(), Cutoff::default()).unwrap();
+/// // A triangle covering the left half of the texture and one across both.
+/// let left = [[0.0, 0.0], [0.5, 0.0], [0.0, 1.0]];
+/// let across = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+/// let level = Level::new(2).unwrap();
+/// let baked = baker.bake(&left, level, Format::FourState, Default::default()).unwrap();
+/// assert_eq!(baked.counts[State::Opaque.bits() as usize], 16);
+/// let baked = baker.bake(&across, level, Format::FourState, Default::default()).unwrap();
+/// assert!(baked.counts[State::Transparent.bits() as usize] > 0);
+/// // Whatever it bakes, the verifier finds sound.
+/// assert!(baker.verify(&across, &baked.opacity.as_opacity()).contradictions.is_empty());
+/// ```
+#[derive(Clone, Debug)]
+pub struct Baker {
+    classes: TexelClasses,
+    budget: u32,
+}
+
+/// One micro-triangle placed on the grid.
+struct Placed {
+    x: [i128; 3],
+    y: [i128; 3],
+}
+
+impl Baker {
+    /// Classifies every texel of `texture` once (one pass, `4 (w + 1)
+    /// (h + 1)` bytes of prefix sums).
+    pub fn new(
+        texture: &(impl AlphaTexture + ?Sized),
+        sampler: Sampler,
+        cutoff: Cutoff,
+    ) -> Result<Baker, TextureError> {
+        Ok(Baker {
+            classes: TexelClasses::new(texture, sampler, cutoff)?,
+            budget: DEFAULT_BLOCK_BUDGET,
+        })
+    }
+
+    /// The same baker with another cap on block tests per micro-triangle
+    /// (at least 1).
+    #[must_use]
+    pub fn with_block_budget(mut self, budget: u32) -> Baker {
+        self.budget = budget.max(1);
+        self
+    }
+
+    /// The texture's width and height.
+    #[must_use]
+    pub fn size(&self) -> (u32, u32) {
+        (self.classes.width, self.classes.height)
+    }
+
+    /// The sampler.
+    #[must_use]
+    pub fn sampler(&self) -> Sampler {
+        self.classes.sampler
+    }
+
+    /// Is the texel `(x, y)` (or the border, `None`) opaque under the
+    /// cutoff? `false` for coordinates outside the texture.
+    #[must_use]
+    pub fn texel_is_opaque(&self, texel: Option<(u32, u32)>) -> bool {
+        match texel {
+            Some((x, y)) if x >= self.classes.width || y >= self.classes.height => false,
+            t => self.classes.class_of(t),
+        }
+    }
+
+    fn frames(&self, uv: &UvTriangle, level: Level) -> Result<(AxisFrame, AxisFrame), FrameError> {
+        let fx = AxisFrame::new(uv.map(|c| c[0]), self.classes.width, level.get())?;
+        let fy = AxisFrame::new(uv.map(|c| c[1]), self.classes.height, level.get())?;
+        Ok((fx, fy))
+    }
+
+    fn place(fx: &AxisFrame, fy: &AxisFrame, level: u32, vertices: [(u64, u64); 3]) -> Placed {
+        Placed {
+            x: vertices.map(|(a, b)| fx.at(level, a, b)),
+            y: vertices.map(|(a, b)| fy.at(level, a, b)),
+        }
+    }
+
+    /// The classes a placed micro-triangle samples: the bounding block
+    /// first (most micro-triangles end there), the exact search if mixed.
+    fn classify(&self, p: &Placed, shifts: (u32, u32)) -> (Classes, bool) {
+        let min_max = |c: [i128; 3]| (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
+        let block = self
+            .classes
+            .bounding_block(min_max(p.x), min_max(p.y), shifts);
+        let quick = self.classes.quick(block);
+        if !quick.is_mixed() {
+            return (quick, false);
+        }
+        let t = ExactTriangle::new(p.x, p.y);
+        let s: Search = self.classes.search(&t, shifts, Classes::BOTH, self.budget);
+        (s.classes, s.exhausted)
+    }
+
+    /// The known state to split an unknown micro-triangle by: the class of
+    /// the texel holding its centroid (nearest sampling of the centroid,
+    /// for either filter). A heuristic; soundness does not depend on it.
+    fn centroid_is_opaque(&self, p: &Placed, (sx, sy): (u32, u32)) -> bool {
+        let cx = (p.x[0] + p.x[1] + p.x[2]).div_euclid(3 << sx);
+        let cy = (p.y[0] + p.y[1] + p.y[2]).div_euclid(3 << sy);
+        self.classes.class_of(self.classes.wrap(cx, cy))
+    }
+
+    /// Bakes one triangle at `level` into `format`.
+    ///
+    /// Each micro-triangle is opaque (transparent) exactly when every point
+    /// of it, closed, reads only opaque (transparent) texels under the
+    /// sampler model; otherwise it is unknown, split into unknown-opaque /
+    /// unknown-transparent by the texel under its centroid. A 2-state map
+    /// resolves unknowns with `two_state` ([`UnknownPolicy::Fallback`]:
+    /// by that split). Non-finite or off-grid coordinates give the special
+    /// index unknown-opaque ([`TriangleStatus`]). The counts are taken
+    /// before the 2-state resolution.
+    pub fn bake(
+        &self,
+        uv: &UvTriangle,
+        level: Level,
+        format: Format,
+        two_state: UnknownPolicy,
+    ) -> Result<BakedTriangle, BakeError> {
+        let whole_unknown = |status| {
+            let mut counts = [0u64; 4];
+            counts[State::UnknownOpaque.bits() as usize] = level.micro_triangle_count() as u64;
+            BakedTriangle {
+                opacity: BakedOpacity::Special(State::UnknownOpaque),
+                status,
+                counts,
+            }
+        };
+        let mut map = Micromap::new(level, format)?;
+        let (fx, fy) = match self.frames(uv, level) {
+            Ok(frames) => frames,
+            Err(FrameError::NotFinite) => return Ok(whole_unknown(TriangleStatus::NotFinite)),
+            Err(FrameError::OutOfRange) => {
+                return Ok(whole_unknown(TriangleStatus::OutOfExactRange))
+            }
+        };
+        let shifts = (fx.shift, fy.shift);
+        let mut counts = [0u64; 4];
+        let mut exhausted = false;
+        for t in micro_triangles(level) {
+            let p = Self::place(&fx, &fy, level.get(), t.vertices_scaled());
+            let (classes, out_of_budget) = self.classify(&p, shifts);
+            exhausted |= out_of_budget;
+            let state = match (classes.opaque, classes.transparent) {
+                (true, false) => State::Opaque,
+                (false, true) => State::Transparent,
+                _ if self.centroid_is_opaque(&p, shifts) => State::UnknownOpaque,
+                _ => State::UnknownTransparent,
+            };
+            counts[state.bits() as usize] += 1;
+            let stored = match format {
+                Format::FourState => state,
+                Format::TwoState => two_state.resolve(state),
+            };
+            map.set(t.index(), stored)?;
+        }
+        Ok(BakedTriangle {
+            opacity: BakedOpacity::Map(map),
+            status: if exhausted {
+                TriangleStatus::BudgetExceeded
+            } else {
+                TriangleStatus::Exact
+            },
+            counts,
+        })
+    }
+
+    /// Checks another baker's answer for one triangle: every micro-triangle
+    /// with a known state (opaque, transparent; a special index counts as a
+    /// level-0 map) whose closed area can read a texel of the other class
+    /// under this baker's sampler model is a [`Contradiction`], with an
+    /// exact witness point. Unknown states are never contradicted.
+    #[must_use]
+    pub fn verify(&self, uv: &UvTriangle, opacity: &TriangleOpacity<'_>) -> Verification {
+        let level = match opacity {
+            TriangleOpacity::Micromap(map) => map.level(),
+            TriangleOpacity::Special(_) => Level(0),
+        };
+        let state_of = |index: u64| match opacity {
+            TriangleOpacity::Micromap(map) => map.get(index).unwrap_or(State::UnknownOpaque),
+            TriangleOpacity::Special(state) => *state,
+        };
+        let mut report = Verification::default();
+        let Ok((fx, fy)) = self.frames(uv, level) else {
+            return report;
+        };
+        report.checked = true;
+        let shifts = (fx.shift, fy.shift);
+        for t in micro_triangles(level) {
+            let state = state_of(t.index());
+            if !state.is_known() {
+                report.unknown += 1;
+                continue;
+            }
+            report.known += 1;
+            let other = Classes {
+                opaque: state == State::Transparent,
+                transparent: state == State::Opaque,
+            };
+            let p = Self::place(&fx, &fy, level.get(), t.vertices_scaled());
+            let exact = ExactTriangle::new(p.x, p.y);
+            // A larger budget than baking: a verdict, not a bake.
+            let search = self
+                .classes
+                .search(&exact, shifts, other, self.budget.saturating_mul(16));
+            let witness_block = search.witness_block[usize::from(other.opaque)];
+            match witness_block {
+                Some(block) => {
+                    let witness = self.witness_in(&exact, block, shifts);
+                    let texel = witness.map_or_else(
+                        || self.classes.wrap(block.x0, block.y0),
+                        |w| {
+                            let (tx, ty) =
+                                self.classes.footprint_texel_in(block, (w.0, w.1), shifts);
+                            self.classes.wrap(tx, ty)
+                        },
+                    );
+                    report.contradictions.push(Contradiction {
+                        micro_triangle: t.index(),
+                        state,
+                        witness: witness.map(|(x, y, extra)| TexelPoint {
+                            x,
+                            shift_x: fx.shift + extra,
+                            y,
+                            shift_y: fy.shift + extra,
+                        }),
+                        texel,
+                    });
+                }
+                None if search.exhausted => report.undecided += 1,
+                None => {}
+            }
+        }
+        report
+    }
+
+    /// A point of `t` (closed) in the reach of `block`, on a grid `2^extra`
+    /// times finer: the block's included corner, a vertex, or a vertex of
+    /// a sub-triangle found by subdividing `t` where it meets the reach.
+    /// Every contact of a triangle with a half-open rectangle contains one
+    /// of these (a 2-D overlap holds fine-grid points; a contact along an
+    /// edge holds dyadic points of that edge; a single-point contact is a
+    /// vertex or the corner).
+    fn witness_in(
+        &self,
+        t: &ExactTriangle,
+        block: Block,
+        shifts: (u32, u32),
+    ) -> Option<(i128, i128, u32)> {
+        const EXTRA: u32 = 20;
+        let [x0, x1, y0, y1] = self.classes.block_reach(block, shifts);
+        let inside = |px: i128, py: i128| x0 <= px && px < x1 && y0 <= py && py < y1;
+        if t.contains(x0, y0) {
+            return Some((x0, y0, 0));
+        }
+        for k in 0..3 {
+            if inside(t.x[k], t.y[k]) {
+                return Some((t.x[k], t.y[k], 0));
+            }
+        }
+        // Finer grid: everything times 2^EXTRA, if it stays in range.
+        let limit = 1i128 << 120;
+        let up = |c: i128| c.checked_mul(1 << EXTRA).filter(|v| v.abs() < limit);
+        let scale3 =
+            |c: [i128; 3]| -> Option<[i128; 3]> { Some([up(c[0])?, up(c[1])?, up(c[2])?]) };
+        let (rx0, rx1, ry0, ry1) = (up(x0)?, up(x1)?, up(y0)?, up(y1)?);
+        let inside_fine = |px: i128, py: i128| rx0 <= px && px < rx1 && ry0 <= py && py < ry1;
+        let mut stack = Vec::new();
+        stack.push((scale3(t.x)?, scale3(t.y)?, 0u32));
+        let mut tests = 0u32;
+        while let Some((x, y, depth)) = stack.pop() {
+            tests += 1;
+            if tests > 1 << 16 {
+                return None;
+            }
+            let sub = ExactTriangle::new(x, y);
+            if !sub.meets(rx0, rx1, ry0, ry1) {
+                continue;
+            }
+            for k in 0..3 {
+                if inside_fine(x[k], y[k]) {
+                    return Some((x[k], y[k], EXTRA));
+                }
+            }
+            if depth == EXTRA {
+                continue;
+            }
+            let mid = |a: usize, b: usize| ((x[a] + x[b]) / 2, (y[a] + y[b]) / 2);
+            let (m01, m12, m20) = (mid(0, 1), mid(1, 2), mid(2, 0));
+            let p = [(x[0], y[0]), (x[1], y[1]), (x[2], y[2])];
+            for tri in [
+                [p[0], m01, m20],
+                [m01, p[1], m12],
+                [m20, m12, p[2]],
+                [m01, m12, m20],
+            ] {
+                stack.push((tri.map(|q| q.0), tri.map(|q| q.1), depth + 1));
+            }
+        }
+        None
+    }
+}

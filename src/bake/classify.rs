@@ -1,0 +1,435 @@
+//! Which texel classes (opaque, transparent) a closed micro-triangle can
+//! sample: texel classes with prefix sums, the image of a block of texel
+//! coordinates under the address modes, and an exact block search.
+
+use super::exact::ExactTriangle;
+use super::texture::{AddressMode, AlphaTexture, Cutoff, Filter, Sampler, TextureError};
+use alloc::vec::Vec;
+
+/// The set of texel classes a region samples.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Classes {
+    pub(crate) opaque: bool,
+    pub(crate) transparent: bool,
+}
+
+impl Classes {
+    pub(crate) const BOTH: Classes = Classes {
+        opaque: true,
+        transparent: true,
+    };
+
+    fn of(opaque: bool) -> Classes {
+        Classes {
+            opaque,
+            transparent: !opaque,
+        }
+    }
+
+    fn union(self, other: Classes) -> Classes {
+        Classes {
+            opaque: self.opaque || other.opaque,
+            transparent: self.transparent || other.transparent,
+        }
+    }
+
+    fn contains(self, other: Classes) -> bool {
+        (self.opaque || !other.opaque) && (self.transparent || !other.transparent)
+    }
+
+    pub(crate) fn is_mixed(self) -> bool {
+        self.opaque && self.transparent
+    }
+}
+
+/// An inclusive block of texel coordinates `[x0, x1] x [y0, y1]`, before
+/// wrapping (they may lie anywhere).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Block {
+    pub(crate) x0: i128,
+    pub(crate) x1: i128,
+    pub(crate) y0: i128,
+    pub(crate) y1: i128,
+}
+
+/// The image of `lo..=hi` under an address mode: at most two ranges of
+/// `0..size`, and whether some coordinate reads the border.
+#[derive(Clone, Copy, Debug)]
+struct AxisImage {
+    ranges: [(u32, u32); 2],
+    count: usize,
+    border: bool,
+}
+
+impl AxisImage {
+    fn one(lo: i128, hi: i128) -> AxisImage {
+        AxisImage {
+            ranges: [(lo as u32, hi as u32), (0, 0)],
+            count: 1,
+            border: false,
+        }
+    }
+}
+
+/// Does `lo..=hi` hold an integer `≡ r (mod m)`?
+fn holds_residue(lo: i128, hi: i128, r: i128, m: i128) -> bool {
+    lo + (r - lo).rem_euclid(m) <= hi
+}
+
+fn axis_image(mode: AddressMode, lo: i128, hi: i128, size: u32) -> AxisImage {
+    let n = i128::from(size);
+    let full = AxisImage::one(0, n - 1);
+    let mirror = |k: i128| if k >= 0 { k } else { -(1 + k) };
+    match mode {
+        AddressMode::Repeat => {
+            if hi - lo + 1 >= n {
+                return full;
+            }
+            let a = lo.rem_euclid(n);
+            let b = a + (hi - lo);
+            if b < n {
+                AxisImage::one(a, b)
+            } else {
+                AxisImage {
+                    ranges: [(a as u32, (n - 1) as u32), (0, (b - n) as u32)],
+                    count: 2,
+                    border: false,
+                }
+            }
+        }
+        AddressMode::MirroredRepeat => {
+            if hi - lo + 1 >= 2 * n {
+                return full;
+            }
+            // Monotone between the folds at t = 0 | 2n - 1 (value 0) and
+            // t = n - 1 | n (value n - 1).
+            let f = |i: i128| {
+                let t = i.rem_euclid(2 * n);
+                if t < n {
+                    t
+                } else {
+                    2 * n - 1 - t
+                }
+            };
+            let min = if holds_residue(lo, hi, 0, 2 * n) || holds_residue(lo, hi, 2 * n - 1, 2 * n)
+            {
+                0
+            } else {
+                f(lo).min(f(hi))
+            };
+            let max = if holds_residue(lo, hi, n - 1, 2 * n) || holds_residue(lo, hi, n, 2 * n) {
+                n - 1
+            } else {
+                f(lo).max(f(hi))
+            };
+            AxisImage::one(min, max)
+        }
+        AddressMode::ClampToEdge => AxisImage::one(lo.clamp(0, n - 1), hi.clamp(0, n - 1)),
+        AddressMode::ClampToBorder => {
+            let (a, b) = (lo.max(0), hi.min(n - 1));
+            AxisImage {
+                ranges: [(a.max(0) as u32, b.max(0) as u32), (0, 0)],
+                count: usize::from(a <= b),
+                border: lo < 0 || hi >= n,
+            }
+        }
+        AddressMode::MirrorClampToEdge => {
+            let g = |i: i128| mirror(i).clamp(0, n - 1);
+            let min = if lo <= 0 && hi >= -1 {
+                0
+            } else {
+                g(lo).min(g(hi))
+            };
+            AxisImage::one(min, g(lo).max(g(hi)))
+        }
+    }
+}
+
+/// Every texel classified once, with prefix sums to count the opaque texels
+/// of any rectangle in four reads.
+#[derive(Clone, Debug)]
+pub(crate) struct TexelClasses {
+    pub(crate) width: u32,
+    pub(crate) height: u32,
+    /// `prefix[y * (width + 1) + x]`: opaque texels in `[0, x) x [0, y)`.
+    prefix: Vec<u32>,
+    pub(crate) sampler: Sampler,
+    border_opaque: bool,
+}
+
+/// What [`TexelClasses::search`] found.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Search {
+    pub(crate) classes: Classes,
+    /// The search ran out of block tests before it could rule out the
+    /// classes it had not found; those classes are then included in
+    /// `classes` (unknown is always sound).
+    pub(crate) exhausted: bool,
+    /// The first block of one class found to meet the triangle, per class
+    /// (`[transparent, opaque]`).
+    pub(crate) witness_block: [Option<Block>; 2],
+}
+
+impl TexelClasses {
+    pub(crate) fn new(
+        texture: &(impl AlphaTexture + ?Sized),
+        sampler: Sampler,
+        cutoff: Cutoff,
+    ) -> Result<TexelClasses, TextureError> {
+        let (width, height) = (texture.width(), texture.height());
+        if width == 0 || height == 0 {
+            return Err(TextureError::Empty);
+        }
+        if u64::from(width) * u64::from(height) >= 1 << 32 {
+            return Err(TextureError::TooLarge { width, height });
+        }
+        if sampler.border_alpha.is_nan() {
+            return Err(TextureError::NanThreshold);
+        }
+        let stride = width as usize + 1;
+        let mut prefix = alloc::vec![0u32; stride * (height as usize + 1)];
+        for y in 0..height {
+            let mut row = 0u32;
+            for x in 0..width {
+                row += u32::from(cutoff.is_opaque(texture.alpha(x, y)));
+                let at = (y as usize + 1) * stride + x as usize + 1;
+                prefix[at] = prefix[at - stride] + row;
+            }
+        }
+        Ok(TexelClasses {
+            width,
+            height,
+            prefix,
+            sampler,
+            border_opaque: cutoff.is_opaque(f64::from(sampler.border_alpha)),
+        })
+    }
+
+    /// Opaque texels in `[x0, x1] x [y0, y1]` (inclusive, in range).
+    #[inline]
+    fn opaque_count(&self, (x0, x1): (u32, u32), (y0, y1): (u32, u32)) -> u64 {
+        let stride = self.width as usize + 1;
+        let at = |x: u32, y: u32| u64::from(self.prefix[y as usize * stride + x as usize]);
+        at(x1 + 1, y1 + 1) + at(x0, y0) - at(x0, y1 + 1) - at(x1 + 1, y0)
+    }
+
+    /// The classes of a texel, or of the border (`None`).
+    pub(crate) fn class_of(&self, texel: Option<(u32, u32)>) -> bool {
+        match texel {
+            Some((x, y)) => self.opaque_count((x, x), (y, y)) == 1,
+            None => self.border_opaque,
+        }
+    }
+
+    /// The texel (or the border, `None`) that texel coordinates read.
+    pub(crate) fn wrap(&self, x: i128, y: i128) -> Option<(u32, u32)> {
+        let clamp = |k: i128| k.clamp(i128::from(i64::MIN), i128::from(i64::MAX)) as i64;
+        // Out of i64 only for coordinates beyond 2^63 texels, where every
+        // mode's answer is that of the clamped value (periods divide 2^63
+        // only for power-of-two sizes, so wrap exactly instead).
+        let wrap_axis = |mode: AddressMode, k: i128, n: u32| -> Option<u32> {
+            match mode {
+                AddressMode::Repeat => Some(k.rem_euclid(i128::from(n)) as u32),
+                AddressMode::MirroredRepeat => {
+                    let t = k.rem_euclid(2 * i128::from(n));
+                    let n = i128::from(n);
+                    Some(if t < n { t } else { 2 * n - 1 - t } as u32)
+                }
+                _ => mode.wrap(clamp(k), n),
+            }
+        };
+        let x = wrap_axis(self.sampler.address_u, x, self.width)?;
+        let y = wrap_axis(self.sampler.address_v, y, self.height)?;
+        Some((x, y))
+    }
+
+    /// The classes the texels of `block` read (after wrapping).
+    fn block_classes(&self, block: Block) -> Classes {
+        let xs = axis_image(self.sampler.address_u, block.x0, block.x1, self.width);
+        let ys = axis_image(self.sampler.address_v, block.y0, block.y1, self.height);
+        let mut classes = Classes::default();
+        if xs.border || ys.border {
+            classes = Classes::of(self.border_opaque);
+        }
+        for &xr in &xs.ranges[..xs.count] {
+            for &yr in &ys.ranges[..ys.count] {
+                let area = u64::from(xr.1 - xr.0 + 1) * u64::from(yr.1 - yr.0 + 1);
+                let opaque = self.opaque_count(xr, yr);
+                classes = classes.union(Classes {
+                    opaque: opaque > 0,
+                    transparent: opaque < area,
+                });
+            }
+        }
+        classes
+    }
+
+    /// The texel coordinates whose footprint can hold the sample point
+    /// `p` in grid units (`unit = 2^shift` per texel): nearest
+    /// `floor(p)`; linear `floor(p - 1/2)` and the next one.
+    #[inline]
+    fn footprint(&self, lo: i128, hi: i128, shift: u32) -> (i128, i128) {
+        match self.sampler.filter {
+            Filter::Nearest => (lo >> shift, hi >> shift),
+            Filter::Linear => {
+                let half = 1i128 << (shift - 1);
+                ((lo - half) >> shift, ((hi - half) >> shift) + 1)
+            }
+        }
+    }
+
+    /// The geometric half-open rectangle (grid units) of the points whose
+    /// footprint meets the texel range `lo..=hi`.
+    #[inline]
+    fn reach(&self, lo: i128, hi: i128, shift: u32) -> (i128, i128) {
+        match self.sampler.filter {
+            Filter::Nearest => (lo << shift, (hi + 1) << shift),
+            Filter::Linear => {
+                let half = 1i128 << (shift - 1);
+                ((lo << shift) - half, ((hi + 1) << shift) + half)
+            }
+        }
+    }
+
+    /// The footprint block of a point set with grid bounding box
+    /// `[min_x, max_x] x [min_y, max_y]`.
+    pub(crate) fn bounding_block(
+        &self,
+        (min_x, max_x): (i128, i128),
+        (min_y, max_y): (i128, i128),
+        (sx, sy): (u32, u32),
+    ) -> Block {
+        let (x0, x1) = self.footprint(min_x, max_x, sx);
+        let (y0, y1) = self.footprint(min_y, max_y, sy);
+        Block { x0, x1, y0, y1 }
+    }
+
+    /// The classes of the whole block only: decides a micro-triangle
+    /// without geometry when its bounding block is uniform.
+    pub(crate) fn quick(&self, block: Block) -> Classes {
+        self.block_classes(block)
+    }
+
+    /// Every class the closed triangle `t` samples, exactly, by splitting
+    /// its bounding block until each part is uniform or misses `t`.
+    /// `budget` caps the block tests; past it the missing classes are
+    /// assumed (sound) and `exhausted` is set. `want` stops the search as
+    /// soon as these classes are found.
+    pub(crate) fn search(
+        &self,
+        t: &ExactTriangle,
+        shifts: (u32, u32),
+        want: Classes,
+        budget: u32,
+    ) -> Search {
+        let (sx, sy) = shifts;
+        let start = self.bounding_block((t.min_x(), t.max_x()), (t.min_y(), t.max_y()), shifts);
+        let mut found = Search::default();
+        let mut stack: Vec<Block> = Vec::new();
+        stack.push(start);
+        let mut tests = 0u32;
+        while let Some(block) = stack.pop() {
+            if found.classes.contains(want) {
+                break;
+            }
+            tests += 1;
+            if tests > budget {
+                found.exhausted = true;
+                found.classes = found.classes.union(want);
+                break;
+            }
+            let (rx0, rx1) = self.reach(block.x0, block.x1, sx);
+            let (ry0, ry1) = self.reach(block.y0, block.y1, sy);
+            if !t.meets(rx0, rx1, ry0, ry1) {
+                continue;
+            }
+            let classes = self.block_classes(block);
+            if found.classes.contains(classes) {
+                continue;
+            }
+            if !classes.is_mixed() {
+                found.classes = found.classes.union(classes);
+                found.witness_block[usize::from(classes.opaque)] = Some(block);
+                continue;
+            }
+            // Mixed: split the longer side (a single texel is never mixed).
+            if block.x1 - block.x0 >= block.y1 - block.y0 {
+                let mid = block.x0 + (block.x1 - block.x0) / 2;
+                stack.push(Block {
+                    x0: mid + 1,
+                    ..block
+                });
+                stack.push(Block { x1: mid, ..block });
+            } else {
+                let mid = block.y0 + (block.y1 - block.y0) / 2;
+                stack.push(Block {
+                    y0: mid + 1,
+                    ..block
+                });
+                stack.push(Block { y1: mid, ..block });
+            }
+        }
+        found
+    }
+
+    /// The point set's reach rectangle for a block (grid units), public to
+    /// the witness search.
+    pub(crate) fn block_reach(&self, block: Block, (sx, sy): (u32, u32)) -> [i128; 4] {
+        let (x0, x1) = self.reach(block.x0, block.x1, sx);
+        let (y0, y1) = self.reach(block.y0, block.y1, sy);
+        [x0, x1, y0, y1]
+    }
+
+    /// The texel coordinates of `block` in the footprint of the grid point
+    /// `(px, py)` (one exists when the point is in the block's reach).
+    pub(crate) fn footprint_texel_in(
+        &self,
+        block: Block,
+        (px, py): (i128, i128),
+        (sx, sy): (u32, u32),
+    ) -> (i128, i128) {
+        let (fx0, fx1) = self.footprint(px, px, sx);
+        let (fy0, fy1) = self.footprint(py, py, sy);
+        (
+            fx0.max(block.x0).min(fx1.min(block.x1)),
+            fy0.max(block.y0).min(fy1.min(block.y1)),
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every address mode's image of every short range equals the set of
+    /// wrapped values, computed one coordinate at a time.
+    #[test]
+    fn axis_images_match_wrapping_each_coordinate() {
+        for size in 1..=5u32 {
+            for mode in AddressMode::ALL {
+                for lo in -13i128..13 {
+                    for hi in lo..lo + 13 {
+                        let image = axis_image(mode, lo, hi, size);
+                        let mut expected = [false; 5];
+                        let mut border = false;
+                        for i in lo..=hi {
+                            match mode.wrap(i as i64, size) {
+                                Some(t) => expected[t as usize] = true,
+                                None => border = true,
+                            }
+                        }
+                        let mut got = [false; 5];
+                        for &(a, b) in &image.ranges[..image.count] {
+                            assert!(a <= b && b < size, "{mode:?} {lo}..={hi} size {size}");
+                            for t in a..=b {
+                                got[t as usize] = true;
+                            }
+                        }
+                        assert_eq!(got, expected, "{mode:?} {lo}..={hi} size {size}");
+                        assert_eq!(image.border, border, "{mode:?} {lo}..={hi} size {size}");
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,316 @@
+//! Alpha textures, the sampler model and the alpha cutoff.
+
+use core::fmt;
+
+/// An alpha texture the baker reads: `width x height` texels, row `y = 0`
+/// at `v = 0` (the top row of an image, as in Vulkan and glTF).
+///
+/// Implement it to bake from your own texel storage. [`alpha`](Self::alpha)
+/// must be exact: the baker compares it with the cutoff without rounding
+/// (see [`Cutoff`]); `f64` holds every `u8`, `u16`, `f16` and `f32` texel
+/// value, and the unorm quotients `c / 255` and `c / 65535` compare with any
+/// binary32 cutoff as the exact quotients do (their distance from any
+/// binary32 value other than 0 and 1 is far above `f64`'s rounding error).
+pub trait AlphaTexture {
+    /// Texels per row; must be at least 1.
+    fn width(&self) -> u32;
+    /// Rows; must be at least 1.
+    fn height(&self) -> u32;
+    /// The alpha of texel `(x, y)`, `x < width`, `y < height`.
+    fn alpha(&self, x: u32, y: u32) -> f64;
+}
+
+/// Why a texture view or a sampler was refused.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum TextureError {
+    /// Width or height is zero.
+    Empty,
+    /// `texels.len()` is not `width * height`.
+    WrongLength {
+        /// `width * height`.
+        expected: u64,
+        /// The slice's length.
+        got: usize,
+    },
+    /// `width * height` is `2^32` or more: the classifier counts texels in
+    /// `u32`.
+    TooLarge {
+        /// Texels per row.
+        width: u32,
+        /// Rows.
+        height: u32,
+    },
+    /// The cutoff or the border alpha is NaN.
+    NanThreshold,
+}
+
+impl fmt::Display for TextureError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            TextureError::Empty => f.write_str("the texture has no texels"),
+            TextureError::WrongLength { expected, got } => {
+                write!(f, "expected {expected} texels, got {got}")
+            }
+            TextureError::TooLarge { width, height } => {
+                write!(f, "a {width}x{height} texture has 2^32 texels or more")
+            }
+            TextureError::NanThreshold => f.write_str("the cutoff or the border alpha is NaN"),
+        }
+    }
+}
+
+impl core::error::Error for TextureError {}
+
+fn check_dimensions(width: u32, height: u32, len: usize) -> Result<(), TextureError> {
+    if width == 0 || height == 0 {
+        return Err(TextureError::Empty);
+    }
+    let expected = u64::from(width) * u64::from(height);
+    if expected >= 1 << 32 {
+        return Err(TextureError::TooLarge { width, height });
+    }
+    if len as u64 != expected {
+        return Err(TextureError::WrongLength { expected, got: len });
+    }
+    Ok(())
+}
+
+/// 8-bit unorm alpha texels (`alpha = c / 255`), row-major.
+///
+/// ```
+/// use micromap_index::bake::{AlphaTexture, Unorm8Texture};
+/// let texels = [0u8, 255, 128, 64];
+/// let texture = Unorm8Texture::new(2, 2, &texels).unwrap();
+/// assert_eq!(texture.alpha(1, 0), 1.0);
+/// assert!(Unorm8Texture::new(3, 2, &texels).is_err());
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct Unorm8Texture<'a> {
+    width: u32,
+    height: u32,
+    texels: &'a [u8],
+}
+
+impl<'a> Unorm8Texture<'a> {
+    /// A view of `texels` as `width x height`, row-major.
+    pub fn new(width: u32, height: u32, texels: &'a [u8]) -> Result<Self, TextureError> {
+        check_dimensions(width, height, texels.len())?;
+        Ok(Unorm8Texture {
+            width,
+            height,
+            texels,
+        })
+    }
+}
+
+impl AlphaTexture for Unorm8Texture<'_> {
+    fn width(&self) -> u32 {
+        self.width
+    }
+    fn height(&self) -> u32 {
+        self.height
+    }
+    fn alpha(&self, x: u32, y: u32) -> f64 {
+        f64::from(self.texels[y as usize * self.width as usize + x as usize]) / 255.0
+    }
+}
+
+/// `f32` alpha texels, row-major. A NaN texel passes no cutoff (every
+/// comparison with NaN is false), so it is transparent.
+///
+/// ```
+/// use micromap_index::bake::{AlphaTexture, F32Texture};
+/// let texels = [0.25f32, 1.0];
+/// let texture = F32Texture::new(2, 1, &texels).unwrap();
+/// assert_eq!(texture.alpha(0, 0), 0.25);
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct F32Texture<'a> {
+    width: u32,
+    height: u32,
+    texels: &'a [f32],
+}
+
+impl<'a> F32Texture<'a> {
+    /// A view of `texels` as `width x height`, row-major.
+    pub fn new(width: u32, height: u32, texels: &'a [f32]) -> Result<Self, TextureError> {
+        check_dimensions(width, height, texels.len())?;
+        Ok(F32Texture {
+            width,
+            height,
+            texels,
+        })
+    }
+}
+
+impl AlphaTexture for F32Texture<'_> {
+    fn width(&self) -> u32 {
+        self.width
+    }
+    fn height(&self) -> u32 {
+        self.height
+    }
+    fn alpha(&self, x: u32, y: u32) -> f64 {
+        f64::from(self.texels[y as usize * self.width as usize + x as usize])
+    }
+}
+
+/// Texture filtering, as Vulkan's `VkFilter`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Filter {
+    /// The texel containing the sample point: `floor(u * width)`.
+    #[default]
+    Nearest,
+    /// A weighted mix of the 2x2 texels around `u * width - 1/2`.
+    Linear,
+}
+
+/// What a texel coordinate outside `0..size` reads, per axis, as Vulkan's
+/// `VkSamplerAddressMode` (the "wrapping operation" on integer texel
+/// coordinates, applied after `floor`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum AddressMode {
+    /// `i mod size`.
+    #[default]
+    Repeat,
+    /// `(size - 1) - mirror((i mod 2 size) - size)`, `mirror(n) = n` for
+    /// `n >= 0`, else `-(1 + n)`.
+    MirroredRepeat,
+    /// `clamp(i, 0, size - 1)`.
+    ClampToEdge,
+    /// The border alpha ([`Sampler::border_alpha`]) outside `0..size`.
+    ClampToBorder,
+    /// `clamp(mirror(i), 0, size - 1)`.
+    MirrorClampToEdge,
+}
+
+impl AddressMode {
+    /// Every mode.
+    pub const ALL: [AddressMode; 5] = [
+        AddressMode::Repeat,
+        AddressMode::MirroredRepeat,
+        AddressMode::ClampToEdge,
+        AddressMode::ClampToBorder,
+        AddressMode::MirrorClampToEdge,
+    ];
+
+    /// The texel `i` reads in `0..size`, or `None` for the border. Total:
+    /// every `i64` and every `size >= 1`.
+    ///
+    /// ```
+    /// use micromap_index::bake::AddressMode;
+    /// assert_eq!(AddressMode::Repeat.wrap(-1, 4), Some(3));
+    /// assert_eq!(AddressMode::MirroredRepeat.wrap(4, 4), Some(3));
+    /// assert_eq!(AddressMode::MirroredRepeat.wrap(-1, 4), Some(0));
+    /// assert_eq!(AddressMode::ClampToEdge.wrap(9, 4), Some(3));
+    /// assert_eq!(AddressMode::ClampToBorder.wrap(4, 4), None);
+    /// assert_eq!(AddressMode::MirrorClampToEdge.wrap(-3, 4), Some(2));
+    /// assert_eq!(AddressMode::MirrorClampToEdge.wrap(-9, 4), Some(3));
+    /// ```
+    #[must_use]
+    pub fn wrap(self, i: i64, size: u32) -> Option<u32> {
+        let n = i128::from(size.max(1));
+        let i = i128::from(i);
+        let mirror = |k: i128| if k >= 0 { k } else { -(1 + k) };
+        let t = match self {
+            AddressMode::Repeat => i.rem_euclid(n),
+            AddressMode::MirroredRepeat => (n - 1) - mirror(i.rem_euclid(2 * n) - n),
+            AddressMode::ClampToEdge => i.clamp(0, n - 1),
+            AddressMode::ClampToBorder => {
+                if (0..n).contains(&i) {
+                    i
+                } else {
+                    return None;
+                }
+            }
+            AddressMode::MirrorClampToEdge => mirror(i).clamp(0, n - 1),
+        };
+        Some(t as u32)
+    }
+}
+
+/// The sampler the runtime uses with the texture: filter, address mode per
+/// axis, border alpha. [`Default`] is nearest with repeat on both axes.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Sampler {
+    /// Nearest or linear.
+    pub filter: Filter,
+    /// Address mode along `u` (texel columns).
+    pub address_u: AddressMode,
+    /// Address mode along `v` (texel rows).
+    pub address_v: AddressMode,
+    /// The alpha [`AddressMode::ClampToBorder`] reads (Vulkan's border
+    /// colours have alpha 0 or 1; any value is allowed here).
+    pub border_alpha: f32,
+}
+
+/// Which side of the cutoff is opaque.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Comparison {
+    /// Opaque when `alpha >= cutoff`: glTF's `alphaMode: MASK`.
+    #[default]
+    AtLeast,
+    /// Opaque when `alpha > cutoff`: the OMM SDK's convention.
+    Above,
+}
+
+/// The alpha test: a texel is opaque when its alpha passes.
+///
+/// ```
+/// use micromap_index::bake::{Comparison, Cutoff};
+/// let gltf = Cutoff::new(0.5, Comparison::AtLeast).unwrap();
+/// assert!(gltf.is_opaque(0.5));
+/// let sdk = Cutoff::new(0.5, Comparison::Above).unwrap();
+/// assert!(!sdk.is_opaque(0.5));
+/// assert!(!gltf.is_opaque(f64::NAN));
+/// assert!(Cutoff::new(f32::NAN, Comparison::AtLeast).is_err());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cutoff {
+    alpha: f32,
+    comparison: Comparison,
+}
+
+impl Default for Cutoff {
+    /// glTF's default: opaque when `alpha >= 0.5`.
+    fn default() -> Self {
+        Cutoff {
+            alpha: 0.5,
+            comparison: Comparison::AtLeast,
+        }
+    }
+}
+
+impl Cutoff {
+    /// A cutoff at `alpha` (any non-NaN value; `-inf` and `+inf` make every
+    /// texel opaque or transparent).
+    pub fn new(alpha: f32, comparison: Comparison) -> Result<Cutoff, TextureError> {
+        if alpha.is_nan() {
+            return Err(TextureError::NanThreshold);
+        }
+        Ok(Cutoff { alpha, comparison })
+    }
+
+    /// The cutoff value.
+    #[must_use]
+    pub fn alpha(&self) -> f32 {
+        self.alpha
+    }
+
+    /// The comparison.
+    #[must_use]
+    pub fn comparison(&self) -> Comparison {
+        self.comparison
+    }
+
+    /// Does `alpha` pass (is the texel opaque)? Exact: one comparison of
+    /// `alpha` with the binary32 cutoff; NaN never passes.
+    #[must_use]
+    pub fn is_opaque(&self, alpha: f64) -> bool {
+        match self.comparison {
+            Comparison::AtLeast => alpha >= f64::from(self.alpha),
+            Comparison::Above => alpha > f64::from(self.alpha),
+        }
+    }
+}
