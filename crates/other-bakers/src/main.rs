@@ -129,6 +129,9 @@ fn run(args: Args) -> Result<(), String> {
     levels.dedup();
     let specials = |i: i32| baked.maps.indices.iter().filter(|&&x| x == i).count();
     let seconds = best.as_secs_f64();
+    let mut sorted = times.clone();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted[sorted.len() / 2];
     let summary = serde_json::json!({
         "baker": baker.name(),
         "version": baker.version(),
@@ -164,6 +167,7 @@ fn run(args: Args) -> Result<(), String> {
                      one thread), input already in memory, output not yet converted to files",
             "repeat": args.repeat,
             "best_seconds": seconds,
+            "median_seconds": median,
             "all_seconds": times,
             "micro_triangles_per_second": baked.micro_triangles_baked as f64 / seconds,
         },
@@ -172,13 +176,14 @@ fn run(args: Args) -> Result<(), String> {
     std::fs::write(args.out.join("summary.json"), &text)
         .map_err(|e| format!("{}: {e}", args.out.display()))?;
     eprintln!(
-        "{} L{} f{}: {} micromaps, {} bytes, best {:.6} s, {:.3e} micro-triangles/s -> {}",
+        "{} L{} f{}: {} micromaps, {} bytes, best {:.6} s (median {:.6} s), {:.3e} micro-triangles/s -> {}",
         baker.name(),
         args.level,
         args.format.states(),
         baked.maps.records.len(),
         baked.maps.data.len(),
         seconds,
+        median,
         baked.micro_triangles_baked as f64 / seconds,
         args.out.display()
     );

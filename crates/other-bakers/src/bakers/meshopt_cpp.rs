@@ -87,7 +87,7 @@ impl Baker for MeshoptCpp {
         );
         // meshopt's layout is already Vulkan's: `offsets[k]` / `levels[k]`
         // describe entry k, its bytes pack micro-triangle i LSB first
-        // (opacitymap.cpp l.240, l.260), and compacted indices are a record
+        // (opacitymap.cpp l.239, l.260), and compacted indices are a record
         // or -(state + 1).
         let records = offsets
             .iter()
