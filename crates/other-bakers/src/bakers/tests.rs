@@ -1,0 +1,224 @@
+//! Conversion checks on tiny cases: uniform textures give special indices,
+//! a half-opaque texture gives the micro-triangle pattern that
+//! micromap-index's curve predicts, and the two meshoptimizer builds agree.
+
+use micromap_index::inverse::micro_triangle;
+use micromap_index::Level;
+
+use super::{all, Baker, Request};
+use crate::input::{AlphaTexture, UvTriangle};
+use crate::output::{Format, FULLY_OPAQUE, FULLY_TRANSPARENT};
+
+const FORMATS: [Format; 2] = [Format::TwoState, Format::FourState];
+
+fn bake(
+    baker: &dyn Baker,
+    texture: &AlphaTexture,
+    tris: &[UvTriangle],
+    level: u8,
+    format: Format,
+) -> crate::output::Micromaps {
+    let baked = baker
+        .bake(&Request {
+            texture,
+            triangles: tris,
+            level,
+            format,
+        })
+        .unwrap_or_else(|e| panic!("{}: {e}", baker.name()));
+    baked.maps.validate(tris.len()).unwrap();
+    baked.maps
+}
+
+fn working_bakers() -> Vec<Box<dyn Baker>> {
+    // The omm adapter only bakes with the native backend.
+    all()
+        .into_iter()
+        .filter(|b| b.name() != "nvidia-omm")
+        .collect()
+}
+
+#[test]
+fn uniform_textures_give_special_indices() {
+    let tris = crate::input::grid_triangles(2);
+    for (value, special) in [(255u8, FULLY_OPAQUE), (0, FULLY_TRANSPARENT)] {
+        let texture = AlphaTexture::from_fn(16, 8, |_, _| value);
+        for baker in working_bakers() {
+            for format in FORMATS {
+                for level in [0, 1, 3] {
+                    let maps = bake(&*baker, &texture, &tris, level, format);
+                    assert!(
+                        maps.records.is_empty(),
+                        "{} {format:?} L{level}",
+                        baker.name()
+                    );
+                    assert!(maps.data.is_empty());
+                    assert_eq!(maps.indices, vec![special; tris.len()], "{}", baker.name());
+                }
+            }
+        }
+    }
+}
+
+/// UV of micro-triangle `index`'s vertices at `level` for the triangle
+/// `tri`: barycentric `(u, v)` weighs vertex 1 and 2, `w = 1 - u - v` vertex 0.
+fn micro_uvs(tri: &UvTriangle, level: u8, index: u64) -> [[f64; 2]; 3] {
+    let m = micro_triangle(Level::new(level.into()).unwrap(), index).unwrap();
+    m.vertices_f64().map(|(u, v)| {
+        let w = 1.0 - u - v;
+        [0, 1]
+            .map(|k| w * f64::from(tri[0][k]) + u * f64::from(tri[1][k]) + v * f64::from(tri[2][k]))
+    })
+}
+
+/// Left half opaque (texels x < W/2): the bilinear field is 1 for
+/// u <= (W/2 - 0.5)/W and 0 for u >= (W/2 + 0.5)/W. Every micro-triangle
+/// wholly on one side must have that state; which index that is comes from
+/// micromap-index's curve, so this checks the bakers' order and vertex
+/// mapping as well as the bit packing.
+#[test]
+fn half_opaque_texture_matches_the_vulkan_curve() {
+    let (w, h) = (64u32, 32u32);
+    let texture = AlphaTexture::from_fn(w, h, |x, _| if x < w / 2 { 255 } else { 0 });
+    let (opaque_below, transparent_above) = (
+        (f64::from(w / 2) - 0.5) / f64::from(w),
+        (f64::from(w / 2) + 0.5) / f64::from(w),
+    );
+    let tris: Vec<UvTriangle> = vec![
+        [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]],
+        [[0.9, 0.1], [0.1, 0.2], [0.6, 0.95]],
+        [[0.05, 0.9], [0.95, 0.85], [0.3, 0.05]],
+    ];
+    for baker in working_bakers() {
+        for format in FORMATS {
+            let mut checked = [0usize; 2];
+            for level in [1u8, 2, 3, 5] {
+                let maps = bake(&*baker, &texture, &tris, level, format);
+                for (t, tri) in tris.iter().enumerate() {
+                    for i in 0..1u64 << (2 * level) {
+                        let uvs = micro_uvs(tri, level, i);
+                        let got = maps.state(t, i as usize);
+                        let expected = if uvs.iter().all(|p| p[0] < opaque_below) {
+                            1
+                        } else if uvs.iter().all(|p| p[0] > transparent_above) {
+                            0
+                        } else {
+                            continue;
+                        };
+                        checked[expected as usize] += 1;
+                        assert_eq!(
+                            got,
+                            expected,
+                            "{} {format:?} L{level} triangle {t} micro-triangle {i} at {uvs:?}",
+                            baker.name()
+                        );
+                    }
+                }
+            }
+            assert!(checked[0] > 100 && checked[1] > 100, "{checked:?}");
+        }
+    }
+}
+
+/// A triangle straddling the edge: in 4-state some micro-triangles must be
+/// unknown, and the known ones lie on their side.
+#[test]
+fn four_state_marks_the_edge_unknown() {
+    let texture = AlphaTexture::from_fn(64, 64, |x, _| if x < 32 { 255 } else { 0 });
+    let tris: Vec<UvTriangle> = vec![[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]];
+    for baker in working_bakers() {
+        let maps = bake(&*baker, &texture, &tris, 3, Format::FourState);
+        let counts = maps.state_counts(3);
+        assert!(counts[2] + counts[3] > 0, "{}: {counts:?}", baker.name());
+    }
+}
+
+/// The C++ meshoptimizer and the Rust port give the same bytes on a
+/// non-trivial texture, including wrapped and out-of-range UVs.
+#[test]
+fn meshopt_cpp_and_rust_port_agree() {
+    let texture = AlphaTexture::from_fn(37, 23, |x, y| {
+        let (dx, dy) = (x as f32 - 15.3, y as f32 - 11.7);
+        (255.0 * (0.5 + 0.5 * ((dx * dx + dy * dy).sqrt() * 0.7).sin())) as u8
+    });
+    let mut tris = crate::input::grid_triangles(3);
+    tris.push([[-0.3, 0.2], [1.4, -0.1], [0.5, 2.2]]);
+    tris.push([[0.01, 0.99], [0.02, 0.98], [0.5, 0.5]]);
+    let cpp = super::meshopt_cpp::MeshoptCpp;
+    let rs = super::meshopt_rs::MeshoptRs;
+    for format in FORMATS {
+        for level in 0..=6u8 {
+            let a = bake(&cpp, &texture, &tris, level, format);
+            let b = bake(&rs, &texture, &tris, level, format);
+            assert_eq!(a, b, "{format:?} L{level}");
+        }
+    }
+}
+
+/// meshoptimizer's sampler (opacitymap.cpp l.29-69), written out again.
+fn meshopt_sample(t: &AlphaTexture, u: f32, v: f32) -> f32 {
+    let wrap = |x: f32| {
+        if (x - 0.5).abs() > 0.5 {
+            x - x.floor()
+        } else {
+            x
+        }
+    };
+    let (u, v) = (wrap(u), wrap(v));
+    let uf = ((u * (t.width as f32 * 256.0) - 127.5) as i32).max(0);
+    let vf = ((v * (t.height as f32 * 256.0) - 127.5) as i32).max(0);
+    let (x, y, rx, ry) = (uf >> 8, vf >> 8, uf & 255, vf & 255);
+    let (x, y) = (x as usize, y as usize);
+    let (w, h) = (t.width as usize, t.height as usize);
+    let x1 = if x + 1 < w { x + 1 } else { x };
+    let y1 = if y + 1 < h { y + 1 } else { y };
+    let a = |x: usize, y: usize| i32::from(t.alpha[y * w + x]);
+    let ax0 = a(x, y) * 256 + (a(x1, y) - a(x, y)) * rx;
+    let ax1 = a(x, y1) * 256 + (a(x1, y1) - a(x, y1)) * rx;
+    let axy = ax0 * 256 + (ax1 - ax0) * ry;
+    axy as f32 * (1.0 / (255.0 * 65536.0))
+}
+
+/// End to end on the real chain texture (its micromaps are deduplicated
+/// and compacted): every known 4-state micro-triangle must agree with
+/// meshoptimizer's own samples at its corners and centroid, located through
+/// micromap-index's curve. The grid's UVs are multiples of 1/8, so every
+/// micro-vertex up to level 4 is exact in f32 and the centroid is the one
+/// meshoptimizer computes.
+#[test]
+fn chain_known_states_agree_with_meshopt_samples() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../assets/crytek-sponza/chain.png"
+    );
+    let texture = crate::input::read_png_alpha(std::path::Path::new(path)).unwrap();
+    assert_eq!((texture.width, texture.height), (256, 1024));
+    let tris = crate::input::grid_triangles(8);
+    let level = 4u8;
+    for baker in working_bakers() {
+        let maps = bake(&*baker, &texture, &tris, level, Format::FourState);
+        assert!(maps.records.len() < tris.len(), "expected deduplication");
+        let mut known = 0;
+        for (t, tri) in tris.iter().enumerate() {
+            for i in 0..1u64 << (2 * level) {
+                let state = maps.state(t, i as usize);
+                if state >= 2 {
+                    continue;
+                }
+                known += 1;
+                let p = micro_uvs(tri, level, i).map(|q| q.map(|c| c as f32));
+                let c = [0, 1].map(|k| (p[0][k] + p[1][k] + p[2][k]) * (1.0 / 3.0));
+                for q in [p[0], p[1], p[2], c] {
+                    let a = meshopt_sample(&texture, q[0], q[1]);
+                    let ok = if state == 1 { a > 0.5 } else { a < 0.5 };
+                    assert!(
+                        ok,
+                        "{} triangle {t} micro {i} state {state}: alpha {a} at {q:?}",
+                        baker.name()
+                    );
+                }
+            }
+        }
+        assert!(known > 20_000, "{known}");
+    }
+}
