@@ -71,6 +71,16 @@ impl BakedOpacity {
             BakedOpacity::Special(state) => TriangleOpacity::Special(*state),
         }
     }
+
+    /// The micromap's level; 0 for a special index (one state for the
+    /// whole triangle, as a level-0 map would hold it).
+    #[must_use]
+    pub fn level(&self) -> Level {
+        match self {
+            BakedOpacity::Map(map) => map.level(),
+            BakedOpacity::Special(_) => Level(0),
+        }
+    }
 }
 
 /// Why [`Baker::bake`] failed.
@@ -263,7 +273,7 @@ impl Baker {
 
     /// The classes a placed micro-triangle samples: the bounding block
     /// first (most micro-triangles end there), the exact search if mixed.
-    fn classify(&self, p: &Placed, shifts: (u32, u32)) -> (Classes, bool) {
+    fn classify(&self, p: &Placed, shifts: (u32, u32), stack: &mut Vec<Block>) -> (Classes, bool) {
         let min_max = |c: [i128; 3]| (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
         let block = self
             .classes
@@ -273,7 +283,9 @@ impl Baker {
             return (quick, false);
         }
         let t = ExactTriangle::new(p.x, p.y);
-        let s: Search = self.classes.search(&t, shifts, Classes::BOTH, self.budget);
+        let s: Search = self
+            .classes
+            .search(&t, shifts, Classes::BOTH, self.budget, stack);
         (s.classes, s.exhausted)
     }
 
@@ -323,9 +335,10 @@ impl Baker {
         let shifts = (fx.shift, fy.shift);
         let mut counts = [0u64; 4];
         let mut exhausted = false;
+        let mut stack = Vec::new();
         for t in micro_triangles(level) {
             let p = Self::place(&fx, &fy, level.get(), t.vertices_scaled());
-            let (classes, out_of_budget) = self.classify(&p, shifts);
+            let (classes, out_of_budget) = self.classify(&p, shifts, &mut stack);
             exhausted |= out_of_budget;
             let state = match (classes.opaque, classes.transparent) {
                 (true, false) => State::Opaque,
@@ -372,6 +385,7 @@ impl Baker {
         };
         report.checked = true;
         let shifts = (fx.shift, fy.shift);
+        let mut stack = Vec::new();
         for t in micro_triangles(level) {
             let state = state_of(t.index());
             if !state.is_known() {
@@ -386,9 +400,13 @@ impl Baker {
             let p = Self::place(&fx, &fy, level.get(), t.vertices_scaled());
             let exact = ExactTriangle::new(p.x, p.y);
             // A larger budget than baking: a verdict, not a bake.
-            let search = self
-                .classes
-                .search(&exact, shifts, other, self.budget.saturating_mul(16));
+            let search = self.classes.search(
+                &exact,
+                shifts,
+                other,
+                self.budget.saturating_mul(16),
+                &mut stack,
+            );
             let witness_block = search.witness_block[usize::from(other.opaque)];
             match witness_block {
                 Some(block) => {

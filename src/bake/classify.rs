@@ -6,6 +6,9 @@ use super::exact::ExactTriangle;
 use super::texture::{AddressMode, AlphaTexture, Cutoff, Filter, Sampler, TextureError};
 use alloc::vec::Vec;
 
+/// Mixed blocks of at most this many texels are searched texel by texel.
+const SMALL_BLOCK: i128 = 16;
+
 /// The set of texel classes a region samples.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(crate) struct Classes {
@@ -78,6 +81,10 @@ fn holds_residue(lo: i128, hi: i128, r: i128, m: i128) -> bool {
 
 fn axis_image(mode: AddressMode, lo: i128, hi: i128, size: u32) -> AxisImage {
     let n = i128::from(size);
+    // Every mode reads in-range coordinates as they are.
+    if lo >= 0 && hi < n {
+        return AxisImage::one(lo, hi);
+    }
     let full = AxisImage::one(0, n - 1);
     let mirror = |k: i128| if k >= 0 { k } else { -(1 + k) };
     match mode {
@@ -321,11 +328,12 @@ impl TexelClasses {
         shifts: (u32, u32),
         want: Classes,
         budget: u32,
+        stack: &mut Vec<Block>,
     ) -> Search {
         let (sx, sy) = shifts;
         let start = self.bounding_block((t.min_x(), t.max_x()), (t.min_y(), t.max_y()), shifts);
         let mut found = Search::default();
-        let mut stack: Vec<Block> = Vec::new();
+        stack.clear();
         stack.push(start);
         let mut tests = 0u32;
         while let Some(block) = stack.pop() {
@@ -350,6 +358,21 @@ impl TexelClasses {
             if !classes.is_mixed() {
                 found.classes = found.classes.union(classes);
                 found.witness_block[usize::from(classes.opaque)] = Some(block);
+                continue;
+            }
+            // Mixed and small: test its texels one by one (cheaper than
+            // splitting through mixed halves).
+            if (block.x1 - block.x0 + 1) * (block.y1 - block.y0 + 1) <= SMALL_BLOCK {
+                for y in block.y0..=block.y1 {
+                    for x in block.x0..=block.x1 {
+                        stack.push(Block {
+                            x0: x,
+                            x1: x,
+                            y0: y,
+                            y1: y,
+                        });
+                    }
+                }
                 continue;
             }
             // Mixed: split the longer side (a single texel is never mixed).

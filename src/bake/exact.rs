@@ -100,6 +100,9 @@ impl Wide {
 /// stay exact in [`Wide`].
 pub(crate) const COORDINATE_LIMIT: i128 = 1 << 100;
 
+/// Below this, coordinates take the `i128` path of [`ExactTriangle::meets`].
+const SMALL_COORDINATE: u128 = 1 << 60;
+
 /// One axis of a mesh triangle in texel space: the three corner values on
 /// a common integer grid of spacing `2^-shift` texels.
 ///
@@ -214,6 +217,11 @@ pub(crate) struct ExactTriangle {
     axis_count: usize,
     /// The triangle's projection `[min, max]` on each axis.
     span: [(Wide, Wide); 3],
+    /// Every coordinate is below `2^60` in magnitude: projections of points
+    /// within a few texels fit in `i128` (the common case, tested first).
+    small: bool,
+    /// `span` as `i128` when `small`.
+    span_small: [(i128, i128); 3],
 }
 
 impl ExactTriangle {
@@ -224,6 +232,11 @@ impl ExactTriangle {
             axes: [(0, 0); 3],
             axis_count: 0,
             span: [(Wide::from_i128(0), Wide::from_i128(0)); 3],
+            small: x
+                .iter()
+                .chain(&y)
+                .all(|c| c.unsigned_abs() < SMALL_COORDINATE),
+            span_small: [(0, 0); 3],
         };
         for edge in 0..3 {
             let (a, b) = (edge, (edge + 1) % 3);
@@ -232,10 +245,20 @@ impl ExactTriangle {
                 continue;
             }
             let axis = (-dy, dx);
-            let on_edge = t.project(axis, x[a], y[a]);
-            let third = t.project(axis, x[3 - a - b], y[3 - a - b]);
             t.axes[t.axis_count] = axis;
-            t.span[t.axis_count] = (on_edge.min(third), on_edge.max(third));
+            if t.small {
+                let on_edge = axis.0 * x[a] + axis.1 * y[a];
+                let third = axis.0 * x[3 - a - b] + axis.1 * y[3 - a - b];
+                t.span_small[t.axis_count] = (on_edge.min(third), on_edge.max(third));
+                t.span[t.axis_count] = (
+                    Wide::from_i128(t.span_small[t.axis_count].0),
+                    Wide::from_i128(t.span_small[t.axis_count].1),
+                );
+            } else {
+                let on_edge = t.project(axis, x[a], y[a]);
+                let third = t.project(axis, x[3 - a - b], y[3 - a - b]);
+                t.span[t.axis_count] = (on_edge.min(third), on_edge.max(third));
+            }
             t.axis_count += 1;
         }
         t
@@ -278,6 +301,10 @@ impl ExactTriangle {
         if self.max_y() < y0 || self.min_y() >= y1 {
             return false;
         }
+        let bound = SMALL_COORDINATE as i128;
+        if self.small && [x0, x1, y0, y1].iter().all(|c| (-bound..bound).contains(c)) {
+            return self.meets_small(x0, x1, y0, y1);
+        }
         for k in 0..self.axis_count {
             let (ax, ay) = self.axes[k];
             let (t_min, t_max) = self.span[k];
@@ -296,6 +323,29 @@ impl ExactTriangle {
             let s_max = self.project((ax, ay), high_x, high_y);
             let s_max_falls = ax > 0 || ay > 0;
             if s_max < t_min || (s_max == t_min && s_max_falls) {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// [`meets`](Self::meets) in `i128`: every coordinate and corner below
+    /// `2^60`, so an axis (a difference, below `2^61`) times a coordinate is
+    /// below `2^121` and a projection below `2^122`.
+    fn meets_small(&self, x0: i128, x1: i128, y0: i128, y1: i128) -> bool {
+        for k in 0..self.axis_count {
+            let (ax, ay) = self.axes[k];
+            let (t_min, t_max) = self.span_small[k];
+            let low_x = if ax >= 0 { x0 } else { x1 };
+            let low_y = if ay >= 0 { y0 } else { y1 };
+            let s_min = ax * low_x + ay * low_y;
+            if s_min > t_max || (s_min == t_max && (ax < 0 || ay < 0)) {
+                return false;
+            }
+            let high_x = if ax > 0 { x1 } else { x0 };
+            let high_y = if ay > 0 { y1 } else { y0 };
+            let s_max = ax * high_x + ay * high_y;
+            if s_max < t_min || (s_max == t_min && (ax > 0 || ay > 0)) {
                 return false;
             }
         }

@@ -5,6 +5,7 @@ use serde::Serialize;
 use crate::input::{AlphaTexture, UvTriangle};
 use crate::output::{Format, Micromaps};
 
+pub mod exact;
 pub mod meshopt_cpp;
 pub mod meshopt_rs;
 #[cfg(feature = "omm")]
@@ -79,6 +80,7 @@ pub fn all() -> Vec<Box<dyn Baker>> {
     let mut v: Vec<Box<dyn Baker>> = vec![
         Box::new(meshopt_cpp::MeshoptCpp),
         Box::new(meshopt_rs::MeshoptRs),
+        Box::new(exact::MicromapIndex),
     ];
     #[cfg(feature = "omm")]
     v.push(Box::new(omm::NvidiaOmm));

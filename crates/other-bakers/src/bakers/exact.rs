@@ -1,0 +1,102 @@
+//! `micromap-index` itself (`micromap_index::bake`), run through the same
+//! harness so its speed is measured in the same process, on the same input,
+//! as the other bakers. Sampler: the one a glTF asset with these textures
+//! would use at run time (linear, clamp-to-edge inside [0, 1]), cutoff 0.5
+//! with glTF's `alpha >= cutoff`.
+
+use micromap_index::bake::{
+    AddressMode, Baker as ExactBaker, Cutoff, Filter, Sampler, Unorm8Texture,
+};
+use micromap_index::micromap::{
+    Format as MmFormat, IndexWidth, MicromapBuffersBuilder, UnknownPolicy,
+};
+use micromap_index::Level;
+
+use super::{Baked, Baker, Conventions, Request};
+use crate::output::{Format, Micromaps, Record};
+
+/// `--baker micromap-index`.
+pub struct MicromapIndex;
+
+impl Baker for MicromapIndex {
+    fn name(&self) -> &'static str {
+        "micromap-index"
+    }
+
+    fn version(&self) -> &'static str {
+        "micromap-index (this repository), exact conservative classifier"
+    }
+
+    fn conventions(&self) -> Conventions {
+        Conventions {
+            filter: "linear: every texel of the 2x2 footprint of every point counts (sound for any weight quantization)",
+            address_mode: "clamp-to-edge on both axes (Vulkan wrapping of integer texel coordinates)",
+            texel_centres: "texel (i, j) covers [i/W, (i+1)/W) x [j/H, (j+1)/H); v = 0 is the top row",
+            sample_position_precision: "exact (integer arithmetic on the exact micro-triangle vertices)",
+            cutoff: 0.5,
+            comparison: "opaque when alpha >= 0.5 (glTF MASK)",
+            classification: "exact: a micro-triangle is known only if every point of it, closed, reads one class",
+            level_control: "forced: every triangle at level L",
+            pipeline: "uniform micromaps become special indices; identical micromaps are merged by content",
+            order: "the Vulkan space-filling curve (micromap_index::inverse)",
+            references: &["src/bake/ in this repository"],
+        }
+    }
+
+    fn bake(&self, request: &Request<'_>) -> Result<Baked, String> {
+        let texture = Unorm8Texture::new(
+            request.texture.width,
+            request.texture.height,
+            &request.texture.alpha,
+        )
+        .map_err(|e| e.to_string())?;
+        let sampler = Sampler {
+            filter: Filter::Linear,
+            address_u: AddressMode::ClampToEdge,
+            address_v: AddressMode::ClampToEdge,
+            border_alpha: 0.0,
+        };
+        let baker =
+            ExactBaker::new(&texture, sampler, Cutoff::default()).map_err(|e| e.to_string())?;
+        let level = Level::new(u32::from(request.level)).map_err(|e| e.to_string())?;
+        let format = match request.format {
+            Format::TwoState => MmFormat::TwoState,
+            Format::FourState => MmFormat::FourState,
+        };
+        let mut baked = Vec::with_capacity(request.triangles.len());
+        for uv in request.triangles {
+            baked.push(
+                baker
+                    .bake(uv, level, format, UnknownPolicy::Fallback)
+                    .map_err(|e| e.to_string())?,
+            );
+        }
+        let mut builder = MicromapBuffersBuilder::new(Default::default());
+        builder
+            .add_geometry(baked.iter().map(|b| b.opacity.as_opacity()))
+            .map_err(|e| e.to_string())?;
+        let buffers = builder.finish().map_err(|e| e.to_string())?;
+        let indices = buffers
+            .index_bytes(0, IndexWidth::U32)
+            .map_err(|e| e.to_string())?
+            .chunks_exact(4)
+            .map(|c| i32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect();
+        Ok(Baked {
+            maps: Micromaps {
+                data: buffers.data().to_vec(),
+                records: buffers
+                    .records()
+                    .iter()
+                    .map(|r| Record {
+                        data_offset: r.data_offset,
+                        level: r.subdivision_level,
+                        format: r.format,
+                    })
+                    .collect(),
+                indices,
+            },
+            micro_triangles_baked: request.triangles.len() as u64 * (1u64 << (2 * request.level)),
+        })
+    }
+}
