@@ -414,8 +414,12 @@ impl Baker {
                     let texel = witness.map_or_else(
                         || self.classes.wrap(block.x0, block.y0),
                         |w| {
-                            let (tx, ty) =
-                                self.classes.footprint_texel_in(block, (w.0, w.1), shifts);
+                            // The witness is on a grid 2^w.2 times finer.
+                            let (tx, ty) = self.classes.footprint_texel_in(
+                                block,
+                                (w.0, w.1),
+                                (shifts.0 + w.2, shifts.1 + w.2),
+                            );
                             self.classes.wrap(tx, ty)
                         },
                     );

@@ -72,13 +72,15 @@ usage: micromap-index check --vectors FILE --answers FILE [--levels A..=B]
   malformed file or a selection with no case.";
 
 /// The commands and their usage texts, in the order `help` lists them.
-pub(crate) const COMMANDS: [(&str, &str); 6] = [
+pub(crate) const COMMANDS: [(&str, &str); 8] = [
     ("eval", EVAL),
     ("locate", LOCATE),
     ("prove", PROVE),
     ("vectors", VECTORS),
     ("check", CHECK),
     ("tree", crate::tree_command::USAGE),
+    ("bake", crate::bake_command::BAKE_USAGE),
+    ("verify-bake", crate::bake_command::VERIFY_USAGE),
 ];
 
 /// The usage text of `command`, if it is one.

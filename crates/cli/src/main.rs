@@ -19,12 +19,15 @@
 //! A failed write to stderr is ignored (there is nowhere left to report it);
 //! the exit code still tells.
 
+mod args;
+mod bake_command;
 mod check_command;
 mod eval_command;
 mod help;
 mod input;
 mod locate_command;
 mod output;
+mod preview;
 mod prove_all_levels_command;
 mod prove_command;
 mod tree_command;
@@ -66,6 +69,8 @@ fn main() -> ExitCode {
         ("vectors", options) => vectors_command::run(options).into(),
         ("check", options) => check_command::run(options),
         ("tree", options) => tree_command::run(options),
+        ("bake", options) => bake_command::run_bake(options),
+        ("verify-bake", options) => bake_command::run_verify(options),
         ("help" | "--help" | "-h", []) => print_help(&help::full_help()),
         ("help", [topic]) => match help::command_help(topic) {
             Some(text) => print_help(&text),
