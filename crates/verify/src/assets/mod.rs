@@ -36,6 +36,8 @@ mod image;
 mod triangles;
 
 #[cfg(test)]
+mod cards;
+#[cfg(test)]
 mod tests;
 
 pub use self::gltf::{
