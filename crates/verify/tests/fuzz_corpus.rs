@@ -1,7 +1,9 @@
 //! Replays the fuzz targets' committed inputs on stable (feature `fuzzing`):
 //! every file of `fuzz/corpus/<target>/` (the seed corpus, minimized after
-//! each campaign) and of `fuzz/regressions/<target>/` (inputs that once
-//! failed) goes through the target's body in `micromap_index_verify::fuzzing`.
+//! each campaign), of `fuzz/seeds/<target>/` (hand-made seeds of the asset
+//! targets, written by `fuzz/seeds/make_asset_seeds.py`) and of
+//! `fuzz/regressions/<target>/` (inputs that once failed) goes through the
+//! target's body in `micromap_index_verify::fuzzing`.
 //! `docs/fuzzing.md` describes the targets and the campaigns.
 //!
 //! The `spec_vs_mirror` replay also compares the C reference, as the fuzz
@@ -39,8 +41,26 @@ fn replay(target: &str, body: impl Fn(&[u8])) {
         !corpus.is_empty(),
         "fuzz/corpus/{target}/ is missing or empty"
     );
+    run_all(target, &corpus, body);
+}
+
+/// Runs `body` on every seed (`fuzz/seeds/<target>/`, which must not be
+/// empty), corpus and regression input of `target`.
+fn replay_seeds(target: &str, body: impl Fn(&[u8])) {
+    let seeds = inputs("seeds", target);
+    assert!(
+        !seeds.is_empty(),
+        "fuzz/seeds/{target}/ is missing or empty"
+    );
+    let mut files = seeds;
+    files.extend(inputs("corpus", target));
+    run_all(target, &files, body);
+}
+
+/// Runs `body` on `files` and on the regression inputs of `target`.
+fn run_all(target: &str, files: &[PathBuf], body: impl Fn(&[u8])) {
     let regressions = inputs("regressions", target);
-    for path in corpus.iter().chain(&regressions) {
+    for path in files.iter().chain(&regressions) {
         let data = fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| body(&data)));
         if let Err(panic) = outcome {
@@ -49,8 +69,8 @@ fn replay(target: &str, body: impl Fn(&[u8])) {
         }
     }
     eprintln!(
-        "{target}: replayed {} corpus and {} regression inputs",
-        corpus.len(),
+        "{target}: replayed {} corpus (and seed) and {} regression inputs",
+        files.len(),
         regressions.len()
     );
 }
@@ -93,4 +113,19 @@ fn micromap_buffers() {
 #[test]
 fn succinct_tree() {
     replay("succinct_tree", fuzzing::succinct_tree);
+}
+
+#[test]
+fn alpha_image() {
+    replay_seeds("alpha_image", fuzzing::alpha_image);
+}
+
+#[test]
+fn triangles_json() {
+    replay_seeds("triangles_json", fuzzing::triangles_json);
+}
+
+#[test]
+fn gltf_asset() {
+    replay_seeds("gltf_asset", fuzzing::gltf_asset);
 }

@@ -19,6 +19,11 @@
 //! | [`inverse_round_trip`] | `inverse_round_trip` | [`inverse::micro_triangle`] and the walk invert each other |
 //! | [`eval_input`] | `eval_input` | [`eval::eval_line_bytes`] never panics and writes one JSON object line; [`Value::parse`] round-trips |
 //! | [`vector_reader`] | `vector_reader` | [`vectors::parse_vector_file`] and [`vectors::parse_answers`] never panic; what they accept round-trips; [`vectors::check`] adds up |
+//! | [`micromap_buffers`] | `micromap_buffers` | `micromap::read_buffers` never panics; what it accepts is consistent and rebuilds |
+//! | [`succinct_tree`] | `succinct_tree` | the succinct-tree readers never panic; both layouts round-trip and agree with the flat micromap |
+//! | [`alpha_image`] | `alpha_image` | [`assets::decode_alpha_image`] never panics, stays within [`FUZZ_LIMITS`], and what it accepts has `width * height` texels |
+//! | [`triangles_json`] | `triangles_json` | [`assets::read_triangles_json`] never panics; what it accepts writes back and reads back bit for bit |
+//! | [`gltf_asset`] | `gltf_asset` | [`assets::read_gltf_bytes`] (URIs served [`FUZZ_PNG`]) never panics, stays within [`FUZZ_LIMITS`], and what it accepts is consistent |
 //!
 //! ```
 //! use micromap_index_verify::fuzzing;
@@ -29,6 +34,9 @@
 //!     fuzzing::inverse_round_trip(data);
 //!     fuzzing::eval_input(data);
 //!     fuzzing::vector_reader(data);
+//!     fuzzing::alpha_image(data);
+//!     fuzzing::triangles_json(data);
+//!     fuzzing::gltf_asset(data);
 //! }
 //! ```
 //!
@@ -44,9 +52,14 @@
 //! [`vectors::parse_vector_file`]: crate::vectors::parse_vector_file
 //! [`vectors::parse_answers`]: crate::vectors::parse_answers
 //! [`vectors::check`]: crate::vectors::check
+//! [`assets::decode_alpha_image`]: crate::assets::decode_alpha_image
+//! [`assets::read_triangles_json`]: crate::assets::read_triangles_json
+//! [`assets::read_gltf_bytes`]: crate::assets::read_gltf_bytes
 
+mod assets;
 mod micromap_buffers;
 mod succinct_tree;
+pub use assets::{alpha_image, gltf_asset, triangles_json, FUZZ_LIMITS, FUZZ_PNG};
 pub use micromap_buffers::micromap_buffers;
 pub use succinct_tree::succinct_tree;
 
