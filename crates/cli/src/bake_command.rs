@@ -1,0 +1,927 @@
+//! `micromap-index bake` and `micromap-index verify-bake`: the exact baker
+//! (library: `micromap_index::bake`) on real assets, and its verifier on
+//! any baker's buffers.
+
+use crate::args::Parsed;
+use crate::output::{print_then, report, Exit};
+use crate::write_all_or_nothing::{check_destination, write_files};
+use micromap_index::bake::{
+    levels_within_budget, useful_level, AddressMode, AlphaTexture, BakedOpacity, Baker, Comparison,
+    Cutoff, Filter, Sampler, TriangleStatus, UvTriangle,
+};
+use micromap_index::micromap::{
+    read_buffers, BufferBytes, Format, IndexWidth, MicromapBuffersBuilder, MicromapIndex,
+    ReadOptions, State, TriangleOpacity, UnknownPolicy,
+};
+use micromap_index::succinct::{LevelOrderTree, PaperTree};
+use micromap_index::Level;
+use micromap_index_verify::assets::{
+    decode_alpha_image, read_gltf_file, read_triangles_json, AlphaImage, AlphaTexels, AssetError,
+    Limits,
+};
+use serde::Serialize;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+pub(crate) const BAKE_USAGE: &str = "\
+usage: micromap-index bake (--gltf ASSET.gltf|.glb | --texture T.png --triangles TRIS.json)
+                           --out DIR [options]
+Bakes opacity micromaps exactly: a micro-triangle is opaque (transparent) only
+if every point of it, closed, reads only opaque (transparent) texels under the
+sampler; otherwise unknown (docs/bake.md). Writes into DIR, all or nothing:
+  micromap-data.bin       the packed micromaps (Vulkan/DXR/glTF layout)
+  micromap-triangles.bin  8-byte records {u32 offset, u16 level, u16 format}
+  micromap-indices.bin    one index per input triangle (special indices
+                          -1..-4 as negative values), little endian
+  micromap-usage.bin      12-byte usage counts {u32 count, u32 level, u32 format}
+  summary.json            states, known fraction, micromaps, sizes, time
+  preview.png             the texture with every micro-triangle coloured by
+                          state (green opaque, blue transparent, yellow
+                          unknown-opaque, red unknown-transparent)
+options:
+  --level L|auto          fixed level 0..=12, or the paper's eq. 1 per
+                          triangle (default auto)
+  --max-level L           cap for auto (default 12)
+  --budget BYTES          auto: lower the highest levels until the data fits
+  --format 2|4            micromap format (default 4)
+  --unknown-as fallback|opaque|transparent
+                          2-state: what unknowns become (default fallback:
+                          the texel under the micro-triangle's centroid)
+  --filter nearest|linear (default nearest; glTF: the sampler's magFilter)
+  --address MODE          both axes: repeat, mirrored-repeat, clamp-to-edge,
+                          clamp-to-border, mirror-clamp-to-edge (default
+                          repeat; glTF: the sampler's wrapS/wrapT)
+  --address-u MODE, --address-v MODE   one axis
+  --border ALPHA          clamp-to-border alpha (default 0)
+  --cutoff C              alpha cutoff (default 0.5; glTF: alphaCutoff);
+                          opaque when alpha >= C (glTF MASK)
+  --opaque-above          opaque when alpha > C (the OMM SDK's rule)
+  --index-width 16|32     micromap-indices.bin width (default 32)
+  --force                 replace existing files in DIR
+  --no-preview            skip preview.png
+  --quiet                 no progress on stderr
+Exit 0 baked; 2 bad options or malformed input (nothing written); 3 unreadable
+input or unwritable DIR (nothing written).";
+
+pub(crate) const VERIFY_USAGE: &str = "\
+usage: micromap-index verify-bake --texture T.png --triangles TRIS.json --micromaps DIR
+                                  [sampler and cutoff options as bake] [--index-width 16|32]
+                                  [--json] [--max-report N]
+Checks any baker's micromaps (DIR/micromap-data.bin, micromap-triangles.bin,
+micromap-indices.bin in bake's layout) against the texture: every micro-triangle
+with a known state whose closed area can read a texel of the other class under
+the sampler model is reported with an exact witness point (texel coordinates as
+n/2^k), the texel and its alpha. Unknown states are never wrong.
+Exit 0 sound; 1 contradictions found; 2 bad options or malformed buffers;
+3 unreadable input.";
+
+/// Output file names, in the order written.
+const OUTPUTS: [&str; 6] = [
+    "micromap-data.bin",
+    "micromap-triangles.bin",
+    "micromap-indices.bin",
+    "micromap-usage.bin",
+    "summary.json",
+    "preview.png",
+];
+
+/// A failure, by exit code.
+enum Failure {
+    /// Exit 2 with the usage text.
+    Usage(String),
+    /// Exit 2: malformed input or a value out of range.
+    Malformed(String),
+    /// Exit 3: unreadable input or unwritable output.
+    Io(String),
+}
+
+fn finish(outcome: Result<(String, Exit), Failure>) -> ExitCode {
+    match outcome {
+        Ok((text, exit)) => print_then(&text, exit).into(),
+        Err(Failure::Usage(message)) => crate::usage(&message).into(),
+        Err(Failure::Malformed(message)) => {
+            report(message);
+            Exit::Usage.into()
+        }
+        Err(Failure::Io(message)) => {
+            report(message);
+            Exit::Io.into()
+        }
+    }
+}
+
+/// An `AlphaImage` as the baker's texture; glTF's `baseColorFactor` alpha
+/// multiplies every texel (in `f64`).
+struct ImageTexture<'a> {
+    image: &'a AlphaImage,
+    factor: f64,
+}
+
+impl AlphaTexture for ImageTexture<'_> {
+    fn width(&self) -> u32 {
+        self.image.width
+    }
+    fn height(&self) -> u32 {
+        self.image.height
+    }
+    fn alpha(&self, x: u32, y: u32) -> f64 {
+        let i = y as usize * self.image.width as usize + x as usize;
+        let alpha = match &self.image.texels {
+            AlphaTexels::Unorm8(t) => f64::from(t[i]) / 255.0,
+            AlphaTexels::Float(t) => f64::from(t[i]),
+        };
+        if self.factor == 1.0 {
+            alpha
+        } else {
+            alpha * self.factor
+        }
+    }
+}
+
+/// One texture with its sampler, cutoff and triangles.
+struct Job {
+    name: String,
+    image: usize,
+    factor: f64,
+    sampler: Sampler,
+    cutoff: Cutoff,
+    triangles: Vec<UvTriangle>,
+}
+
+struct Input {
+    images: Vec<AlphaImage>,
+    jobs: Vec<Job>,
+    warnings: Vec<String>,
+}
+
+fn parse_address(text: &str) -> Result<AddressMode, Failure> {
+    Ok(match text {
+        "repeat" => AddressMode::Repeat,
+        "mirrored-repeat" => AddressMode::MirroredRepeat,
+        "clamp-to-edge" => AddressMode::ClampToEdge,
+        "clamp-to-border" => AddressMode::ClampToBorder,
+        "mirror-clamp-to-edge" => AddressMode::MirrorClampToEdge,
+        _ => {
+            return Err(Failure::Malformed(format!(
+                "address mode {text:?}: expected repeat, mirrored-repeat, clamp-to-edge, clamp-to-border or mirror-clamp-to-edge"
+            )))
+        }
+    })
+}
+
+fn address_name(mode: AddressMode) -> &'static str {
+    match mode {
+        AddressMode::Repeat => "repeat",
+        AddressMode::MirroredRepeat => "mirrored-repeat",
+        AddressMode::ClampToEdge => "clamp-to-edge",
+        AddressMode::ClampToBorder => "clamp-to-border",
+        AddressMode::MirrorClampToEdge => "mirror-clamp-to-edge",
+    }
+}
+
+fn parse_f32(name: &str, text: &str) -> Result<f32, Failure> {
+    match text.parse::<f32>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        _ => Err(Failure::Malformed(format!(
+            "{name} {text:?}: expected a finite number"
+        ))),
+    }
+}
+
+fn parse_level(name: &str, text: &str) -> Result<Level, Failure> {
+    match text.parse::<u32>() {
+        Ok(level) if level <= 12 && text.bytes().all(|b| b.is_ascii_digit()) => {
+            Level::new(level).map_err(|e| Failure::Malformed(e.to_string()))
+        }
+        _ => Err(Failure::Malformed(format!(
+            "{name} {text:?}: expected a level 0..=12 (the highest DXR allows and Vulkan devices report)"
+        ))),
+    }
+}
+
+/// The sampler and cutoff options shared by both commands; `None` fields
+/// keep the asset's own (glTF) or the default.
+struct SamplerOptions {
+    filter: Option<Filter>,
+    address_u: Option<AddressMode>,
+    address_v: Option<AddressMode>,
+    border: f32,
+    cutoff: Option<f32>,
+    comparison: Comparison,
+}
+
+const SAMPLER_VALUED: [&str; 6] = [
+    "--filter",
+    "--address",
+    "--address-u",
+    "--address-v",
+    "--border",
+    "--cutoff",
+];
+
+fn sampler_options(p: &Parsed<'_>) -> Result<SamplerOptions, Failure> {
+    let filter = match p.get("--filter") {
+        None => None,
+        Some("nearest") => Some(Filter::Nearest),
+        Some("linear") => Some(Filter::Linear),
+        Some(other) => {
+            return Err(Failure::Malformed(format!(
+                "--filter {other:?}: expected nearest or linear"
+            )))
+        }
+    };
+    let both = p.get("--address").map(parse_address).transpose()?;
+    let address_u = p
+        .get("--address-u")
+        .map(parse_address)
+        .transpose()?
+        .or(both);
+    let address_v = p
+        .get("--address-v")
+        .map(parse_address)
+        .transpose()?
+        .or(both);
+    let border = p
+        .get("--border")
+        .map(|t| parse_f32("--border", t))
+        .transpose()?
+        .unwrap_or(0.0);
+    let cutoff = p
+        .get("--cutoff")
+        .map(|t| parse_f32("--cutoff", t))
+        .transpose()?;
+    if let Some(c) = cutoff {
+        if !(0.0..=1.0).contains(&c) {
+            return Err(Failure::Malformed(format!(
+                "--cutoff {c}: expected an alpha in [0, 1]"
+            )));
+        }
+    }
+    Ok(SamplerOptions {
+        filter,
+        address_u,
+        address_v,
+        border,
+        cutoff,
+        comparison: if p.flag("--opaque-above") {
+            Comparison::Above
+        } else {
+            Comparison::AtLeast
+        },
+    })
+}
+
+fn read_file(path: &Path) -> Result<Vec<u8>, Failure> {
+    std::fs::read(path).map_err(|e| Failure::Io(format!("cannot read {}: {e}", path.display())))
+}
+
+fn gltf_address(code: u32) -> Result<AddressMode, String> {
+    match code {
+        10497 => Ok(AddressMode::Repeat),
+        33648 => Ok(AddressMode::MirroredRepeat),
+        33071 => Ok(AddressMode::ClampToEdge),
+        other => Err(format!(
+            "glTF wrap mode {other} is not one of 10497, 33648, 33071"
+        )),
+    }
+}
+
+fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
+    let limits = Limits::default();
+    let cutoff_of = |value: f32| {
+        Cutoff::new(value, s.comparison).map_err(|e| Failure::Malformed(e.to_string()))
+    };
+    match (p.get("--gltf"), p.get("--texture"), p.get("--triangles")) {
+        (Some(asset), None, None) => {
+            let path = PathBuf::from(asset);
+            let gltf = read_gltf_file(&path, &limits).map_err(|e| {
+                let message = format!("{asset}: {e}");
+                if matches!(e.root(), AssetError::Io { .. }) {
+                    Failure::Io(message)
+                } else {
+                    Failure::Malformed(message)
+                }
+            })?;
+            let mut jobs = Vec::new();
+            for prim in &gltf.primitives {
+                let filter = s.filter.unwrap_or(match prim.sampler.mag_filter {
+                    Some(9728) => Filter::Nearest,
+                    _ => Filter::Linear,
+                });
+                let address_u = match s.address_u {
+                    Some(mode) => mode,
+                    None => gltf_address(prim.sampler.wrap_s)
+                        .map_err(|e| Failure::Malformed(format!("{asset}: {e}")))?,
+                };
+                let address_v = match s.address_v {
+                    Some(mode) => mode,
+                    None => gltf_address(prim.sampler.wrap_t)
+                        .map_err(|e| Failure::Malformed(format!("{asset}: {e}")))?,
+                };
+                jobs.push(Job {
+                    name: format!("mesh {} primitive {}", prim.mesh, prim.primitive),
+                    image: prim.image,
+                    factor: f64::from(prim.alpha_factor),
+                    sampler: Sampler {
+                        filter,
+                        address_u,
+                        address_v,
+                        border_alpha: s.border,
+                    },
+                    cutoff: cutoff_of(s.cutoff.unwrap_or(prim.alpha_cutoff))?,
+                    triangles: prim.triangles.clone(),
+                });
+            }
+            if jobs.is_empty() {
+                return Err(Failure::Malformed(format!(
+                    "{asset}: no primitive with an alphaMode MASK material and a base colour texture"
+                )));
+            }
+            Ok(Input {
+                images: gltf.images,
+                jobs,
+                warnings: gltf.warnings,
+            })
+        }
+        (None, Some(texture), Some(triangles)) => {
+            let image = decode_alpha_image(&read_file(Path::new(texture))?, &limits)
+                .map_err(|e| Failure::Malformed(format!("{texture}: {e}")))?;
+            let triangles = read_triangles_json(&read_file(Path::new(triangles))?)
+                .map_err(|e| Failure::Malformed(format!("{triangles}: {e}")))?;
+            Ok(Input {
+                images: vec![image],
+                jobs: vec![Job {
+                    name: texture.to_string(),
+                    image: 0,
+                    factor: 1.0,
+                    sampler: Sampler {
+                        filter: s.filter.unwrap_or_default(),
+                        address_u: s.address_u.unwrap_or_default(),
+                        address_v: s.address_v.unwrap_or_default(),
+                        border_alpha: s.border,
+                    },
+                    cutoff: cutoff_of(s.cutoff.unwrap_or(0.5))?,
+                    triangles,
+                }],
+                warnings: Vec::new(),
+            })
+        }
+        _ => Err(Failure::Usage(
+            "give either --gltf ASSET or both --texture and --triangles".into(),
+        )),
+    }
+}
+
+fn index_width(p: &Parsed<'_>) -> Result<IndexWidth, Failure> {
+    match p.get("--index-width").unwrap_or("32") {
+        "32" => Ok(IndexWidth::U32),
+        "16" => Ok(IndexWidth::U16),
+        other => Err(Failure::Malformed(format!(
+            "--index-width {other:?}: expected 16 or 32 (the widths Vulkan accepts)"
+        ))),
+    }
+}
+
+#[derive(Serialize, Default)]
+struct StateCounts {
+    transparent: u64,
+    opaque: u64,
+    unknown_transparent: u64,
+    unknown_opaque: u64,
+}
+
+impl StateCounts {
+    fn add(&mut self, counts: [u64; 4]) {
+        self.transparent += counts[0];
+        self.opaque += counts[1];
+        self.unknown_transparent += counts[2];
+        self.unknown_opaque += counts[3];
+    }
+    fn total(&self) -> u64 {
+        self.transparent + self.opaque + self.unknown_transparent + self.unknown_opaque
+    }
+}
+
+#[derive(Serialize)]
+struct JobSummary {
+    name: String,
+    texture: [u32; 2],
+    filter: &'static str,
+    address: [&'static str; 2],
+    cutoff: f32,
+    opaque_when: &'static str,
+    triangles: usize,
+    /// Index of this job's first triangle in micromap-indices.bin.
+    first_index: usize,
+}
+
+#[derive(Serialize)]
+struct Summary {
+    triangles: usize,
+    format: u32,
+    levels: Vec<u64>,
+    micro_triangles: StateCounts,
+    known_fraction: f64,
+    known_area_fraction: f64,
+    status: StatusCounts,
+    micromaps_after_dedup: usize,
+    special_index_triangles: usize,
+    bytes_flat: usize,
+    bytes_paper_tree: u64,
+    bytes_level_order_tree: u64,
+    index_width_bits: usize,
+    bake_seconds: f64,
+    micro_triangles_per_second: f64,
+    jobs: Vec<JobSummary>,
+    warnings: Vec<String>,
+}
+
+#[derive(Serialize, Default)]
+struct StatusCounts {
+    exact: usize,
+    not_finite: usize,
+    out_of_exact_range: usize,
+    budget_exceeded: usize,
+}
+
+/// Twice the triangle's area in texels squared (for the area-weighted
+/// known fraction).
+fn texel_area(uv: &UvTriangle, (w, h): (u32, u32)) -> f64 {
+    let p = uv.map(|c| {
+        (
+            f64::from(c[0]) * f64::from(w),
+            f64::from(c[1]) * f64::from(h),
+        )
+    });
+    let a = ((p[1].0 - p[0].0) * (p[2].1 - p[0].1) - (p[1].1 - p[0].1) * (p[2].0 - p[0].0)).abs();
+    if a.is_finite() {
+        a
+    } else {
+        0.0
+    }
+}
+
+pub(crate) fn run_bake(options: &[&str]) -> ExitCode {
+    finish(bake(options))
+}
+
+fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
+    let mut valued = vec![
+        "--gltf",
+        "--texture",
+        "--triangles",
+        "--out",
+        "--level",
+        "--max-level",
+        "--budget",
+        "--format",
+        "--unknown-as",
+        "--index-width",
+    ];
+    valued.extend(SAMPLER_VALUED);
+    let p = Parsed::new(
+        "bake",
+        options,
+        &valued,
+        &["--opaque-above", "--force", "--no-preview", "--quiet"],
+    )
+    .map_err(Failure::Usage)?;
+    let out = PathBuf::from(
+        p.get("--out")
+            .ok_or_else(|| Failure::Usage("bake needs --out DIR".into()))?,
+    );
+    let format = match p.get("--format").unwrap_or("4") {
+        "4" => Format::FourState,
+        "2" => Format::TwoState,
+        other => {
+            return Err(Failure::Malformed(format!(
+                "--format {other:?}: expected 2 or 4"
+            )))
+        }
+    };
+    let two_state = match p.get("--unknown-as").unwrap_or("fallback") {
+        "fallback" => UnknownPolicy::Fallback,
+        "opaque" => UnknownPolicy::Opaque,
+        "transparent" => UnknownPolicy::Transparent,
+        other => {
+            return Err(Failure::Malformed(format!(
+                "--unknown-as {other:?}: expected fallback, opaque or transparent"
+            )))
+        }
+    };
+    let fixed_level = match p.get("--level").unwrap_or("auto") {
+        "auto" => None,
+        text => Some(parse_level("--level", text)?),
+    };
+    let max_level = parse_level("--max-level", p.get("--max-level").unwrap_or("12"))?;
+    let budget = p
+        .get("--budget")
+        .map(|t| {
+            t.parse::<u64>()
+                .map_err(|_| Failure::Malformed(format!("--budget {t:?}: expected a byte count")))
+        })
+        .transpose()?;
+    if budget.is_some() && fixed_level.is_some() {
+        return Err(Failure::Usage(
+            "--budget chooses levels: it goes with --level auto".into(),
+        ));
+    }
+    let width = index_width(&p)?;
+    let s = sampler_options(&p)?;
+    let preview = !p.flag("--no-preview");
+    check_destination(&out, &OUTPUTS, p.flag("--force")).map_err(Failure::Malformed)?;
+    let input = read_input(&p, &s)?;
+
+    // Levels per triangle.
+    let mut levels: Vec<Vec<Level>> = input
+        .jobs
+        .iter()
+        .map(|job| {
+            let size = (
+                input.images[job.image].width,
+                input.images[job.image].height,
+            );
+            job.triangles
+                .iter()
+                .map(|uv| fixed_level.unwrap_or_else(|| useful_level(uv, size, max_level)))
+                .collect()
+        })
+        .collect();
+    if let Some(budget) = budget {
+        let flat: Vec<Level> = levels.iter().flatten().copied().collect();
+        let mut capped = levels_within_budget(&flat, format, budget).into_iter();
+        for job_levels in &mut levels {
+            for level in job_levels.iter_mut() {
+                *level = capped.next().unwrap_or(*level);
+            }
+        }
+    }
+
+    let total: usize = input.jobs.iter().map(|j| j.triangles.len()).sum();
+    let show_progress = !p.flag("--quiet") && std::io::stderr().is_terminal();
+    let started = Instant::now();
+    let mut counts = StateCounts::default();
+    let mut status = StatusCounts::default();
+    let mut known_area = 0.0;
+    let mut area = 0.0;
+    let mut baked_all = Vec::with_capacity(input.jobs.len());
+    let mut done = 0usize;
+    for (job, job_levels) in input.jobs.iter().zip(&levels) {
+        let image = &input.images[job.image];
+        let texture = ImageTexture {
+            image,
+            factor: job.factor,
+        };
+        let baker = Baker::new(&texture, job.sampler, job.cutoff)
+            .map_err(|e| Failure::Malformed(format!("{}: {e}", job.name)))?;
+        let mut baked = Vec::with_capacity(job.triangles.len());
+        for (uv, &level) in job.triangles.iter().zip(job_levels) {
+            let b = baker
+                .bake(uv, level, format, two_state)
+                .map_err(|e| Failure::Malformed(e.to_string()))?;
+            counts.add(b.counts);
+            let n = b.counts.iter().sum::<u64>().max(1) as f64;
+            let a = texel_area(uv, baker.size());
+            area += a;
+            known_area += a * (b.counts[0] + b.counts[1]) as f64 / n;
+            match b.status {
+                TriangleStatus::Exact => status.exact += 1,
+                TriangleStatus::NotFinite => status.not_finite += 1,
+                TriangleStatus::OutOfExactRange => status.out_of_exact_range += 1,
+                _ => status.budget_exceeded += 1,
+            }
+            baked.push(b);
+            done += 1;
+            if show_progress && (done % 64 == 0 || done == total) {
+                crate::output::to_stderr(format_args!(
+                    "\rbaking: {done}/{total} triangles ({}%)",
+                    done * 100 / total.max(1)
+                ));
+            }
+        }
+        baked_all.push(baked);
+    }
+    let bake_seconds = started.elapsed().as_secs_f64();
+    if show_progress {
+        crate::output::to_stderr("\n");
+    }
+
+    // Buffers: one geometry per job, deduplicated across all.
+    let mut builder = MicromapBuffersBuilder::new(Default::default());
+    for baked in &baked_all {
+        builder
+            .add_geometry(baked.iter().map(|b| b.opacity.as_opacity()))
+            .map_err(|e| Failure::Malformed(e.to_string()))?;
+    }
+    let buffers = builder
+        .finish()
+        .map_err(|e| Failure::Malformed(e.to_string()))?;
+    let mut indices = Vec::new();
+    let mut special = 0;
+    for g in 0..buffers.geometry_count() {
+        indices.extend(
+            buffers
+                .index_bytes(g, width)
+                .map_err(|e| Failure::Malformed(e.to_string()))?,
+        );
+        special += buffers
+            .geometry_indices(g)
+            .map_err(|e| Failure::Malformed(e.to_string()))?
+            .iter()
+            .filter(|i| matches!(i, MicromapIndex::Special(_)))
+            .count();
+    }
+    let (mut paper_bits, mut level_order_bits) = (0u64, 0u64);
+    for map in buffers.micromaps() {
+        if let Ok(tree) = PaperTree::from_micromap(map) {
+            paper_bits += tree.total_bits();
+            level_order_bits += LevelOrderTree::from_paper(&tree).total_bits();
+        }
+    }
+    let mut level_histogram = vec![0u64; 13];
+    for level in levels.iter().flatten() {
+        level_histogram[level.get() as usize] += 1;
+    }
+    while level_histogram.len() > 1 && level_histogram.last() == Some(&0) {
+        level_histogram.pop();
+    }
+    let mut first_index = 0;
+    let jobs = input
+        .jobs
+        .iter()
+        .map(|job| {
+            let image = &input.images[job.image];
+            let summary = JobSummary {
+                name: job.name.clone(),
+                texture: [image.width, image.height],
+                filter: match job.sampler.filter {
+                    Filter::Nearest => "nearest",
+                    Filter::Linear => "linear",
+                },
+                address: [
+                    address_name(job.sampler.address_u),
+                    address_name(job.sampler.address_v),
+                ],
+                cutoff: job.cutoff.alpha(),
+                opaque_when: match job.cutoff.comparison() {
+                    Comparison::AtLeast => "alpha >= cutoff",
+                    Comparison::Above => "alpha > cutoff",
+                },
+                triangles: job.triangles.len(),
+                first_index,
+            };
+            first_index += job.triangles.len();
+            summary
+        })
+        .collect();
+    let micro = counts.total();
+    let summary = Summary {
+        triangles: total,
+        format: u32::from(format.raw()),
+        levels: level_histogram,
+        known_fraction: (counts.opaque + counts.transparent) as f64 / micro.max(1) as f64,
+        known_area_fraction: if area > 0.0 { known_area / area } else { 0.0 },
+        micro_triangles: counts,
+        status,
+        micromaps_after_dedup: buffers.records().len(),
+        special_index_triangles: special,
+        bytes_flat: buffers.data().len(),
+        bytes_paper_tree: paper_bits.div_ceil(8),
+        bytes_level_order_tree: level_order_bits.div_ceil(8),
+        index_width_bits: width.bytes() * 8,
+        bake_seconds,
+        micro_triangles_per_second: micro as f64 / bake_seconds.max(1e-9),
+        jobs,
+        warnings: input.warnings.clone(),
+    };
+    let summary_json = serde_json::to_string_pretty(&summary)
+        .map_err(|e| Failure::Malformed(format!("summary: {e}")))?
+        + "\n";
+    let mut files = vec![
+        ("micromap-data.bin".to_string(), buffers.data().to_vec()),
+        (
+            "micromap-triangles.bin".to_string(),
+            buffers.records_le_bytes(),
+        ),
+        ("micromap-indices.bin".to_string(), indices),
+        (
+            "micromap-usage.bin".to_string(),
+            micromap_index::micromap::usage_counts_to_le_bytes(buffers.usage_counts()),
+        ),
+        (
+            "summary.json".to_string(),
+            summary_json.clone().into_bytes(),
+        ),
+    ];
+    if preview {
+        let png = crate::preview::render(
+            &input.images,
+            input
+                .jobs
+                .iter()
+                .zip(&baked_all)
+                .map(|(job, baked)| (job.image, job.triangles.as_slice(), baked.as_slice())),
+        )
+        .map_err(Failure::Io)?;
+        files.push(("preview.png".to_string(), png));
+    }
+    write_files(&out, &files).map_err(Failure::Io)?;
+    Ok((summary_json, Exit::Success))
+}
+
+/// The state a baked triangle shows at micro-triangle `i` (for the preview).
+pub(crate) fn baked_state(opacity: &BakedOpacity, i: u64) -> State {
+    match opacity {
+        BakedOpacity::Map(map) => map.get(i).unwrap_or(State::UnknownOpaque),
+        BakedOpacity::Special(state) => *state,
+    }
+}
+
+pub(crate) fn run_verify(options: &[&str]) -> ExitCode {
+    finish(verify(options))
+}
+
+#[derive(Serialize)]
+struct ContradictionJson {
+    triangle: usize,
+    micro_triangle: u64,
+    state: String,
+    /// Exact witness in texel space: [numerator, log2 denominator] per axis.
+    witness_texel_space: Option<[(String, u32); 2]>,
+    witness_uv: Option<[f64; 2]>,
+    texel: Option<[u32; 2]>,
+    texel_alpha: f64,
+}
+
+#[derive(Serialize)]
+struct VerifyJson {
+    triangles: usize,
+    triangles_checked: usize,
+    known_micro_triangles: u64,
+    unknown_micro_triangles: u64,
+    unknown_fraction: f64,
+    undecided: u64,
+    contradictions: u64,
+    first_contradictions: Vec<ContradictionJson>,
+    sound: bool,
+}
+
+fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
+    let mut valued = vec![
+        "--texture",
+        "--triangles",
+        "--micromaps",
+        "--index-width",
+        "--max-report",
+    ];
+    valued.extend(SAMPLER_VALUED);
+    let p = Parsed::new(
+        "verify-bake",
+        options,
+        &valued,
+        &["--opaque-above", "--json"],
+    )
+    .map_err(Failure::Usage)?;
+    let dir = PathBuf::from(
+        p.get("--micromaps")
+            .ok_or_else(|| Failure::Usage("verify-bake needs --micromaps DIR".into()))?,
+    );
+    if p.get("--texture").is_none() || p.get("--triangles").is_none() {
+        return Err(Failure::Usage(
+            "verify-bake needs --texture and --triangles".into(),
+        ));
+    }
+    let max_report: usize = p
+        .get("--max-report")
+        .unwrap_or("20")
+        .parse()
+        .map_err(|_| Failure::Malformed("--max-report: expected a count".into()))?;
+    let width = index_width(&p)?;
+    let s = sampler_options(&p)?;
+    let input = read_input(&p, &s)?;
+    let job = &input.jobs[0];
+    let data = read_file(&dir.join("micromap-data.bin"))?;
+    let records = read_file(&dir.join("micromap-triangles.bin"))?;
+    let index_bytes = read_file(&dir.join("micromap-indices.bin"))?;
+    let read = read_buffers(
+        &BufferBytes {
+            records: &records,
+            data: &data,
+            usage_counts: None,
+            indices: Some((&index_bytes, width)),
+        },
+        &ReadOptions {
+            overlap: micromap_index::micromap::Overlap::Allow {
+                max_decoded_bytes: 1 << 32,
+            },
+            ..ReadOptions::default()
+        },
+    )
+    .map_err(|e| Failure::Malformed(format!("{}: {e}", dir.display())))?;
+    let indices = read.indices.unwrap_or_default();
+    if indices.len() != job.triangles.len() {
+        return Err(Failure::Malformed(format!(
+            "{} has {} indices for {} triangles",
+            dir.display(),
+            indices.len(),
+            job.triangles.len()
+        )));
+    }
+    let image = &input.images[job.image];
+    let texture = ImageTexture {
+        image,
+        factor: job.factor,
+    };
+    let baker = Baker::new(&texture, job.sampler, job.cutoff)
+        .map_err(|e| Failure::Malformed(e.to_string()))?;
+    let mut out = VerifyJson {
+        triangles: job.triangles.len(),
+        triangles_checked: 0,
+        known_micro_triangles: 0,
+        unknown_micro_triangles: 0,
+        unknown_fraction: 0.0,
+        undecided: 0,
+        contradictions: 0,
+        first_contradictions: Vec::new(),
+        sound: true,
+    };
+    for (t, (uv, index)) in job.triangles.iter().zip(&indices).enumerate() {
+        let opacity = match *index {
+            MicromapIndex::Record(r) => TriangleOpacity::Micromap(&read.micromaps[r as usize]),
+            MicromapIndex::Special(state) => TriangleOpacity::Special(state),
+        };
+        let v = baker.verify(uv, &opacity);
+        out.triangles_checked += usize::from(v.checked);
+        out.known_micro_triangles += v.known;
+        out.unknown_micro_triangles += v.unknown;
+        out.undecided += v.undecided;
+        out.contradictions += v.contradictions.len() as u64;
+        for c in v.contradictions {
+            if out.first_contradictions.len() >= max_report {
+                break;
+            }
+            out.first_contradictions.push(ContradictionJson {
+                triangle: t,
+                micro_triangle: c.micro_triangle,
+                state: c.state.to_string(),
+                witness_texel_space: c
+                    .witness
+                    .map(|w| [(w.x.to_string(), w.shift_x), (w.y.to_string(), w.shift_y)]),
+                witness_uv: c.witness.map(|w| {
+                    let (u, v) = w.uv_f64(image.width, image.height);
+                    [u, v]
+                }),
+                texel: c.texel.map(|(x, y)| [x, y]),
+                texel_alpha: match c.texel {
+                    Some((x, y)) => texture.alpha(x, y),
+                    None => f64::from(job.sampler.border_alpha),
+                },
+            });
+        }
+    }
+    let micro = out.known_micro_triangles + out.unknown_micro_triangles;
+    out.unknown_fraction = out.unknown_micro_triangles as f64 / micro.max(1) as f64;
+    out.sound = out.contradictions == 0;
+    let exit = if out.sound {
+        Exit::Success
+    } else {
+        Exit::Failed
+    };
+    let text = if p.flag("--json") {
+        serde_json::to_string_pretty(&out).unwrap_or_default() + "\n"
+    } else {
+        let mut text = format!(
+            "{}: {} triangles ({} checked), {} known and {} unknown micro-triangles (unknown fraction {:.4}), {} undecided\n",
+            if out.sound { "sound" } else { "NOT SOUND" },
+            out.triangles,
+            out.triangles_checked,
+            out.known_micro_triangles,
+            out.unknown_micro_triangles,
+            out.unknown_fraction,
+            out.undecided
+        );
+        text += &format!("contradictions: {}\n", out.contradictions);
+        for c in &out.first_contradictions {
+            let witness = match &c.witness_texel_space {
+                Some([(x, sx), (y, sy)]) => format!(
+                    "texel-space point ({x}/2^{sx}, {y}/2^{sy}) = uv ({:.9}, {:.9})",
+                    c.witness_uv.unwrap_or_default()[0],
+                    c.witness_uv.unwrap_or_default()[1]
+                ),
+                None => "no exact point (block search)".into(),
+            };
+            let texel = match c.texel {
+                Some([x, y]) => format!("texel ({x}, {y})"),
+                None => "the border".into(),
+            };
+            text += &format!(
+                "  triangle {} micro-triangle {} is {} but {witness} reads {texel} with alpha {}\n",
+                c.triangle, c.micro_triangle, c.state, c.texel_alpha
+            );
+        }
+        text
+    };
+    Ok((text, exit))
+}

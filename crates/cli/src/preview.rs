@@ -1,0 +1,212 @@
+//! `preview.png` of a bake: each texture (side by side when there are
+//! several) in grey, every micro-triangle of every triangle tinted by its
+//! state, the mesh triangles' edges in white.
+
+use crate::bake_command::baked_state;
+use micromap_index::bake::{BakedTriangle, UvTriangle};
+use micromap_index::inverse::micro_triangles;
+use micromap_index::micromap::State;
+use micromap_index_verify::assets::{AlphaImage, AlphaTexels};
+
+/// Colours by state value: transparent blue, opaque green, unknown-
+/// transparent red, unknown-opaque yellow.
+const COLOURS: [[u8; 3]; 4] = [[40, 90, 255], [40, 200, 60], [235, 60, 40], [250, 210, 30]];
+
+/// The largest side of the picture we aim for.
+const TARGET: u32 = 1024;
+
+struct Canvas {
+    width: u32,
+    height: u32,
+    rgb: Vec<u8>,
+}
+
+impl Canvas {
+    fn blend(&mut self, x: i64, y: i64, colour: [u8; 3], weight: f32) {
+        if x < 0 || y < 0 || x >= i64::from(self.width) || y >= i64::from(self.height) {
+            return;
+        }
+        let at = (y as usize * self.width as usize + x as usize) * 3;
+        for k in 0..3 {
+            let old = f32::from(self.rgb[at + k]);
+            self.rgb[at + k] = (old * (1.0 - weight) + f32::from(colour[k]) * weight).round() as u8;
+        }
+    }
+}
+
+/// The picture as PNG bytes. `jobs`: (image index, triangles, their bakes).
+pub(crate) fn render<'a>(
+    images: &[AlphaImage],
+    jobs: impl Iterator<Item = (usize, &'a [UvTriangle], &'a [BakedTriangle])>,
+) -> Result<Vec<u8>, String> {
+    let max_side = images
+        .iter()
+        .map(|i| i.width.max(i.height))
+        .max()
+        .unwrap_or(1);
+    let scale = (TARGET / max_side.max(1)).clamp(1, 8);
+    // Tiles side by side, top-aligned.
+    let mut offsets = Vec::new();
+    let (mut width, mut height) = (0u32, 0u32);
+    for image in images {
+        offsets.push(width);
+        width = width.saturating_add(image.width * scale);
+        height = height.max(image.height * scale);
+    }
+    if u64::from(width) * u64::from(height) > 1 << 26 {
+        return Err(format!(
+            "the preview would be {width}x{height} pixels: use --no-preview"
+        ));
+    }
+    let mut canvas = Canvas {
+        width: width.max(1),
+        height: height.max(1),
+        rgb: vec![0; width.max(1) as usize * height.max(1) as usize * 3],
+    };
+    for (image, &x0) in images.iter().zip(&offsets) {
+        for y in 0..image.height * scale {
+            for x in 0..image.width * scale {
+                let i = (y / scale) as usize * image.width as usize + (x / scale) as usize;
+                let alpha = match &image.texels {
+                    AlphaTexels::Unorm8(t) => f32::from(t[i]) / 255.0,
+                    AlphaTexels::Float(t) => t[i].clamp(0.0, 1.0),
+                };
+                let grey = (40.0 + 180.0 * alpha) as u8;
+                canvas.blend(i64::from(x0 + x), i64::from(y), [grey; 3], 1.0);
+            }
+        }
+    }
+    for (image_index, triangles, baked) in jobs {
+        let image = &images[image_index];
+        let tile = Tile {
+            x0: offsets[image_index],
+            width: image.width * scale,
+            height: image.height * scale,
+        };
+        for (uv, b) in triangles.iter().zip(baked) {
+            if uv
+                .iter()
+                .flatten()
+                .any(|c| !c.is_finite() || c.abs() > 64.0)
+            {
+                continue;
+            }
+            let level = b.opacity.level();
+            for t in micro_triangles(level) {
+                let state = baked_state(&b.opacity, t.index());
+                let n = f64::from(1u32 << level.get());
+                let corners = t.vertices_scaled().map(|(a, bb)| {
+                    let (a, bb) = (a as f64 / n, bb as f64 / n);
+                    let w = 1.0 - a - bb;
+                    let at = |k: usize, size: u32| {
+                        (w * f64::from(uv[0][k])
+                            + a * f64::from(uv[1][k])
+                            + bb * f64::from(uv[2][k]))
+                            * f64::from(size)
+                    };
+                    (at(0, tile.width), at(1, tile.height))
+                });
+                tile.fill(&mut canvas, corners, COLOURS[state.bits() as usize], 0.55);
+            }
+            let corners = uv.map(|c| {
+                (
+                    f64::from(c[0]) * f64::from(tile.width),
+                    f64::from(c[1]) * f64::from(tile.height),
+                )
+            });
+            for k in 0..3 {
+                tile.line(&mut canvas, corners[k], corners[(k + 1) % 3]);
+            }
+        }
+    }
+    encode(&canvas)
+}
+
+struct Tile {
+    x0: u32,
+    width: u32,
+    height: u32,
+}
+
+impl Tile {
+    /// Blends a pixel given in tile coordinates, wrapped into the tile (the
+    /// texture repeats for the picture's purpose).
+    fn put(&self, canvas: &mut Canvas, x: i64, y: i64, colour: [u8; 3], weight: f32) {
+        let x = x.rem_euclid(i64::from(self.width));
+        let y = y.rem_euclid(i64::from(self.height));
+        canvas.blend(i64::from(self.x0) + x, y, colour, weight);
+    }
+
+    /// Fills the pixels whose centres lie in the triangle.
+    fn fill(&self, canvas: &mut Canvas, p: [(f64, f64); 3], colour: [u8; 3], weight: f32) {
+        let min_x = p.iter().map(|q| q.0).fold(f64::INFINITY, f64::min).floor() as i64;
+        let max_x = p
+            .iter()
+            .map(|q| q.0)
+            .fold(f64::NEG_INFINITY, f64::max)
+            .ceil() as i64;
+        let min_y = p.iter().map(|q| q.1).fold(f64::INFINITY, f64::min).floor() as i64;
+        let max_y = p
+            .iter()
+            .map(|q| q.1)
+            .fold(f64::NEG_INFINITY, f64::max)
+            .ceil() as i64;
+        if (max_x - min_x) * (max_y - min_y) > 1 << 22 {
+            return;
+        }
+        let edge = |a: (f64, f64), b: (f64, f64), c: (f64, f64)| {
+            (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0)
+        };
+        let area = edge(p[0], p[1], p[2]);
+        if area == 0.0 {
+            return;
+        }
+        for y in min_y..=max_y {
+            for x in min_x..=max_x {
+                let c = (x as f64 + 0.5, y as f64 + 0.5);
+                let e = [
+                    edge(p[0], p[1], c),
+                    edge(p[1], p[2], c),
+                    edge(p[2], p[0], c),
+                ];
+                let inside = if area > 0.0 {
+                    e.iter().all(|&v| v >= 0.0)
+                } else {
+                    e.iter().all(|&v| v <= 0.0)
+                };
+                if inside {
+                    self.put(canvas, x, y, colour, weight);
+                }
+            }
+        }
+    }
+
+    fn line(&self, canvas: &mut Canvas, a: (f64, f64), b: (f64, f64)) {
+        let steps = ((b.0 - a.0).abs().max((b.1 - a.1).abs()).ceil() as i64).clamp(1, 1 << 16);
+        for s in 0..=steps {
+            let t = s as f64 / steps as f64;
+            let x = (a.0 + (b.0 - a.0) * t).floor() as i64;
+            let y = (a.1 + (b.1 - a.1) * t).floor() as i64;
+            self.put(canvas, x, y, [255, 255, 255], 0.8);
+        }
+    }
+}
+
+fn encode(canvas: &Canvas) -> Result<Vec<u8>, String> {
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut bytes, canvas.width, canvas.height);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        let mut writer = encoder
+            .write_header()
+            .map_err(|e| format!("preview: {e}"))?;
+        writer
+            .write_image_data(&canvas.rgb)
+            .map_err(|e| format!("preview: {e}"))?;
+    }
+    Ok(bytes)
+}
+
+/// Keeps `State` in scope for the colour table's order.
+const _: () = assert!(State::Opaque as usize == 1);

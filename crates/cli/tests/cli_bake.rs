@@ -1,0 +1,313 @@
+//! `micromap-index bake` and `verify-bake`: outputs, their consistency with
+//! the library's reader, the verifier's verdicts, exit codes and the
+//! all-or-nothing output, on the committed Crytek Sponza assets.
+
+use micromap_index::micromap::{read_buffers, BufferBytes, IndexWidth, MicromapIndex, State};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const ASSETS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/crytek-sponza");
+
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_micromap-index"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("micromap-bake-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn ok(args: &[&str]) -> String {
+    let out = run(args);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+fn write(path: &Path, text: &str) {
+    std::fs::write(path, text).unwrap();
+}
+
+/// The chain texture on four triangles, at a fixed level: every output
+/// file is consistent with the summary and with the library's reader, and
+/// the verifier finds the bake sound; flipping one known state makes it
+/// unsound with a witness.
+#[test]
+fn bake_writes_consistent_buffers_that_verify_sound_and_a_flip_is_caught() {
+    let dir = scratch("chain");
+    std::fs::create_dir_all(&dir).unwrap();
+    let tris = dir.join("tris.json");
+    write(
+        &tris,
+        r#"{"triangles": [[[0, 0], [1, 0], [0, 0.25]], [[1, 0], [1, 0.25], [0, 0.25]],
+                          [[0.1, 0.3], [0.9, 0.35], [0.5, 0.9]], [[0, 0], [0, 0], [0, 0]]]}"#,
+    );
+    let out = dir.join("out");
+    let texture = format!("{ASSETS}/chain.png");
+    let summary = ok(&[
+        "bake",
+        "--texture",
+        &texture,
+        "--triangles",
+        tris.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--level",
+        "5",
+        "--format",
+        "4",
+        "--quiet",
+    ]);
+    let summary: serde_json::Value = serde_json::from_str(&summary).unwrap();
+    assert_eq!(summary["triangles"], 4);
+    let micro = &summary["micro_triangles"];
+    let total: u64 = [
+        "transparent",
+        "opaque",
+        "unknown_transparent",
+        "unknown_opaque",
+    ]
+    .iter()
+    .map(|k| micro[k].as_u64().unwrap())
+    .sum();
+    assert_eq!(total, 4 * 1024);
+    let read_file = |name: &str| std::fs::read(out.join(name)).unwrap();
+    let (data, records, indices) = (
+        read_file("micromap-data.bin"),
+        read_file("micromap-triangles.bin"),
+        read_file("micromap-indices.bin"),
+    );
+    assert_eq!(indices.len(), 16);
+    let read = read_buffers(
+        &BufferBytes {
+            records: &records,
+            data: &data,
+            usage_counts: Some(&read_file("micromap-usage.bin")),
+            indices: Some((&indices, IndexWidth::U32)),
+        },
+        &Default::default(),
+    )
+    .unwrap();
+    assert_eq!(
+        read.micromaps.len() as u64,
+        summary["micromaps_after_dedup"].as_u64().unwrap()
+    );
+    // The degenerate point triangle at (0, 0) reads one texel: a special
+    // index.
+    assert!(matches!(
+        read.indices.as_ref().unwrap()[3],
+        MicromapIndex::Special(_)
+    ));
+    assert_eq!(summary["bytes_flat"].as_u64().unwrap(), data.len() as u64);
+    let preview = read_file("preview.png");
+    assert_eq!(&preview[..8], b"\x89PNG\r\n\x1a\n");
+
+    let verify = |micromaps: &Path| {
+        run(&[
+            "verify-bake",
+            "--texture",
+            &texture,
+            "--triangles",
+            tris.to_str().unwrap(),
+            "--micromaps",
+            micromaps.to_str().unwrap(),
+            "--json",
+        ])
+    };
+    let sound = verify(&out);
+    assert_eq!(
+        sound.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&sound.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&sound.stdout).unwrap();
+    assert_eq!(report["contradictions"], 0);
+    assert_eq!(report["sound"], true);
+
+    // Flip the first known micro-triangle of the first micromap.
+    let map = &read.micromaps[0];
+    let (i, state) = (0..map.len())
+        .map(|i| (i, map.get(i).unwrap()))
+        .find(|(_, s)| s.is_known())
+        .expect("a known micro-triangle");
+    let flipped = if state == State::Opaque {
+        State::Transparent
+    } else {
+        State::Opaque
+    };
+    let mut map = map.clone();
+    map.set(i, flipped).unwrap();
+    let offset = read.records[0].data_offset as usize;
+    let mut bad = data.clone();
+    bad[offset..offset + map.as_bytes().len()].copy_from_slice(map.as_bytes());
+    let tampered = dir.join("tampered");
+    std::fs::create_dir_all(&tampered).unwrap();
+    for name in ["micromap-triangles.bin", "micromap-indices.bin"] {
+        std::fs::copy(out.join(name), tampered.join(name)).unwrap();
+    }
+    std::fs::write(tampered.join("micromap-data.bin"), &bad).unwrap();
+    let unsound = verify(&tampered);
+    assert_eq!(unsound.status.code(), Some(1));
+    let report: serde_json::Value = serde_json::from_slice(&unsound.stdout).unwrap();
+    assert!(report["contradictions"].as_u64().unwrap() >= 1, "{report}");
+    let first = &report["first_contradictions"][0];
+    assert!(first["witness_texel_space"].is_array(), "{first}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The committed glTF asset (and its GLB twin) bakes with the material's
+/// cutoffs and samplers; both give the same buffers.
+#[test]
+fn bake_reads_the_committed_gltf_and_glb_alike() {
+    let dir = scratch("gltf");
+    let (a, b) = (dir.join("gltf"), dir.join("glb"));
+    let gltf = ok(&[
+        "bake",
+        "--gltf",
+        &format!("{ASSETS}/cards.gltf"),
+        "--out",
+        a.to_str().unwrap(),
+        "--level",
+        "4",
+        "--quiet",
+        "--no-preview",
+    ]);
+    ok(&[
+        "bake",
+        "--gltf",
+        &format!("{ASSETS}/cards.glb"),
+        "--out",
+        b.to_str().unwrap(),
+        "--level",
+        "4",
+        "--quiet",
+        "--no-preview",
+    ]);
+    let summary: serde_json::Value = serde_json::from_str(&gltf).unwrap();
+    assert!(summary["jobs"].as_array().unwrap().len() >= 3, "{summary}");
+    assert!(summary["triangles"].as_u64().unwrap() >= 128);
+    for name in [
+        "micromap-data.bin",
+        "micromap-triangles.bin",
+        "micromap-indices.bin",
+    ] {
+        assert_eq!(
+            std::fs::read(a.join(name)).unwrap(),
+            std::fs::read(b.join(name)).unwrap(),
+            "{name}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Malformed input is exit 2 and unreadable input exit 3; nothing is
+/// written either way.
+#[test]
+fn bad_input_is_refused_and_nothing_is_written() {
+    let dir = scratch("bad");
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("out");
+    let texture = format!("{ASSETS}/chain.png");
+    let tris = dir.join("bad.json");
+    write(&tris, r#"{"triangles": [[[0, 0], [1, 0]]]}"#);
+    let cases: [(&[&str], i32); 6] = [
+        (
+            &[
+                "bake",
+                "--texture",
+                &texture,
+                "--triangles",
+                tris.to_str().unwrap(),
+            ],
+            2,
+        ),
+        (
+            &[
+                "bake",
+                "--texture",
+                &texture,
+                "--triangles",
+                "/nonexistent/t.json",
+            ],
+            3,
+        ),
+        (
+            &[
+                "bake",
+                "--texture",
+                "/nonexistent.png",
+                "--triangles",
+                tris.to_str().unwrap(),
+            ],
+            3,
+        ),
+        (
+            &[
+                "bake",
+                "--texture",
+                tris.to_str().unwrap(),
+                "--triangles",
+                tris.to_str().unwrap(),
+            ],
+            2,
+        ),
+        (&["bake", "--gltf", &texture], 2),
+        (
+            &[
+                "bake",
+                "--texture",
+                &texture,
+                "--triangles",
+                tris.to_str().unwrap(),
+                "--level",
+                "13",
+            ],
+            2,
+        ),
+    ];
+    for (args, code) in cases {
+        let mut args = args.to_vec();
+        args.extend(["--out", out.to_str().unwrap()]);
+        let result = run(&args);
+        assert_eq!(
+            result.status.code(),
+            Some(code),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&result.stderr)
+        );
+        assert!(!result.stderr.is_empty());
+        assert!(
+            !out.exists() || std::fs::read_dir(&out).unwrap().next().is_none(),
+            "{args:?} wrote"
+        );
+    }
+    // A second bake into the same directory needs --force.
+    write(&tris, r#"{"triangles": [[[0, 0], [1, 0], [0, 1]]]}"#);
+    let args = [
+        "bake",
+        "--texture",
+        &texture,
+        "--triangles",
+        tris.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--level",
+        "2",
+        "--quiet",
+    ];
+    ok(&args);
+    assert_eq!(run(&args).status.code(), Some(2));
+    let mut forced = args.to_vec();
+    forced.push("--force");
+    ok(&forced);
+    let _ = std::fs::remove_dir_all(&dir);
+}
