@@ -191,8 +191,9 @@ pub struct Verification {
 /// let texels = [255u8, 0, 255, 0];
 /// let texture = Unorm8Texture::new(2, 2, &texels).unwrap();
 /// let baker = Baker::new(&texture, Sampler::default(), Cutoff::default()).unwrap();
-/// // A triangle covering the left half of the texture and one across both.
-/// let left = [[0.0, 0.0], [0.5, 0.0], [0.0, 1.0]];
+/// // A triangle inside the left column (x < 1/2: x = 1/2 would read the
+/// // right column) and one across both.
+/// let left = [[0.0, 0.0], [0.45, 0.0], [0.0, 1.0]];
 /// let across = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
 /// let level = Level::new(2).unwrap();
 /// let baked = baker.bake(&left, level, Format::FourState, Default::default()).unwrap();
@@ -336,22 +337,52 @@ impl Baker {
         let mut counts = [0u64; 4];
         let mut exhausted = false;
         let mut stack = Vec::new();
-        for t in micro_triangles(level) {
-            let p = Self::place(&fx, &fy, level.get(), t.vertices_scaled());
+        // Top-down over the micromap's tree: a micro-triangle of a coarser
+        // level contains its descendants, so a uniform one decides all of
+        // them (a contiguous index range) at once; only mixed ones descend.
+        let n = level.get();
+        let mut nodes: Vec<(u32, u64)> = Vec::new();
+        nodes.push((0, 0));
+        while let Some((depth, index)) = nodes.pop() {
+            let node = crate::inverse::micro_triangle(Level(depth as u8), index).map_err(|_| {
+                MicromapError::IndexOutOfRange {
+                    index,
+                    len: map.len(),
+                }
+            })?;
+            let up = n - depth;
+            let vertices = node.vertices_scaled().map(|(a, b)| (a << up, b << up));
+            let p = Self::place(&fx, &fy, n, vertices);
             let (classes, out_of_budget) = self.classify(&p, shifts, &mut stack);
+            let known = match (classes.opaque, classes.transparent) {
+                (true, false) => Some(State::Opaque),
+                (false, true) => Some(State::Transparent),
+                _ => None,
+            };
+            if let Some(state) = known {
+                let count = 1u64 << (2 * up);
+                counts[state.bits() as usize] += count;
+                map.fill(index << (2 * up), count, state)?;
+                continue;
+            }
+            if depth < n {
+                for child in (0..4).rev() {
+                    nodes.push((depth + 1, 4 * index + child));
+                }
+                continue;
+            }
             exhausted |= out_of_budget;
-            let state = match (classes.opaque, classes.transparent) {
-                (true, false) => State::Opaque,
-                (false, true) => State::Transparent,
-                _ if self.centroid_is_opaque(&p, shifts) => State::UnknownOpaque,
-                _ => State::UnknownTransparent,
+            let state = if self.centroid_is_opaque(&p, shifts) {
+                State::UnknownOpaque
+            } else {
+                State::UnknownTransparent
             };
             counts[state.bits() as usize] += 1;
             let stored = match format {
                 Format::FourState => state,
                 Format::TwoState => two_state.resolve(state),
             };
-            map.set(t.index(), stored)?;
+            map.set(index, stored)?;
         }
         Ok(BakedTriangle {
             opacity: BakedOpacity::Map(map),
@@ -409,8 +440,8 @@ impl Baker {
             );
             let witness_block = search.witness_block[usize::from(other.opaque)];
             match witness_block {
-                Some(block) => {
-                    let witness = self.witness_in(&exact, block, shifts);
+                Some(found) => {
+                    let (block, witness) = self.witness(&exact, found, shifts, other.opaque);
                     let texel = witness.map_or_else(
                         || self.classes.wrap(block.x0, block.y0),
                         |w| {
@@ -440,6 +471,50 @@ impl Baker {
             }
         }
         report
+    }
+
+    /// A witness for a contradiction: a point of `t` reading a texel of
+    /// the class `opaque`, searched in `found` (the block the search
+    /// reported) and then in every single texel of that class in `t`'s
+    /// footprint (a contact region can be far smaller than the finest grid
+    /// of [`witness_in`](Self::witness_in) in one texel and hold a vertex
+    /// in another).
+    fn witness(
+        &self,
+        t: &ExactTriangle,
+        found: Block,
+        shifts: (u32, u32),
+        opaque: bool,
+    ) -> (Block, Option<(i128, i128, u32)>) {
+        if let Some(w) = self.witness_in(t, found, shifts) {
+            return (found, Some(w));
+        }
+        let b = self
+            .classes
+            .bounding_block((t.min_x(), t.max_x()), (t.min_y(), t.max_y()), shifts);
+        if (b.x1 - b.x0 + 1).saturating_mul(b.y1 - b.y0 + 1) <= 4096 {
+            for y in b.y0..=b.y1 {
+                for x in b.x0..=b.x1 {
+                    if self.classes.class_of(self.classes.wrap(x, y)) != opaque {
+                        continue;
+                    }
+                    let texel = Block {
+                        x0: x,
+                        x1: x,
+                        y0: y,
+                        y1: y,
+                    };
+                    let [rx0, rx1, ry0, ry1] = self.classes.block_reach(texel, shifts);
+                    if !t.meets(rx0, rx1, ry0, ry1) {
+                        continue;
+                    }
+                    if let Some(w) = self.witness_in(t, texel, shifts) {
+                        return (texel, Some(w));
+                    }
+                }
+            }
+        }
+        (found, None)
     }
 
     /// A point of `t` (closed) in the reach of `block`, on a grid `2^extra`

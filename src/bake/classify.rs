@@ -7,7 +7,7 @@ use super::texture::{AddressMode, AlphaTexture, Cutoff, Filter, Sampler, Texture
 use alloc::vec::Vec;
 
 /// Mixed blocks of at most this many texels are searched texel by texel.
-const SMALL_BLOCK: i128 = 16;
+const SMALL_BLOCK: i128 = 36;
 
 /// The set of texel classes a region samples.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -160,6 +160,8 @@ pub(crate) struct TexelClasses {
     pub(crate) height: u32,
     /// `prefix[y * (width + 1) + x]`: opaque texels in `[0, x) x [0, y)`.
     prefix: Vec<u32>,
+    /// One byte per texel: 1 opaque, 0 transparent (row-major).
+    opaque: Vec<u8>,
     pub(crate) sampler: Sampler,
     border_opaque: bool,
 }
@@ -195,10 +197,13 @@ impl TexelClasses {
         }
         let stride = width as usize + 1;
         let mut prefix = alloc::vec![0u32; stride * (height as usize + 1)];
+        let mut opaque = alloc::vec![0u8; width as usize * height as usize];
         for y in 0..height {
             let mut row = 0u32;
             for x in 0..width {
-                row += u32::from(cutoff.is_opaque(texture.alpha(x, y)));
+                let is_opaque = cutoff.is_opaque(texture.alpha(x, y));
+                opaque[y as usize * width as usize + x as usize] = u8::from(is_opaque);
+                row += u32::from(is_opaque);
                 let at = (y as usize + 1) * stride + x as usize + 1;
                 prefix[at] = prefix[at - stride] + row;
             }
@@ -207,6 +212,7 @@ impl TexelClasses {
             width,
             height,
             prefix,
+            opaque,
             sampler,
             border_opaque: cutoff.is_opaque(f64::from(sampler.border_alpha)),
         })
@@ -223,13 +229,17 @@ impl TexelClasses {
     /// The classes of a texel, or of the border (`None`).
     pub(crate) fn class_of(&self, texel: Option<(u32, u32)>) -> bool {
         match texel {
-            Some((x, y)) => self.opaque_count((x, x), (y, y)) == 1,
+            Some((x, y)) => self.opaque[y as usize * self.width as usize + x as usize] == 1,
             None => self.border_opaque,
         }
     }
 
     /// The texel (or the border, `None`) that texel coordinates read.
     pub(crate) fn wrap(&self, x: i128, y: i128) -> Option<(u32, u32)> {
+        // Every mode reads in-range coordinates as they are.
+        if (0..i128::from(self.width)).contains(&x) && (0..i128::from(self.height)).contains(&y) {
+            return Some((x as u32, y as u32));
+        }
         let clamp = |k: i128| k.clamp(i128::from(i64::MIN), i128::from(i64::MAX)) as i64;
         // Out of i64 only for coordinates beyond 2^63 texels, where every
         // mode's answer is that of the clamped value (periods divide 2^63
@@ -333,6 +343,33 @@ impl TexelClasses {
         let (sx, sy) = shifts;
         let start = self.bounding_block((t.min_x(), t.max_x()), (t.min_y(), t.max_y()), shifts);
         let mut found = Search::default();
+        // A small footprint (most micro-triangles at useful levels): its
+        // texels one by one, without the block stack.
+        if (start.x1 - start.x0 + 1) * (start.y1 - start.y0 + 1) <= SMALL_BLOCK {
+            for y in start.y0..=start.y1 {
+                for x in start.x0..=start.x1 {
+                    let classes = Classes::of(self.class_of(self.wrap(x, y)));
+                    if found.classes.contains(classes) {
+                        continue;
+                    }
+                    let (rx0, rx1) = self.reach(x, x, sx);
+                    let (ry0, ry1) = self.reach(y, y, sy);
+                    if t.meets(rx0, rx1, ry0, ry1) {
+                        found.classes = found.classes.union(classes);
+                        found.witness_block[usize::from(classes.opaque)] = Some(Block {
+                            x0: x,
+                            x1: x,
+                            y0: y,
+                            y1: y,
+                        });
+                        if found.classes.contains(want) {
+                            return found;
+                        }
+                    }
+                }
+            }
+            return found;
+        }
         stack.clear();
         stack.push(start);
         let mut tests = 0u32;
@@ -346,13 +383,18 @@ impl TexelClasses {
                 found.classes = found.classes.union(want);
                 break;
             }
+            // Classes first: a block that can add nothing needs no geometry.
+            let classes = if block.x0 == block.x1 && block.y0 == block.y1 {
+                Classes::of(self.class_of(self.wrap(block.x0, block.y0)))
+            } else {
+                self.block_classes(block)
+            };
+            if found.classes.contains(classes) {
+                continue;
+            }
             let (rx0, rx1) = self.reach(block.x0, block.x1, sx);
             let (ry0, ry1) = self.reach(block.y0, block.y1, sy);
             if !t.meets(rx0, rx1, ry0, ry1) {
-                continue;
-            }
-            let classes = self.block_classes(block);
-            if found.classes.contains(classes) {
                 continue;
             }
             if !classes.is_mixed() {

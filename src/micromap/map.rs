@@ -626,6 +626,56 @@ impl Micromap {
         Ok(())
     }
 
+    /// Sets micro-triangles `start..start + count` to `state`: the
+    /// descendants of one micro-triangle of a coarser level are such a range
+    /// (children of `i` are `4i..4i + 3`). Whole bytes are written at once.
+    ///
+    /// ```
+    /// use micromap_index::micromap::{Format, Micromap, State};
+    /// use micromap_index::Level;
+    /// let mut map = Micromap::new(Level::new(3).unwrap(), Format::FourState).unwrap();
+    /// // Micro-triangle 1 of level 1 is 16..32 at level 3.
+    /// map.fill(16, 16, State::Opaque).unwrap();
+    /// assert!((0..64).all(|i| map.get(i) == Some(if (16..32).contains(&i) { State::Opaque } else { State::Transparent })));
+    /// assert!(map.fill(60, 5, State::Opaque).is_err());
+    /// ```
+    pub fn fill(&mut self, start: u64, count: u64, state: State) -> Result<(), MicromapError> {
+        let len = self.len();
+        let end = start.checked_add(count).filter(|&e| e <= len);
+        let Some(end) = end else {
+            return Err(MicromapError::IndexOutOfRange {
+                index: start.saturating_add(count),
+                len,
+            });
+        };
+        if !self.format.holds(state) {
+            return Err(MicromapError::StateNotInFormat {
+                state,
+                format: self.format,
+            });
+        }
+        let per_byte = u64::from(8 / self.format.bits_per_state());
+        let pattern = match self.format {
+            Format::TwoState => 0u8.wrapping_sub(state.bits() & 1),
+            Format::FourState => state.bits() * 0b0101_0101,
+        };
+        let mut i = start;
+        while i < end {
+            if i % per_byte == 0 && end - i >= per_byte {
+                let first = (i / per_byte) as usize;
+                let bytes = ((end - i) / per_byte) as usize;
+                if let Some(run) = self.data.get_mut(first..first + bytes) {
+                    run.fill(pattern);
+                }
+                i += bytes as u64 * per_byte;
+            } else {
+                self.set(i, state)?;
+                i += 1;
+            }
+        }
+        Ok(())
+    }
+
     /// The states in curve order, `4^level` of them.
     ///
     /// ```
