@@ -51,7 +51,8 @@
 //!   that [`batch`] can pick its AVX2 / AVX-512 backends on x86-64 (without
 //!   `std` it runs the portable backend). The error types implement
 //!   `core::error::Error` either way.
-//! * `alloc`: micromap containers and the succinct trees (they own buffers).
+//! * `alloc`: micromap containers, the succinct trees and the exact baker
+//!   ([`bake`]) (they own buffers).
 //! * `exact`: exact rational inputs (`spec::index_real`,
 //!   `uv2index::index_real`, `inverse::MicroTriangle::vertices_rational`, ...)
 //!   through `num-bigint` and `num-rational`; implies `std`.

@@ -255,8 +255,8 @@ impl ExactTriangle {
                     Wide::from_i128(t.span_small[t.axis_count].1),
                 );
             } else {
-                let on_edge = t.project(axis, x[a], y[a]);
-                let third = t.project(axis, x[3 - a - b], y[3 - a - b]);
+                let on_edge = Self::project(axis, x[a], y[a]);
+                let third = Self::project(axis, x[3 - a - b], y[3 - a - b]);
                 t.span[t.axis_count] = (on_edge.min(third), on_edge.max(third));
             }
             t.axis_count += 1;
@@ -265,7 +265,7 @@ impl ExactTriangle {
     }
 
     #[inline]
-    fn project(&self, (ax, ay): (i128, i128), px: i128, py: i128) -> Wide {
+    fn project((ax, ay): (i128, i128), px: i128, py: i128) -> Wide {
         Wide::mul(ax, px).add(Wide::mul(ay, py))
     }
 
@@ -313,14 +313,14 @@ impl ExactTriangle {
             // coordinate with a negative weight is used.
             let low_x = if ax >= 0 { x0 } else { x1 };
             let low_y = if ay >= 0 { y0 } else { y1 };
-            let s_min = self.project((ax, ay), low_x, low_y);
+            let s_min = Self::project((ax, ay), low_x, low_y);
             let s_min_rises = ax < 0 || ay < 0;
             if s_min > t_max || (s_min == t_max && s_min_rises) {
                 return false;
             }
             let high_x = if ax > 0 { x1 } else { x0 };
             let high_y = if ay > 0 { y1 } else { y0 };
-            let s_max = self.project((ax, ay), high_x, high_y);
+            let s_max = Self::project((ax, ay), high_x, high_y);
             let s_max_falls = ax > 0 || ay > 0;
             if s_max < t_min || (s_max == t_min && s_max_falls) {
                 return false;
@@ -358,7 +358,7 @@ impl ExactTriangle {
             return false;
         }
         (0..self.axis_count).all(|k| {
-            let p = self.project(self.axes[k], px, py);
+            let p = Self::project(self.axes[k], px, py);
             self.span[k].0 <= p && p <= self.span[k].1
         })
     }

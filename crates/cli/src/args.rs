@@ -38,15 +38,14 @@ impl<'a> Parsed<'a> {
             let Some(&name) = valued.iter().find(|&&k| k == name) else {
                 return Err(format!("{command}: unknown option {option:?}"));
             };
-            let value = match inline_value {
-                Some(value) => value,
-                None => {
-                    let Some((&value, after)) = rest.split_first() else {
-                        return Err(format!("{command}: {name} needs a value"));
-                    };
-                    rest = after;
-                    value
-                }
+            let value = if let Some(value) = inline_value {
+                value
+            } else {
+                let Some((&value, after)) = rest.split_first() else {
+                    return Err(format!("{command}: {name} needs a value"));
+                };
+                rest = after;
+                value
             };
             if parsed.values.iter().any(|&(n, _)| n == name) {
                 return Err(format!("{command}: {name} given twice"));

@@ -10,8 +10,8 @@ use micromap_index::bake::{
     Cutoff, Filter, Sampler, TriangleStatus, UvTriangle,
 };
 use micromap_index::micromap::{
-    read_buffers, BufferBytes, Format, IndexWidth, MicromapBuffersBuilder, MicromapIndex,
-    ReadOptions, State, TriangleOpacity, UnknownPolicy,
+    read_buffers, BufferBytes, BuildOptions, Format, IndexWidth, MicromapBuffersBuilder,
+    MicromapIndex, ReadOptions, State, TriangleOpacity, UnknownPolicy,
 };
 use micromap_index::succinct::{LevelOrderTree, PaperTree};
 use micromap_index::Level;
@@ -20,6 +20,7 @@ use micromap_index_verify::assets::{
     Limits,
 };
 use serde::Serialize;
+use std::fmt::Write as _;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -590,7 +591,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
                 TriangleStatus::Exact => status.exact += 1,
                 TriangleStatus::NotFinite => status.not_finite += 1,
                 TriangleStatus::OutOfExactRange => status.out_of_exact_range += 1,
-                _ => status.budget_exceeded += 1,
+                TriangleStatus::BudgetExceeded => status.budget_exceeded += 1,
             }
             baked.push(b);
             done += 1;
@@ -609,7 +610,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     }
 
     // Buffers: one geometry per job, deduplicated across all.
-    let mut builder = MicromapBuffersBuilder::new(Default::default());
+    let mut builder = MicromapBuffersBuilder::new(BuildOptions::default());
     for baked in &baked_all {
         builder
             .add_geometry(baked.iter().map(|b| b.opacity.as_opacity()))
@@ -902,7 +903,7 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
             out.unknown_fraction,
             out.undecided
         );
-        text += &format!("contradictions: {}\n", out.contradictions);
+        let _ = writeln!(text, "contradictions: {}", out.contradictions);
         for c in &out.first_contradictions {
             let witness = match &c.witness_texel_space {
                 Some([(x, sx), (y, sy)]) => format!(
@@ -916,8 +917,9 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
                 Some([x, y]) => format!("texel ({x}, {y})"),
                 None => "the border".into(),
             };
-            text += &format!(
-                "  triangle {} micro-triangle {} is {} but {witness} reads {texel} with alpha {}\n",
+            let _ = writeln!(
+                text,
+                "  triangle {} micro-triangle {} is {} but {witness} reads {texel} with alpha {}",
                 c.triangle, c.micro_triangle, c.state, c.texel_alpha
             );
         }

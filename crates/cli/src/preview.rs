@@ -27,9 +27,9 @@ impl Canvas {
             return;
         }
         let at = (y as usize * self.width as usize + x as usize) * 3;
-        for k in 0..3 {
-            let old = f32::from(self.rgb[at + k]);
-            self.rgb[at + k] = (old * (1.0 - weight) + f32::from(colour[k]) * weight).round() as u8;
+        for (slot, &c) in self.rgb[at..at + 3].iter_mut().zip(&colour) {
+            let old = f32::from(*slot);
+            *slot = (old * (1.0 - weight) + f32::from(c) * weight).round() as u8;
         }
     }
 }

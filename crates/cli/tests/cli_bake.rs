@@ -93,7 +93,7 @@ fn bake_writes_consistent_buffers_that_verify_sound_and_a_flip_is_caught() {
             usage_counts: Some(&read_file("micromap-usage.bin")),
             indices: Some((&indices, IndexWidth::U32)),
         },
-        &Default::default(),
+        &micromap_index::micromap::ReadOptions::default(),
     )
     .unwrap();
     assert_eq!(
