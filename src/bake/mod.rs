@@ -113,17 +113,19 @@ pub fn useful_level(uv: &UvTriangle, (width, height): (u32, u32), max: Level) ->
         let (a, b) = (uv[k], uv[(k + 1) % 3]);
         let du = (f64::from(b[0]) - f64::from(a[0])) * f64::from(width);
         let dv = (f64::from(b[1]) - f64::from(a[1])) * f64::from(height);
-        let length = (du * du + dv * dv).sqrt();
-        if !length.is_finite() {
+        // Squared lengths: no square root needed (nor available without
+        // std); `length <= 2^n` iff `length^2 <= 4^n`.
+        let squared = du * du + dv * dv;
+        if !squared.is_finite() {
             return Level(0);
         }
-        longest = longest.max(length);
+        longest = longest.max(squared);
     }
     let mut level = 0;
     let mut span = 1f64;
     while span < longest && level < max.get() {
         level += 1;
-        span *= 2.0;
+        span *= 4.0;
     }
     Level(level as u8)
 }
