@@ -93,8 +93,8 @@ pub struct MaskPrimitive {
 pub struct GltfImageInfo {
     /// Its index into the glTF's `images`.
     pub index: usize,
-    /// `images[index].uri` as written (percent-encoded; `data:` URIs
-    /// shortened to their header), if it has one.
+    /// `images[index].uri` as written (percent-encoded), `data:` URIs cut
+    /// to their header (`data:image/png;base64,...`), if it has one.
     pub uri: Option<String>,
     /// `images[index].bufferView`, if it has one.
     pub buffer_view: Option<usize>,
@@ -1366,7 +1366,13 @@ impl<'a> Reader<'a, '_> {
         self.budget.take(|| label.clone(), texel_bytes)?;
         let info = GltfImageInfo {
             index,
-            uri: uri.map(uri_label),
+            uri: uri.map(|uri| {
+                if uri.starts_with("data:") {
+                    uri_label(uri)
+                } else {
+                    uri.to_string()
+                }
+            }),
             buffer_view: view,
             mime_type: image.opt_str("mimeType")?.map(str::to_string),
             name: image.opt_str("name")?.map(str::to_string),

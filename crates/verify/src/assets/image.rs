@@ -128,8 +128,37 @@ fn luma(r: u64, g: u64, b: u64) -> u64 {
     (2126 * r + 7152 * g + 722 * b + 5000) / 10000
 }
 
+/// Rejects a `PLTE` chunk whose length is not a multiple of 3 (invalid:
+/// palette entries are RGB triples), on which png 0.18.1 panics while
+/// expanding the palette (image-rs/image-png#694, fixed upstream after
+/// 0.18.1; finding A1 in `docs/fuzzing.md`). Walks the chunk headers only;
+/// the decoder checks the rest.
+fn check_png_palette(bytes: &[u8]) -> Result<(), AssetError> {
+    let mut at = 8usize;
+    while let Some(header) = bytes.get(at..at + 8) {
+        let length = u32::from_be_bytes([header[0], header[1], header[2], header[3]]) as usize;
+        let kind = &header[4..8];
+        if kind == b"PLTE" && length % 3 != 0 {
+            return Err(AssetError::Image {
+                format: ImageFormat::Png,
+                message: format!("PLTE chunk of {length} bytes, not a multiple of 3"),
+            });
+        }
+        if kind == b"IDAT" || kind == b"IEND" {
+            break;
+        }
+        // Length, type, data, CRC.
+        at = match at.checked_add(12).and_then(|n| n.checked_add(length)) {
+            Some(next) => next,
+            None => break,
+        };
+    }
+    Ok(())
+}
+
 fn decode_png(bytes: &[u8], limits: &Limits) -> Result<AlphaImage, AssetError> {
     const FORMAT: ImageFormat = ImageFormat::Png;
+    check_png_palette(bytes)?;
     let mut decoder = png::Decoder::new_with_limits(
         Cursor::new(bytes),
         png::Limits {

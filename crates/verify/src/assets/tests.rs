@@ -330,6 +330,46 @@ fn image_errors() {
     );
 }
 
+/// A PNG chunk with its CRC.
+fn chunk(kind: &[u8; 4], data: &[u8]) -> Vec<u8> {
+    let mut out = (data.len() as u32).to_be_bytes().to_vec();
+    out.extend_from_slice(kind);
+    out.extend_from_slice(data);
+    out.extend_from_slice(&crc32(&out[4..]).to_be_bytes());
+    out
+}
+
+#[test]
+fn png_palette_of_a_length_not_a_multiple_of_3_is_an_error() {
+    // png 0.18.1 panics on this one (finding A1 in docs/fuzzing.md); the
+    // reader rejects it first.
+    let good = png(
+        1,
+        1,
+        ColorType::Indexed,
+        BitDepth::Eight,
+        &[0],
+        Some((&[1, 2, 3], None)),
+        None,
+    );
+    assert_eq!(unorm8(&decode(&good)), [2]);
+    // Replace the 3-byte PLTE (after the 33 bytes of signature and IHDR).
+    let mut bad = good[..33].to_vec();
+    bad.extend(chunk(b"PLTE", &[1, 2, 3, 4]));
+    bad.extend_from_slice(&good[33 + 15..]);
+    let error = decode_alpha_image(&bad, &Limits::default()).unwrap_err();
+    assert_eq!(
+        error.to_string(),
+        "PNG image: PLTE chunk of 4 bytes, not a multiple of 3"
+    );
+    let regression = std::fs::read(
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../fuzz/regressions/alpha_image/a1-png-plte-length-not-multiple-of-3"),
+    )
+    .unwrap();
+    assert!(decode_alpha_image(&regression, &Limits::default()).is_err());
+}
+
 /// CRC-32 (PNG's), to patch a chunk.
 fn crc32(bytes: &[u8]) -> u32 {
     let mut crc = !0u32;
