@@ -84,8 +84,8 @@ pub use baker::{
     UvTriangle, Verification, DEFAULT_BLOCK_BUDGET,
 };
 pub use texture::{
-    AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Sampler, TextureError,
-    Unorm8Texture,
+    AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Sampler, SliceTexture,
+    Texel, TextureError, Unorm16Texture, Unorm8Texture,
 };
 
 use crate::micromap::{Format, Micromap};

@@ -76,27 +76,65 @@ fn check_dimensions(width: u32, height: u32, len: usize) -> Result<(), TextureEr
     Ok(())
 }
 
-/// 8-bit unorm alpha texels (`alpha = c / 255`), row-major.
+/// A texel type a [`SliceTexture`] can hold, with its alpha as the sampler
+/// reads it.
+pub trait Texel: Copy {
+    /// The texel's alpha, exactly (see [`AlphaTexture`]).
+    fn alpha(self) -> f64;
+}
+
+impl Texel for u8 {
+    /// Unorm: `c / 255`.
+    fn alpha(self) -> f64 {
+        f64::from(self) / 255.0
+    }
+}
+
+impl Texel for u16 {
+    /// Unorm: `c / 65535`.
+    fn alpha(self) -> f64 {
+        f64::from(self) / 65535.0
+    }
+}
+
+impl Texel for f32 {
+    /// As is. A NaN texel passes no cutoff (every comparison with NaN is
+    /// false), so it is transparent.
+    fn alpha(self) -> f64 {
+        f64::from(self)
+    }
+}
+
+/// Alpha texels in a slice, row-major, of any [`Texel`] type.
 ///
 /// ```
-/// use micromap_index::bake::{AlphaTexture, Unorm8Texture};
+/// use micromap_index::bake::{AlphaTexture, F32Texture, Unorm8Texture};
 /// let texels = [0u8, 255, 128, 64];
 /// let texture = Unorm8Texture::new(2, 2, &texels).unwrap();
 /// assert_eq!(texture.alpha(1, 0), 1.0);
 /// assert!(Unorm8Texture::new(3, 2, &texels).is_err());
+/// let floats = [0.25f32, 1.0];
+/// assert_eq!(F32Texture::new(2, 1, &floats).unwrap().alpha(0, 0), 0.25);
 /// ```
 #[derive(Clone, Copy, Debug)]
-pub struct Unorm8Texture<'a> {
+pub struct SliceTexture<'a, T> {
     width: u32,
     height: u32,
-    texels: &'a [u8],
+    texels: &'a [T],
 }
 
-impl<'a> Unorm8Texture<'a> {
+/// 8-bit unorm alpha texels (`alpha = c / 255`).
+pub type Unorm8Texture<'a> = SliceTexture<'a, u8>;
+/// 16-bit unorm alpha texels (`alpha = c / 65535`).
+pub type Unorm16Texture<'a> = SliceTexture<'a, u16>;
+/// `f32` alpha texels.
+pub type F32Texture<'a> = SliceTexture<'a, f32>;
+
+impl<'a, T: Texel> SliceTexture<'a, T> {
     /// A view of `texels` as `width x height`, row-major.
-    pub fn new(width: u32, height: u32, texels: &'a [u8]) -> Result<Self, TextureError> {
+    pub fn new(width: u32, height: u32, texels: &'a [T]) -> Result<Self, TextureError> {
         check_dimensions(width, height, texels.len())?;
-        Ok(Unorm8Texture {
+        Ok(SliceTexture {
             width,
             height,
             texels,
@@ -104,7 +142,7 @@ impl<'a> Unorm8Texture<'a> {
     }
 }
 
-impl AlphaTexture for Unorm8Texture<'_> {
+impl<T: Texel> AlphaTexture for SliceTexture<'_, T> {
     fn width(&self) -> u32 {
         self.width
     }
@@ -112,47 +150,7 @@ impl AlphaTexture for Unorm8Texture<'_> {
         self.height
     }
     fn alpha(&self, x: u32, y: u32) -> f64 {
-        f64::from(self.texels[y as usize * self.width as usize + x as usize]) / 255.0
-    }
-}
-
-/// `f32` alpha texels, row-major. A NaN texel passes no cutoff (every
-/// comparison with NaN is false), so it is transparent.
-///
-/// ```
-/// use micromap_index::bake::{AlphaTexture, F32Texture};
-/// let texels = [0.25f32, 1.0];
-/// let texture = F32Texture::new(2, 1, &texels).unwrap();
-/// assert_eq!(texture.alpha(0, 0), 0.25);
-/// ```
-#[derive(Clone, Copy, Debug)]
-pub struct F32Texture<'a> {
-    width: u32,
-    height: u32,
-    texels: &'a [f32],
-}
-
-impl<'a> F32Texture<'a> {
-    /// A view of `texels` as `width x height`, row-major.
-    pub fn new(width: u32, height: u32, texels: &'a [f32]) -> Result<Self, TextureError> {
-        check_dimensions(width, height, texels.len())?;
-        Ok(F32Texture {
-            width,
-            height,
-            texels,
-        })
-    }
-}
-
-impl AlphaTexture for F32Texture<'_> {
-    fn width(&self) -> u32 {
-        self.width
-    }
-    fn height(&self) -> u32 {
-        self.height
-    }
-    fn alpha(&self, x: u32, y: u32) -> f64 {
-        f64::from(self.texels[y as usize * self.width as usize + x as usize])
+        self.texels[y as usize * self.width as usize + x as usize].alpha()
     }
 }
 
