@@ -275,11 +275,7 @@ impl Baker {
     /// The classes a placed micro-triangle samples: the bounding block
     /// first (most micro-triangles end there), the exact search if mixed.
     fn classify(&self, p: &Placed, shifts: (u32, u32), stack: &mut Vec<Block>) -> (Classes, bool) {
-        let min_max = |c: [i128; 3]| (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
-        let block = self
-            .classes
-            .bounding_block(min_max(p.x), min_max(p.y), shifts);
-        let quick = self.classes.quick(block);
+        let quick = self.quick_classes(p, shifts);
         if !quick.is_mixed() {
             return (quick, false);
         }
@@ -288,6 +284,16 @@ impl Baker {
             .classes
             .search(&t, shifts, Classes::BOTH, self.budget, stack);
         (s.classes, s.exhausted)
+    }
+
+    /// The classes of the placed triangle's bounding block of texels: a
+    /// superset of what it reads (exact when not mixed).
+    fn quick_classes(&self, p: &Placed, shifts: (u32, u32)) -> Classes {
+        let min_max = |c: [i128; 3]| (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
+        self.classes.quick(
+            self.classes
+                .bounding_block(min_max(p.x), min_max(p.y), shifts),
+        )
     }
 
     /// The known state to split an unknown micro-triangle by: the class of
@@ -353,7 +359,14 @@ impl Baker {
             let up = n - depth;
             let vertices = node.vertices_scaled().map(|(a, b)| (a << up, b << up));
             let p = Self::place(&fx, &fy, n, vertices);
-            let (classes, out_of_budget) = self.classify(&p, shifts, &mut stack);
+            // Above the finest level only the bounding block is read: a
+            // mixed block descends, and the children decide more cheaply
+            // than an exact search over a large triangle would.
+            let (classes, out_of_budget) = if depth < n {
+                (self.quick_classes(&p, shifts), false)
+            } else {
+                self.classify(&p, shifts, &mut stack)
+            };
             let known = match (classes.opaque, classes.transparent) {
                 (true, false) => Some(State::Opaque),
                 (false, true) => Some(State::Transparent),
