@@ -331,9 +331,9 @@ fn image_errors() {
 }
 
 /// A PNG chunk with its CRC.
-fn chunk(kind: &[u8; 4], data: &[u8]) -> Vec<u8> {
+fn chunk(kind: [u8; 4], data: &[u8]) -> Vec<u8> {
     let mut out = (data.len() as u32).to_be_bytes().to_vec();
-    out.extend_from_slice(kind);
+    out.extend_from_slice(&kind);
     out.extend_from_slice(data);
     out.extend_from_slice(&crc32(&out[4..]).to_be_bytes());
     out
@@ -355,7 +355,7 @@ fn png_palette_of_a_length_not_a_multiple_of_3_is_an_error() {
     assert_eq!(unorm8(&decode(&good)), [2]);
     // Replace the 3-byte PLTE (after the 33 bytes of signature and IHDR).
     let mut bad = good[..33].to_vec();
-    bad.extend(chunk(b"PLTE", &[1, 2, 3, 4]));
+    bad.extend(chunk(*b"PLTE", &[1, 2, 3, 4]));
     bad.extend_from_slice(&good[33 + 15..]);
     let error = decode_alpha_image(&bad, &Limits::default()).unwrap_err();
     assert_eq!(
