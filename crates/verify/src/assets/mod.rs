@@ -42,6 +42,7 @@ mod tests;
 
 pub use self::gltf::{
     read_gltf_bytes, read_gltf_file, GltfAsset, GltfImageInfo, GltfSampler, MaskPrimitive,
+    CLAMP_TO_EDGE, LINEAR, MIRRORED_REPEAT, NEAREST, REPEAT,
 };
 pub use self::image::{decode_alpha_image, ImageFormat};
 pub use self::triangles::read_triangles_json;
