@@ -52,7 +52,7 @@
 //!   `std` it runs the portable backend). The error types implement
 //!   `core::error::Error` either way.
 //! * `alloc`: micromap containers, the succinct trees and the exact baker
-//!   ([`bake`]) (they own buffers).
+//!   (module `bake`) (they own buffers).
 //! * `exact`: exact rational inputs (`spec::index_real`,
 //!   `uv2index::index_real`, `inverse::MicroTriangle::vertices_rational`, ...)
 //!   through `num-bigint` and `num-rational`; implies `std`.
