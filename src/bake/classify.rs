@@ -86,7 +86,9 @@ fn axis_image(mode: AddressMode, lo: i128, hi: i128, size: u32) -> AxisImage {
         return AxisImage::one(lo, hi);
     }
     let full = AxisImage::one(0, n - 1);
-    let mirror = |k: i128| if k >= 0 { k } else { -(1 + k) };
+    // The wrapped value of one coordinate (the modes below never read the
+    // border).
+    let at = |i: i128| i128::from(mode.wrap_wide(i, size).unwrap_or(0));
     match mode {
         AddressMode::Repeat => {
             if hi - lo + 1 >= n {
@@ -110,24 +112,16 @@ fn axis_image(mode: AddressMode, lo: i128, hi: i128, size: u32) -> AxisImage {
             }
             // Monotone between the folds at t = 0 | 2n - 1 (value 0) and
             // t = n - 1 | n (value n - 1).
-            let f = |i: i128| {
-                let t = i.rem_euclid(2 * n);
-                if t < n {
-                    t
-                } else {
-                    2 * n - 1 - t
-                }
-            };
             let min = if holds_residue(lo, hi, 0, 2 * n) || holds_residue(lo, hi, 2 * n - 1, 2 * n)
             {
                 0
             } else {
-                f(lo).min(f(hi))
+                at(lo).min(at(hi))
             };
             let max = if holds_residue(lo, hi, n - 1, 2 * n) || holds_residue(lo, hi, n, 2 * n) {
                 n - 1
             } else {
-                f(lo).max(f(hi))
+                at(lo).max(at(hi))
             };
             AxisImage::one(min, max)
         }
@@ -141,13 +135,12 @@ fn axis_image(mode: AddressMode, lo: i128, hi: i128, size: u32) -> AxisImage {
             }
         }
         AddressMode::MirrorClampToEdge => {
-            let g = |i: i128| mirror(i).clamp(0, n - 1);
             let min = if lo <= 0 && hi >= -1 {
                 0
             } else {
-                g(lo).min(g(hi))
+                at(lo).min(at(hi))
             };
-            AxisImage::one(min, g(lo).max(g(hi)))
+            AxisImage::one(min, at(lo).max(at(hi)))
         }
     }
 }
@@ -240,23 +233,8 @@ impl TexelClasses {
         if (0..i128::from(self.width)).contains(&x) && (0..i128::from(self.height)).contains(&y) {
             return Some((x as u32, y as u32));
         }
-        let clamp = |k: i128| k.clamp(i128::from(i64::MIN), i128::from(i64::MAX)) as i64;
-        // Out of i64 only for coordinates beyond 2^63 texels, where every
-        // mode's answer is that of the clamped value (periods divide 2^63
-        // only for power-of-two sizes, so wrap exactly instead).
-        let wrap_axis = |mode: AddressMode, k: i128, n: u32| -> Option<u32> {
-            match mode {
-                AddressMode::Repeat => Some(k.rem_euclid(i128::from(n)) as u32),
-                AddressMode::MirroredRepeat => {
-                    let t = k.rem_euclid(2 * i128::from(n));
-                    let n = i128::from(n);
-                    Some(if t < n { t } else { 2 * n - 1 - t } as u32)
-                }
-                _ => mode.wrap(clamp(k), n),
-            }
-        };
-        let x = wrap_axis(self.sampler.address_u, x, self.width)?;
-        let y = wrap_axis(self.sampler.address_v, y, self.height)?;
+        let x = self.sampler.address_u.wrap_wide(x, self.width)?;
+        let y = self.sampler.address_v.wrap_wide(y, self.height)?;
         Some((x, y))
     }
 

@@ -208,8 +208,13 @@ impl AddressMode {
     /// ```
     #[must_use]
     pub fn wrap(self, i: i64, size: u32) -> Option<u32> {
+        self.wrap_wide(i128::from(i), size)
+    }
+
+    /// [`wrap`](Self::wrap) for any `i128` coordinate: the one place the
+    /// baker's wrapping formulas are written.
+    pub(crate) fn wrap_wide(self, i: i128, size: u32) -> Option<u32> {
         let n = i128::from(size.max(1));
-        let i = i128::from(i);
         let mirror = |k: i128| if k >= 0 { k } else { -(1 + k) };
         let t = match self {
             AddressMode::Repeat => i.rem_euclid(n),
