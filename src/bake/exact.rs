@@ -303,49 +303,44 @@ impl ExactTriangle {
         }
         let bound = SMALL_COORDINATE as i128;
         if self.small && [x0, x1, y0, y1].iter().all(|c| (-bound..bound).contains(c)) {
-            return self.meets_small(x0, x1, y0, y1);
+            // Every coordinate and corner below 2^60: an axis (a difference,
+            // below 2^61) times a coordinate is below 2^121, a projection
+            // below 2^122, so i128 is exact.
+            self.no_edge_separates(
+                &self.span_small,
+                |(ax, ay), px, py| ax * px + ay * py,
+                [x0, x1, y0, y1],
+            )
+        } else {
+            self.no_edge_separates(&self.span, Self::project, [x0, x1, y0, y1])
         }
-        for k in 0..self.axis_count {
-            let (ax, ay) = self.axes[k];
-            let (t_min, t_max) = self.span[k];
+    }
+
+    /// The edge-normal half of [`meets`](Self::meets), written once for
+    /// both number types: `project` computes `a . p` exactly in `T`, and
+    /// `spans` holds the triangle's projections in `T`.
+    fn no_edge_separates<T: Ord + Copy>(
+        &self,
+        spans: &[(T, T); 3],
+        project: impl Fn((i128, i128), i128, i128) -> T,
+        [x0, x1, y0, y1]: [i128; 4],
+    ) -> bool {
+        for (&(ax, ay), &(t_min, t_max)) in self.axes[..self.axis_count].iter().zip(spans) {
             // The rectangle's lowest projection is at x0 when ax >= 0, else
             // at x1 - e (which rises as e grows): slope > 0 iff a corner
             // coordinate with a negative weight is used.
             let low_x = if ax >= 0 { x0 } else { x1 };
             let low_y = if ay >= 0 { y0 } else { y1 };
-            let s_min = Self::project((ax, ay), low_x, low_y);
+            let s_min = project((ax, ay), low_x, low_y);
             let s_min_rises = ax < 0 || ay < 0;
             if s_min > t_max || (s_min == t_max && s_min_rises) {
                 return false;
             }
             let high_x = if ax > 0 { x1 } else { x0 };
             let high_y = if ay > 0 { y1 } else { y0 };
-            let s_max = Self::project((ax, ay), high_x, high_y);
+            let s_max = project((ax, ay), high_x, high_y);
             let s_max_falls = ax > 0 || ay > 0;
             if s_max < t_min || (s_max == t_min && s_max_falls) {
-                return false;
-            }
-        }
-        true
-    }
-
-    /// [`meets`](Self::meets) in `i128`: every coordinate and corner below
-    /// `2^60`, so an axis (a difference, below `2^61`) times a coordinate is
-    /// below `2^121` and a projection below `2^122`.
-    fn meets_small(&self, x0: i128, x1: i128, y0: i128, y1: i128) -> bool {
-        for k in 0..self.axis_count {
-            let (ax, ay) = self.axes[k];
-            let (t_min, t_max) = self.span_small[k];
-            let low_x = if ax >= 0 { x0 } else { x1 };
-            let low_y = if ay >= 0 { y0 } else { y1 };
-            let s_min = ax * low_x + ay * low_y;
-            if s_min > t_max || (s_min == t_max && (ax < 0 || ay < 0)) {
-                return false;
-            }
-            let high_x = if ax > 0 { x1 } else { x0 };
-            let high_y = if ay > 0 { y1 } else { y0 };
-            let s_max = ax * high_x + ay * high_y;
-            if s_max < t_min || (s_max == t_min && (ax > 0 || ay > 0)) {
                 return false;
             }
         }
