@@ -7,7 +7,7 @@ use crate::output::{print_then, report, Exit};
 use crate::write_all_or_nothing::{check_destination, write_files};
 use micromap_index::bake::{
     levels_within_budget, useful_level, AddressMode, AlphaTexture, BakedOpacity, Baker, Comparison,
-    Cutoff, Filter, Sampler, TriangleStatus, UvTriangle,
+    Cutoff, Filter, Sampler, Texel, TriangleStatus, UvTriangle,
 };
 use micromap_index::micromap::{
     read_buffers, BufferBytes, BuildOptions, Format, IndexWidth, MicromapBuffersBuilder,
@@ -129,9 +129,10 @@ impl AlphaTexture for ImageTexture<'_> {
     }
     fn alpha(&self, x: u32, y: u32) -> f64 {
         let i = y as usize * self.image.width as usize + x as usize;
+        // The library's texel conversions (`c / 255`, f32 as is).
         let alpha = match &self.image.texels {
-            AlphaTexels::Unorm8(t) => f64::from(t[i]) / 255.0,
-            AlphaTexels::Float(t) => f64::from(t[i]),
+            AlphaTexels::Unorm8(t) => t[i].alpha(),
+            AlphaTexels::Float(t) => t[i].alpha(),
         };
         if self.factor == 1.0 {
             alpha
