@@ -1,6 +1,7 @@
 //! The x86-64 backends: the safe loops of [`super::kernel`] compiled again
 //! with AVX2 or AVX-512 enabled, so the compiler vectorises them 8 or 16
-//! lanes wide. This is the only module of the crate allowed `unsafe`: calling
+//! lanes wide, and the level-order tree's lookup compiled again with
+//! hardware `popcnt`. This is the only module of the crate allowed `unsafe`: calling
 //! a `#[target_feature]` function is `unsafe` because running it on a CPU
 //! without the feature is undefined behaviour. Each call below sits behind a
 //! runtime check of exactly the features its callee enables; where the check
@@ -116,4 +117,33 @@ pub(super) fn wide_slice_avx512(u: &[f32], v: &[f32], out: &mut [u64], params: &
     }
     let _ = (u, v, out, params);
     false
+}
+
+/// # Safety
+/// The CPU must support `popcnt`.
+#[cfg(feature = "alloc")]
+#[target_feature(enable = "popcnt")]
+unsafe fn level_order_get_popcnt(
+    tree: &crate::succinct::LevelOrderTree,
+    index: u64,
+) -> Option<crate::micromap::State> {
+    tree.get_portable(index)
+}
+
+/// [`crate::succinct::LevelOrderTree::get`] with hardware `popcnt` where the
+/// CPU has it (x86-64's baseline does not, and a software popcount on the
+/// rank's critical path doubles the lookup), else the same code without.
+#[cfg(feature = "alloc")]
+#[inline]
+pub(crate) fn level_order_get(
+    tree: &crate::succinct::LevelOrderTree,
+    index: u64,
+) -> Option<crate::micromap::State> {
+    if std::arch::is_x86_feature_detected!("popcnt") {
+        // SAFETY: `level_order_get_popcnt` enables only "popcnt", detected
+        // just above.
+        unsafe { level_order_get_popcnt(tree, index) }
+    } else {
+        tree.get_portable(index)
+    }
 }

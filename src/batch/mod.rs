@@ -47,7 +47,7 @@
 //! [`spec::wide_index_f32`]: crate::spec::wide_index_f32
 
 #[cfg(all(feature = "std", target_arch = "x86_64"))]
-mod arch;
+pub(crate) mod arch;
 pub(crate) mod kernel;
 
 use crate::{Level, SpecLevel};

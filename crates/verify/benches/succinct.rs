@@ -6,6 +6,11 @@
 //! random (uniform over the map) and coherent (256 consecutive indices from
 //! a random start: neighbours on the curve are neighbours in space).
 //!
+//! A third stream, `hit`, is what a ray tracer asks: 256 binary32 hits
+//! `(u, v)` uniform over the triangle, each turned into the reference index
+//! (`spec::index_f32`) and then read: `Micromap::state_at` for the flat map,
+//! `get_f32` for the trees.
+//!
 //! `cargo bench -p micromap-index-verify --bench succinct`; per-query time = reported time / 256.
 
 // `criterion_group!` generates undocumented public functions.
@@ -15,7 +20,7 @@
 mod succinct_maps;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use micromap_index::micromap::{Format, State};
+use micromap_index::micromap::{Format, Micromap, State};
 use micromap_index::succinct::{LevelOrderTree, PaperTree};
 use micromap_index::Level;
 use micromap_index_verify::rng::SplitMix64;
@@ -63,6 +68,43 @@ fn lookups(c: &mut Criterion) {
         let random: Vec<u64> = (0..QUERIES).map(|_| rng.below(n)).collect();
         let start = rng.below(n);
         let coherent: Vec<u64> = (0..QUERIES as u64).map(|k| (start + k) % n).collect();
+        let hits: Vec<(f32, f32)> = (0..QUERIES)
+            .map(|_| {
+                let u = (rng.next_u64() >> 40) as f32 / (1u64 << 24) as f32;
+                let v = (rng.next_u64() >> 40) as f32 / (1u64 << 24) as f32;
+                // Reflected into the triangle (u + v <= 1).
+                if u + v > 1.0 {
+                    (1.0 - u, 1.0 - v)
+                } else {
+                    (u, v)
+                }
+            })
+            .collect();
+        let map = Micromap::from_states(level_n, Format::TwoState, states.iter().copied()).unwrap();
+        for &(u, v) in &hits {
+            let state = Some(map.state_at(u, v));
+            assert_eq!(fast.get_f32(u, v), state);
+            assert_eq!(paper.get_f32(u, v), state);
+        }
+        let run_hits = |get: &dyn Fn(f32, f32) -> Option<State>| {
+            hits.iter()
+                .map(|&(u, v)| {
+                    let (u, v) = black_box((u, v));
+                    get(u, v).map_or(0u32, |s| u32::from(s.bits()))
+                })
+                .sum::<u32>()
+        };
+        group.bench_with_input(BenchmarkId::new("flat/hit", level), &level, |b, _| {
+            b.iter(|| run_hits(&|u, v| Some(map.state_at(u, v))));
+        });
+        group.bench_with_input(BenchmarkId::new("paper_alg3/hit", level), &level, |b, _| {
+            b.iter(|| run_hits(&|u, v| paper.get_f32(u, v)));
+        });
+        group.bench_with_input(
+            BenchmarkId::new("level_order/hit", level),
+            &level,
+            |b, _| b.iter(|| run_hits(&|u, v| fast.get_f32(u, v))),
+        );
         for (pattern, queries) in [("random", &random), ("coherent", &coherent)] {
             // Every layout answers like the flat map before it is timed.
             for &q in queries {
