@@ -43,13 +43,45 @@ use alloc::vec::Vec;
 /// let paper = PaperTree::encode(level, Format::FourState, &states).unwrap();
 /// assert_eq!(LevelOrderTree::from_paper(&paper), tree);
 /// ```
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+///
+/// Two trees are equal when they encode the same map the same way, whatever
+/// their top tables (lookup acceleration derived from the bits).
+#[derive(Clone, Debug)]
 pub struct LevelOrderTree {
     pub(super) level: Level,
     pub(super) format: Format,
     internal: RankBits,
     data: PackedStates,
+    /// Depth the top table resolves (0: no table).
+    top_depth: u32,
+    /// Position of the first node at depth `top_depth`.
+    top_start: usize,
+    /// For every `top_depth`-digit prefix of an index: the node at depth
+    /// `top_depth` on its path as its offset from `top_start`, or
+    /// [`TOP_LEAF`] | the state's bits when the path ends in a leaf above.
+    top: Vec<u16>,
 }
+
+impl PartialEq for LevelOrderTree {
+    fn eq(&self, other: &Self) -> bool {
+        (self.level, self.format, &self.internal, &self.data)
+            == (other.level, other.format, &other.internal, &other.data)
+    }
+}
+
+impl Eq for LevelOrderTree {}
+
+impl core::hash::Hash for LevelOrderTree {
+    fn hash<H: core::hash::Hasher>(&self, state: &mut H) {
+        (self.level, self.format, &self.internal, &self.data).hash(state);
+    }
+}
+
+/// Marks a top-table entry that is a leaf's state, not an offset (offsets
+/// are below `4^TOP_MAX_DEPTH = 2^14`).
+const TOP_LEAF: u16 = 1 << 15;
+/// The top table's deepest depth: 16,384 entries, 32 KiB.
+const TOP_MAX_DEPTH: u32 = 7;
 
 impl LevelOrderTree {
     /// Encodes a flat micromap (`4^level` states in index order): Algorithm
@@ -77,12 +109,102 @@ impl LevelOrderTree {
             }
             nodes = next;
         }
-        Ok(LevelOrderTree {
+        Ok(LevelOrderTree::assemble(
             level,
             format,
-            internal: RankBits::new(internal),
+            RankBits::new(internal),
             data,
-        })
+        ))
+    }
+
+    /// The tree from its parts, with the default top table: the bits are
+    /// a tree of `level` (checked by every caller).
+    fn assemble(level: Level, format: Format, internal: RankBits, data: PackedStates) -> Self {
+        // The deepest table (16 bits per entry) within 1/32 of the internal
+        // bits, which keeps the layout within 1.1x of the paper's bits.
+        let mut depth = 0;
+        while (16u64 << (2 * (depth + 1))) * 32 <= internal.len() as u64 {
+            depth += 1;
+        }
+        LevelOrderTree {
+            level,
+            format,
+            internal,
+            data,
+            top_depth: 0,
+            top_start: 0,
+            top: Vec::new(),
+        }
+        .with_top_depth(depth)
+    }
+
+    /// The same tree with a top table of depth `depth`: one read resolves
+    /// the first `depth` levels of every lookup, for `2 * 4^depth` bytes.
+    /// The depth is clamped to `TOP_MAX_DEPTH` (7) and to one below the
+    /// map's level (the table covers only nodes that have a bit); 0 drops
+    /// the table.
+    ///
+    /// Trees come with the deepest table within 1/32 of their internal bits
+    /// (what [`LevelOrderTree::directory_bits`] counts); a deeper one trades
+    /// memory for lookup time (`docs/succinct.md` measures both).
+    ///
+    /// ```
+    /// use micromap_index::micromap::{Format, State};
+    /// use micromap_index::succinct::LevelOrderTree;
+    /// use micromap_index::Level;
+    ///
+    /// let states: Vec<State> = (0..4096)
+    ///     .map(|i| if i % 7 < 3 { State::Opaque } else { State::Transparent })
+    ///     .collect();
+    /// let tree = LevelOrderTree::encode(Level::new(6).unwrap(), Format::TwoState, &states).unwrap();
+    /// let fast = tree.clone().with_top_depth(4);
+    /// assert_eq!(fast.top_depth(), 4);
+    /// assert!(fast.directory_bits() >= tree.directory_bits() + 16 * 256);
+    /// assert!((0..4096).all(|i| fast.get(i) == tree.get(i)));
+    /// assert_eq!(tree.with_top_depth(99).top_depth(), 5);
+    /// ```
+    #[must_use]
+    pub fn with_top_depth(mut self, depth: u32) -> Self {
+        let depth = depth
+            .min(TOP_MAX_DEPTH)
+            .min(self.level.get().saturating_sub(1));
+        // The first position of each depth, as in `checked`.
+        let (mut start, mut count) = (0usize, 1usize);
+        for _ in 0..depth {
+            let end = start + count;
+            let ones = self.internal.rank1(end) - self.internal.rank1(start);
+            (start, count) = (end, 4 * ones);
+        }
+        let top = if depth == 0 {
+            Vec::new()
+        } else {
+            (0..1u64 << (2 * depth))
+                .map(|prefix| {
+                    let mut p = 0usize;
+                    for d in 0..depth {
+                        let (internal, rank) = self.internal.bit_and_rank(p);
+                        if !internal {
+                            // A valid tree has a state for every leaf.
+                            let state = self.data.get(p - rank).unwrap_or(State::Transparent);
+                            return TOP_LEAF | u16::from(state.bits());
+                        }
+                        p = 1 + 4 * rank + digit(prefix, depth, d);
+                    }
+                    // At most 4^depth nodes at this depth: below 2^14.
+                    (p - start) as u16
+                })
+                .collect()
+        };
+        self.top_depth = depth;
+        self.top_start = start;
+        self.top = top;
+        self
+    }
+
+    /// The depth of the top table (0: none).
+    #[must_use]
+    pub fn top_depth(&self) -> u32 {
+        self.top_depth
     }
 
     /// The same tree in level order, from the paper's layout: the pre-order
@@ -129,12 +251,7 @@ impl LevelOrderTree {
                 data.push(leaves.get(i).unwrap_or(State::Transparent));
             }
         }
-        LevelOrderTree {
-            level: paper.level(),
-            format,
-            internal: RankBits::new(internal),
-            data,
-        }
+        LevelOrderTree::assemble(paper.level(), format, RankBits::new(internal), data)
     }
 
     /// Checks the structure: the bits of depth `d + 1` are four per one-bit
@@ -175,12 +292,7 @@ impl LevelOrderTree {
                 data: data.len() as u64,
             });
         }
-        let tree = LevelOrderTree {
-            level: Level(level as u8),
-            format,
-            internal,
-            data,
-        };
+        let tree = LevelOrderTree::assemble(Level(level as u8), format, internal, data);
         for p in 0..tree_bits {
             if let Ok(first_child) = tree.node(p) {
                 let mut children = (first_child..first_child + 4).map(|x| tree.node(x));
@@ -267,8 +379,18 @@ impl LevelOrderTree {
         if index >= micro_triangle_count(deepest) {
             return None;
         }
+        // The top table resolves the first `top_depth` levels in one read.
         let mut p = 0usize;
-        for depth in 0..deepest {
+        if self.top_depth > 0 {
+            let prefix = (index >> (2 * (deepest - self.top_depth))) as usize;
+            // `index < 4^level`, so the prefix is below `4^top_depth`.
+            let &entry = self.top.get(prefix)?;
+            if entry & TOP_LEAF != 0 {
+                return State::from_bits((entry & 3) as u8);
+            }
+            p = self.top_start + usize::from(entry);
+        }
+        for depth in self.top_depth..deepest {
             let (internal, rank) = self.internal.bit_and_rank(p);
             if !internal {
                 return self.data.get(p - rank);
@@ -284,11 +406,12 @@ impl LevelOrderTree {
         self.internal.len() as u64
     }
 
-    /// The rank directory's bits: 32 per 512 internal bits after the first
-    /// 512.
+    /// The lookup directory's bits: the rank directory (64 per 512
+    /// internal bits, none up to 128) and the top table (16 per entry,
+    /// `4^top_depth` entries; see [`LevelOrderTree::with_top_depth`]).
     #[must_use]
     pub fn directory_bits(&self) -> u64 {
-        self.internal.directory_bits()
+        self.internal.directory_bits() + 16 * self.top.len() as u64
     }
 
     /// The data bits: leaves times the format's bits per state.
@@ -373,5 +496,56 @@ mod tests {
                 assert_eq!(tree.get_portable(count as u64), None);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod top_table_tests {
+    use super::*;
+
+    /// A level-9 map whose first sixteenth is one state (a leaf at depth 2)
+    /// and whose rest is noise: the top table reaches depth 3, holds
+    /// leaf entries and positions, and every index reads its state.
+    #[test]
+    fn top_table_answers_like_the_flat_map() {
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        let count = 1usize << 18;
+        let states: Vec<State> = (0..count)
+            .map(|i| {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                if i < count / 16 || x % 3 == 0 {
+                    State::Opaque
+                } else {
+                    State::Transparent
+                }
+            })
+            .collect();
+        let tree =
+            LevelOrderTree::encode(Level::new(9).unwrap(), Format::TwoState, &states).unwrap();
+        assert_eq!(tree.top_depth, 3);
+        assert!(tree.top[..4].iter().all(|&e| e & TOP_LEAF != 0));
+        assert!(tree.top[4..].iter().all(|&e| e & TOP_LEAF == 0));
+        assert_eq!(
+            tree.directory_bits(),
+            tree.internal.directory_bits() + 16 * 64
+        );
+        for top_depth in [0, 1, 3, 5, 7, 8] {
+            let tree = tree.clone().with_top_depth(top_depth);
+            let depth = top_depth.min(7);
+            assert_eq!(tree.top_depth(), depth);
+            assert_eq!(
+                tree.top.len(),
+                if depth == 0 { 0 } else { 1 << (2 * depth) }
+            );
+            for (i, &state) in states.iter().enumerate() {
+                assert_eq!(tree.get_portable(i as u64), Some(state), "index {i}");
+                assert_eq!(tree.get(i as u64), Some(state), "index {i}");
+            }
+        }
+        let back = LevelOrderTree::from_bytes(&tree.to_bytes()).unwrap();
+        assert_eq!(back, tree);
+        assert_eq!(back.clone().with_top_depth(0), tree.with_top_depth(7));
     }
 }

@@ -6,6 +6,9 @@
 //! random (uniform over the map) and coherent (256 consecutive indices from
 //! a random start: neighbours on the curve are neighbours in space).
 //!
+//! `level_order_table7` is the level-order tree with its deepest top table
+//! (`with_top_depth(7)`); `level_order` has the default one.
+//!
 //! A third stream, `hit`, is what a ray tracer asks: 256 binary32 hits
 //! `(u, v)` uniform over the triangle, each turned into the reference index
 //! (`spec::index_f32`) and then read: `Micromap::state_at` for the flat map,
@@ -63,6 +66,8 @@ fn lookups(c: &mut Criterion) {
         let flat = Flat::new(&states);
         let paper = PaperTree::encode(level_n, Format::TwoState, &states).unwrap();
         let fast = LevelOrderTree::from_paper(&paper);
+        // The deepest top table (up to seven levels in one read).
+        let deepest_table = fast.clone().with_top_depth(7);
         let n = states.len() as u64;
         let mut rng = SplitMix64::new(u64::from(level));
         let random: Vec<u64> = (0..QUERIES).map(|_| rng.below(n)).collect();
@@ -84,6 +89,7 @@ fn lookups(c: &mut Criterion) {
         for &(u, v) in &hits {
             let state = Some(map.state_at(u, v));
             assert_eq!(fast.get_f32(u, v), state);
+            assert_eq!(deepest_table.get_f32(u, v), state);
             assert_eq!(paper.get_f32(u, v), state);
         }
         let run_hits = |get: &dyn Fn(f32, f32) -> Option<State>| {
@@ -105,11 +111,17 @@ fn lookups(c: &mut Criterion) {
             &level,
             |b, _| b.iter(|| run_hits(&|u, v| fast.get_f32(u, v))),
         );
+        group.bench_with_input(
+            BenchmarkId::new("level_order_table7/hit", level),
+            &level,
+            |b, _| b.iter(|| run_hits(&|u, v| deepest_table.get_f32(u, v))),
+        );
         for (pattern, queries) in [("random", &random), ("coherent", &coherent)] {
             // Every layout answers like the flat map before it is timed.
             for &q in queries {
                 assert_eq!(paper.get(q), flat.get(q));
                 assert_eq!(fast.get(q), flat.get(q));
+                assert_eq!(deepest_table.get(q), flat.get(q));
             }
             let run = |get: &dyn Fn(u64) -> Option<State>| {
                 queries
@@ -131,6 +143,11 @@ fn lookups(c: &mut Criterion) {
                 BenchmarkId::new(format!("level_order/{pattern}"), level),
                 &level,
                 |b, _| b.iter(|| run(&|q| fast.get(q))),
+            );
+            group.bench_with_input(
+                BenchmarkId::new(format!("level_order_table7/{pattern}"), level),
+                &level,
+                |b, _| b.iter(|| run(&|q| deepest_table.get(q))),
             );
         }
     }

@@ -287,6 +287,44 @@ macro_rules! layout_tests {
 
 layout_tests!(paper_dfs, PaperTree);
 layout_tests!(level_order, LevelOrderTree);
+layout_tests!(level_order_deepest_table, DeepestTable);
+
+/// The level-order tree with the deepest top table it takes
+/// (`with_top_depth(7)`), which resolves up to seven levels per lookup from
+/// the table instead of the default's few: the same checks.
+#[derive(Debug, PartialEq)]
+struct DeepestTable(LevelOrderTree);
+
+impl DeepestTable {
+    fn encode(level: Level, format: Format, states: &[State]) -> Result<Self, TreeError> {
+        LevelOrderTree::encode(level, format, states).map(|t| DeepestTable(t.with_top_depth(7)))
+    }
+    fn from_bytes(bytes: &[u8]) -> Result<Self, TreeError> {
+        LevelOrderTree::from_bytes(bytes).map(|t| DeepestTable(t.with_top_depth(7)))
+    }
+    fn to_bytes(&self) -> Vec<u8> {
+        self.0.to_bytes()
+    }
+    fn level(&self) -> Level {
+        self.0.level()
+    }
+    fn format(&self) -> Format {
+        self.0.format()
+    }
+    fn decode(&self) -> Vec<State> {
+        self.0.decode()
+    }
+    fn get(&self, index: u64) -> Option<State> {
+        assert_eq!(
+            self.0.top_depth(),
+            7.min(self.0.level().get().saturating_sub(1))
+        );
+        self.0.get(index)
+    }
+    fn get_f32(&self, u: f32, v: f32) -> Option<State> {
+        self.0.get_f32(u, v)
+    }
+}
 
 /// The sizes of the paper's examples: an alternating level-1 map costs more
 /// than flat (5 tree bits + 4 data bits against 4 flat bits), a uniform map
