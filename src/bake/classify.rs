@@ -228,11 +228,19 @@ impl TexelClasses {
     }
 
     /// The texel (or the border, `None`) that texel coordinates read.
+    #[inline]
     pub(crate) fn wrap(&self, x: i128, y: i128) -> Option<(u32, u32)> {
-        // Every mode reads in-range coordinates as they are.
+        // Every mode reads in-range coordinates as they are (inlined: the
+        // common case of the per-texel search).
         if (0..i128::from(self.width)).contains(&x) && (0..i128::from(self.height)).contains(&y) {
             return Some((x as u32, y as u32));
         }
+        self.wrap_outside(x, y)
+    }
+
+    /// [`wrap`](Self::wrap) of coordinates outside the texture.
+    #[inline(never)]
+    fn wrap_outside(&self, x: i128, y: i128) -> Option<(u32, u32)> {
         let x = self.sampler.address_u.wrap_wide(x, self.width)?;
         let y = self.sampler.address_v.wrap_wide(y, self.height)?;
         Some((x, y))
