@@ -209,6 +209,16 @@ pub struct Baker {
     budget: u32,
 }
 
+/// A micro-triangle of the bake's top-down walk: its depth and index in
+/// the tree, its grid vertices `(x, y)`, and the walk's `top_flip` (which
+/// numbers its children).
+struct Node {
+    depth: u32,
+    index: u64,
+    vertices: [(i128, i128); 3],
+    top_flip: bool,
+}
+
 /// One micro-triangle placed on the grid.
 struct Placed {
     x: [i128; 3],
@@ -346,19 +356,28 @@ impl Baker {
         // Top-down over the micromap's tree: a micro-triangle of a coarser
         // level contains its descendants, so a uniform one decides all of
         // them (a contiguous index range) at once; only mixed ones descend.
+        // Each node carries its grid vertices: a child's are its parent's
+        // and their midpoints (exact: at depth d < n every grid coordinate
+        // is a multiple of 2^(n - d), see `AxisFrame::at`), so no vertex is
+        // placed from scratch.
         let n = level.get();
-        let mut nodes: Vec<(u32, u64)> = Vec::new();
-        nodes.push((0, 0));
-        while let Some((depth, index)) = nodes.pop() {
-            let node = crate::inverse::micro_triangle(Level(depth as u8), index).map_err(|_| {
-                MicromapError::IndexOutOfRange {
-                    index,
-                    len: map.len(),
-                }
-            })?;
+        let side = 1u64 << n;
+        let root = Self::place(&fx, &fy, n, [(0, 0), (side, 0), (0, side)]);
+        let midpoint = |a: (i128, i128), b: (i128, i128)| ((a.0 + b.0) / 2, (a.1 + b.1) / 2);
+        let mut nodes: Vec<Node> = Vec::new();
+        nodes.push(Node {
+            depth: 0,
+            index: 0,
+            vertices: [0, 1, 2].map(|k| (root.x[k], root.y[k])),
+            top_flip: false,
+        });
+        while let Some(node) = nodes.pop() {
+            let (depth, index) = (node.depth, node.index);
             let up = n - depth;
-            let vertices = node.vertices_scaled().map(|(a, b)| (a << up, b << up));
-            let p = Self::place(&fx, &fy, n, vertices);
+            let p = Placed {
+                x: node.vertices.map(|v| v.0),
+                y: node.vertices.map(|v| v.1),
+            };
             // Above the finest level only the bounding block is read: a
             // mixed block descends, and the children decide more cheaply
             // than an exact search over a large triangle would.
@@ -380,7 +399,18 @@ impl Baker {
             }
             if depth < n {
                 for child in (0..4).rev() {
-                    nodes.push((depth + 1, 4 * index + child));
+                    let (vertices, top_flip) = crate::inverse::child_vertices(
+                        child,
+                        node.top_flip,
+                        node.vertices,
+                        midpoint,
+                    );
+                    nodes.push(Node {
+                        depth: depth + 1,
+                        index: 4 * index + u64::from(child),
+                        vertices,
+                        top_flip,
+                    });
                 }
                 continue;
             }
