@@ -1,6 +1,6 @@
 //! [`Baker`]: one texture, sampler and cutoff; bakes and verifies triangles.
 
-use super::classify::{Block, Classes, Search, TexelClasses};
+use super::classify::{is_small, Block, Classes, Search, TexelClasses};
 use super::exact::{AxisFrame, ExactTriangle, FrameError};
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
 use crate::inverse::micro_triangles;
@@ -285,9 +285,32 @@ impl Baker {
     /// The classes a placed micro-triangle samples: the bounding block
     /// first (most micro-triangles end there), the exact search if mixed.
     fn classify(&self, p: &Placed, shifts: (u32, u32), stack: &mut Vec<Block>) -> (Classes, bool) {
-        let quick = self.quick_classes(p, shifts);
+        let bounding = self.bounding_block(p, shifts);
+        let quick = self.classes.quick(bounding);
         if !quick.is_mixed() {
             return (quick, false);
+        }
+        // Every texel in the footprint of a vertex or an edge midpoint is
+        // read (both are points of the closed micro-triangle): when these
+        // already hold both classes the micro-triangle is mixed, with no
+        // geometry (most mixed ones at useful levels). Only for a small
+        // footprint, whose search could not run out of budget: the answer
+        // is the search's. A midpoint `(a + b) / 2` is a grid point of the
+        // twice finer grid (shift + 1).
+        if is_small(bounding) {
+            let (sx, sy) = shifts;
+            let mut sure = Classes::default();
+            for k in 0..6 {
+                let (a, b) = (k % 3, if k < 3 { k % 3 } else { (k + 1) % 3 });
+                let (x, y) = (p.x[a] + p.x[b], p.y[a] + p.y[b]);
+                let point = self
+                    .classes
+                    .bounding_block((x, x), (y, y), (sx + 1, sy + 1));
+                sure = sure.union(self.classes.quick(point));
+                if sure.is_mixed() {
+                    return (sure, false);
+                }
+            }
         }
         let t = ExactTriangle::new(p.x, p.y);
         let s: Search = self
@@ -299,11 +322,14 @@ impl Baker {
     /// The classes of the placed triangle's bounding block of texels: a
     /// superset of what it reads (exact when not mixed).
     fn quick_classes(&self, p: &Placed, shifts: (u32, u32)) -> Classes {
+        self.classes.quick(self.bounding_block(p, shifts))
+    }
+
+    /// The placed triangle's bounding block of texels.
+    fn bounding_block(&self, p: &Placed, shifts: (u32, u32)) -> Block {
         let min_max = |c: [i128; 3]| (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
-        self.classes.quick(
-            self.classes
-                .bounding_block(min_max(p.x), min_max(p.y), shifts),
-        )
+        self.classes
+            .bounding_block(min_max(p.x), min_max(p.y), shifts)
     }
 
     /// The known state to split an unknown micro-triangle by: the class of

@@ -9,6 +9,13 @@ use alloc::vec::Vec;
 /// Mixed blocks of at most this many texels are searched texel by texel.
 const SMALL_BLOCK: i128 = 36;
 
+/// Does `block` hold at most [`SMALL_BLOCK`] texels? Such a block is
+/// searched texel by texel, which never runs out of budget.
+#[inline]
+pub(crate) fn is_small(block: Block) -> bool {
+    (block.x1 - block.x0 + 1) * (block.y1 - block.y0 + 1) <= SMALL_BLOCK
+}
+
 /// The set of texel classes a region samples.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(crate) struct Classes {
@@ -29,7 +36,7 @@ impl Classes {
         }
     }
 
-    fn union(self, other: Classes) -> Classes {
+    pub(crate) fn union(self, other: Classes) -> Classes {
         Classes {
             opaque: self.opaque || other.opaque,
             transparent: self.transparent || other.transparent,
@@ -331,7 +338,7 @@ impl TexelClasses {
         let mut found = Search::default();
         // A small footprint (most micro-triangles at useful levels): its
         // texels one by one, without the block stack.
-        if (start.x1 - start.x0 + 1) * (start.y1 - start.y0 + 1) <= SMALL_BLOCK {
+        if is_small(start) {
             for y in start.y0..=start.y1 {
                 for x in start.x0..=start.x1 {
                     let classes = Classes::of(self.class_of(self.wrap(x, y)));
@@ -390,7 +397,7 @@ impl TexelClasses {
             }
             // Mixed and small: test its texels one by one (cheaper than
             // splitting through mixed halves).
-            if (block.x1 - block.x0 + 1) * (block.y1 - block.y0 + 1) <= SMALL_BLOCK {
+            if is_small(block) {
                 for y in block.y0..=block.y1 {
                     for x in block.x0..=block.x1 {
                         stack.push(Block {
