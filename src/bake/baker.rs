@@ -209,6 +209,16 @@ pub struct Baker {
     budget: u32,
 }
 
+/// `floor(q / 3)`, in `i64` where `q` fits (an `i128` division is a
+/// library call; texel coordinates nearly always fit).
+#[inline]
+fn floor_third(q: i128) -> i128 {
+    match i64::try_from(q) {
+        Ok(q) => i128::from(q.div_euclid(3)),
+        Err(_) => q.div_euclid(3),
+    }
+}
+
 /// A micro-triangle of the bake's top-down walk: its depth and index in
 /// the tree, its grid vertices `(x, y)`, and the walk's `top_flip` (which
 /// numbers its children).
@@ -336,8 +346,9 @@ impl Baker {
     /// the texel holding its centroid (nearest sampling of the centroid,
     /// for either filter). A heuristic; soundness does not depend on it.
     fn centroid_is_opaque(&self, p: &Placed, (sx, sy): (u32, u32)) -> bool {
-        let cx = (p.x[0] + p.x[1] + p.x[2]).div_euclid(3 << sx);
-        let cy = (p.y[0] + p.y[1] + p.y[2]).div_euclid(3 << sy);
+        // floor(s / (3 2^shift)) = floor(floor(s / 2^shift) / 3).
+        let cx = floor_third((p.x[0] + p.x[1] + p.x[2]) >> sx);
+        let cy = floor_third((p.y[0] + p.y[1] + p.y[2]) >> sy);
         self.classes.class_of(self.classes.wrap(cx, cy))
     }
 

@@ -254,7 +254,29 @@ impl TexelClasses {
     }
 
     /// The classes the texels of `block` read (after wrapping).
+    #[inline]
     fn block_classes(&self, block: Block) -> Classes {
+        // Inside the texture (the common case, inlined): one rectangle.
+        let (w, h) = (i128::from(self.width), i128::from(self.height));
+        if block.x0 >= 0 && block.x1 < w && block.y0 >= 0 && block.y1 < h {
+            let (xr, yr) = (
+                (block.x0 as u32, block.x1 as u32),
+                (block.y0 as u32, block.y1 as u32),
+            );
+            let area = u64::from(xr.1 - xr.0 + 1) * u64::from(yr.1 - yr.0 + 1);
+            let opaque = self.opaque_count(xr, yr);
+            return Classes {
+                opaque: opaque > 0,
+                transparent: opaque < area,
+            };
+        }
+        self.wrapped_block_classes(block)
+    }
+
+    /// [`block_classes`](Self::block_classes) of a block reaching outside
+    /// the texture.
+    #[inline(never)]
+    fn wrapped_block_classes(&self, block: Block) -> Classes {
         let xs = axis_image(self.sampler.address_u, block.x0, block.x1, self.width);
         let ys = axis_image(self.sampler.address_v, block.y0, block.y1, self.height);
         let mut classes = Classes::default();
