@@ -198,14 +198,20 @@ impl TexelClasses {
         let stride = width as usize + 1;
         let mut prefix = alloc::vec![0u32; stride * (height as usize + 1)];
         let mut opaque = alloc::vec![0u8; width as usize * height as usize];
-        for y in 0..height {
-            let mut row = 0u32;
-            for x in 0..width {
-                let is_opaque = cutoff.is_opaque(texture.alpha(x, y));
-                opaque[y as usize * width as usize + x as usize] = u8::from(is_opaque);
-                row += u32::from(is_opaque);
-                let at = (y as usize + 1) * stride + x as usize + 1;
-                prefix[at] = prefix[at - stride] + row;
+        // Row by row over slices: the classes first (independent texel
+        // reads), then the running sums, without per-texel index checks.
+        for (y, row) in (0..height).zip(opaque.chunks_exact_mut(width as usize)) {
+            for (x, texel) in (0..width).zip(row.iter_mut()) {
+                *texel = u8::from(cutoff.is_opaque(texture.alpha(x, y)));
+            }
+        }
+        for (y, row) in opaque.chunks_exact(width as usize).enumerate() {
+            let (above, below) = prefix.split_at_mut((y + 1) * stride);
+            let above = &above[y * stride..];
+            let mut run = 0u32;
+            for ((sum, &up), &texel) in below[1..stride].iter_mut().zip(&above[1..]).zip(row) {
+                run += u32::from(texel);
+                *sum = up + run;
             }
         }
         Ok(TexelClasses {
