@@ -1,6 +1,6 @@
 //! [`Baker`]: one texture, sampler and cutoff; bakes and verifies triangles.
 
-use super::classify::{Block, Classes, Search, TexelClasses};
+use super::classify::{is_small, Block, Classes, Search, TexelClasses};
 use super::exact::{AxisFrame, ExactTriangle, FrameError};
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
 use crate::inverse::micro_triangles;
@@ -209,6 +209,26 @@ pub struct Baker {
     budget: u32,
 }
 
+/// `floor(q / 3)`, in `i64` where `q` fits (an `i128` division is a
+/// library call; texel coordinates nearly always fit).
+#[inline]
+fn floor_third(q: i128) -> i128 {
+    match i64::try_from(q) {
+        Ok(q) => i128::from(q.div_euclid(3)),
+        Err(_) => q.div_euclid(3),
+    }
+}
+
+/// A micro-triangle of the bake's top-down walk: its depth and index in
+/// the tree, its grid vertices `(x, y)`, and the walk's `top_flip` (which
+/// numbers its children).
+struct Node {
+    depth: u32,
+    index: u64,
+    vertices: [(i128, i128); 3],
+    top_flip: bool,
+}
+
 /// One micro-triangle placed on the grid.
 struct Placed {
     x: [i128; 3],
@@ -275,9 +295,32 @@ impl Baker {
     /// The classes a placed micro-triangle samples: the bounding block
     /// first (most micro-triangles end there), the exact search if mixed.
     fn classify(&self, p: &Placed, shifts: (u32, u32), stack: &mut Vec<Block>) -> (Classes, bool) {
-        let quick = self.quick_classes(p, shifts);
+        let bounding = self.bounding_block(p, shifts);
+        let quick = self.classes.quick(bounding);
         if !quick.is_mixed() {
             return (quick, false);
+        }
+        // Every texel in the footprint of a vertex or an edge midpoint is
+        // read (both are points of the closed micro-triangle): when these
+        // already hold both classes the micro-triangle is mixed, with no
+        // geometry (most mixed ones at useful levels). Only for a small
+        // footprint, whose search could not run out of budget: the answer
+        // is the search's. A midpoint `(a + b) / 2` is a grid point of the
+        // twice finer grid (shift + 1).
+        if is_small(bounding) {
+            let (sx, sy) = shifts;
+            let mut sure = Classes::default();
+            for k in 0..6 {
+                let (a, b) = (k % 3, if k < 3 { k % 3 } else { (k + 1) % 3 });
+                let (x, y) = (p.x[a] + p.x[b], p.y[a] + p.y[b]);
+                let point = self
+                    .classes
+                    .bounding_block((x, x), (y, y), (sx + 1, sy + 1));
+                sure = sure.union(self.classes.quick(point));
+                if sure.is_mixed() {
+                    return (sure, false);
+                }
+            }
         }
         let t = ExactTriangle::new(p.x, p.y);
         let s: Search = self
@@ -289,19 +332,23 @@ impl Baker {
     /// The classes of the placed triangle's bounding block of texels: a
     /// superset of what it reads (exact when not mixed).
     fn quick_classes(&self, p: &Placed, shifts: (u32, u32)) -> Classes {
+        self.classes.quick(self.bounding_block(p, shifts))
+    }
+
+    /// The placed triangle's bounding block of texels.
+    fn bounding_block(&self, p: &Placed, shifts: (u32, u32)) -> Block {
         let min_max = |c: [i128; 3]| (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
-        self.classes.quick(
-            self.classes
-                .bounding_block(min_max(p.x), min_max(p.y), shifts),
-        )
+        self.classes
+            .bounding_block(min_max(p.x), min_max(p.y), shifts)
     }
 
     /// The known state to split an unknown micro-triangle by: the class of
     /// the texel holding its centroid (nearest sampling of the centroid,
     /// for either filter). A heuristic; soundness does not depend on it.
     fn centroid_is_opaque(&self, p: &Placed, (sx, sy): (u32, u32)) -> bool {
-        let cx = (p.x[0] + p.x[1] + p.x[2]).div_euclid(3 << sx);
-        let cy = (p.y[0] + p.y[1] + p.y[2]).div_euclid(3 << sy);
+        // floor(s / (3 2^shift)) = floor(floor(s / 2^shift) / 3).
+        let cx = floor_third((p.x[0] + p.x[1] + p.x[2]) >> sx);
+        let cy = floor_third((p.y[0] + p.y[1] + p.y[2]) >> sy);
         self.classes.class_of(self.classes.wrap(cx, cy))
     }
 
@@ -346,19 +393,28 @@ impl Baker {
         // Top-down over the micromap's tree: a micro-triangle of a coarser
         // level contains its descendants, so a uniform one decides all of
         // them (a contiguous index range) at once; only mixed ones descend.
+        // Each node carries its grid vertices: a child's are its parent's
+        // and their midpoints (exact: at depth d < n every grid coordinate
+        // is a multiple of 2^(n - d), see `AxisFrame::at`), so no vertex is
+        // placed from scratch.
         let n = level.get();
-        let mut nodes: Vec<(u32, u64)> = Vec::new();
-        nodes.push((0, 0));
-        while let Some((depth, index)) = nodes.pop() {
-            let node = crate::inverse::micro_triangle(Level(depth as u8), index).map_err(|_| {
-                MicromapError::IndexOutOfRange {
-                    index,
-                    len: map.len(),
-                }
-            })?;
+        let side = 1u64 << n;
+        let root = Self::place(&fx, &fy, n, [(0, 0), (side, 0), (0, side)]);
+        let midpoint = |a: (i128, i128), b: (i128, i128)| ((a.0 + b.0) / 2, (a.1 + b.1) / 2);
+        let mut nodes: Vec<Node> = Vec::new();
+        nodes.push(Node {
+            depth: 0,
+            index: 0,
+            vertices: [0, 1, 2].map(|k| (root.x[k], root.y[k])),
+            top_flip: false,
+        });
+        while let Some(node) = nodes.pop() {
+            let (depth, index) = (node.depth, node.index);
             let up = n - depth;
-            let vertices = node.vertices_scaled().map(|(a, b)| (a << up, b << up));
-            let p = Self::place(&fx, &fy, n, vertices);
+            let p = Placed {
+                x: node.vertices.map(|v| v.0),
+                y: node.vertices.map(|v| v.1),
+            };
             // Above the finest level only the bounding block is read: a
             // mixed block descends, and the children decide more cheaply
             // than an exact search over a large triangle would.
@@ -380,7 +436,18 @@ impl Baker {
             }
             if depth < n {
                 for child in (0..4).rev() {
-                    nodes.push((depth + 1, 4 * index + child));
+                    let (vertices, top_flip) = crate::inverse::child_vertices(
+                        child,
+                        node.top_flip,
+                        node.vertices,
+                        midpoint,
+                    );
+                    nodes.push(Node {
+                        depth: depth + 1,
+                        index: 4 * index + u64::from(child),
+                        vertices,
+                        top_flip,
+                    });
                 }
                 continue;
             }

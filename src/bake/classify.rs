@@ -9,6 +9,13 @@ use alloc::vec::Vec;
 /// Mixed blocks of at most this many texels are searched texel by texel.
 const SMALL_BLOCK: i128 = 36;
 
+/// Does `block` hold at most [`SMALL_BLOCK`] texels? Such a block is
+/// searched texel by texel, which never runs out of budget.
+#[inline]
+pub(crate) fn is_small(block: Block) -> bool {
+    (block.x1 - block.x0 + 1) * (block.y1 - block.y0 + 1) <= SMALL_BLOCK
+}
+
 /// The set of texel classes a region samples.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(crate) struct Classes {
@@ -29,7 +36,7 @@ impl Classes {
         }
     }
 
-    fn union(self, other: Classes) -> Classes {
+    pub(crate) fn union(self, other: Classes) -> Classes {
         Classes {
             opaque: self.opaque || other.opaque,
             transparent: self.transparent || other.transparent,
@@ -191,14 +198,20 @@ impl TexelClasses {
         let stride = width as usize + 1;
         let mut prefix = alloc::vec![0u32; stride * (height as usize + 1)];
         let mut opaque = alloc::vec![0u8; width as usize * height as usize];
-        for y in 0..height {
-            let mut row = 0u32;
-            for x in 0..width {
-                let is_opaque = cutoff.is_opaque(texture.alpha(x, y));
-                opaque[y as usize * width as usize + x as usize] = u8::from(is_opaque);
-                row += u32::from(is_opaque);
-                let at = (y as usize + 1) * stride + x as usize + 1;
-                prefix[at] = prefix[at - stride] + row;
+        // Row by row over slices: the classes first (independent texel
+        // reads), then the running sums, without per-texel index checks.
+        for (y, row) in (0..height).zip(opaque.chunks_exact_mut(width as usize)) {
+            for (x, texel) in (0..width).zip(row.iter_mut()) {
+                *texel = u8::from(cutoff.is_opaque(texture.alpha(x, y)));
+            }
+        }
+        for (y, row) in opaque.chunks_exact(width as usize).enumerate() {
+            let (above, below) = prefix.split_at_mut((y + 1) * stride);
+            let above = &above[y * stride..];
+            let mut run = 0u32;
+            for ((sum, &up), &texel) in below[1..stride].iter_mut().zip(&above[1..]).zip(row) {
+                run += u32::from(texel);
+                *sum = up + run;
             }
         }
         Ok(TexelClasses {
@@ -228,18 +241,48 @@ impl TexelClasses {
     }
 
     /// The texel (or the border, `None`) that texel coordinates read.
+    #[inline]
     pub(crate) fn wrap(&self, x: i128, y: i128) -> Option<(u32, u32)> {
-        // Every mode reads in-range coordinates as they are.
+        // Every mode reads in-range coordinates as they are (inlined: the
+        // common case of the per-texel search).
         if (0..i128::from(self.width)).contains(&x) && (0..i128::from(self.height)).contains(&y) {
             return Some((x as u32, y as u32));
         }
+        self.wrap_outside(x, y)
+    }
+
+    /// [`wrap`](Self::wrap) of coordinates outside the texture.
+    #[inline(never)]
+    fn wrap_outside(&self, x: i128, y: i128) -> Option<(u32, u32)> {
         let x = self.sampler.address_u.wrap_wide(x, self.width)?;
         let y = self.sampler.address_v.wrap_wide(y, self.height)?;
         Some((x, y))
     }
 
     /// The classes the texels of `block` read (after wrapping).
+    #[inline]
     fn block_classes(&self, block: Block) -> Classes {
+        // Inside the texture (the common case, inlined): one rectangle.
+        let (w, h) = (i128::from(self.width), i128::from(self.height));
+        if block.x0 >= 0 && block.x1 < w && block.y0 >= 0 && block.y1 < h {
+            let (xr, yr) = (
+                (block.x0 as u32, block.x1 as u32),
+                (block.y0 as u32, block.y1 as u32),
+            );
+            let area = u64::from(xr.1 - xr.0 + 1) * u64::from(yr.1 - yr.0 + 1);
+            let opaque = self.opaque_count(xr, yr);
+            return Classes {
+                opaque: opaque > 0,
+                transparent: opaque < area,
+            };
+        }
+        self.wrapped_block_classes(block)
+    }
+
+    /// [`block_classes`](Self::block_classes) of a block reaching outside
+    /// the texture.
+    #[inline(never)]
+    fn wrapped_block_classes(&self, block: Block) -> Classes {
         let xs = axis_image(self.sampler.address_u, block.x0, block.x1, self.width);
         let ys = axis_image(self.sampler.address_v, block.y0, block.y1, self.height);
         let mut classes = Classes::default();
@@ -323,7 +366,7 @@ impl TexelClasses {
         let mut found = Search::default();
         // A small footprint (most micro-triangles at useful levels): its
         // texels one by one, without the block stack.
-        if (start.x1 - start.x0 + 1) * (start.y1 - start.y0 + 1) <= SMALL_BLOCK {
+        if is_small(start) {
             for y in start.y0..=start.y1 {
                 for x in start.x0..=start.x1 {
                     let classes = Classes::of(self.class_of(self.wrap(x, y)));
@@ -382,7 +425,7 @@ impl TexelClasses {
             }
             // Mixed and small: test its texels one by one (cheaper than
             // splitting through mixed halves).
-            if (block.x1 - block.x0 + 1) * (block.y1 - block.y0 + 1) <= SMALL_BLOCK {
+            if is_small(block) {
                 for y in block.y0..=block.y1 {
                     for x in block.x0..=block.x1 {
                         stack.push(Block {

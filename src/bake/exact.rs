@@ -205,6 +205,13 @@ impl AxisFrame {
     }
 }
 
+/// Below this, coordinates take the `i64` path of [`ExactTriangle::meets`]:
+/// an axis (a difference, below `2^31`) times a coordinate is below
+/// `2^61`, a projection (two such) below `2^62`. Bakes at ordinary levels
+/// and texture sizes stay far below it (a 4096-texel texture at level 12
+/// with `1/8`-aligned coordinates: `2^12 * 2^16 = 2^28`).
+const NARROW_COORDINATE: u128 = 1 << 30;
+
 /// A closed triangle on the grid (three vertices, any orientation, possibly
 /// degenerate), with its projections precomputed for the separating-axis
 /// test of [`ExactTriangle::meets`].
@@ -212,74 +219,207 @@ impl AxisFrame {
 pub(crate) struct ExactTriangle {
     pub(crate) x: [i128; 3],
     pub(crate) y: [i128; 3],
+    /// The bounding box `[min_x, max_x] x [min_y, max_y]`.
+    bounds: [i128; 4],
     /// Edge normals `(-dy, dx)` of the non-degenerate edges.
     axes: [(i128, i128); 3],
+    /// The first vertex of each axis's edge (the third vertex follows).
+    from: [usize; 3],
     axis_count: usize,
-    /// The triangle's projection `[min, max]` on each axis.
-    span: [(Wide, Wide); 3],
-    /// Every coordinate is below `2^60` in magnitude: projections of points
-    /// within a few texels fit in `i128` (the common case, tested first).
-    small: bool,
-    /// `span` as `i128` when `small`.
-    span_small: [(i128, i128); 3],
+    /// The triangle's projection `[min, max]` on each axis, in the
+    /// narrowest exact type its coordinates allow.
+    spans: Spans,
+}
+
+/// An [`ExactTriangle`]'s projections in the narrowest exact number type
+/// (the narrow ones are the common case: a bake's coordinates are small).
+#[derive(Clone, Copy, Debug)]
+enum Spans {
+    /// Every coordinate below [`NARROW_COORDINATE`]: `i64` axes too.
+    Narrow {
+        axes: [(i64, i64); 3],
+        spans: [(i64, i64); 3],
+    },
+    /// Every coordinate below [`SMALL_COORDINATE`].
+    Small([(i128, i128); 3]),
+    /// Any coordinate below [`COORDINATE_LIMIT`].
+    Wide([(Wide, Wide); 3]),
+}
+
+/// The largest magnitude among `c`.
+#[inline]
+fn magnitude(c: &[i128]) -> u128 {
+    c.iter().map(|v| v.unsigned_abs()).max().unwrap_or(0)
+}
+
+/// `a . p` exactly in `i64`, for narrow coordinates.
+#[inline]
+fn project_narrow((ax, ay): (i64, i64), px: i64, py: i64) -> i64 {
+    ax * px + ay * py
+}
+
+/// `a . p` exactly in `i128`, for small coordinates.
+#[inline]
+fn project_small((ax, ay): (i128, i128), px: i128, py: i128) -> i128 {
+    ax * px + ay * py
+}
+
+/// `a . p` exactly in [`Wide`], for any grid coordinates.
+#[inline]
+fn project_wide((ax, ay): (i128, i128), px: i128, py: i128) -> Wide {
+    Wide::mul(ax, px).add(Wide::mul(ay, py))
+}
+
+/// The projections `[min, max]` of a triangle on its axes, written once
+/// for every number type: the edge's first vertex and the third vertex
+/// bound it (the edge's second vertex projects as the first).
+#[inline]
+fn spans_of<C: Copy, T: Ord + Copy + Default>(
+    axes: &[(C, C); 3],
+    from: &[usize; 3],
+    count: usize,
+    (x, y): ([C; 3], [C; 3]),
+    project: impl Fn((C, C), C, C) -> T,
+) -> [(T, T); 3] {
+    let mut spans = [(T::default(), T::default()); 3];
+    for k in 0..count {
+        let (a, third) = (from[k], (from[k] + 2) % 3);
+        let on_edge = project(axes[k], x[a], y[a]);
+        let other = project(axes[k], x[third], y[third]);
+        spans[k] = (on_edge.min(other), on_edge.max(other));
+    }
+    spans
+}
+
+/// The edge-normal half of [`ExactTriangle::meets`], written once for
+/// every number type: `project` computes `a . p` exactly in `T`, `spans`
+/// holds the triangle's projections on `axes` in `T`, and the rectangle
+/// `[x0, x1) x [y0, y1)` is in the axes' coordinate type `C`.
+#[inline]
+fn no_edge_separates<C: Copy + Ord + Default, T: Ord + Copy>(
+    axes: &[(C, C)],
+    spans: &[(T, T)],
+    project: impl Fn((C, C), C, C) -> T,
+    [x0, x1, y0, y1]: [C; 4],
+) -> bool {
+    let zero = C::default();
+    for (&(ax, ay), &(t_min, t_max)) in axes.iter().zip(spans) {
+        // The rectangle's lowest projection is at x0 when ax >= 0, else
+        // at x1 - e (which rises as e grows): slope > 0 iff a corner
+        // coordinate with a negative weight is used.
+        let low_x = if ax >= zero { x0 } else { x1 };
+        let low_y = if ay >= zero { y0 } else { y1 };
+        let s_min = project((ax, ay), low_x, low_y);
+        let s_min_rises = ax < zero || ay < zero;
+        if s_min > t_max || (s_min == t_max && s_min_rises) {
+            return false;
+        }
+        let high_x = if ax > zero { x1 } else { x0 };
+        let high_y = if ay > zero { y1 } else { y0 };
+        let s_max = project((ax, ay), high_x, high_y);
+        let s_max_falls = ax > zero || ay > zero;
+        if s_max < t_min || (s_max == t_min && s_max_falls) {
+            return false;
+        }
+    }
+    true
+}
+
+impl Default for Wide {
+    fn default() -> Wide {
+        Wide::from_i128(0)
+    }
 }
 
 impl ExactTriangle {
     pub(crate) fn new(x: [i128; 3], y: [i128; 3]) -> ExactTriangle {
-        let mut t = ExactTriangle {
-            x,
-            y,
-            axes: [(0, 0); 3],
-            axis_count: 0,
-            span: [(Wide::from_i128(0), Wide::from_i128(0)); 3],
-            small: x
-                .iter()
-                .chain(&y)
-                .all(|c| c.unsigned_abs() < SMALL_COORDINATE),
-            span_small: [(0, 0); 3],
-        };
+        let mut axes = [(0, 0); 3];
+        let mut from = [0; 3];
+        let mut count = 0;
         for edge in 0..3 {
             let (a, b) = (edge, (edge + 1) % 3);
             let (dx, dy) = (x[b] - x[a], y[b] - y[a]);
             if dx == 0 && dy == 0 {
                 continue;
             }
-            let axis = (-dy, dx);
-            t.axes[t.axis_count] = axis;
-            if t.small {
-                let on_edge = axis.0 * x[a] + axis.1 * y[a];
-                let third = axis.0 * x[3 - a - b] + axis.1 * y[3 - a - b];
-                t.span_small[t.axis_count] = (on_edge.min(third), on_edge.max(third));
-                t.span[t.axis_count] = (
-                    Wide::from_i128(t.span_small[t.axis_count].0),
-                    Wide::from_i128(t.span_small[t.axis_count].1),
-                );
-            } else {
-                let on_edge = Self::project(axis, x[a], y[a]);
-                let third = Self::project(axis, x[3 - a - b], y[3 - a - b]);
-                t.span[t.axis_count] = (on_edge.min(third), on_edge.max(third));
-            }
-            t.axis_count += 1;
+            axes[count] = (-dy, dx);
+            from[count] = a;
+            count += 1;
         }
-        t
+        let size = magnitude(&x).max(magnitude(&y));
+        let spans = if size < NARROW_COORDINATE {
+            // Exact casts: every coordinate and axis is below 2^31.
+            let narrow = |c: [i128; 3]| c.map(|v| v as i64);
+            let axes = axes.map(|(ax, ay)| (ax as i64, ay as i64));
+            Spans::Narrow {
+                axes,
+                spans: spans_of(&axes, &from, count, (narrow(x), narrow(y)), project_narrow),
+            }
+        } else if size < SMALL_COORDINATE {
+            Spans::Small(spans_of(&axes, &from, count, (x, y), project_small))
+        } else {
+            Spans::Wide(spans_of(&axes, &from, count, (x, y), project_wide))
+        };
+        ExactTriangle {
+            x,
+            y,
+            bounds: [
+                x[0].min(x[1]).min(x[2]),
+                x[0].max(x[1]).max(x[2]),
+                y[0].min(y[1]).min(y[2]),
+                y[0].max(y[1]).max(y[2]),
+            ],
+            axes,
+            from,
+            axis_count: count,
+            spans,
+        }
     }
 
     #[inline]
-    fn project((ax, ay): (i128, i128), px: i128, py: i128) -> Wide {
-        Wide::mul(ax, px).add(Wide::mul(ay, py))
+    pub(crate) fn min_x(&self) -> i128 {
+        self.bounds[0]
+    }
+    #[inline]
+    pub(crate) fn max_x(&self) -> i128 {
+        self.bounds[1]
+    }
+    #[inline]
+    pub(crate) fn min_y(&self) -> i128 {
+        self.bounds[2]
+    }
+    #[inline]
+    pub(crate) fn max_y(&self) -> i128 {
+        self.bounds[3]
     }
 
-    pub(crate) fn min_x(&self) -> i128 {
-        self.x[0].min(self.x[1]).min(self.x[2])
+    /// The projections in `i128` (stored, or computed for a rectangle
+    /// wider than the triangle's own tier).
+    fn spans_small(&self) -> [(i128, i128); 3] {
+        match self.spans {
+            Spans::Small(spans) => spans,
+            _ => spans_of(
+                &self.axes,
+                &self.from,
+                self.axis_count,
+                (self.x, self.y),
+                project_small,
+            ),
+        }
     }
-    pub(crate) fn max_x(&self) -> i128 {
-        self.x[0].max(self.x[1]).max(self.x[2])
-    }
-    pub(crate) fn min_y(&self) -> i128 {
-        self.y[0].min(self.y[1]).min(self.y[2])
-    }
-    pub(crate) fn max_y(&self) -> i128 {
-        self.y[0].max(self.y[1]).max(self.y[2])
+
+    /// The projections in [`Wide`] (stored, or computed).
+    fn spans_wide(&self) -> [(Wide, Wide); 3] {
+        match self.spans {
+            Spans::Wide(spans) => spans,
+            _ => spans_of(
+                &self.axes,
+                &self.from,
+                self.axis_count,
+                (self.x, self.y),
+                project_wide,
+            ),
+        }
     }
 
     /// Does this closed triangle share a point with the half-open rectangle
@@ -293,6 +433,7 @@ impl ExactTriangle {
     /// The rectangle's projection on an axis moves linearly with `e`, so
     /// "separated for every small `e`" is a comparison at `e = 0` plus the
     /// sign of the slope, both exact.
+    #[inline]
     pub(crate) fn meets(&self, x0: i128, x1: i128, y0: i128, y1: i128) -> bool {
         // Axis (1, 0): [min x, max x] against [x0, x1 - e].
         if self.max_x() < x0 || self.min_x() >= x1 {
@@ -301,50 +442,34 @@ impl ExactTriangle {
         if self.max_y() < y0 || self.min_y() >= y1 {
             return false;
         }
-        let bound = SMALL_COORDINATE as i128;
-        if self.small && [x0, x1, y0, y1].iter().all(|c| (-bound..bound).contains(c)) {
-            // Every coordinate and corner below 2^60: an axis (a difference,
-            // below 2^61) times a coordinate is below 2^121, a projection
-            // below 2^122, so i128 is exact.
-            self.no_edge_separates(
-                &self.span_small,
-                |(ax, ay), px, py| ax * px + ay * py,
-                [x0, x1, y0, y1],
-            )
-        } else {
-            self.no_edge_separates(&self.span, Self::project, [x0, x1, y0, y1])
-        }
-    }
-
-    /// The edge-normal half of [`meets`](Self::meets), written once for
-    /// both number types: `project` computes `a . p` exactly in `T`, and
-    /// `spans` holds the triangle's projections in `T`.
-    fn no_edge_separates<T: Ord + Copy>(
-        &self,
-        spans: &[(T, T); 3],
-        project: impl Fn((i128, i128), i128, i128) -> T,
-        [x0, x1, y0, y1]: [i128; 4],
-    ) -> bool {
-        for (&(ax, ay), &(t_min, t_max)) in self.axes[..self.axis_count].iter().zip(spans) {
-            // The rectangle's lowest projection is at x0 when ax >= 0, else
-            // at x1 - e (which rises as e grows): slope > 0 iff a corner
-            // coordinate with a negative weight is used.
-            let low_x = if ax >= 0 { x0 } else { x1 };
-            let low_y = if ay >= 0 { y0 } else { y1 };
-            let s_min = project((ax, ay), low_x, low_y);
-            let s_min_rises = ax < 0 || ay < 0;
-            if s_min > t_max || (s_min == t_max && s_min_rises) {
-                return false;
+        let rect = [x0, x1, y0, y1];
+        let count = self.axis_count;
+        let reach = magnitude(&rect);
+        match &self.spans {
+            // Triangle and rectangle below 2^30: i64 is exact.
+            Spans::Narrow { axes, spans } if reach < NARROW_COORDINATE => no_edge_separates(
+                &axes[..count],
+                &spans[..count],
+                project_narrow,
+                rect.map(|c| c as i64),
+            ),
+            // Both below 2^60: an axis (below 2^61) times a coordinate is
+            // below 2^121, a projection below 2^122.
+            Spans::Narrow { .. } | Spans::Small(_) if reach < SMALL_COORDINATE => {
+                no_edge_separates(
+                    &self.axes[..count],
+                    &self.spans_small()[..count],
+                    project_small,
+                    rect,
+                )
             }
-            let high_x = if ax > 0 { x1 } else { x0 };
-            let high_y = if ay > 0 { y1 } else { y0 };
-            let s_max = project((ax, ay), high_x, high_y);
-            let s_max_falls = ax > 0 || ay > 0;
-            if s_max < t_min || (s_max == t_min && s_max_falls) {
-                return false;
-            }
+            _ => no_edge_separates(
+                &self.axes[..count],
+                &self.spans_wide()[..count],
+                project_wide,
+                rect,
+            ),
         }
-        true
     }
 
     /// Is the point `(px, py)` in the closed triangle? Exact.
@@ -352,9 +477,10 @@ impl ExactTriangle {
         if px < self.min_x() || px > self.max_x() || py < self.min_y() || py > self.max_y() {
             return false;
         }
+        let spans = self.spans_wide();
         (0..self.axis_count).all(|k| {
-            let p = Self::project(self.axes[k], px, py);
-            self.span[k].0 <= p && p <= self.span[k].1
+            let p = project_wide(self.axes[k], px, py);
+            spans[k].0 <= p && p <= spans[k].1
         })
     }
 }
@@ -434,5 +560,99 @@ mod tests {
         // corner diagonally outside.
         assert!(meets([-1, 3, 3], [1, 1, 1]));
         assert!(!meets([1, 3, 1], [3, 1, 3]));
+    }
+
+    /// `meets` in every number type that can hold the inputs, past the
+    /// bounding-box test: `[narrow, small, wide]`, `None` where a type
+    /// cannot hold them.
+    fn meets_each_way(t: &ExactTriangle, rect: [i128; 4]) -> [Option<bool>; 3] {
+        let n = t.axis_count;
+        let size = magnitude(&t.x).max(magnitude(&t.y)).max(magnitude(&rect));
+        let narrow = (size < NARROW_COORDINATE).then(|| {
+            let axes = t.axes.map(|(ax, ay)| (ax as i64, ay as i64));
+            let narrow = |c: [i128; 3]| c.map(|v| v as i64);
+            let spans = spans_of(
+                &axes,
+                &t.from,
+                n,
+                (narrow(t.x), narrow(t.y)),
+                project_narrow,
+            );
+            no_edge_separates(
+                &axes[..n],
+                &spans[..n],
+                project_narrow,
+                rect.map(|c| c as i64),
+            )
+        });
+        let small = (size < SMALL_COORDINATE).then(|| {
+            let spans = spans_of(&t.axes, &t.from, n, (t.x, t.y), project_small);
+            no_edge_separates(&t.axes[..n], &spans[..n], project_small, rect)
+        });
+        let spans = spans_of(&t.axes, &t.from, n, (t.x, t.y), project_wide);
+        let wide = no_edge_separates(&t.axes[..n], &spans[..n], project_wide, rect);
+        [narrow, small, Some(wide)]
+    }
+
+    /// The `i64` and `i128` paths agree with the 256-bit one on random
+    /// triangles and rectangles straddling the thresholds where `meets`
+    /// switches between them (coordinates near `+-2^30` and `+-2^60`, with
+    /// differences up to twice that), and `meets` agrees with all of them.
+    #[test]
+    fn narrow_small_and_wide_paths_agree_near_their_thresholds() {
+        let mut state = 0x5eed_u64;
+        let mut next = move || {
+            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            z ^ (z >> 31)
+        };
+        let mut seen = [[0u32; 2]; 3];
+        for threshold in [NARROW_COORDINATE as i128, SMALL_COORDINATE as i128] {
+            for case in 0..20_000 {
+                // A centre at +-threshold, and points within `spread` of it:
+                // small spreads test fine contacts, large ones the extremes.
+                let sign = if case % 2 == 0 { 1 } else { -1 };
+                let spread = 1i128 << (next() % 62).min(u64::from(threshold.trailing_zeros()) + 1);
+                let centre = sign * threshold;
+                // Mostly just inside the threshold; one case in four lets
+                // points step over it by one unit.
+                let over = i128::from(case % 4 == 0);
+                let mut point = || centre - sign * ((i128::from(next()) % spread) - over);
+                let (x, y) = ([point(), point(), point()], [point(), point(), point()]);
+                let t = match case % 5 {
+                    // Degenerate: a repeated vertex, a point.
+                    0 => ExactTriangle::new([x[0], x[1], x[1]], [y[0], y[1], y[1]]),
+                    1 => ExactTriangle::new([x[0]; 3], [y[0]; 3]),
+                    _ => ExactTriangle::new(x, y),
+                };
+                let (mut a, mut b, mut c, mut d) = (point(), point(), point(), point());
+                if a == b || c == d {
+                    continue;
+                }
+                if a > b {
+                    core::mem::swap(&mut a, &mut b);
+                }
+                if c > d {
+                    core::mem::swap(&mut c, &mut d);
+                }
+                let rect = [a, b, c, d];
+                let each = meets_each_way(&t, rect);
+                let wide = each[2].unwrap();
+                for (k, got) in each.iter().enumerate() {
+                    if let Some(got) = got {
+                        assert_eq!(*got, wide, "path {k}: {t:?} {rect:?}");
+                        seen[k][usize::from(*got)] += 1;
+                    }
+                }
+                let in_box = t.max_x() >= a && t.min_x() < b && t.max_y() >= c && t.min_y() < d;
+                assert_eq!(t.meets(a, b, c, d), in_box && wide, "{t:?} {rect:?}");
+            }
+        }
+        // Every path answered both ways many times.
+        for (k, counts) in seen.iter().enumerate() {
+            assert!(counts[0] > 1000 && counts[1] > 1000, "path {k}: {counts:?}");
+        }
     }
 }

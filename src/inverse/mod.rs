@@ -109,7 +109,11 @@ impl Child {
     /// barycentric updates (`P = w*V0 + u*V1 + v*V2` must stay the same
     /// point): e.g. Left's `(2u, 2v, w - u - v)` means `V0`, `mid(V0, V1)`,
     /// `mid(V0, V2)`.
-    fn vertices(self, [v0, v1, v2]: [(u64, u64); 3]) -> [(u64, u64); 3] {
+    ///
+    /// Generic over the point type: `midpoint` commutes with affine maps,
+    /// so any affine image of the vertices (the baker's texel-grid points)
+    /// steps the same way.
+    fn vertices<P: Copy>(self, [v0, v1, v2]: [P; 3], midpoint: impl Fn(P, P) -> P) -> [P; 3] {
         match self {
             Child::Left => [v0, midpoint(v0, v1), midpoint(v0, v2)],
             Child::Right => [midpoint(v0, v1), v1, midpoint(v1, v2)],
@@ -118,6 +122,25 @@ impl Child {
             Child::Middle => [midpoint(v0, v2), midpoint(v1, v2), midpoint(v0, v1)],
         }
     }
+}
+
+/// One step of the digit replay (`replay`), for a caller that walks
+/// the tree top-down: the vertices of the child with digit `child_digit`
+/// of a node with `vertices` (any affine image of the walk's, stepped by
+/// `midpoint`) and `top_flip`, and the child's `top_flip`.
+#[cfg(feature = "alloc")]
+#[inline]
+pub(crate) fn child_vertices<P: Copy>(
+    child_digit: u8,
+    top_flip: bool,
+    vertices: [P; 3],
+    midpoint: impl Fn(P, P) -> P,
+) -> ([P; 3], bool) {
+    let child = Child::from_digit(child_digit, top_flip);
+    (
+        child.vertices(vertices, midpoint),
+        top_flip != (child == Child::Top),
+    )
 }
 
 /// The midpoint of two points. Exact: at depth `d < level` every numerator
@@ -187,7 +210,7 @@ fn replay(level: Level, index: u64) -> MicroTriangle {
     for depth in (0..level.get()).rev() {
         let child_digit = ((index >> (2 * depth)) & 3) as u8;
         let child = Child::from_digit(child_digit, top_flip);
-        vertices = child.vertices(vertices);
+        vertices = child.vertices(vertices, midpoint);
         match child {
             Child::Top => top_flip = !top_flip,
             Child::Middle => upright = !upright,
