@@ -202,7 +202,7 @@ impl TexelClasses {
         // reads), then the running sums, without per-texel index checks.
         for (y, row) in (0..height).zip(opaque.chunks_exact_mut(width as usize)) {
             for (x, texel) in (0..width).zip(row.iter_mut()) {
-                *texel = u8::from(cutoff.is_opaque(texture.alpha(x, y)));
+                *texel = u8::from(texture.is_opaque(x, y, &cutoff));
             }
         }
         for (y, row) in opaque.chunks_exact(width as usize).enumerate() {

@@ -18,6 +18,14 @@ pub trait AlphaTexture {
     fn height(&self) -> u32;
     /// The alpha of texel `(x, y)`, `x < width`, `y < height`.
     fn alpha(&self, x: u32, y: u32) -> f64;
+
+    /// Whether texel `(x, y)` passes `cutoff`: by default
+    /// `cutoff.is_opaque(self.alpha(x, y))`. An implementation may answer
+    /// faster (the bake reads every texel once through this), never
+    /// differently.
+    fn is_opaque(&self, x: u32, y: u32, cutoff: &Cutoff) -> bool {
+        cutoff.is_opaque(self.alpha(x, y))
+    }
 }
 
 /// Why a texture view or a sampler was refused.
@@ -81,12 +89,26 @@ fn check_dimensions(width: u32, height: u32, len: usize) -> Result<(), TextureEr
 pub trait Texel: Copy {
     /// The texel's alpha, exactly (see [`AlphaTexture`]).
     fn alpha(self) -> f64;
+
+    /// Whether the texel passes `cutoff`: by default
+    /// `cutoff.is_opaque(self.alpha())`; an implementation may answer
+    /// faster, never differently.
+    fn is_opaque(self, cutoff: &Cutoff) -> bool {
+        cutoff.is_opaque(self.alpha())
+    }
 }
 
 impl Texel for u8 {
     /// Unorm: `c / 255`.
     fn alpha(self) -> f64 {
         f64::from(self) / 255.0
+    }
+
+    /// One integer comparison with the first code that passes, which the
+    /// cutoff finds once (`c / 255` rounded grows with `c`), instead of a
+    /// division per texel.
+    fn is_opaque(self, cutoff: &Cutoff) -> bool {
+        u16::from(self) >= cutoff.first_opaque_unorm8
     }
 }
 
@@ -151,6 +173,9 @@ impl<T: Texel> AlphaTexture for SliceTexture<'_, T> {
     }
     fn alpha(&self, x: u32, y: u32) -> f64 {
         self.texels[y as usize * self.width as usize + x as usize].alpha()
+    }
+    fn is_opaque(&self, x: u32, y: u32, cutoff: &Cutoff) -> bool {
+        self.texels[y as usize * self.width as usize + x as usize].is_opaque(cutoff)
     }
 }
 
@@ -273,15 +298,15 @@ pub enum Comparison {
 pub struct Cutoff {
     alpha: f32,
     comparison: Comparison,
+    /// The smallest 8-bit unorm code `c` whose `c / 255` passes (256 if
+    /// none): a function of the two fields above.
+    first_opaque_unorm8: u16,
 }
 
 impl Default for Cutoff {
     /// glTF's default: opaque when `alpha >= 0.5`.
     fn default() -> Self {
-        Cutoff {
-            alpha: 0.5,
-            comparison: Comparison::AtLeast,
-        }
+        Cutoff::with(0.5, Comparison::AtLeast)
     }
 }
 
@@ -292,7 +317,28 @@ impl Cutoff {
         if alpha.is_nan() {
             return Err(TextureError::NanThreshold);
         }
-        Ok(Cutoff { alpha, comparison })
+        Ok(Cutoff::with(alpha, comparison))
+    }
+
+    /// The cutoff for a non-NaN `alpha`.
+    fn with(alpha: f32, comparison: Comparison) -> Cutoff {
+        let mut cutoff = Cutoff {
+            alpha,
+            comparison,
+            first_opaque_unorm8: 0,
+        };
+        // Passing is monotone in the code: binary search for the first.
+        let (mut low, mut high) = (0u16, 256u16);
+        while low < high {
+            let mid = (low + high) / 2;
+            if cutoff.is_opaque(f64::from(mid) / 255.0) {
+                high = mid;
+            } else {
+                low = mid + 1;
+            }
+        }
+        cutoff.first_opaque_unorm8 = low;
+        cutoff
     }
 
     /// The cutoff value.
@@ -315,5 +361,54 @@ impl Cutoff {
             Comparison::AtLeast => alpha >= f64::from(self.alpha),
             Comparison::Above => alpha > f64::from(self.alpha),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The 8-bit shortcut answers like the alpha it stands for: every code
+    /// against cutoffs on, just below and just above every `c / 255` (as
+    /// binary32), the ends, the infinities and signed zeros, both
+    /// comparisons.
+    #[test]
+    fn unorm8_cutoff_shortcut_equals_the_alpha_test() {
+        let mut alphas = vec![
+            0.0f32,
+            -0.0,
+            0.5,
+            1.0,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            1e-30,
+            -1e-30,
+        ];
+        for c in 0..=255u8 {
+            let a = (f64::from(c) / 255.0) as f32;
+            let bits = a.to_bits();
+            alphas.extend([
+                a,
+                f32::from_bits(bits + 1),
+                f32::from_bits(bits.saturating_sub(1)),
+            ]);
+        }
+        for alpha in alphas {
+            for comparison in [Comparison::AtLeast, Comparison::Above] {
+                let cutoff = Cutoff::new(alpha, comparison).unwrap();
+                for c in 0..=255u8 {
+                    assert_eq!(
+                        Texel::is_opaque(c, &cutoff),
+                        cutoff.is_opaque(c.alpha()),
+                        "code {c}, cutoff {alpha:e} ({:#010x}) {comparison:?}",
+                        alpha.to_bits()
+                    );
+                }
+            }
+        }
+        assert_eq!(
+            Cutoff::default(),
+            Cutoff::new(0.5, Comparison::AtLeast).unwrap()
+        );
     }
 }
