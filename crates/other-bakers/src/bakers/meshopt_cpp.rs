@@ -3,8 +3,8 @@
 
 use meshopt::{AlphaTexture, OpacityStates};
 
-use super::{meshopt_conventions, Baked, Baker, Conventions, Request};
-use crate::output::{Format, Micromaps, Record};
+use super::{meshopt_baked, meshopt_conventions, Baked, Baker, Conventions, Request};
+use crate::output::Format;
 
 /// `--baker meshopt-cpp`.
 pub struct MeshoptCpp;
@@ -85,26 +85,13 @@ impl Baker for MeshoptCpp {
             &mut omm_indices,
             states,
         );
-        // meshopt's layout is already Vulkan's: `offsets[k]` / `levels[k]`
-        // describe entry k, its bytes pack micro-triangle i LSB first
-        // (opacitymap.cpp l.239, l.260), and compacted indices are a record
-        // or -(state + 1).
-        let records = offsets
-            .iter()
-            .zip(&levels)
-            .map(|(&data_offset, &level)| Record {
-                data_offset,
-                level: u16::from(level),
-                format: format.vk(),
-            })
-            .collect();
-        Ok(Baked {
-            maps: Micromaps {
-                data,
-                records,
-                indices: omm_indices,
-            },
+        Ok(meshopt_baked(
+            &offsets,
+            &levels,
+            format,
+            data,
+            omm_indices,
             micro_triangles_baked,
-        })
+        ))
     }
 }

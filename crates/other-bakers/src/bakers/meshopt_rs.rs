@@ -6,8 +6,7 @@ use meshoptimizer_rs::{
     Workspace,
 };
 
-use super::{meshopt_conventions, Baked, Baker, Conventions, Request};
-use crate::output::{Micromaps, Record};
+use super::{meshopt_baked, meshopt_conventions, Baked, Baker, Conventions, Request};
 
 /// `--baker meshopt-rs`.
 pub struct MeshoptRs;
@@ -100,23 +99,13 @@ impl Baker for MeshoptRs {
         )
         .map_err(e("opacity_map_compact"))?;
         data.truncate(bytes);
-        // Same layout as meshopt's (opacity.rs l.802, l.819): Vulkan's.
-        let records = offsets[..count]
-            .iter()
-            .zip(&levels[..count])
-            .map(|(&data_offset, &level)| Record {
-                data_offset,
-                level: u16::from(level),
-                format: format.vk(),
-            })
-            .collect();
-        Ok(Baked {
-            maps: Micromaps {
-                data,
-                records,
-                indices: omm_indices,
-            },
+        Ok(meshopt_baked(
+            &offsets[..count],
+            &levels[..count],
+            format,
+            data,
+            omm_indices,
             micro_triangles_baked,
-        })
+        ))
     }
 }

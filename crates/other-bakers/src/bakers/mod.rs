@@ -3,7 +3,7 @@
 use serde::Serialize;
 
 use crate::input::{AlphaTexture, UvTriangle};
-use crate::output::{Format, Micromaps};
+use crate::output::{Format, Micromaps, Record};
 
 pub mod exact;
 pub mod meshopt_cpp;
@@ -95,6 +95,37 @@ pub fn by_name(name: &str) -> Option<Box<dyn Baker>> {
 /// Both meshoptimizer bakers share the algorithm (the Rust port is
 /// byte-identical by its own claim, and this tool checks it), hence their
 /// conventions; only the references differ.
+/// meshoptimizer's result (either build) in the Vulkan layout, which its
+/// layout already is: `offsets[k]` / `levels[k]` describe entry k, its bytes
+/// pack micro-triangle i LSB first (opacitymap.cpp l.239, l.260; opacity.rs
+/// l.802, l.819), and compacted indices are a record or -(state + 1).
+pub(crate) fn meshopt_baked(
+    offsets: &[u32],
+    levels: &[u8],
+    format: Format,
+    data: Vec<u8>,
+    indices: Vec<i32>,
+    micro_triangles_baked: u64,
+) -> Baked {
+    let records = offsets
+        .iter()
+        .zip(levels)
+        .map(|(&data_offset, &level)| Record {
+            data_offset,
+            level: u16::from(level),
+            format: format.vk(),
+        })
+        .collect();
+    Baked {
+        maps: Micromaps {
+            data,
+            records,
+            indices,
+        },
+        micro_triangles_baked,
+    }
+}
+
 pub(crate) fn meshopt_conventions(references: &'static [&'static str]) -> Conventions {
     Conventions {
         filter: "linear (bilinear), always; mip 0 only (the caller picks the mip)",
