@@ -12,30 +12,9 @@ use std::path::Path;
 
 use micromap_index::inverse::micro_triangle;
 use micromap_index::Level;
-use other_bakers::input::{parse_triangles, read_png_alpha, AlphaTexture};
+use other_bakers::bakers::meshopt_sample;
+use other_bakers::input::{parse_triangles, read_png_alpha};
 use other_bakers::output::{Micromaps, Record};
-
-fn sample(t: &AlphaTexture, u: f32, v: f32) -> f32 {
-    let wrap = |x: f32| {
-        if (x - 0.5).abs() > 0.5 {
-            x - x.floor()
-        } else {
-            x
-        }
-    };
-    let (u, v) = (wrap(u), wrap(v));
-    let uf = ((u * (t.width as f32 * 256.0) - 127.5) as i32).max(0);
-    let vf = ((v * (t.height as f32 * 256.0) - 127.5) as i32).max(0);
-    let (x, y, rx, ry) = ((uf >> 8) as usize, (vf >> 8) as usize, uf & 255, vf & 255);
-    let (w, h) = (t.width as usize, t.height as usize);
-    let x1 = if x + 1 < w { x + 1 } else { x };
-    let y1 = if y + 1 < h { y + 1 } else { y };
-    let a = |x: usize, y: usize| i32::from(t.alpha[y * w + x]);
-    let ax0 = a(x, y) * 256 + (a(x1, y) - a(x, y)) * rx;
-    let ax1 = a(x, y1) * 256 + (a(x1, y1) - a(x, y1)) * rx;
-    let axy = ax0 * 256 + (ax1 - ax0) * ry;
-    axy as f32 * (1.0 / (255.0 * 65536.0))
-}
 
 fn read_maps(dir: &Path) -> Micromaps {
     let data = std::fs::read(dir.join("micromap-data.bin")).unwrap();
@@ -98,7 +77,7 @@ fn main() {
                 for b in 0..=n - a {
                     let (s, r) = (f64::from(a) / f64::from(n), f64::from(b) / f64::from(n));
                     let q = [0, 1].map(|k| (1.0 - s - r) * p[0][k] + s * p[1][k] + r * p[2][k]);
-                    let alpha = sample(&texture, q[0] as f32, q[1] as f32);
+                    let alpha = meshopt_sample(&texture, q[0] as f32, q[1] as f32);
                     if (state == 1 && alpha < 0.5) || (state == 0 && alpha >= 0.5) {
                         violated = true;
                         break 'grid;

@@ -168,3 +168,29 @@ pub(crate) fn meshopt_conventions(references: &'static [&'static str]) -> Conven
 
 #[cfg(test)]
 pub(crate) mod tests;
+
+/// meshoptimizer's sampler (opacitymap.cpp l.29-69), written out again for
+/// checks of its output against its own samples (the tests and
+/// `examples/dense_check.rs`).
+pub fn meshopt_sample(t: &AlphaTexture, u: f32, v: f32) -> f32 {
+    let wrap = |x: f32| {
+        if (x - 0.5).abs() > 0.5 {
+            x - x.floor()
+        } else {
+            x
+        }
+    };
+    let (u, v) = (wrap(u), wrap(v));
+    let uf = ((u * (t.width as f32 * 256.0) - 127.5) as i32).max(0);
+    let vf = ((v * (t.height as f32 * 256.0) - 127.5) as i32).max(0);
+    let (x, y, rx, ry) = (uf >> 8, vf >> 8, uf & 255, vf & 255);
+    let (x, y) = (x as usize, y as usize);
+    let (w, h) = (t.width as usize, t.height as usize);
+    let x1 = if x + 1 < w { x + 1 } else { x };
+    let y1 = if y + 1 < h { y + 1 } else { y };
+    let a = |x: usize, y: usize| i32::from(t.alpha[y * w + x]);
+    let ax0 = a(x, y) * 256 + (a(x1, y) - a(x, y)) * rx;
+    let ax1 = a(x, y1) * 256 + (a(x1, y1) - a(x, y1)) * rx;
+    let axy = ax0 * 256 + (ax1 - ax0) * ry;
+    axy as f32 * (1.0 / (255.0 * 65536.0))
+}

@@ -5,7 +5,7 @@
 use micromap_index::inverse::micro_triangle;
 use micromap_index::Level;
 
-use super::{all, Baker, Request};
+use super::{all, meshopt_sample, Baker, Request};
 use crate::input::{AlphaTexture, UvTriangle};
 use crate::output::{Format, FULLY_OPAQUE, FULLY_TRANSPARENT};
 
@@ -153,30 +153,6 @@ fn meshopt_cpp_and_rust_port_agree() {
             assert_eq!(a, b, "{format:?} L{level}");
         }
     }
-}
-
-/// meshoptimizer's sampler (opacitymap.cpp l.29-69), written out again.
-fn meshopt_sample(t: &AlphaTexture, u: f32, v: f32) -> f32 {
-    let wrap = |x: f32| {
-        if (x - 0.5).abs() > 0.5 {
-            x - x.floor()
-        } else {
-            x
-        }
-    };
-    let (u, v) = (wrap(u), wrap(v));
-    let uf = ((u * (t.width as f32 * 256.0) - 127.5) as i32).max(0);
-    let vf = ((v * (t.height as f32 * 256.0) - 127.5) as i32).max(0);
-    let (x, y, rx, ry) = (uf >> 8, vf >> 8, uf & 255, vf & 255);
-    let (x, y) = (x as usize, y as usize);
-    let (w, h) = (t.width as usize, t.height as usize);
-    let x1 = if x + 1 < w { x + 1 } else { x };
-    let y1 = if y + 1 < h { y + 1 } else { y };
-    let a = |x: usize, y: usize| i32::from(t.alpha[y * w + x]);
-    let ax0 = a(x, y) * 256 + (a(x1, y) - a(x, y)) * rx;
-    let ax1 = a(x, y1) * 256 + (a(x1, y1) - a(x, y1)) * rx;
-    let axy = ax0 * 256 + (ax1 - ax0) * ry;
-    axy as f32 * (1.0 / (255.0 * 65536.0))
 }
 
 /// End to end on the real chain texture (its micromaps are deduplicated
