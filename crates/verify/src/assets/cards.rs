@@ -74,29 +74,36 @@ fn rect(u0: f64, v0: f64, u1: f64, v1: f64) -> [[f64; 2]; 4] {
     [[u0, v0], [u1, v0], [u1, v1], [u0, v1]]
 }
 
+/// An indexed card (16-bit indices, separate buffers) from a [`quad`].
+fn indexed_card(
+    mesh: usize,
+    name: &'static str,
+    material: usize,
+    (positions, uvs, indices): (Vec<[f32; 3]>, Vec<[f32; 2]>, Vec<u32>),
+) -> Card {
+    Card {
+        mesh,
+        name,
+        material,
+        positions,
+        uvs,
+        indices: Some(indices),
+        index_type: 5123,
+        interleaved: false,
+    }
+}
+
 /// The primitives, in mesh and primitive order.
 fn cards() -> Vec<Card> {
     let mut cards = Vec::new();
-    let mut push = |mesh, name, material, quad: (Vec<[f32; 3]>, Vec<[f32; 2]>, Vec<u32>)| {
-        cards.push(Card {
-            mesh,
-            name,
-            material,
-            positions: quad.0,
-            uvs: quad.1,
-            indices: Some(quad.2),
-            index_type: 5123,
-            interleaved: false,
-        });
-    };
     // Mesh 0: four leaf cards on sponza_thorn.png.
     // The leaf cluster at the top left, axis-aligned.
-    push(
+    cards.push(indexed_card(
         0,
         "leaves_top_left",
         0,
         quad(rect(0.0, 0.0, 0.34, 0.34), 0.0),
-    );
+    ));
     // The cluster in the middle, the card turned by 30 degrees about
     // (0.47, 0.36), half a side 0.15.
     let (sin, cos) = 30f64.to_radians().sin_cos();
@@ -114,28 +121,21 @@ fn cards() -> Vec<Card> {
         index_type: 0,
         interleaved: false,
     });
-    let mut push = |mesh, name, material, quad: (Vec<[f32; 3]>, Vec<[f32; 2]>, Vec<u32>)| {
-        cards.push(Card {
-            mesh,
-            name,
-            material,
-            positions: quad.0,
-            uvs: quad.1,
-            indices: Some(quad.2),
-            index_type: 5123,
-            interleaved: false,
-        });
-    };
     // Across the right edge (u in [0.75, 1.25]) and the bottom edge: REPEAT
     // brings in the left and top of the texture.
-    push(0, "leaves_repeat", 0, quad(rect(0.75, 0.6, 1.25, 1.1), 3.0));
+    cards.push(indexed_card(
+        0,
+        "leaves_repeat",
+        0,
+        quad(rect(0.75, 0.6, 1.25, 1.1), 3.0),
+    ));
     // Across u = 0 and v = 1 with MIRRORED_REPEAT.
-    push(
+    cards.push(indexed_card(
         0,
         "leaves_mirrored",
         2,
         quad(rect(-0.2, 0.75, 0.2, 1.25), 4.5),
-    );
+    ));
     // Mesh 1: the whole texture as an 8 x 8 grid of quads, 128 triangles,
     // positions and UVs interleaved.
     let mut grid = Card {
