@@ -182,13 +182,10 @@ impl LevelOrderTree {
                 .map(|prefix| {
                     let mut p = 0usize;
                     for d in 0..depth {
-                        let (internal, rank) = self.internal.bit_and_rank(p);
-                        if !internal {
-                            // A valid tree has a state for every leaf.
-                            let state = self.data.get(p - rank).unwrap_or(State::Transparent);
-                            return TOP_LEAF | u16::from(state.bits());
+                        match self.node(p) {
+                            Ok(first_child) => p = first_child + digit(prefix, depth, d),
+                            Err(state) => return TOP_LEAF | u16::from(state.bits()),
                         }
-                        p = 1 + 4 * rank + digit(prefix, depth, d);
                     }
                     // At most 4^depth nodes at this depth: below 2^14.
                     (p - start) as u16
@@ -459,6 +456,14 @@ impl LevelOrderTree {
 mod tests {
     use super::*;
 
+    /// Marsaglia's xorshift64: the next state of `x`.
+    fn xorshift(x: &mut u64) -> u64 {
+        *x ^= *x << 13;
+        *x ^= *x >> 7;
+        *x ^= *x << 17;
+        *x
+    }
+
     /// The dispatched lookup (hardware `popcnt` where the CPU has it) and
     /// the portable one answer alike on every index of random maps with
     /// runs of equal states, levels 0..=7, both formats: the tests of the
@@ -466,12 +471,7 @@ mod tests {
     #[test]
     fn dispatched_and_portable_lookups_agree() {
         let mut x = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x
-        };
+        let mut next = move || xorshift(&mut x);
         for level in 0..=7u32 {
             for format in [Format::TwoState, Format::FourState] {
                 let count = 1usize << (2 * level);
@@ -497,11 +497,6 @@ mod tests {
             }
         }
     }
-}
-
-#[cfg(test)]
-mod top_table_tests {
-    use super::*;
 
     /// A level-9 map whose first sixteenth is one state (a leaf at depth 2)
     /// and whose rest is noise: the top table reaches depth 3, holds
@@ -512,10 +507,8 @@ mod top_table_tests {
         let count = 1usize << 18;
         let states: Vec<State> = (0..count)
             .map(|i| {
-                x ^= x << 13;
-                x ^= x >> 7;
-                x ^= x << 17;
-                if i < count / 16 || x % 3 == 0 {
+                let r = xorshift(&mut x);
+                if i < count / 16 || r % 3 == 0 {
                     State::Opaque
                 } else {
                     State::Transparent
