@@ -14,6 +14,7 @@
 //! holds them exactly.
 
 use core::cmp::Ordering;
+use core::ops::{Add, Mul};
 
 /// A signed 256-bit integer, enough for the product of two coordinates
 /// below `2^126` plus a sum of two such products. Ordered as integers.
@@ -252,15 +253,10 @@ fn magnitude(c: &[i128]) -> u128 {
     c.iter().map(|v| v.unsigned_abs()).max().unwrap_or(0)
 }
 
-/// `a . p` exactly in `i64`, for narrow coordinates.
+/// `a . p` in the coordinates' own integer type: exact for narrow
+/// coordinates in `i64` and small ones in `i128`.
 #[inline]
-fn project_narrow((ax, ay): (i64, i64), px: i64, py: i64) -> i64 {
-    ax * px + ay * py
-}
-
-/// `a . p` exactly in `i128`, for small coordinates.
-#[inline]
-fn project_small((ax, ay): (i128, i128), px: i128, py: i128) -> i128 {
+fn project_int<T: Copy + Mul<Output = T> + Add<Output = T>>((ax, ay): (T, T), px: T, py: T) -> T {
     ax * px + ay * py
 }
 
@@ -353,10 +349,10 @@ impl ExactTriangle {
             let axes = axes.map(|(ax, ay)| (ax as i64, ay as i64));
             Spans::Narrow {
                 axes,
-                spans: spans_of(&axes, &from, count, (narrow(x), narrow(y)), project_narrow),
+                spans: spans_of(&axes, &from, count, (narrow(x), narrow(y)), project_int),
             }
         } else if size < SMALL_COORDINATE {
-            Spans::Small(spans_of(&axes, &from, count, (x, y), project_small))
+            Spans::Small(spans_of(&axes, &from, count, (x, y), project_int))
         } else {
             Spans::Wide(spans_of(&axes, &from, count, (x, y), project_wide))
         };
@@ -403,7 +399,7 @@ impl ExactTriangle {
                 &self.from,
                 self.axis_count,
                 (self.x, self.y),
-                project_small,
+                project_int,
             ),
         }
     }
@@ -450,7 +446,7 @@ impl ExactTriangle {
             Spans::Narrow { axes, spans } if reach < NARROW_COORDINATE => no_edge_separates(
                 &axes[..count],
                 &spans[..count],
-                project_narrow,
+                project_int,
                 rect.map(|c| c as i64),
             ),
             // Both below 2^60: an axis (below 2^61) times a coordinate is
@@ -459,7 +455,7 @@ impl ExactTriangle {
                 no_edge_separates(
                     &self.axes[..count],
                     &self.spans_small()[..count],
-                    project_small,
+                    project_int,
                     rect,
                 )
             }
@@ -571,23 +567,12 @@ mod tests {
         let narrow = (size < NARROW_COORDINATE).then(|| {
             let axes = t.axes.map(|(ax, ay)| (ax as i64, ay as i64));
             let narrow = |c: [i128; 3]| c.map(|v| v as i64);
-            let spans = spans_of(
-                &axes,
-                &t.from,
-                n,
-                (narrow(t.x), narrow(t.y)),
-                project_narrow,
-            );
-            no_edge_separates(
-                &axes[..n],
-                &spans[..n],
-                project_narrow,
-                rect.map(|c| c as i64),
-            )
+            let spans = spans_of(&axes, &t.from, n, (narrow(t.x), narrow(t.y)), project_int);
+            no_edge_separates(&axes[..n], &spans[..n], project_int, rect.map(|c| c as i64))
         });
         let small = (size < SMALL_COORDINATE).then(|| {
-            let spans = spans_of(&t.axes, &t.from, n, (t.x, t.y), project_small);
-            no_edge_separates(&t.axes[..n], &spans[..n], project_small, rect)
+            let spans = spans_of(&t.axes, &t.from, n, (t.x, t.y), project_int);
+            no_edge_separates(&t.axes[..n], &spans[..n], project_int, rect)
         });
         let spans = spans_of(&t.axes, &t.from, n, (t.x, t.y), project_wide);
         let wide = no_edge_separates(&t.axes[..n], &spans[..n], project_wide, rect);
