@@ -232,6 +232,18 @@ impl TexelClasses {
         at(x1 + 1, y1 + 1) + at(x0, y0) - at(x0, y1 + 1) - at(x1 + 1, y0)
     }
 
+    /// The classes of the texels in `[x0, x1] x [y0, y1]` (inclusive, in
+    /// range), from their opaque count.
+    #[inline]
+    fn rectangle_classes(&self, xr: (u32, u32), yr: (u32, u32)) -> Classes {
+        let area = u64::from(xr.1 - xr.0 + 1) * u64::from(yr.1 - yr.0 + 1);
+        let opaque = self.opaque_count(xr, yr);
+        Classes {
+            opaque: opaque > 0,
+            transparent: opaque < area,
+        }
+    }
+
     /// The classes of a texel, or of the border (`None`).
     pub(crate) fn class_of(&self, texel: Option<(u32, u32)>) -> bool {
         match texel {
@@ -269,12 +281,7 @@ impl TexelClasses {
                 (block.x0 as u32, block.x1 as u32),
                 (block.y0 as u32, block.y1 as u32),
             );
-            let area = u64::from(xr.1 - xr.0 + 1) * u64::from(yr.1 - yr.0 + 1);
-            let opaque = self.opaque_count(xr, yr);
-            return Classes {
-                opaque: opaque > 0,
-                transparent: opaque < area,
-            };
+            return self.rectangle_classes(xr, yr);
         }
         self.wrapped_block_classes(block)
     }
@@ -291,12 +298,7 @@ impl TexelClasses {
         }
         for &xr in &xs.ranges[..xs.count] {
             for &yr in &ys.ranges[..ys.count] {
-                let area = u64::from(xr.1 - xr.0 + 1) * u64::from(yr.1 - yr.0 + 1);
-                let opaque = self.opaque_count(xr, yr);
-                classes = classes.union(Classes {
-                    opaque: opaque > 0,
-                    transparent: opaque < area,
-                });
+                classes = classes.union(self.rectangle_classes(xr, yr));
             }
         }
         classes
