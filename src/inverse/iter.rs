@@ -80,10 +80,64 @@ impl Node {
     }
 }
 
+/// The digits below the iterator's anchor node: its leaves are read from
+/// [`LEAVES`], one table entry per micro-triangle.
+const GROUP_DIGITS: u32 = 3;
+
+/// A leaf `GROUP_DIGITS` levels below a node: its origin's offset from the
+/// node's, in leaf units, and its flags.
+#[derive(Clone, Copy)]
+struct Leaf {
+    du: u8,
+    dv: i8,
+    flags: u8,
+}
+
+/// `LEAVES[flags][s]`: the leaf that the digits of `s` (the last
+/// `GROUP_DIGITS` digits of an index) reach from a node with `flags`,
+/// composed from [`CHILDREN`] one digit at a time. The offsets stay within
+/// `0..8` and `-8..8`. A suffix with leading zero digits from the root
+/// (flags 0, so digit 0 is Left: same origin, same flags) is also the leaf
+/// of a shorter suffix, which serves levels below `GROUP_DIGITS`.
+const LEAVES: [[Leaf; 64]; 4] = {
+    let mut table = [[Leaf {
+        du: 0,
+        dv: 0,
+        flags: 0,
+    }; 64]; 4];
+    let mut flags = 0;
+    while flags < 4 {
+        let mut suffix = 0;
+        while suffix < 64 {
+            let (mut du, mut dv, mut node_flags) = (0u64, 0u64, flags as u8);
+            let mut below = GROUP_DIGITS;
+            while below > 0 {
+                below -= 1;
+                let digit = (suffix >> (2 * below)) & 3;
+                let step = CHILDREN[node_flags as usize | (digit << 2)];
+                du += step.du << below;
+                dv = dv.wrapping_add(step.dv << below);
+                node_flags = step.flags;
+            }
+            table[flags][suffix] = Leaf {
+                du: du as u8,
+                dv: dv as i64 as i8,
+                flags: node_flags,
+            };
+            suffix += 1;
+        }
+        flags += 1;
+    }
+    table
+};
+
 /// Every micro-triangle of `level` in curve order (index `0, 1, 2, ...`),
 /// each equal to [`micro_triangle`](super::micro_triangle) of its index.
-/// The iterator keeps the walk's path to the current triangle and redoes
-/// only the part that changes, a third of a node per triangle on average.
+/// The iterator keeps the walk's path down to the node three levels above
+/// the current triangle and redoes only the part that changes: one table
+/// read per micro-triangle (the 64 leaves below a node are tabulated for
+/// each of its four orientations), and a node of the path per 48 triangles
+/// on average.
 ///
 /// ```
 /// use micromap_index::inverse::{micro_triangle, micro_triangles};
@@ -96,11 +150,14 @@ impl Node {
 /// ```
 #[must_use]
 pub fn micro_triangles(level: Level) -> MicroTriangles {
+    let level = level.get();
     let mut iter = MicroTriangles {
-        level: level.get(),
+        level,
         next: 0,
-        last: ((1u128 << (2 * level.get())) - 1) as u64,
+        last: ((1u128 << (2 * level)) - 1) as u64,
+        group_end: (1 << (2 * level.min(GROUP_DIGITS))) - 1,
         done: false,
+        anchor: Node::default(),
         path: [Node::default(); 32],
     };
     iter.descend_from(1);
@@ -115,21 +172,36 @@ pub struct MicroTriangles {
     next: u64,
     /// The last index, `4^level - 1`.
     last: u64,
+    /// The index digits below the anchor, all 3: `next` moves the anchor
+    /// after an index whose low digits are these.
+    group_end: u64,
     done: bool,
-    /// `path[d]` is the node at depth `d` on the way to `next`, for
-    /// `d < level` (the root at depth 0).
+    /// The node at depth `level - GROUP_DIGITS` on the way to `next` (the
+    /// root below that level), the only node the hot path reads: kept out of
+    /// `path` so that it stays at a fixed place.
+    anchor: Node,
+    /// `path[d]` is the node at depth `d` on the way to `next`, for depths
+    /// above the anchor's (the root at depth 0).
     path: [Node; 32],
 }
 
 impl MicroTriangles {
-    /// Recomputes `path[d]` for `d` in `from..level` from `next`.
+    /// Recomputes `path[d]` for `d` in `from..` the anchor's depth, and
+    /// the anchor, from `next`.
     #[inline(always)]
     fn descend_from(&mut self, from: u32) {
-        for depth in from..self.level {
+        let Some(anchor_depth) = self.level.checked_sub(GROUP_DIGITS) else {
+            return; // The anchor is the root.
+        };
+        let mut node = self.path[from as usize - 1];
+        for depth in from..=anchor_depth {
             let below = self.level - depth; // digits below this node's
-            let digit = self.next >> (2 * below);
-            self.path[depth as usize] = self.path[depth as usize - 1].child(digit, below);
+            node = node.child(self.next >> (2 * below), below);
+            if depth < anchor_depth {
+                self.path[depth as usize] = node;
+            }
         }
+        self.anchor = node;
     }
 }
 
@@ -142,26 +214,26 @@ impl Iterator for MicroTriangles {
             return None;
         }
         let index = self.next;
-        let leaf = if self.level == 0 {
-            Node::default()
-        } else {
-            self.path[self.level as usize - 1].child(index, 0)
-        };
-        if index == self.last {
-            self.done = true;
-        } else {
-            self.next = index + 1;
-            // The lowest `k >= 1` digits wrapped to 0: the nodes at depths
-            // `level - k ..` changed.
-            let wrapped = self.next.trailing_zeros() / 2;
-            if wrapped > 0 {
+        let leaf = LEAVES[usize::from(self.anchor.flags & 3)][(index & 63) as usize];
+        let origin = (
+            self.anchor.u + u64::from(leaf.du),
+            self.anchor.v.wrapping_add(leaf.dv as u64),
+        );
+        self.next = index.wrapping_add(1);
+        if index & self.group_end == self.group_end {
+            if index == self.last {
+                self.done = true;
+            } else {
+                // The lowest `k >= GROUP_DIGITS` digits wrapped to 0: the
+                // nodes at depths `level - k ..` changed.
+                let wrapped = self.next.trailing_zeros() / 2;
                 self.descend_from(self.level.saturating_sub(wrapped).max(1));
             }
         }
         Some(MicroTriangle::from_origin(
             Level(self.level as u8),
             index,
-            (leaf.u, leaf.v),
+            origin,
             leaf.flags & DOWN == 0,
         ))
     }
