@@ -84,15 +84,19 @@ pub fn exact_index_f32(u: f32, v: f32, level: Level) -> Result<u64, Error> {
     // Bits of non-negative floats order like the floats; -0.0, NaN and
     // everything negative are above 1.0's bits and take the full check.
     let one = 1f32.to_bits();
-    let simple = u.to_bits() <= one && v.to_bits() <= one && !sum_above_one(u, v);
+    let simple =
+        u.to_bits() <= one && v.to_bits() <= one && !sum_above_one(f64::from(u), f64::from(v));
     if !simple {
         f32::check_point(&u, &v)?;
     }
     if level.get() <= crate::spec::MAX_LEVEL {
         let params = Params::new(level.get(), kernel::EXACT_THRESHOLD);
-        Ok(u64::from(kernel::narrow::<false>(
-            u.to_bits(),
-            v.to_bits(),
+        // The point is in the triangle: without the sign bit (-0.0 is the
+        // only coordinate in it that has one), both are in [0, 1].
+        let unit_bits = |x: f32| x.to_bits() & 0x7fff_ffff;
+        Ok(u64::from(kernel::narrow_in_unit(
+            unit_bits(u),
+            unit_bits(v),
             &params,
         )))
     } else if level.get() <= CLOSED_FORM_PROVED_MAX_LEVEL {
@@ -103,12 +107,12 @@ pub fn exact_index_f32(u: f32, v: f32, level: Level) -> Result<u64, Error> {
     }
 }
 
-/// `u + v > 1` exactly, for `u, v` in `[0, 1]`: the binary64 sum rounds
-/// monotonically and 1 is representable, so only a sum that rounds to
-/// exactly 1 needs its rounding error (Knuth's two-sum, exact here).
+/// `u + v > 1` exactly, for `u, v` in `[0, 1]` (binary64, or binary32
+/// widened exactly): the binary64 sum rounds monotonically and 1 is
+/// representable, so only a sum that rounds to exactly 1 needs its
+/// rounding error (Knuth's two-sum, exact here).
 #[inline]
-fn sum_above_one(u: f32, v: f32) -> bool {
-    let (u, v) = (f64::from(u), f64::from(v));
+fn sum_above_one(u: f64, v: f64) -> bool {
     let sum = u + v;
     if sum != 1.0 {
         return sum > 1.0;
@@ -128,7 +132,12 @@ fn sum_above_one(u: f32, v: f32) -> bool {
 /// ```
 #[inline]
 pub fn exact_index_f64(u: f64, v: f64, level: Level) -> Result<u64, Error> {
-    f64::check_point(&u, &v)?;
+    // As in `exact_index_f32`: the common case without the full check.
+    let one = 1f64.to_bits();
+    let simple = u.to_bits() <= one && v.to_bits() <= one && !sum_above_one(u, v);
+    if !simple {
+        f64::check_point(&u, &v)?;
+    }
     if level.get() <= CLOSED_FORM_PROVED_MAX_LEVEL {
         Ok(closed_form_f64(u, v, level))
     } else {
@@ -166,8 +175,18 @@ fn closed_form_f64(u: f64, v: f64, level: Level) -> u64 {
     let last = ((1u64 << level.get()) - 1) as u32;
     let (iu, uf) = coordinate_f64(u, level.get());
     let (iv, vf) = coordinate_f64(v, level.get());
-    let clamp = |cell: u64| cell.min(u64::from(last)) as u32;
-    kernel::wide_from_clamped_cell(clamp(iu), clamp(iv), uf + vf >= F64_ONE, last)
+    let (iu, iv) = (
+        iu.min(u64::from(last)) as u32,
+        iv.min(u64::from(last)) as u32,
+    );
+    let diagonal = uf + vf >= F64_ONE;
+    if level.get() <= crate::spec::MAX_LEVEL {
+        // The same answer (the wide form's extra steps are no-ops below
+        // level 17) with one interleave instead of two.
+        u64::from(kernel::narrow_from_clamped_cell(iu, iv, diagonal, last))
+    } else {
+        kernel::wide_from_clamped_cell(iu, iv, diagonal, last)
+    }
 }
 
 /// Fraction bits kept of a binary64 coordinate's fraction.
