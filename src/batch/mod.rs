@@ -179,11 +179,75 @@ impl fmt::Display for BatchError {
 
 impl core::error::Error for BatchError {}
 
-fn check_lengths(u: usize, v: usize, out: usize) -> Result<(), BatchError> {
-    if u == v && v == out {
+/// One slice loop of the kernel (`out` of `O`) compiled for each backend;
+/// a compilation returns `false`, writing nothing, where the CPU cannot run
+/// it.
+struct Loops<O> {
+    portable: fn(&[f32], &[f32], &mut [O], &kernel::Params),
+    avx2: fn(&[f32], &[f32], &mut [O], &kernel::Params) -> bool,
+    avx512: fn(&[f32], &[f32], &mut [O], &kernel::Params) -> bool,
+}
+
+/// The reference in 32-bit words; the portable build takes the float cell.
+const NARROW: Loops<u32> = Loops {
+    portable: kernel::narrow_slice::<true>,
+    #[cfg(all(feature = "std", target_arch = "x86_64"))]
+    avx2: arch::narrow_slice_avx2,
+    #[cfg(all(feature = "std", target_arch = "x86_64"))]
+    avx512: arch::narrow_slice_avx512,
+    #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+    avx2: not_built,
+    #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+    avx512: not_built,
+};
+
+/// The reference widened to 64-bit words.
+const WIDE: Loops<u64> = Loops {
+    portable: kernel::wide_slice,
+    #[cfg(all(feature = "std", target_arch = "x86_64"))]
+    avx2: arch::wide_slice_avx2,
+    #[cfg(all(feature = "std", target_arch = "x86_64"))]
+    avx512: arch::wide_slice_avx512,
+    #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+    avx2: not_built,
+    #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+    avx512: not_built,
+};
+
+/// A backend this build does not have.
+#[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+fn not_built<O>(_: &[f32], _: &[f32], _: &mut [O], _: &kernel::Params) -> bool {
+    false
+}
+
+/// Checks the lengths, then runs `loops` on `backend`.
+fn run_loop<O>(
+    backend: Backend,
+    u: &[f32],
+    v: &[f32],
+    out: &mut [O],
+    params: &kernel::Params,
+    loops: &Loops<O>,
+) -> Result<(), BatchError> {
+    if u.len() != v.len() || v.len() != out.len() {
+        return Err(BatchError::LengthMismatch {
+            u: u.len(),
+            v: v.len(),
+            out: out.len(),
+        });
+    }
+    let ran = match backend {
+        Backend::Portable => {
+            (loops.portable)(u, v, out, params);
+            true
+        }
+        Backend::Avx2 => (loops.avx2)(u, v, out, params),
+        Backend::Avx512 => (loops.avx512)(u, v, out, params),
+    };
+    if ran {
         Ok(())
     } else {
-        Err(BatchError::LengthMismatch { u, v, out })
+        Err(BatchError::BackendUnavailable(backend))
     }
 }
 
@@ -238,25 +302,8 @@ pub fn index_f32_with(
     level: SpecLevel,
     out: &mut [u32],
 ) -> Result<(), BatchError> {
-    check_lengths(u.len(), v.len(), out.len())?;
     let params = kernel::Params::new(level.get(), kernel::BINARY32_THRESHOLD);
-    let ran = match backend {
-        Backend::Portable => {
-            kernel::narrow_slice::<true>(u, v, out, &params);
-            true
-        }
-        #[cfg(all(feature = "std", target_arch = "x86_64"))]
-        Backend::Avx2 => arch::narrow_slice_avx2(u, v, out, &params),
-        #[cfg(all(feature = "std", target_arch = "x86_64"))]
-        Backend::Avx512 => arch::narrow_slice_avx512(u, v, out, &params),
-        #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
-        Backend::Avx2 | Backend::Avx512 => false,
-    };
-    if ran {
-        Ok(())
-    } else {
-        Err(BatchError::BackendUnavailable(backend))
-    }
+    run_loop(backend, u, v, out, &params, &NARROW)
 }
 
 /// `out[i] = spec::wide_index_f32(u[i], v[i], level)` for every `i`: the
@@ -299,25 +346,8 @@ pub fn wide_index_f32_with(
     level: Level,
     out: &mut [u64],
 ) -> Result<(), BatchError> {
-    check_lengths(u.len(), v.len(), out.len())?;
     let params = kernel::Params::new(level.get(), kernel::BINARY32_THRESHOLD);
-    let ran = match backend {
-        Backend::Portable => {
-            kernel::wide_slice(u, v, out, &params);
-            true
-        }
-        #[cfg(all(feature = "std", target_arch = "x86_64"))]
-        Backend::Avx2 => arch::wide_slice_avx2(u, v, out, &params),
-        #[cfg(all(feature = "std", target_arch = "x86_64"))]
-        Backend::Avx512 => arch::wide_slice_avx512(u, v, out, &params),
-        #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
-        Backend::Avx2 | Backend::Avx512 => false,
-    };
-    if ran {
-        Ok(())
-    } else {
-        Err(BatchError::BackendUnavailable(backend))
-    }
+    run_loop(backend, u, v, out, &params, &WIDE)
 }
 
 /// The reference in binary32 for one point: the batch kernel on one lane,
