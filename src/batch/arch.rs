@@ -39,85 +39,80 @@ pub(super) fn has_avx512() -> bool {
     }
 }
 
-// `unsafe fn`, not a safe `#[target_feature]` function: the latter needs
-// Rust 1.86, above the crate's minimum supported version.
-/// # Safety
-/// The CPU must support AVX2.
-#[target_feature(enable = "avx2")]
-unsafe fn narrow_avx2(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) {
-    kernel::narrow_slice::<false>(u, v, out, params);
+/// Stamps one kernel loop compiled with target features: an `unsafe fn`
+/// with `#[target_feature]` (not a safe `#[target_feature]` function, which
+/// needs Rust 1.86, above the crate's minimum supported version) and the
+/// safe entry point that calls it only after detecting every feature it
+/// enables, returning `false` (nothing written) otherwise.
+macro_rules! feature_loop {
+    (
+        $(#[$cfg:meta])?
+        $doc:literal, $entry:ident, $compiled:ident, $features:literal, $detected:expr,
+        $out:ty, $kernel:expr
+    ) => {
+        $(#[$cfg])?
+        /// # Safety
+        /// The CPU must support every feature in the `target_feature` list.
+        #[target_feature(enable = $features)]
+        unsafe fn $compiled(u: &[f32], v: &[f32], out: &mut [$out], params: &Params) {
+            $kernel(u, v, out, params);
+        }
+
+        #[doc = $doc]
+        pub(super) fn $entry(u: &[f32], v: &[f32], out: &mut [$out], params: &Params) -> bool {
+            $(#[$cfg])?
+            if $detected {
+                // SAFETY: every feature the compiled loop enables was
+                // detected just above; its body is safe code on valid
+                // slices.
+                unsafe { $compiled(u, v, out, params) };
+                return true;
+            }
+            let _ = (u, v, out, params);
+            false
+        }
+    };
 }
 
-/// # Safety
-/// The CPU must support AVX2.
-#[target_feature(enable = "avx2")]
-unsafe fn wide_avx2(u: &[f32], v: &[f32], out: &mut [u64], params: &Params) {
-    kernel::wide_slice(u, v, out, params);
-}
-
-#[cfg(micromap_avx512)]
-/// # Safety
-/// The CPU must support AVX-512 F, BW, VL and DQ.
-#[target_feature(enable = "avx512f,avx512bw,avx512vl,avx512dq")]
-unsafe fn narrow_avx512(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) {
-    kernel::narrow_slice::<false>(u, v, out, params);
-}
-
-#[cfg(micromap_avx512)]
-/// # Safety
-/// The CPU must support AVX-512 F, BW, VL and DQ.
-#[target_feature(enable = "avx512f,avx512bw,avx512vl,avx512dq")]
-unsafe fn wide_avx512(u: &[f32], v: &[f32], out: &mut [u64], params: &Params) {
-    kernel::wide_slice(u, v, out, params);
-}
-
-/// [`kernel::narrow_slice`] with AVX2; `false` (nothing written) if the CPU
-/// lacks AVX2.
-pub(super) fn narrow_slice_avx2(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) -> bool {
-    if !has_avx2() {
-        return false;
-    }
-    // SAFETY: `narrow_avx2`'s only requirement is AVX2, which the CPU has
-    // (checked just above); its body is safe code on valid slices.
-    unsafe { narrow_avx2(u, v, out, params) };
-    true
-}
-
-/// [`kernel::wide_slice`] with AVX2; `false` if the CPU lacks AVX2.
-pub(super) fn wide_slice_avx2(u: &[f32], v: &[f32], out: &mut [u64], params: &Params) -> bool {
-    if !has_avx2() {
-        return false;
-    }
-    // SAFETY: as in `narrow_slice_avx2`: "avx2" was detected just above.
-    unsafe { wide_avx2(u, v, out, params) };
-    true
-}
-
-/// [`kernel::narrow_slice`] with AVX-512; `false` if the CPU lacks one of
-/// the features or the compiler could not build the backend.
-pub(super) fn narrow_slice_avx512(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) -> bool {
+feature_loop!(
+    "[`kernel::narrow_slice`] with AVX2; `false` if the CPU lacks AVX2.",
+    narrow_slice_avx2,
+    narrow_avx2,
+    "avx2",
+    has_avx2(),
+    u32,
+    kernel::narrow_slice::<false>
+);
+feature_loop!(
+    "[`kernel::wide_slice`] with AVX2; `false` if the CPU lacks AVX2.",
+    wide_slice_avx2,
+    wide_avx2,
+    "avx2",
+    has_avx2(),
+    u64,
+    kernel::wide_slice
+);
+feature_loop!(
     #[cfg(micromap_avx512)]
-    if avx512_detected!() {
-        // SAFETY: every feature `narrow_avx512` enables was detected just
-        // above; the function itself is safe code on valid slices.
-        unsafe { narrow_avx512(u, v, out, params) };
-        return true;
-    }
-    let _ = (u, v, out, params);
-    false
-}
-
-/// [`kernel::wide_slice`] with AVX-512; `false` if unavailable.
-pub(super) fn wide_slice_avx512(u: &[f32], v: &[f32], out: &mut [u64], params: &Params) -> bool {
+    "[`kernel::narrow_slice`] with AVX-512; `false` if the CPU lacks one of \
+     the features or the compiler could not build the backend.",
+    narrow_slice_avx512,
+    narrow_avx512,
+    "avx512f,avx512bw,avx512vl,avx512dq",
+    avx512_detected!(),
+    u32,
+    kernel::narrow_slice::<false>
+);
+feature_loop!(
     #[cfg(micromap_avx512)]
-    if avx512_detected!() {
-        // SAFETY: every feature `wide_avx512` enables was detected just above.
-        unsafe { wide_avx512(u, v, out, params) };
-        return true;
-    }
-    let _ = (u, v, out, params);
-    false
-}
+    "[`kernel::wide_slice`] with AVX-512; `false` if unavailable.",
+    wide_slice_avx512,
+    wide_avx512,
+    "avx512f,avx512bw,avx512vl,avx512dq",
+    avx512_detected!(),
+    u64,
+    kernel::wide_slice
+);
 
 /// # Safety
 /// The CPU must support `popcnt`.
