@@ -84,8 +84,10 @@ pub fn exact_index_f32(u: f32, v: f32, level: Level) -> Result<u64, Error> {
     // Bits of non-negative floats order like the floats; -0.0, NaN and
     // everything negative are above 1.0's bits and take the full check.
     let one = 1f32.to_bits();
-    let simple =
-        u.to_bits() <= one && v.to_bits() <= one && !sum_above_one(f64::from(u), f64::from(v));
+    // A binary64 sum below 1 means a real sum below 1 (rounding is
+    // monotonic and 1 is representable); a sum of exactly 1 and everything
+    // else take the full check. `&`, not `&&`: one branch.
+    let simple = (u.to_bits() <= one) & (v.to_bits() <= one) & (f64::from(u) + f64::from(v) < 1.0);
     if !simple {
         f32::check_point(&u, &v)?;
     }
@@ -107,21 +109,6 @@ pub fn exact_index_f32(u: f32, v: f32, level: Level) -> Result<u64, Error> {
     }
 }
 
-/// `u + v > 1` exactly, for `u, v` in `[0, 1]` (binary64, or binary32
-/// widened exactly): the binary64 sum rounds monotonically and 1 is
-/// representable, so only a sum that rounds to exactly 1 needs its
-/// rounding error (Knuth's two-sum, exact here).
-#[inline]
-fn sum_above_one(u: f64, v: f64) -> bool {
-    let sum = u + v;
-    if sum != 1.0 {
-        return sum > 1.0;
-    }
-    let v_part = sum - u;
-    let u_part = sum - v_part;
-    (u - u_part) + (v - v_part) > 0.0
-}
-
 /// The exact walk's index for a finite binary64 point: equal to the walk
 /// over the reals at the same point, for every level `0..=32`, with
 /// integers only (computed like [`exact_index_f32`]).
@@ -134,7 +121,8 @@ fn sum_above_one(u: f64, v: f64) -> bool {
 pub fn exact_index_f64(u: f64, v: f64, level: Level) -> Result<u64, Error> {
     // As in `exact_index_f32`: the common case without the full check.
     let one = 1f64.to_bits();
-    let simple = u.to_bits() <= one && v.to_bits() <= one && !sum_above_one(u, v);
+    #[allow(clippy::needless_bitwise_bool)] // one branch, not three
+    let simple = (u.to_bits() <= one) & (v.to_bits() <= one) & (u + v < 1.0);
     if !simple {
         f64::check_point(&u, &v)?;
     }
