@@ -198,14 +198,15 @@ fn coordinate_f64(x: f64, level: u32) -> (u64, u64) {
     let hidden = if biased == 0 { 0 } else { 1 << 52 };
     let m = (clamped & ((1 << 52) - 1)) | hidden;
     let s = 1075 - level - biased.max(1);
-    let cell = m.checked_shr(s).unwrap_or(0);
-    let fraction = m & 1u64.checked_shl(s).map_or(u64::MAX, |bit| bit - 1);
-    let scaled = if s <= F64_FRACTION_BITS {
-        fraction << (F64_FRACTION_BITS - s)
-    } else {
-        fraction.checked_shr(s - F64_FRACTION_BITS).unwrap_or(0)
-    };
-    (cell, scaled)
+    // floor(x * 2^(level + 62)) = (m << 62) >> s in one 128-bit word
+    // (m << 62 < 2^115): the cell above the low 62 bits, the fraction in them.
+    let scaled = (u128::from(m) << F64_FRACTION_BITS)
+        .checked_shr(s)
+        .unwrap_or(0);
+    (
+        (scaled >> F64_FRACTION_BITS) as u64,
+        scaled as u64 & (F64_ONE - 1),
+    )
 }
 
 unstable_pub_fn! {
