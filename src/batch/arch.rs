@@ -81,7 +81,7 @@ feature_loop!(
     "avx2",
     has_avx2(),
     u32,
-    kernel::narrow_slice::<false>
+    kernel::narrow_slice::<{ kernel::CELL_BY_TRUNC }>
 );
 feature_loop!(
     "[`kernel::wide_slice`] with AVX2; `false` if the CPU lacks AVX2.",
@@ -101,7 +101,7 @@ feature_loop!(
     "avx512f,avx512bw,avx512vl,avx512dq",
     avx512_detected!(),
     u32,
-    kernel::narrow_slice::<false>
+    kernel::narrow_slice::<{ kernel::CELL_BY_SHIFTS }>
 );
 feature_loop!(
     #[cfg(micromap_avx512)]

@@ -172,7 +172,36 @@ pub(crate) fn unit_coordinate(bits: u32, params: &Params) -> (u32, u32) {
     (cell, scaled as u32 & 0x7fff_ffff)
 }
 
-/// Cell clamped to `last` and the exact binary32 fraction, by the
+/// The reference's clamp to `[0, 1]` on floats, with two changes that
+/// leave its index alone:
+///
+/// * Subnormals are flushed to 0 (with NaN, negatives and zeros they fail
+///   the first test; NaN compares false). This keeps the float steps after
+///   it off the slow paths CPUs take on subnormals: a subnormal's cell is 0
+///   and its fraction, below `2^-110` at level 16, cannot move `uf + vf`
+///   across `1 - 2^-25` (the other fraction is at most `1 - 2^-24`).
+/// * Everything from 1 up (`+inf` too) becomes `1 - 2^-24`, the float below
+///   1, whose cell is `last` at every level `0..=16`: the cell the
+///   reference clamps `x = 1` to, so no cell needs clamping afterwards. Its
+///   fraction differs from `x = 1`'s 0 but is never read: a cell of `last`
+///   makes `iu + iv < last` false, which rules the diagonal step out.
+#[inline(always)]
+fn clamp_flushed(bits: u32) -> f32 {
+    const BELOW_ONE: f32 = 1.0 - f32::EPSILON / 2.0;
+    let x = f32::from_bits(bits);
+    let x = if x >= f32::MIN_POSITIVE { x } else { 0.0 };
+    if x < BELOW_ONE {
+        x
+    } else {
+        BELOW_ONE
+    }
+}
+
+/// `2^23`: adding it to a float in `[0, 2^23)` leaves an integer in the low
+/// bits of the sum's significand.
+const MAGIC: f32 = 8_388_608.0;
+
+/// Cell (at most `last`) and the exact binary32 fraction, by the
 /// reference's own float operations (every one exact): `fu = x * 2^level`,
 /// `iu = trunc(fu)`, `uf = fu - iu`. Levels `0..=16` (`fu <= 2^16`).
 ///
@@ -182,27 +211,25 @@ pub(crate) fn unit_coordinate(bits: u32, params: &Params) -> (u32, u32) {
 /// and `r - 1` is taken when `r > fu`.
 #[inline(always)]
 fn coordinate_float(bits: u32, params: &Params) -> (u32, f32) {
-    const MAGIC: f32 = 8_388_608.0; // 2^23
-                                    // Subnormals flushed to 0 (CPUs take slow paths on them): their cell is
-                                    // 0 and their fraction, below 2^-110 at level 16, cannot move `uf + vf`
-                                    // across `1 - 2^-25` (the other fraction is at most 1 - 2^-24).
-    let clamped = clamp_bits(bits);
-    let x = f32::from_bits(if clamped < 0x0080_0000 { 0 } else { clamped });
-    let fu = x * params.scale;
+    let fu = clamp_flushed(bits) * params.scale;
     let sum = fu + MAGIC;
     let rounded = sum - MAGIC;
     let above = rounded > fu;
     let truncated = if above { rounded - 1.0 } else { rounded };
     let cell = (sum.to_bits() & 0x7f_ffff) - u32::from(above);
-    let uf = fu - truncated;
-    (
-        if cell > params.last {
-            params.last
-        } else {
-            cell
-        },
-        uf,
-    )
+    (cell, fu - truncated)
+}
+
+/// [`coordinate_float`] for targets with a vector truncation (SSE4.1's
+/// `roundps` and up; elsewhere `trunc` is a library call): `trunc` takes
+/// the cell as a float, and the `2^23` sum turns it into an integer.
+#[cfg(feature = "std")]
+#[inline(always)]
+fn coordinate_trunc(bits: u32, params: &Params) -> (u32, f32) {
+    let fu = clamp_flushed(bits) * params.scale;
+    let truncated = fu.trunc();
+    let cell = (truncated + MAGIC).to_bits() & 0x7f_ffff;
+    (cell, fu - truncated)
 }
 
 /// The reference's integer half from clamped cells (`iu, iv <= last`):
@@ -211,8 +238,15 @@ fn coordinate_float(bits: u32, params: &Params) -> (u32, f32) {
 #[inline(always)]
 fn integer_half<const WIDE: bool>(iu: u32, iv: u32, diagonal: bool, last: u32) -> (u32, u32) {
     let room = last - iv;
-    let d = u32::from(diagonal && iu < room);
-    let iu = if iu < room { iu } else { room };
+    // Below level 17 every value is under 2^16, so a signed compare (one
+    // instruction in SSE2 and AVX2, which lack unsigned ones) is the same.
+    let below_room = if WIDE {
+        iu < room
+    } else {
+        (iu as i32) < (room as i32)
+    };
+    let d = u32::from(diagonal && below_room);
+    let iu = if below_room { iu } else { room };
     let b0 = (iu ^ (iu + iv + d)) & last;
     let t = (iu ^ iv) & b0;
     let mut f = t;
@@ -244,12 +278,26 @@ fn interleave_16(b0: u32, b1: u32) -> u32 {
     x
 }
 
+/// How [`narrow`] takes the cell and fraction: [`coordinate`]'s shifts.
+pub(crate) const CELL_BY_SHIFTS: u8 = 0;
+/// [`coordinate_float`]'s float steps (SSE2 has no per-lane shifts).
+pub(crate) const CELL_BY_FLOAT: u8 = 1;
+/// [`coordinate_trunc`]'s float steps with a truncation instruction.
+#[cfg(feature = "std")]
+pub(crate) const CELL_BY_TRUNC: u8 = 2;
+
 /// The reference in binary32 for one pair of bit patterns, levels `0..=16`:
-/// the same bits as `spec::index_f32`. `FLOAT_CELL` picks
-/// [`coordinate_float`] over the integer [`coordinate`].
+/// the same bits as `spec::index_f32`, the cell and fraction taken as `CELL`
+/// says.
 #[inline(always)]
-pub(crate) fn narrow<const FLOAT_CELL: bool>(u_bits: u32, v_bits: u32, params: &Params) -> u32 {
-    let (iu, iv, diagonal) = if FLOAT_CELL {
+pub(crate) fn narrow<const CELL: u8>(u_bits: u32, v_bits: u32, params: &Params) -> u32 {
+    #[cfg(feature = "std")]
+    if CELL == CELL_BY_TRUNC {
+        let (iu, uf) = coordinate_trunc(u_bits, params);
+        let (iv, vf) = coordinate_trunc(v_bits, params);
+        return narrow_from_clamped_cell(iu, iv, uf + vf >= 1.0, params.last);
+    }
+    let (iu, iv, diagonal) = if CELL == CELL_BY_FLOAT {
         let (iu, uf) = coordinate_float(u_bits, params);
         let (iv, vf) = coordinate_float(v_bits, params);
         (iu, iv, uf + vf >= 1.0)
@@ -302,14 +350,9 @@ pub(crate) fn wide_from_clamped_cell(iu: u32, iv: u32, diagonal: bool, last: u32
 
 /// [`narrow`] over slices of equal length (checked by the caller).
 #[inline(always)]
-pub(crate) fn narrow_slice<const FLOAT_CELL: bool>(
-    u: &[f32],
-    v: &[f32],
-    out: &mut [u32],
-    params: &Params,
-) {
+pub(crate) fn narrow_slice<const CELL: u8>(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) {
     for ((out, u), v) in out.iter_mut().zip(u).zip(v) {
-        *out = narrow::<FLOAT_CELL>(u.to_bits(), v.to_bits(), params);
+        *out = narrow::<CELL>(u.to_bits(), v.to_bits(), params);
     }
 }
 

@@ -190,7 +190,7 @@ struct Loops<O> {
 
 /// The reference in 32-bit words; the portable build takes the float cell.
 const NARROW: Loops<u32> = Loops {
-    portable: kernel::narrow_slice::<true>,
+    portable: kernel::narrow_slice::<{ kernel::CELL_BY_FLOAT }>,
     #[cfg(all(feature = "std", target_arch = "x86_64"))]
     avx2: arch::narrow_slice_avx2,
     #[cfg(all(feature = "std", target_arch = "x86_64"))]
@@ -365,5 +365,5 @@ pub fn wide_index_f32_with(
 #[must_use]
 pub fn index_f32_one(u: f32, v: f32, level: SpecLevel) -> u32 {
     let params = kernel::Params::new(level.get(), kernel::BINARY32_THRESHOLD);
-    kernel::narrow::<false>(u.to_bits(), v.to_bits(), &params)
+    kernel::narrow::<{ kernel::CELL_BY_SHIFTS }>(u.to_bits(), v.to_bits(), &params)
 }
