@@ -101,7 +101,7 @@ feature_loop!(
     "avx512f,avx512bw,avx512vl,avx512dq",
     avx512_detected!(),
     u32,
-    kernel::narrow_slice::<{ kernel::CELL_BY_SHIFTS }>
+    kernel::narrow_slice::<{ kernel::CELL_BY_TRUNC }>
 );
 feature_loop!(
     #[cfg(micromap_avx512)]
