@@ -4,6 +4,17 @@
 //! AVX-512 enabled; everything here is `#[inline(always)]` so that each
 //! caller gets its own copy under its own target features.
 //!
+//! # The first half in floats
+//!
+//! [`narrow`] takes the cell and fraction as `CELL` says. The vector
+//! backends use the reference's own binary32 steps ([`coordinate_trunc`]
+//! with a truncation instruction, [`coordinate_float`] with the `2^23`
+//! rounding trick on SSE2), after a float clamp that flushes subnormals and
+//! stops below 1 ([`clamp_flushed`] says why neither changes the index),
+//! and decide `uf + vf >= 1.0f` as the reference does: fewer operations
+//! than the shifts below, which serve the wide form (levels above 16) and
+//! the scalar callers.
+//!
 //! # The first half on the bits
 //!
 //! The Vulkan reference clamps `x` to `[0, 1]`, multiplies by `2^level`,

@@ -3,20 +3,23 @@
 //!
 //! Ray tracers and bakers map millions of hits per frame. [`index_f32`]
 //! validates the level and the slice lengths once, then runs a branch-free
-//! rewrite of the reference's steps on the float bits (see
-//! `src/batch/kernel.rs` for the derivation) over the whole slice:
+//! rewrite of the reference's steps (see `src/batch/kernel.rs` for the
+//! derivation) over the whole slice:
 //!
-//! * NaN and negatives clamp to 0, everything from 1 up (`+inf` too) to 1,
-//!   by comparisons on the bits;
-//! * the cell `trunc(x * 2^level)` and the fraction come from the exponent
-//!   and significand by shifts;
-//! * the reference's `uf + vf >= 1.0f`, rounded in binary32, is decided
-//!   exactly as `uf + vf >= 1 - 2^-25` on 31-bit fractions;
-//! * the fold, prefix XOR and interleave are the reference's integer half.
+//! * the clamp by float comparisons (NaN and negatives to 0), with two
+//!   changes that leave the index alone: subnormals are flushed to 0 and
+//!   everything from 1 up becomes the float below 1, whose cell is the one
+//!   the reference clamps 1's to;
+//! * the cell `trunc(x * 2^level)` and the fraction by the reference's own
+//!   float operations, all exact (a vector truncation where the CPU has one,
+//!   the `2^23` rounding trick on SSE2);
+//! * the reference's `uf + vf >= 1.0f` as it is, in binary32;
+//! * the fold, prefix XOR and interleave: the reference's integer half.
 //!
-//! The portable build takes the cell and fraction with the reference's own
-//! float operations instead (all exact; SSE2 has no per-lane shifts), with
-//! subnormals flushed first; either way the result is the reference's bits.
+//! The wide form (and [`index_f32_one`]) takes the cell and fraction from
+//! the exponent and significand by shifts instead, and decides the rounded
+//! `uf + vf >= 1.0f` exactly as `uf + vf >= 1 - 2^-25` on 31-bit
+//! fractions. Every way gives the reference's bits.
 //!
 //! # Backends
 //!
