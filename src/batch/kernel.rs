@@ -226,7 +226,7 @@ fn coordinate_float(bits: u32, params: &Params) -> (u32, f32) {
     let sum = fu + MAGIC;
     let rounded = sum - MAGIC;
     let above = rounded > fu;
-    let truncated = if above { rounded - 1.0 } else { rounded };
+    let truncated = rounded - if above { 1.0 } else { 0.0 };
     let cell = (sum.to_bits() & 0x7f_ffff) - u32::from(above);
     (cell, fu - truncated)
 }
