@@ -289,7 +289,8 @@ fn interleave_16(b0: u32, b1: u32) -> u32 {
     x
 }
 
-/// How [`narrow`] takes the cell and fraction: [`coordinate`]'s shifts.
+/// How [`narrow`] takes the cell and fraction: the bits clamped, then
+/// [`unit_coordinate`]'s one 64-bit shift (scalar callers).
 pub(crate) const CELL_BY_SHIFTS: u8 = 0;
 /// [`coordinate_float`]'s float steps (SSE2 has no per-lane shifts).
 pub(crate) const CELL_BY_FLOAT: u8 = 1;
@@ -308,16 +309,13 @@ pub(crate) fn narrow<const CELL: u8>(u_bits: u32, v_bits: u32, params: &Params) 
         let (iv, vf) = coordinate_trunc(v_bits, params);
         return narrow_from_clamped_cell(iu, iv, uf + vf >= 1.0, params.last);
     }
-    let (iu, iv, diagonal) = if CELL == CELL_BY_FLOAT {
+    if CELL == CELL_BY_FLOAT {
         let (iu, uf) = coordinate_float(u_bits, params);
         let (iv, vf) = coordinate_float(v_bits, params);
-        (iu, iv, uf + vf >= 1.0)
+        narrow_from_clamped_cell(iu, iv, uf + vf >= 1.0, params.last)
     } else {
-        let (iu, uf) = coordinate::<false>(u_bits, params);
-        let (iv, vf) = coordinate::<false>(v_bits, params);
-        (iu, iv, uf + vf >= params.threshold)
-    };
-    narrow_from_clamped_cell(iu, iv, diagonal, params.last)
+        narrow_in_unit(clamp_bits(u_bits), clamp_bits(v_bits), params)
+    }
 }
 
 /// [`narrow`] for bits already in `[0, 1]` (callers check `bits <=
