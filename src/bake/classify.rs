@@ -2,7 +2,7 @@
 //! sample: texel classes with prefix sums, the image of a block of texel
 //! coordinates under the address modes, and an exact block search.
 
-use super::exact::ExactTriangle;
+use super::exact::{ExactTriangle, GridInt};
 use super::texture::{AddressMode, AlphaTexture, Cutoff, Filter, Sampler, TextureError};
 use alloc::vec::Vec;
 
@@ -307,13 +307,18 @@ impl TexelClasses {
     /// The texel coordinates whose footprint can hold the sample point
     /// `p` in grid units (`unit = 2^shift` per texel): nearest
     /// `floor(p)`; linear `floor(p - 1/2)` and the next one.
+    /// In the coordinates' own type `C`: the caller's bound keeps `lo`,
+    /// `hi` and half a grid cell's offset from them in range.
     #[inline]
-    fn footprint(&self, lo: i128, hi: i128, shift: u32) -> (i128, i128) {
+    fn footprint<C: GridInt>(&self, lo: C, hi: C, shift: u32) -> (i128, i128) {
         match self.sampler.filter {
-            Filter::Nearest => (lo >> shift, hi >> shift),
+            Filter::Nearest => ((lo >> shift).into(), (hi >> shift).into()),
             Filter::Linear => {
-                let half = 1i128 << (shift - 1);
-                ((lo - half) >> shift, ((hi - half) >> shift) + 1)
+                let half = C::from(1) << (shift - 1);
+                (
+                    ((lo - half) >> shift).into(),
+                    ((hi - half) >> shift).into() + 1,
+                )
             }
         }
     }
@@ -333,10 +338,10 @@ impl TexelClasses {
 
     /// The footprint block of a point set with grid bounding box
     /// `[min_x, max_x] x [min_y, max_y]`.
-    pub(crate) fn bounding_block(
+    pub(crate) fn bounding_block<C: GridInt>(
         &self,
-        (min_x, max_x): (i128, i128),
-        (min_y, max_y): (i128, i128),
+        (min_x, max_x): (C, C),
+        (min_y, max_y): (C, C),
         (sx, sy): (u32, u32),
     ) -> Block {
         let (x0, x1) = self.footprint(min_x, max_x, sx);
