@@ -338,6 +338,7 @@ impl TexelClasses {
 
     /// The footprint block of a point set with grid bounding box
     /// `[min_x, max_x] x [min_y, max_y]`.
+    #[inline]
     pub(crate) fn bounding_block<C: GridInt>(
         &self,
         (min_x, max_x): (C, C),

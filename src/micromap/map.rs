@@ -618,12 +618,19 @@ impl Micromap {
                 format: self.format,
             });
         }
+        self.write(index, state);
+        Ok(())
+    }
+
+    /// [`set`](Self::set) past its checks: `index` below `len`, `state` in
+    /// the format.
+    #[inline]
+    fn write(&mut self, index: u64, state: State) {
         let (byte, shift) = self.position(index);
         let mask = (1u8 << self.format.bits_per_state()) - 1;
         if let Some(slot) = self.data.get_mut(byte) {
             *slot = (*slot & !(mask << shift)) | (state.bits() << shift);
         }
-        Ok(())
     }
 
     /// Sets micro-triangles `start..start + count` to `state`: the
@@ -654,22 +661,26 @@ impl Micromap {
                 format: self.format,
             });
         }
-        let per_byte = u64::from(8 / self.format.bits_per_state());
+        // 8 or 4 states a byte: shifts and masks, not divisions (a bake
+        // fills many short ranges).
+        let per_byte_log2 = 4 - self.format.bits_per_state();
+        let per_byte = 1u64 << per_byte_log2;
         let pattern = match self.format {
             Format::TwoState => 0u8.wrapping_sub(state.bits() & 1),
             Format::FourState => state.bits() * 0b0101_0101,
         };
         let mut i = start;
         while i < end {
-            if i % per_byte == 0 && end - i >= per_byte {
-                let first = (i / per_byte) as usize;
-                let bytes = ((end - i) / per_byte) as usize;
+            if i & (per_byte - 1) == 0 && end - i >= per_byte {
+                let first = (i >> per_byte_log2) as usize;
+                let bytes = ((end - i) >> per_byte_log2) as usize;
                 if let Some(run) = self.data.get_mut(first..first + bytes) {
                     run.fill(pattern);
                 }
-                i += bytes as u64 * per_byte;
+                i += (bytes as u64) << per_byte_log2;
             } else {
-                self.set(i, state)?;
+                // In range and in the format: checked above.
+                self.write(i, state);
                 i += 1;
             }
         }
