@@ -389,7 +389,7 @@ impl Baker {
     }
 
     /// The placed triangle's bounding block of texels.
-    fn bounding_block<C: GridInt>(&self, p: &Placed<C>, shifts: (u32, u32)) -> Block {
+    fn bounding_block<C: GridInt>(&self, p: &Placed<C>, shifts: (u32, u32)) -> Block<C> {
         let min_max = |c: [C; 3]| (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
         self.classes
             .bounding_block(min_max(p.x), min_max(p.y), shifts)

@@ -103,10 +103,11 @@ impl Wide {
 pub(crate) trait GridInt:
     Copy
     + Ord
-    + From<u8>
+    + From<u32>
     + Into<i128>
     + Add<Output = Self>
     + Sub<Output = Self>
+    + Mul<Output = Self>
     + Shl<u32, Output = Self>
     + Shr<u32, Output = Self>
 {
@@ -115,10 +116,11 @@ pub(crate) trait GridInt:
 impl<T> GridInt for T where
     T: Copy
         + Ord
-        + From<u8>
+        + From<u32>
         + Into<i128>
         + Add<Output = T>
         + Sub<Output = T>
+        + Mul<Output = T>
         + Shl<u32, Output = T>
         + Shr<u32, Output = T>
 {
