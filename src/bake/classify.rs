@@ -233,23 +233,23 @@ impl TexelClasses {
             return Err(TextureError::NanThreshold);
         }
         let stride = width as usize + 1;
-        let mut prefix = alloc::vec![0u32; stride * (height as usize + 1)];
-        let mut opaque = alloc::vec![0u8; width as usize * height as usize];
-        // Row by row over slices: the classes first (independent texel
-        // reads), then the running sums, without per-texel index checks.
-        for (y, row) in (0..height).zip(opaque.chunks_exact_mut(width as usize)) {
-            for (x, texel) in (0..width).zip(row.iter_mut()) {
-                *texel = u8::from(texture.is_opaque(x, y, &cutoff));
-            }
+        // Both tables are appended row by row, never zero-filled first
+        // (this pass is a large part of a bake of few micro-triangles).
+        let mut opaque = Vec::with_capacity(width as usize * height as usize);
+        for y in 0..height {
+            opaque.extend((0..width).map(|x| u8::from(texture.is_opaque(x, y, &cutoff))));
         }
-        for (y, row) in opaque.chunks_exact(width as usize).enumerate() {
-            let (above, below) = prefix.split_at_mut((y + 1) * stride);
-            let above = &above[y * stride..];
+        let mut prefix = Vec::with_capacity(stride * (height as usize + 1));
+        // The row of sums being built, from the one above, in place.
+        let mut sums = alloc::vec![0u32; stride];
+        prefix.extend_from_slice(&sums);
+        for row in opaque.chunks_exact(width as usize) {
             let mut run = 0u32;
-            for ((sum, &up), &texel) in below[1..stride].iter_mut().zip(&above[1..]).zip(row) {
+            for (sum, &texel) in sums[1..].iter_mut().zip(row) {
                 run += u32::from(texel);
-                *sum = up + run;
+                *sum += run;
             }
+            prefix.extend_from_slice(&sums);
         }
         Ok(TexelClasses {
             width,
