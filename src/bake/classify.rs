@@ -309,8 +309,10 @@ impl TexelClasses {
         Some((x, y))
     }
 
-    /// The classes the texels of `block` read (after wrapping).
-    #[inline]
+    /// The classes the texels of `block` read (after wrapping). Always
+    /// inlined: the walk reads one block a node, and a call costs a good
+    /// part of the lookup itself.
+    #[inline(always)]
     fn block_classes<C: GridInt>(&self, block: Block<C>) -> Classes {
         // Inside the texture (the common case, inlined): one rectangle,
         // whose coordinates are below 2^32 (exact casts).
