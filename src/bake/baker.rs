@@ -219,14 +219,17 @@ fn floor_third(q: i128) -> i128 {
     }
 }
 
-/// A micro-triangle of the bake's top-down walk: its depth and index in
-/// the tree, its grid vertices `(x, y)`, and the walk's `top_flip` (which
-/// numbers its children).
-struct Node<C> {
-    depth: u32,
-    index: u64,
-    vertices: [(C, C); 3],
-    top_flip: bool,
+/// What the walk of [`Baker::bake`] carries from node to node: the level,
+/// the frames' shifts, the 2-state policy, the map and counts it fills,
+/// whether a micro-triangle ran out of budget, and the search's stack.
+struct Walk<'a> {
+    level: u32,
+    shifts: (u32, u32),
+    two_state: UnknownPolicy,
+    map: &'a mut Micromap,
+    counts: &'a mut [u64; 4],
+    exhausted: bool,
+    stack: Vec<Block>,
 }
 
 /// One micro-triangle placed on the grid, in coordinates of type `C`.
@@ -473,82 +476,85 @@ impl Baker {
         map: &mut Micromap,
         counts: &mut [u64; 4],
     ) -> Result<bool, BakeError> {
-        let n = level;
-        let format = map.format();
-        let mut exhausted = false;
-        let mut stack = Vec::new();
-        // Top-down over the micromap's tree: a micro-triangle of a coarser
-        // level contains its descendants, so a uniform one decides all of
-        // them (a contiguous index range) at once; only mixed ones descend.
-        // Each node carries its grid vertices: a child's are its parent's
-        // and their midpoints (exact: at depth d < n every grid coordinate
-        // is a multiple of 2^(n - d), see `AxisFrame::at`, so the sums are
-        // even and halving is a shift), so no vertex is placed from scratch.
-        let midpoint = |a: (C, C), b: (C, C)| ((a.0 + b.0) >> 1, (a.1 + b.1) >> 1);
-        let mut nodes: Vec<Node<C>> = Vec::new();
-        nodes.push(Node {
-            depth: 0,
-            index: 0,
-            vertices: [0, 1, 2].map(|k| (root.x[k], root.y[k])),
-            top_flip: false,
-        });
-        while let Some(node) = nodes.pop() {
-            let (depth, index) = (node.depth, node.index);
-            let up = n - depth;
-            let p = Placed {
-                x: node.vertices.map(|v| v.0),
-                y: node.vertices.map(|v| v.1),
-            };
-            // Above the finest level only the bounding block is read: a
-            // mixed block descends, and the children decide more cheaply
-            // than an exact search over a large triangle would.
-            let (classes, out_of_budget) = if depth < n {
-                (self.quick_classes(&p, shifts), false)
-            } else {
-                self.classify(&p, shifts, &mut stack)
-            };
-            let known = match (classes.opaque, classes.transparent) {
-                (true, false) => Some(State::Opaque),
-                (false, true) => Some(State::Transparent),
-                _ => None,
-            };
-            if let Some(state) = known {
-                let count = 1u64 << (2 * up);
-                counts[state.bits() as usize] += count;
-                map.fill(index << (2 * up), count, state)?;
-                continue;
-            }
-            if depth < n {
-                for child in (0..4).rev() {
-                    let (vertices, top_flip) = crate::inverse::child_vertices(
-                        child,
-                        node.top_flip,
-                        node.vertices,
-                        midpoint,
-                    );
-                    nodes.push(Node {
-                        depth: depth + 1,
-                        index: 4 * index + u64::from(child),
-                        vertices,
-                        top_flip,
-                    });
-                }
-                continue;
-            }
-            exhausted |= out_of_budget;
-            let state = if self.centroid_is_opaque(&p, shifts) {
-                State::UnknownOpaque
-            } else {
-                State::UnknownTransparent
-            };
-            counts[state.bits() as usize] += 1;
-            let stored = match format {
-                Format::FourState => state,
-                Format::TwoState => two_state.resolve(state),
-            };
-            map.set(index, stored)?;
+        let mut walk = Walk {
+            level,
+            shifts,
+            two_state,
+            map,
+            counts,
+            exhausted: false,
+            stack: Vec::new(),
+        };
+        let vertices = [0, 1, 2].map(|k| (root.x[k], root.y[k]));
+        self.visit(&mut walk, 0, 0, vertices, false)?;
+        Ok(walk.exhausted)
+    }
+
+    /// One micro-triangle of the walk: its depth and index in the tree,
+    /// its grid vertices `(x, y)`, and the walk's `top_flip` (which numbers
+    /// its children). A micro-triangle of a coarser level contains its
+    /// descendants, so a uniform one decides all of them (a contiguous
+    /// index range) at once; only mixed ones descend, by recursion (depth
+    /// at most the level). A child's vertices are its parent's and their
+    /// midpoints (exact: at depth d < n every grid coordinate is a
+    /// multiple of 2^(n - d), see `AxisFrame::at`, so the sums are even and
+    /// halving is a shift), so no vertex is placed from scratch.
+    fn visit<C: GridInt>(
+        &self,
+        walk: &mut Walk<'_>,
+        depth: u32,
+        index: u64,
+        vertices: [(C, C); 3],
+        top_flip: bool,
+    ) -> Result<(), BakeError> {
+        let n = walk.level;
+        let up = n - depth;
+        let p = Placed {
+            x: vertices.map(|v| v.0),
+            y: vertices.map(|v| v.1),
+        };
+        // Above the finest level only the bounding block is read: a mixed
+        // block descends, and the children decide more cheaply than an
+        // exact search over a large triangle would.
+        let (classes, out_of_budget) = if depth < n {
+            (self.quick_classes(&p, walk.shifts), false)
+        } else {
+            self.classify(&p, walk.shifts, &mut walk.stack)
+        };
+        let known = match (classes.opaque, classes.transparent) {
+            (true, false) => Some(State::Opaque),
+            (false, true) => Some(State::Transparent),
+            _ => None,
+        };
+        if let Some(state) = known {
+            let count = 1u64 << (2 * up);
+            walk.counts[state.bits() as usize] += count;
+            walk.map.fill(index << (2 * up), count, state)?;
+            return Ok(());
         }
-        Ok(exhausted)
+        if depth < n {
+            let midpoint = |a: (C, C), b: (C, C)| ((a.0 + b.0) >> 1, (a.1 + b.1) >> 1);
+            for child in 0..4 {
+                let (vertices, top_flip) =
+                    crate::inverse::child_vertices(child, top_flip, vertices, midpoint);
+                let index = 4 * index + u64::from(child);
+                self.visit(walk, depth + 1, index, vertices, top_flip)?;
+            }
+            return Ok(());
+        }
+        walk.exhausted |= out_of_budget;
+        let state = if self.centroid_is_opaque(&p, walk.shifts) {
+            State::UnknownOpaque
+        } else {
+            State::UnknownTransparent
+        };
+        walk.counts[state.bits() as usize] += 1;
+        let stored = match walk.map.format() {
+            Format::FourState => state,
+            Format::TwoState => walk.two_state.resolve(state),
+        };
+        walk.map.set(index, stored)?;
+        Ok(())
     }
 
     /// Checks another baker's answer for one triangle: every micro-triangle
