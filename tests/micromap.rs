@@ -987,3 +987,43 @@ fn ash_types_convert_both_ways() {
     );
     assert_eq!(UsageCount::from(vk_usage), usage);
 }
+
+/// `fill` writes what `set` one index at a time writes, and nothing else:
+/// every range of every map up to level 3, both formats, every state the
+/// format holds, over a background of another state.
+#[test]
+fn fill_equals_setting_each_index() {
+    for level in 0..=3 {
+        let level = Level::new(level).unwrap();
+        for format in [Format::TwoState, Format::FourState] {
+            let states: Vec<State> = [
+                State::Transparent,
+                State::Opaque,
+                State::UnknownTransparent,
+                State::UnknownOpaque,
+            ]
+            .into_iter()
+            .filter(|&s| format == Format::FourState || s.is_known())
+            .collect();
+            let len = 1u64 << (2 * level.get());
+            for &background in &states {
+                let mut base = Micromap::new(level, format).unwrap();
+                base.fill(0, len, background).unwrap();
+                assert!((0..len).all(|i| base.get(i) == Some(background)));
+                for &state in &states {
+                    for start in 0..=len {
+                        for count in 0..=len - start {
+                            let mut filled = base.clone();
+                            filled.fill(start, count, state).unwrap();
+                            let mut set = base.clone();
+                            for i in start..start + count {
+                                set.set(i, state).unwrap();
+                            }
+                            assert_eq!(filled, set, "{level:?} {format:?} {start} {count}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,7 +1,7 @@
 //! [`Baker`]: one texture, sampler and cutoff; bakes and verifies triangles.
 
 use super::classify::{is_small, Block, Classes, Search, TexelClasses};
-use super::exact::{AxisFrame, ExactTriangle, FrameError};
+use super::exact::{AxisFrame, ExactTriangle, FrameError, GridInt};
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
 use crate::inverse::micro_triangles;
 use crate::micromap::{Format, Micromap, MicromapError, State, TriangleOpacity, UnknownPolicy};
@@ -219,20 +219,65 @@ fn floor_third(q: i128) -> i128 {
     }
 }
 
-/// A micro-triangle of the bake's top-down walk: its depth and index in
-/// the tree, its grid vertices `(x, y)`, and the walk's `top_flip` (which
-/// numbers its children).
-struct Node {
-    depth: u32,
-    index: u64,
-    vertices: [(i128, i128); 3],
-    top_flip: bool,
+/// What the walk of [`Baker::bake`] carries from node to node: the level,
+/// the frames' shifts, the 2-state policy, the map and counts it fills,
+/// whether a micro-triangle ran out of budget, and the search's stack.
+struct Walk<'a> {
+    level: u32,
+    shifts: (u32, u32),
+    two_state: UnknownPolicy,
+    map: &'a mut Micromap,
+    counts: &'a mut [u64; 4],
+    exhausted: bool,
+    stack: Vec<Block>,
 }
 
-/// One micro-triangle placed on the grid.
-struct Placed {
-    x: [i128; 3],
-    y: [i128; 3],
+/// One micro-triangle placed on the grid, in coordinates of type `C`.
+#[derive(Clone, Copy, Debug)]
+struct Placed<C> {
+    x: [C; 3],
+    y: [C; 3],
+}
+
+/// The walk of [`Baker::bake`] runs in `i64` when the root's coordinates
+/// are below this in magnitude and both shifts at most [`NARROW_SHIFT`].
+/// Why nothing overflows then: every node vertex is a convex combination
+/// of the root's (midpoints of midpoints), so below `2^59` too; the largest
+/// values formed are a sum of three vertices (the centroid, below
+/// `3 * 2^59 < 2^61`) and a sum of two minus half a cell of the twice
+/// finer grid (`2^shift <= 2^58`: below `2^61`).
+const NARROW_WALK_COORDINATE: i128 = 1 << 59;
+
+/// See [`NARROW_WALK_COORDINATE`]; also keeps `1 << shift` in `i64`.
+const NARROW_SHIFT: u32 = 58;
+
+impl Placed<i128> {
+    /// The same triangle in `i64`, when the walk from it (as the root)
+    /// stays in range: see [`NARROW_WALK_COORDINATE`].
+    fn narrowed(&self, (sx, sy): (u32, u32)) -> Option<Placed<i64>> {
+        let fits = |c: &[i128; 3]| {
+            c.iter()
+                .all(|v| v.unsigned_abs() < NARROW_WALK_COORDINATE as u128)
+        };
+        if sx.max(sy) > NARROW_SHIFT || !fits(&self.x) || !fits(&self.y) {
+            return None;
+        }
+        // Exact casts: every coordinate is below 2^59.
+        Some(Placed {
+            x: self.x.map(|v| v as i64),
+            y: self.y.map(|v| v as i64),
+        })
+    }
+}
+
+impl<C: GridInt> Placed<C> {
+    /// The triangle in `i128` (exact), for the exact search.
+    fn wide(&self) -> Placed<i128> {
+        Placed {
+            x: self.x.map(Into::into),
+            y: self.y.map(Into::into),
+        }
+    }
 }
 
 impl Baker {
@@ -285,7 +330,12 @@ impl Baker {
         Ok((fx, fy))
     }
 
-    fn place(fx: &AxisFrame, fy: &AxisFrame, level: u32, vertices: [(u64, u64); 3]) -> Placed {
+    fn place(
+        fx: &AxisFrame,
+        fy: &AxisFrame,
+        level: u32,
+        vertices: [(u64, u64); 3],
+    ) -> Placed<i128> {
         Placed {
             x: vertices.map(|(a, b)| fx.at(level, a, b)),
             y: vertices.map(|(a, b)| fy.at(level, a, b)),
@@ -294,7 +344,12 @@ impl Baker {
 
     /// The classes a placed micro-triangle samples: the bounding block
     /// first (most micro-triangles end there), the exact search if mixed.
-    fn classify(&self, p: &Placed, shifts: (u32, u32), stack: &mut Vec<Block>) -> (Classes, bool) {
+    fn classify<C: GridInt>(
+        &self,
+        p: &Placed<C>,
+        shifts: (u32, u32),
+        stack: &mut Vec<Block>,
+    ) -> (Classes, bool) {
         let bounding = self.bounding_block(p, shifts);
         let quick = self.classes.quick(bounding);
         if !quick.is_mixed() {
@@ -322,7 +377,8 @@ impl Baker {
                 }
             }
         }
-        let t = ExactTriangle::new(p.x, p.y);
+        let wide = p.wide();
+        let t = ExactTriangle::new(wide.x, wide.y);
         let s: Search = self
             .classes
             .search(&t, shifts, Classes::BOTH, self.budget, stack);
@@ -331,13 +387,13 @@ impl Baker {
 
     /// The classes of the placed triangle's bounding block of texels: a
     /// superset of what it reads (exact when not mixed).
-    fn quick_classes(&self, p: &Placed, shifts: (u32, u32)) -> Classes {
+    fn quick_classes<C: GridInt>(&self, p: &Placed<C>, shifts: (u32, u32)) -> Classes {
         self.classes.quick(self.bounding_block(p, shifts))
     }
 
     /// The placed triangle's bounding block of texels.
-    fn bounding_block(&self, p: &Placed, shifts: (u32, u32)) -> Block {
-        let min_max = |c: [i128; 3]| (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
+    fn bounding_block<C: GridInt>(&self, p: &Placed<C>, shifts: (u32, u32)) -> Block<C> {
+        let min_max = |c: [C; 3]| (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
         self.classes
             .bounding_block(min_max(p.x), min_max(p.y), shifts)
     }
@@ -345,10 +401,10 @@ impl Baker {
     /// The known state to split an unknown micro-triangle by: the class of
     /// the texel holding its centroid (nearest sampling of the centroid,
     /// for either filter). A heuristic; soundness does not depend on it.
-    fn centroid_is_opaque(&self, p: &Placed, (sx, sy): (u32, u32)) -> bool {
+    fn centroid_is_opaque<C: GridInt>(&self, p: &Placed<C>, (sx, sy): (u32, u32)) -> bool {
         // floor(s / (3 2^shift)) = floor(floor(s / 2^shift) / 3).
-        let cx = floor_third((p.x[0] + p.x[1] + p.x[2]) >> sx);
-        let cy = floor_third((p.y[0] + p.y[1] + p.y[2]) >> sy);
+        let cx = floor_third(((p.x[0] + p.x[1] + p.x[2]) >> sx).into());
+        let cy = floor_third(((p.y[0] + p.y[1] + p.y[2]) >> sy).into());
         self.classes.class_of(self.classes.wrap(cx, cy))
     }
 
@@ -387,83 +443,14 @@ impl Baker {
             }
         };
         let shifts = (fx.shift, fy.shift);
-        let mut counts = [0u64; 4];
-        let mut exhausted = false;
-        let mut stack = Vec::new();
-        // Top-down over the micromap's tree: a micro-triangle of a coarser
-        // level contains its descendants, so a uniform one decides all of
-        // them (a contiguous index range) at once; only mixed ones descend.
-        // Each node carries its grid vertices: a child's are its parent's
-        // and their midpoints (exact: at depth d < n every grid coordinate
-        // is a multiple of 2^(n - d), see `AxisFrame::at`), so no vertex is
-        // placed from scratch.
         let n = level.get();
         let side = 1u64 << n;
         let root = Self::place(&fx, &fy, n, [(0, 0), (side, 0), (0, side)]);
-        let midpoint = |a: (i128, i128), b: (i128, i128)| ((a.0 + b.0) / 2, (a.1 + b.1) / 2);
-        let mut nodes: Vec<Node> = Vec::new();
-        nodes.push(Node {
-            depth: 0,
-            index: 0,
-            vertices: [0, 1, 2].map(|k| (root.x[k], root.y[k])),
-            top_flip: false,
-        });
-        while let Some(node) = nodes.pop() {
-            let (depth, index) = (node.depth, node.index);
-            let up = n - depth;
-            let p = Placed {
-                x: node.vertices.map(|v| v.0),
-                y: node.vertices.map(|v| v.1),
-            };
-            // Above the finest level only the bounding block is read: a
-            // mixed block descends, and the children decide more cheaply
-            // than an exact search over a large triangle would.
-            let (classes, out_of_budget) = if depth < n {
-                (self.quick_classes(&p, shifts), false)
-            } else {
-                self.classify(&p, shifts, &mut stack)
-            };
-            let known = match (classes.opaque, classes.transparent) {
-                (true, false) => Some(State::Opaque),
-                (false, true) => Some(State::Transparent),
-                _ => None,
-            };
-            if let Some(state) = known {
-                let count = 1u64 << (2 * up);
-                counts[state.bits() as usize] += count;
-                map.fill(index << (2 * up), count, state)?;
-                continue;
-            }
-            if depth < n {
-                for child in (0..4).rev() {
-                    let (vertices, top_flip) = crate::inverse::child_vertices(
-                        child,
-                        node.top_flip,
-                        node.vertices,
-                        midpoint,
-                    );
-                    nodes.push(Node {
-                        depth: depth + 1,
-                        index: 4 * index + u64::from(child),
-                        vertices,
-                        top_flip,
-                    });
-                }
-                continue;
-            }
-            exhausted |= out_of_budget;
-            let state = if self.centroid_is_opaque(&p, shifts) {
-                State::UnknownOpaque
-            } else {
-                State::UnknownTransparent
-            };
-            counts[state.bits() as usize] += 1;
-            let stored = match format {
-                Format::FourState => state,
-                Format::TwoState => two_state.resolve(state),
-            };
-            map.set(index, stored)?;
-        }
+        let mut counts = [0u64; 4];
+        let exhausted = match root.narrowed(shifts) {
+            Some(narrow) => self.walk(narrow, n, shifts, two_state, &mut map, &mut counts)?,
+            None => self.walk(root, n, shifts, two_state, &mut map, &mut counts)?,
+        };
         Ok(BakedTriangle {
             opacity: BakedOpacity::Map(map),
             status: if exhausted {
@@ -473,6 +460,101 @@ impl Baker {
             },
             counts,
         })
+    }
+
+    /// The top-down walk of [`bake`](Self::bake) from the whole triangle
+    /// `root` (on the grid of `level`), in coordinates of type `C`: fills
+    /// `map` and `counts`, and says whether a micro-triangle ran out of
+    /// budget. The caller picks `C` so that the walk stays in range (see
+    /// [`NARROW_WALK_COORDINATE`]); the result is the same in every type.
+    fn walk<C: GridInt>(
+        &self,
+        root: Placed<C>,
+        level: u32,
+        shifts: (u32, u32),
+        two_state: UnknownPolicy,
+        map: &mut Micromap,
+        counts: &mut [u64; 4],
+    ) -> Result<bool, BakeError> {
+        let mut walk = Walk {
+            level,
+            shifts,
+            two_state,
+            map,
+            counts,
+            exhausted: false,
+            stack: Vec::new(),
+        };
+        let vertices = [0, 1, 2].map(|k| (root.x[k], root.y[k]));
+        self.visit(&mut walk, 0, 0, vertices, false)?;
+        Ok(walk.exhausted)
+    }
+
+    /// One micro-triangle of the walk: its depth and index in the tree,
+    /// its grid vertices `(x, y)`, and the walk's `top_flip` (which numbers
+    /// its children). A micro-triangle of a coarser level contains its
+    /// descendants, so a uniform one decides all of them (a contiguous
+    /// index range) at once; only mixed ones descend, by recursion (depth
+    /// at most the level). A child's vertices are its parent's and their
+    /// midpoints (exact: at depth d < n every grid coordinate is a
+    /// multiple of 2^(n - d), see `AxisFrame::at`, so the sums are even and
+    /// halving is a shift), so no vertex is placed from scratch.
+    fn visit<C: GridInt>(
+        &self,
+        walk: &mut Walk<'_>,
+        depth: u32,
+        index: u64,
+        vertices: [(C, C); 3],
+        top_flip: bool,
+    ) -> Result<(), BakeError> {
+        let n = walk.level;
+        let up = n - depth;
+        let p = Placed {
+            x: vertices.map(|v| v.0),
+            y: vertices.map(|v| v.1),
+        };
+        // Above the finest level only the bounding block is read: a mixed
+        // block descends, and the children decide more cheaply than an
+        // exact search over a large triangle would.
+        let (classes, out_of_budget) = if depth < n {
+            (self.quick_classes(&p, walk.shifts), false)
+        } else {
+            self.classify(&p, walk.shifts, &mut walk.stack)
+        };
+        let known = match (classes.opaque, classes.transparent) {
+            (true, false) => Some(State::Opaque),
+            (false, true) => Some(State::Transparent),
+            _ => None,
+        };
+        if let Some(state) = known {
+            let count = 1u64 << (2 * up);
+            walk.counts[state.bits() as usize] += count;
+            walk.map.fill(index << (2 * up), count, state)?;
+            return Ok(());
+        }
+        if depth < n {
+            let midpoint = |a: (C, C), b: (C, C)| ((a.0 + b.0) >> 1, (a.1 + b.1) >> 1);
+            for child in 0..4 {
+                let (vertices, top_flip) =
+                    crate::inverse::child_vertices(child, top_flip, vertices, midpoint);
+                let index = 4 * index + u64::from(child);
+                self.visit(walk, depth + 1, index, vertices, top_flip)?;
+            }
+            return Ok(());
+        }
+        walk.exhausted |= out_of_budget;
+        let state = if self.centroid_is_opaque(&p, walk.shifts) {
+            State::UnknownOpaque
+        } else {
+            State::UnknownTransparent
+        };
+        walk.counts[state.bits() as usize] += 1;
+        let stored = match walk.map.format() {
+            Format::FourState => state,
+            Format::TwoState => walk.two_state.resolve(state),
+        };
+        walk.map.set(index, stored)?;
+        Ok(())
     }
 
     /// Checks another baker's answer for one triangle: every micro-triangle
@@ -661,5 +743,112 @@ impl Baker {
             }
         }
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bake::{AddressMode, Filter, Unorm8Texture};
+
+    /// The `i64` walk gives the `i128` walk's micromap wherever
+    /// [`Placed::narrowed`] accepts a root: roots with coordinates just
+    /// below `2^59` (and some crossing zero), shifts up to 58, every
+    /// filter, on a wrapping and a bordered sampler. Roots at `2^59` or
+    /// with a shift of 59 are refused.
+    #[test]
+    fn narrow_and_wide_walks_agree_near_their_threshold() {
+        let mut state = 0x0b5e_55ed_u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        // 4 x 4 checks of random alpha, so that known states are common.
+        let checks: Vec<u8> = (0..16).map(|_| (next() % 256) as u8).collect();
+        let texels: Vec<u8> = (0..16 * 16)
+            .map(|i| checks[i % 16 / 4 + i / 64 * 4])
+            .collect();
+        let texture = Unorm8Texture::new(16, 16, &texels).unwrap();
+        let limit = NARROW_WALK_COORDINATE;
+        let mut seen = [0u64; 4];
+        for case in 0..400u32 {
+            let filter = if case % 2 == 0 {
+                Filter::Nearest
+            } else {
+                Filter::Linear
+            };
+            let address = if case % 4 < 2 {
+                AddressMode::Repeat
+            } else {
+                AddressMode::ClampToBorder
+            };
+            let sampler = Sampler {
+                filter,
+                address_u: address,
+                address_v: address,
+                border_alpha: 1.0,
+            };
+            let baker = Baker::new(&texture, sampler, Cutoff::default())
+                .unwrap()
+                .with_block_budget(16);
+            let level = case % 4;
+            // A shift near the threshold most of the time, any otherwise.
+            let shift = |r: u64| {
+                if r % 4 == 0 {
+                    1 + (r / 4 % 58) as u32
+                } else {
+                    NARROW_SHIFT - (r / 4 % 3) as u32
+                }
+            };
+            let shifts = (shift(next()), shift(next()));
+            // Coordinates within 2^spread of +-2^59 (below it), or near 0;
+            // multiples of 2^level, as a root's are.
+            let spread = 1 + next() % 58;
+            let mut coordinate = || {
+                let offset = 1 + (i128::from(next()) & ((1 << spread) - 1));
+                let magnitude = if next() % 5 == 0 {
+                    offset
+                } else {
+                    limit - offset
+                };
+                let sign = if next() % 2 == 0 { 1 } else { -1 };
+                sign * (magnitude >> level << level)
+            };
+            let root = Placed {
+                x: [coordinate(), coordinate(), coordinate()],
+                y: [coordinate(), coordinate(), coordinate()],
+            };
+            let narrow = root.narrowed(shifts).unwrap();
+            let bake = |walk: &dyn Fn(&mut Micromap, &mut [u64; 4]) -> bool| {
+                let mut map = Micromap::new(Level(level as u8), Format::FourState).unwrap();
+                let mut counts = [0; 4];
+                let exhausted = walk(&mut map, &mut counts);
+                (map, counts, exhausted)
+            };
+            let policy = UnknownPolicy::Fallback;
+            let wide = bake(&|map, counts| {
+                baker
+                    .walk(root, level, shifts, policy, map, counts)
+                    .unwrap()
+            });
+            let narrowed = bake(&|map, counts| {
+                baker
+                    .walk(narrow, level, shifts, policy, map, counts)
+                    .unwrap()
+            });
+            assert_eq!(narrowed, wide, "{root:?} {shifts:?} level {level}");
+            for (total, count) in seen.iter_mut().zip(wide.1) {
+                *total += count;
+            }
+            // One step past either bound takes the wide walk.
+            let mut over = root;
+            over.x[case as usize % 3] = if case % 2 == 0 { limit } else { -limit };
+            assert!(over.narrowed(shifts).is_none());
+            assert!(root.narrowed((NARROW_SHIFT + 1, shifts.1)).is_none());
+        }
+        // Every state came out, many times.
+        assert!(seen.iter().all(|&n| n > 100), "{seen:?}");
     }
 }

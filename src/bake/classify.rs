@@ -2,18 +2,21 @@
 //! sample: texel classes with prefix sums, the image of a block of texel
 //! coordinates under the address modes, and an exact block search.
 
-use super::exact::ExactTriangle;
+use super::exact::{ExactTriangle, GridInt};
 use super::texture::{AddressMode, AlphaTexture, Cutoff, Filter, Sampler, TextureError};
 use alloc::vec::Vec;
 
 /// Mixed blocks of at most this many texels are searched texel by texel.
-const SMALL_BLOCK: i128 = 36;
+const SMALL_BLOCK: u32 = 36;
 
 /// Does `block` hold at most [`SMALL_BLOCK`] texels? Such a block is
-/// searched texel by texel, which never runs out of budget.
+/// searched texel by texel, which never runs out of budget. (Each side
+/// first, so that the product of two sides never overflows.)
 #[inline]
-pub(crate) fn is_small(block: Block) -> bool {
-    (block.x1 - block.x0 + 1) * (block.y1 - block.y0 + 1) <= SMALL_BLOCK
+pub(crate) fn is_small<C: GridInt>(block: Block<C>) -> bool {
+    let small = C::from(SMALL_BLOCK);
+    let (w, h) = (block.x1 - block.x0, block.y1 - block.y0);
+    w < small && h < small && (w + C::from(1)) * (h + C::from(1)) <= small
 }
 
 /// The set of texel classes a region samples.
@@ -53,13 +56,47 @@ impl Classes {
 }
 
 /// An inclusive block of texel coordinates `[x0, x1] x [y0, y1]`, before
-/// wrapping (they may lie anywhere).
+/// wrapping (they may lie anywhere); in the walk's coordinate type (see
+/// [`GridInt`]), `i128` elsewhere.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct Block {
-    pub(crate) x0: i128,
-    pub(crate) x1: i128,
-    pub(crate) y0: i128,
-    pub(crate) y1: i128,
+pub(crate) struct Block<C = i128> {
+    pub(crate) x0: C,
+    pub(crate) x1: C,
+    pub(crate) y0: C,
+    pub(crate) y1: C,
+}
+
+/// A texel coordinate known to be in `0..size` (`size < 2^32`), as `u32`.
+#[inline]
+fn texel_in_range<C: GridInt>(c: C) -> u32 {
+    Into::<i128>::into(c) as u32
+}
+
+impl Block {
+    /// The same block in `i64`, when its coordinates are below `2^62` in
+    /// magnitude: then so is every coordinate in it.
+    fn narrowed(self) -> Option<Block<i64>> {
+        let fits = |c: i128| c.unsigned_abs() < 1 << 62;
+        (fits(self.x0) && fits(self.x1) && fits(self.y0) && fits(self.y1)).then_some(Block {
+            x0: self.x0 as i64,
+            x1: self.x1 as i64,
+            y0: self.y0 as i64,
+            y1: self.y1 as i64,
+        })
+    }
+}
+
+impl<C: GridInt> Block<C> {
+    /// The same block in `i128` (exact).
+    #[inline]
+    fn wide(self) -> Block {
+        Block {
+            x0: self.x0.into(),
+            x1: self.x1.into(),
+            y0: self.y0.into(),
+            y1: self.y1.into(),
+        }
+    }
 }
 
 /// The image of `lo..=hi` under an address mode: at most two ranges of
@@ -196,23 +233,23 @@ impl TexelClasses {
             return Err(TextureError::NanThreshold);
         }
         let stride = width as usize + 1;
-        let mut prefix = alloc::vec![0u32; stride * (height as usize + 1)];
-        let mut opaque = alloc::vec![0u8; width as usize * height as usize];
-        // Row by row over slices: the classes first (independent texel
-        // reads), then the running sums, without per-texel index checks.
-        for (y, row) in (0..height).zip(opaque.chunks_exact_mut(width as usize)) {
-            for (x, texel) in (0..width).zip(row.iter_mut()) {
-                *texel = u8::from(texture.is_opaque(x, y, &cutoff));
-            }
+        // Both tables are appended row by row, never zero-filled first
+        // (this pass is a large part of a bake of few micro-triangles).
+        let mut opaque = Vec::with_capacity(width as usize * height as usize);
+        for y in 0..height {
+            opaque.extend((0..width).map(|x| u8::from(texture.is_opaque(x, y, &cutoff))));
         }
-        for (y, row) in opaque.chunks_exact(width as usize).enumerate() {
-            let (above, below) = prefix.split_at_mut((y + 1) * stride);
-            let above = &above[y * stride..];
+        let mut prefix = Vec::with_capacity(stride * (height as usize + 1));
+        // The row of sums being built, from the one above, in place.
+        let mut sums = alloc::vec![0u32; stride];
+        prefix.extend_from_slice(&sums);
+        for row in opaque.chunks_exact(width as usize) {
             let mut run = 0u32;
-            for ((sum, &up), &texel) in below[1..stride].iter_mut().zip(&above[1..]).zip(row) {
+            for (sum, &texel) in sums[1..].iter_mut().zip(row) {
                 run += u32::from(texel);
-                *sum = up + run;
+                *sum += run;
             }
+            prefix.extend_from_slice(&sums);
         }
         Ok(TexelClasses {
             width,
@@ -254,13 +291,14 @@ impl TexelClasses {
 
     /// The texel (or the border, `None`) that texel coordinates read.
     #[inline]
-    pub(crate) fn wrap(&self, x: i128, y: i128) -> Option<(u32, u32)> {
+    pub(crate) fn wrap<C: GridInt>(&self, x: C, y: C) -> Option<(u32, u32)> {
         // Every mode reads in-range coordinates as they are (inlined: the
         // common case of the per-texel search).
-        if (0..i128::from(self.width)).contains(&x) && (0..i128::from(self.height)).contains(&y) {
-            return Some((x as u32, y as u32));
+        let zero = C::from(0);
+        if zero <= x && x < C::from(self.width) && zero <= y && y < C::from(self.height) {
+            return Some((texel_in_range(x), texel_in_range(y)));
         }
-        self.wrap_outside(x, y)
+        self.wrap_outside(x.into(), y.into())
     }
 
     /// [`wrap`](Self::wrap) of coordinates outside the texture.
@@ -271,19 +309,20 @@ impl TexelClasses {
         Some((x, y))
     }
 
-    /// The classes the texels of `block` read (after wrapping).
-    #[inline]
-    fn block_classes(&self, block: Block) -> Classes {
-        // Inside the texture (the common case, inlined): one rectangle.
-        let (w, h) = (i128::from(self.width), i128::from(self.height));
-        if block.x0 >= 0 && block.x1 < w && block.y0 >= 0 && block.y1 < h {
-            let (xr, yr) = (
-                (block.x0 as u32, block.x1 as u32),
-                (block.y0 as u32, block.y1 as u32),
-            );
+    /// The classes the texels of `block` read (after wrapping). Always
+    /// inlined: the walk reads one block a node, and a call costs a good
+    /// part of the lookup itself.
+    #[inline(always)]
+    fn block_classes<C: GridInt>(&self, block: Block<C>) -> Classes {
+        // Inside the texture (the common case, inlined): one rectangle,
+        // whose coordinates are below 2^32 (exact casts).
+        let (zero, w, h) = (C::from(0), C::from(self.width), C::from(self.height));
+        if block.x0 >= zero && block.x1 < w && block.y0 >= zero && block.y1 < h {
+            let xr = (texel_in_range(block.x0), texel_in_range(block.x1));
+            let yr = (texel_in_range(block.y0), texel_in_range(block.y1));
             return self.rectangle_classes(xr, yr);
         }
-        self.wrapped_block_classes(block)
+        self.wrapped_block_classes(block.wide())
     }
 
     /// [`block_classes`](Self::block_classes) of a block reaching outside
@@ -307,13 +346,15 @@ impl TexelClasses {
     /// The texel coordinates whose footprint can hold the sample point
     /// `p` in grid units (`unit = 2^shift` per texel): nearest
     /// `floor(p)`; linear `floor(p - 1/2)` and the next one.
+    /// In the coordinates' own type `C`: the caller's bound keeps `lo`,
+    /// `hi` and half a grid cell's offset from them in range.
     #[inline]
-    fn footprint(&self, lo: i128, hi: i128, shift: u32) -> (i128, i128) {
+    fn footprint<C: GridInt>(&self, lo: C, hi: C, shift: u32) -> (C, C) {
         match self.sampler.filter {
             Filter::Nearest => (lo >> shift, hi >> shift),
             Filter::Linear => {
-                let half = 1i128 << (shift - 1);
-                ((lo - half) >> shift, ((hi - half) >> shift) + 1)
+                let half = C::from(1) << (shift - 1);
+                ((lo - half) >> shift, ((hi - half) >> shift) + C::from(1))
             }
         }
     }
@@ -333,12 +374,13 @@ impl TexelClasses {
 
     /// The footprint block of a point set with grid bounding box
     /// `[min_x, max_x] x [min_y, max_y]`.
-    pub(crate) fn bounding_block(
+    #[inline]
+    pub(crate) fn bounding_block<C: GridInt>(
         &self,
-        (min_x, max_x): (i128, i128),
-        (min_y, max_y): (i128, i128),
+        (min_x, max_x): (C, C),
+        (min_y, max_y): (C, C),
         (sx, sy): (u32, u32),
-    ) -> Block {
+    ) -> Block<C> {
         let (x0, x1) = self.footprint(min_x, max_x, sx);
         let (y0, y1) = self.footprint(min_y, max_y, sy);
         Block { x0, x1, y0, y1 }
@@ -346,7 +388,7 @@ impl TexelClasses {
 
     /// The classes of the whole block only: decides a micro-triangle
     /// without geometry when its bounding block is uniform.
-    pub(crate) fn quick(&self, block: Block) -> Classes {
+    pub(crate) fn quick<C: GridInt>(&self, block: Block<C>) -> Classes {
         self.block_classes(block)
     }
 
@@ -369,29 +411,10 @@ impl TexelClasses {
         // A small footprint (most micro-triangles at useful levels): its
         // texels one by one, without the block stack.
         if is_small(start) {
-            for y in start.y0..=start.y1 {
-                for x in start.x0..=start.x1 {
-                    let classes = Classes::of(self.class_of(self.wrap(x, y)));
-                    if found.classes.contains(classes) {
-                        continue;
-                    }
-                    let (rx0, rx1) = self.reach(x, x, sx);
-                    let (ry0, ry1) = self.reach(y, y, sy);
-                    if t.meets(rx0, rx1, ry0, ry1) {
-                        found.classes = found.classes.union(classes);
-                        found.witness_block[usize::from(classes.opaque)] = Some(Block {
-                            x0: x,
-                            x1: x,
-                            y0: y,
-                            y1: y,
-                        });
-                        if found.classes.contains(want) {
-                            return found;
-                        }
-                    }
-                }
-            }
-            return found;
+            return match start.narrowed() {
+                Some(narrow) => self.search_texels(t, narrow, shifts, want),
+                None => self.search_texels(t, start, shifts, want),
+            };
         }
         stack.clear();
         stack.push(start);
@@ -460,6 +483,46 @@ impl TexelClasses {
         found
     }
 
+    /// [`search`](Self::search) of a small `block`: its texels one by one,
+    /// in coordinates of type `C` (any that holds the block's).
+    fn search_texels<C: GridInt>(
+        &self,
+        t: &ExactTriangle,
+        block: Block<C>,
+        (sx, sy): (u32, u32),
+        want: Classes,
+    ) -> Search {
+        let mut found = Search::default();
+        // A small block's sides are below SMALL_BLOCK: exact casts.
+        let side = |lo: C, hi: C| Into::<i128>::into(hi - lo) as u32;
+        for dy in 0..=side(block.y0, block.y1) {
+            let y = block.y0 + C::from(dy);
+            for dx in 0..=side(block.x0, block.x1) {
+                let x = block.x0 + C::from(dx);
+                let classes = Classes::of(self.class_of(self.wrap(x, y)));
+                if found.classes.contains(classes) {
+                    continue;
+                }
+                let (rx0, rx1) = self.reach(x.into(), x.into(), sx);
+                let (ry0, ry1) = self.reach(y.into(), y.into(), sy);
+                if t.meets(rx0, rx1, ry0, ry1) {
+                    found.classes = found.classes.union(classes);
+                    let texel = Block {
+                        x0: x,
+                        x1: x,
+                        y0: y,
+                        y1: y,
+                    };
+                    found.witness_block[usize::from(classes.opaque)] = Some(texel.wide());
+                    if found.classes.contains(want) {
+                        return found;
+                    }
+                }
+            }
+        }
+        found
+    }
+
     /// The point set's reach rectangle for a block (grid units), public to
     /// the witness search.
     pub(crate) fn block_reach(&self, block: Block, (sx, sy): (u32, u32)) -> [i128; 4] {
@@ -488,6 +551,80 @@ impl TexelClasses {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bake::Unorm8Texture;
+
+    /// The per-texel search in `i64` finds what the one in `i128` finds
+    /// (classes and witnesses) on small blocks just inside `+-2^62`, where
+    /// [`Block::narrowed`] stops; a block reaching `2^62` is not narrowed.
+    #[test]
+    fn narrow_and_wide_texel_searches_agree_near_their_threshold() {
+        let mut state = 0x7e57_u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let texels: Vec<u8> = (0..16).map(|_| (next() % 256) as u8).collect();
+        let texture = Unorm8Texture::new(4, 4, &texels).unwrap();
+        let edge = 1i128 << 62;
+        let mut met = [0u32; 2];
+        for case in 0..4000 {
+            let filter = if case % 2 == 0 {
+                Filter::Nearest
+            } else {
+                Filter::Linear
+            };
+            let address = AddressMode::ALL[case / 2 % 5];
+            let sampler = Sampler {
+                filter,
+                address_u: address,
+                address_v: address,
+                border_alpha: 0.0,
+            };
+            let classes = TexelClasses::new(&texture, sampler, Cutoff::default()).unwrap();
+            let shifts = (1 + (next() % 4) as u32, 1 + (next() % 4) as u32);
+            // A block of up to 6 x 6 texels ending just inside +-2^62.
+            let side = |r: u64, sign: i128| {
+                let (far, len) = (1 + i128::from(r % 3), i128::from(r / 3 % 6));
+                if sign > 0 {
+                    (edge - far - len, edge - far)
+                } else {
+                    (-edge + far, -edge + far + len)
+                }
+            };
+            let sign = |r: u64| if r % 2 == 0 { 1 } else { -1 };
+            let (x0, x1) = side(next(), sign(next()));
+            let (y0, y1) = side(next(), sign(next()));
+            let block = Block { x0, x1, y0, y1 };
+            // A triangle with vertices around the block's reach.
+            let [rx0, rx1, ry0, ry1] = classes.block_reach(block, shifts);
+            let mut point = |lo: i128, hi: i128| {
+                let span = (hi - lo) * 2;
+                lo - span / 4 + (i128::from(next()) % span)
+            };
+            let x = [point(rx0, rx1), point(rx0, rx1), point(rx0, rx1)];
+            let y = [point(ry0, ry1), point(ry0, ry1), point(ry0, ry1)];
+            let t = ExactTriangle::new(x, y);
+            let narrow = block.narrowed().unwrap();
+            let a = classes.search_texels(&t, narrow, shifts, Classes::BOTH);
+            let b = classes.search_texels(&t, block, shifts, Classes::BOTH);
+            assert_eq!(
+                (a.classes, a.witness_block),
+                (b.classes, b.witness_block),
+                "{block:?} {t:?}"
+            );
+            met[usize::from(b.classes != Classes::default())] += 1;
+            let over = Block {
+                x1: if x1 > 0 { edge } else { x1 },
+                x0: if x0 < 0 { -edge } else { x0 },
+                ..block
+            };
+            assert!(over.narrowed().is_none());
+        }
+        // Both outcomes, many times.
+        assert!(met[0] > 100 && met[1] > 100, "{met:?}");
+    }
 
     /// Every address mode's image of every short range equals the set of
     /// wrapped values, computed one coordinate at a time.

@@ -14,7 +14,7 @@
 //! holds them exactly.
 
 use core::cmp::Ordering;
-use core::ops::{Add, Mul};
+use core::ops::{Add, Mul, Shl, Shr, Sub};
 
 /// A signed 256-bit integer, enough for the product of two coordinates
 /// below `2^126` plus a sum of two such products. Ordered as integers.
@@ -94,6 +94,36 @@ impl Wide {
             lo,
         }
     }
+}
+
+/// An integer type grid coordinates are held in: `i64` where a bound
+/// checked by the caller keeps every value it forms in range (the common
+/// case, and much cheaper: a bake's coordinates are small), `i128`
+/// otherwise. Every operation is the exact integer one in either type.
+pub(crate) trait GridInt:
+    Copy
+    + Ord
+    + From<u32>
+    + Into<i128>
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Shl<u32, Output = Self>
+    + Shr<u32, Output = Self>
+{
+}
+
+impl<T> GridInt for T where
+    T: Copy
+        + Ord
+        + From<u32>
+        + Into<i128>
+        + Add<Output = T>
+        + Sub<Output = T>
+        + Mul<Output = T>
+        + Shl<u32, Output = T>
+        + Shr<u32, Output = T>
+{
 }
 
 /// Coordinates of the grid: every texel-space coordinate the classifier

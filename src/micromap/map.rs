@@ -618,12 +618,19 @@ impl Micromap {
                 format: self.format,
             });
         }
+        self.write(index, state);
+        Ok(())
+    }
+
+    /// [`set`](Self::set) past its checks: `index` below `len`, `state` in
+    /// the format.
+    #[inline]
+    fn write(&mut self, index: u64, state: State) {
         let (byte, shift) = self.position(index);
         let mask = (1u8 << self.format.bits_per_state()) - 1;
         if let Some(slot) = self.data.get_mut(byte) {
             *slot = (*slot & !(mask << shift)) | (state.bits() << shift);
         }
-        Ok(())
     }
 
     /// Sets micro-triangles `start..start + count` to `state`: the
@@ -654,24 +661,35 @@ impl Micromap {
                 format: self.format,
             });
         }
-        let per_byte = u64::from(8 / self.format.bits_per_state());
         let pattern = match self.format {
             Format::TwoState => 0u8.wrapping_sub(state.bits() & 1),
             Format::FourState => state.bits() * 0b0101_0101,
         };
-        let mut i = start;
-        while i < end {
-            if i % per_byte == 0 && end - i >= per_byte {
-                let first = (i / per_byte) as usize;
-                let bytes = ((end - i) / per_byte) as usize;
-                if let Some(run) = self.data.get_mut(first..first + bytes) {
-                    run.fill(pattern);
-                }
-                i += bytes as u64 * per_byte;
-            } else {
-                self.set(i, state)?;
-                i += 1;
+        if count == 0 {
+            return Ok(());
+        }
+        // The range is the bits [first_bit, end_bit) of the data (states
+        // low bits first): a partial first and last byte, whole bytes
+        // between, each written once (a bake fills many short ranges).
+        let bits = u64::from(self.format.bits_per_state());
+        let (first_bit, end_bit) = (start * bits, end * bits);
+        let (first, last) = (first_bit >> 3, (end_bit - 1) >> 3);
+        // The bits of byte `k` (first <= k <= last) in the range.
+        let mask = |k: u64| {
+            let low = first_bit.saturating_sub(8 * k);
+            let high = (end_bit - 8 * k).min(8);
+            ((0xffu16 << low) & (0xffu16 >> (8 - high))) as u8
+        };
+        let blend = |byte: &mut u8, mask: u8| *byte = (*byte & !mask) | (pattern & mask);
+        // end <= 4^16 states: the byte indices fit usize on 32-bit targets.
+        match self.data.get_mut(first as usize..=last as usize) {
+            Some([only]) => blend(only, mask(first)),
+            Some([head, middle @ .., tail]) => {
+                blend(head, mask(first));
+                middle.fill(pattern);
+                blend(tail, mask(last));
             }
+            _ => {}
         }
         Ok(())
     }
