@@ -367,6 +367,7 @@ impl Cutoff {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use alloc::vec;
 
     /// The 8-bit shortcut answers like the alpha it stands for: every code
     /// against cutoffs on, just below and just above every `c / 255` (as
