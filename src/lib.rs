@@ -95,6 +95,16 @@ macro_rules! unstable_pub_fn {
 #[doc = include_str!("../README.md")]
 mod readme {}
 
+/// Marsaglia's xorshift64, the unit tests' one source of pseudo-random
+/// numbers: the next state of `x`.
+#[cfg(test)]
+pub(crate) fn xorshift(x: &mut u64) -> u64 {
+    *x ^= *x << 13;
+    *x ^= *x >> 7;
+    *x ^= *x << 17;
+    *x
+}
+
 #[cfg(feature = "alloc")]
 pub mod bake;
 pub mod batch;

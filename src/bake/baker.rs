@@ -759,12 +759,7 @@ mod tests {
     #[test]
     fn narrow_and_wide_walks_agree_near_their_threshold() {
         let mut state = 0x0b5e_55ed_u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = move || crate::xorshift(&mut state);
         // 4 x 4 checks of random alpha, so that known states are common.
         let checks: Vec<u8> = (0..16).map(|_| (next() % 256) as u8).collect();
         let texels: Vec<u8> = (0..16 * 16)

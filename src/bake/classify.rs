@@ -559,12 +559,7 @@ mod tests {
     #[test]
     fn narrow_and_wide_texel_searches_agree_near_their_threshold() {
         let mut state = 0x7e57_u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = move || crate::xorshift(&mut state);
         let texels: Vec<u8> = (0..16).map(|_| (next() % 256) as u8).collect();
         let texture = Unorm8Texture::new(4, 4, &texels).unwrap();
         let edge = 1i128 << 62;

@@ -268,9 +268,7 @@ mod tests {
             let mut x = 0x9e37_79b9_7f4a_7c15u64;
             let mut plain = Vec::new();
             for _ in 0..len {
-                x ^= x << 13;
-                x ^= x >> 7;
-                x ^= x << 17;
+                crate::xorshift(&mut x);
                 let bit = match pattern {
                     0 => x % 3 == 0,
                     1 => true,

@@ -455,14 +455,7 @@ impl LevelOrderTree {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Marsaglia's xorshift64: the next state of `x`.
-    fn xorshift(x: &mut u64) -> u64 {
-        *x ^= *x << 13;
-        *x ^= *x >> 7;
-        *x ^= *x << 17;
-        *x
-    }
+    use crate::xorshift;
 
     /// The dispatched lookup (hardware `popcnt` where the CPU has it) and
     /// the portable one answer alike on every index of random maps with
