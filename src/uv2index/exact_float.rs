@@ -81,14 +81,8 @@ pub(crate) const CLOSED_FORM_PROVED_MAX_LEVEL: u32 = 19;
 /// ```
 #[inline]
 pub fn exact_index_f32(u: f32, v: f32, level: Level) -> Result<u64, Error> {
-    // Bits of non-negative floats order like the floats; -0.0, NaN and
-    // everything negative are above 1.0's bits and take the full check.
-    let one = 1f32.to_bits();
-    // A binary64 sum below 1 means a real sum below 1 (rounding is
-    // monotonic and 1 is representable); a sum of exactly 1 and everything
-    // else take the full check. `&`, not `&&`: one branch.
-    let simple = (u.to_bits() <= one) & (v.to_bits() <= one) & (f64::from(u) + f64::from(v) < 1.0);
-    if !simple {
+    // Widening to binary64 is exact and keeps the order and the sign.
+    if !surely_inside(f64::from(u), f64::from(v)) {
         f32::check_point(&u, &v)?;
     }
     if level.get() <= crate::spec::MAX_LEVEL {
@@ -109,6 +103,20 @@ pub fn exact_index_f32(u: f32, v: f32, level: Level) -> Result<u64, Error> {
     }
 }
 
+/// The common case of the triangle test, in one branch: `true` only for a
+/// point of the triangle with both coordinates in `[+0, 1]`. Bits of
+/// non-negative floats order like the floats (-0.0, NaN and everything
+/// negative are above 1.0's bits), and a binary64 sum below 1 means a real
+/// sum below 1 (rounding is monotonic and 1 is representable). Everything
+/// else, a sum of exactly 1 included, takes the full check.
+#[inline]
+fn surely_inside(u: f64, v: f64) -> bool {
+    let one = 1f64.to_bits();
+    #[allow(clippy::needless_bitwise_bool)] // `&`, not `&&`: one branch
+    let inside = (u.to_bits() <= one) & (v.to_bits() <= one) & (u + v < 1.0);
+    inside
+}
+
 /// The exact walk's index for a finite binary64 point: equal to the walk
 /// over the reals at the same point, for every level `0..=32`, with
 /// integers only (computed like [`exact_index_f32`]).
@@ -119,11 +127,7 @@ pub fn exact_index_f32(u: f32, v: f32, level: Level) -> Result<u64, Error> {
 /// ```
 #[inline]
 pub fn exact_index_f64(u: f64, v: f64, level: Level) -> Result<u64, Error> {
-    // As in `exact_index_f32`: the common case without the full check.
-    let one = 1f64.to_bits();
-    #[allow(clippy::needless_bitwise_bool)] // one branch, not three
-    let simple = (u.to_bits() <= one) & (v.to_bits() <= one) & (u + v < 1.0);
-    if !simple {
+    if !surely_inside(u, v) {
         f64::check_point(&u, &v)?;
     }
     if level.get() <= CLOSED_FORM_PROVED_MAX_LEVEL {
