@@ -305,17 +305,28 @@ pub(crate) const CELL_BY_TRUNC: u8 = 2;
 pub(crate) fn narrow<const CELL: u8>(u_bits: u32, v_bits: u32, params: &Params) -> u32 {
     #[cfg(feature = "std")]
     if CELL == CELL_BY_TRUNC {
-        let (iu, uf) = coordinate_trunc(u_bits, params);
-        let (iv, vf) = coordinate_trunc(v_bits, params);
-        return narrow_from_clamped_cell(iu, iv, uf + vf >= 1.0, params.last);
+        return narrow_by_floats(u_bits, v_bits, params, coordinate_trunc);
     }
     if CELL == CELL_BY_FLOAT {
-        let (iu, uf) = coordinate_float(u_bits, params);
-        let (iv, vf) = coordinate_float(v_bits, params);
-        narrow_from_clamped_cell(iu, iv, uf + vf >= 1.0, params.last)
+        narrow_by_floats(u_bits, v_bits, params, coordinate_float)
     } else {
         narrow_in_unit(clamp_bits(u_bits), clamp_bits(v_bits), params)
     }
+}
+
+/// [`narrow`] from a float first half: `coordinate` gives each cell (at
+/// most `last`) and exact binary32 fraction, and the diagonal test is the
+/// reference's own `uf + vf >= 1.0f`.
+#[inline(always)]
+fn narrow_by_floats(
+    u_bits: u32,
+    v_bits: u32,
+    params: &Params,
+    coordinate: impl Fn(u32, &Params) -> (u32, f32),
+) -> u32 {
+    let (iu, uf) = coordinate(u_bits, params);
+    let (iv, vf) = coordinate(v_bits, params);
+    narrow_from_clamped_cell(iu, iv, uf + vf >= 1.0, params.last)
 }
 
 /// [`narrow`] for bits already in `[0, 1]` (callers check `bits <=
