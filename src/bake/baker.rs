@@ -1,7 +1,7 @@
 //! [`Baker`]: one texture, sampler and cutoff; bakes and verifies triangles.
 
 use super::classify::{is_small, Block, Classes, Search, TexelClasses};
-use super::exact::{AxisFrame, ExactTriangle, FrameError, GridInt};
+use super::exact::{narrowed_below, AxisFrame, ExactTriangle, FrameError, GridInt};
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
 use crate::inverse::micro_triangles;
 use crate::micromap::{Format, Micromap, MicromapError, State, TriangleOpacity, UnknownPolicy};
@@ -255,17 +255,13 @@ impl Placed<i128> {
     /// The same triangle in `i64`, when the walk from it (as the root)
     /// stays in range: see [`NARROW_WALK_COORDINATE`].
     fn narrowed(&self, (sx, sy): (u32, u32)) -> Option<Placed<i64>> {
-        let fits = |c: &[i128; 3]| {
-            c.iter()
-                .all(|v| v.unsigned_abs() < NARROW_WALK_COORDINATE as u128)
-        };
-        if sx.max(sy) > NARROW_SHIFT || !fits(&self.x) || !fits(&self.y) {
+        if sx.max(sy) > NARROW_SHIFT {
             return None;
         }
-        // Exact casts: every coordinate is below 2^59.
+        let bound = NARROW_WALK_COORDINATE as u128;
         Some(Placed {
-            x: self.x.map(|v| v as i64),
-            y: self.y.map(|v| v as i64),
+            x: narrowed_below(self.x, bound)?,
+            y: narrowed_below(self.y, bound)?,
         })
     }
 }

@@ -2,7 +2,7 @@
 //! sample: texel classes with prefix sums, the image of a block of texel
 //! coordinates under the address modes, and an exact block search.
 
-use super::exact::{ExactTriangle, GridInt};
+use super::exact::{narrowed_below, ExactTriangle, GridInt};
 use super::texture::{AddressMode, AlphaTexture, Cutoff, Filter, Sampler, TextureError};
 use alloc::vec::Vec;
 
@@ -76,13 +76,8 @@ impl Block {
     /// The same block in `i64`, when its coordinates are below `2^62` in
     /// magnitude: then so is every coordinate in it.
     fn narrowed(self) -> Option<Block<i64>> {
-        let fits = |c: i128| c.unsigned_abs() < 1 << 62;
-        (fits(self.x0) && fits(self.x1) && fits(self.y0) && fits(self.y1)).then_some(Block {
-            x0: self.x0 as i64,
-            x1: self.x1 as i64,
-            y0: self.y0 as i64,
-            y1: self.y1 as i64,
-        })
+        let [x0, x1, y0, y1] = narrowed_below([self.x0, self.x1, self.y0, self.y1], 1 << 62)?;
+        Some(Block { x0, x1, y0, y1 })
     }
 }
 

@@ -126,6 +126,17 @@ impl<T> GridInt for T where
 {
 }
 
+/// `values` in `i64` when every one is below `bound` (at most `2^63`) in
+/// magnitude, else `None`: how a caller checks the bound that lets it run
+/// in `i64` (see [`GridInt`]).
+pub(crate) fn narrowed_below<const N: usize>(values: [i128; N], bound: u128) -> Option<[i64; N]> {
+    // Exact casts once the bound holds.
+    values
+        .iter()
+        .all(|v| v.unsigned_abs() < bound)
+        .then(|| values.map(|v| v as i64))
+}
+
 /// Coordinates of the grid: every texel-space coordinate the classifier
 /// handles is below this in magnitude, so products and sums of two products
 /// stay exact in [`Wide`].
