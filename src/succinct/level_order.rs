@@ -83,6 +83,14 @@ const TOP_LEAF: u16 = 1 << 15;
 /// The top table's deepest depth: 16,384 entries, 32 KiB.
 const TOP_MAX_DEPTH: u32 = 7;
 
+/// The nodes of the depth below the `count` nodes from position `start`:
+/// they begin where those end, four per internal node among them (the
+/// positions must lie within the bits).
+fn next_depth(internal: &RankBits, start: usize, count: usize) -> (usize, usize) {
+    let end = start + count;
+    (end, 4 * (internal.rank1(end) - internal.rank1(start)))
+}
+
 impl LevelOrderTree {
     /// Encodes a flat micromap (`4^level` states in index order): Algorithm
     /// 1, then the merged tree breadth-first.
@@ -168,12 +176,9 @@ impl LevelOrderTree {
         let depth = depth
             .min(TOP_MAX_DEPTH)
             .min(self.level.get().saturating_sub(1));
-        // The first position of each depth, as in `checked`.
         let (mut start, mut count) = (0usize, 1usize);
         for _ in 0..depth {
-            let end = start + count;
-            let ones = self.internal.rank1(end) - self.internal.rank1(start);
-            (start, count) = (end, 4 * ones);
+            (start, count) = next_depth(&self.internal, start, count);
         }
         let top = if depth == 0 {
             Vec::new()
@@ -266,14 +271,12 @@ impl LevelOrderTree {
             if count == 0 {
                 break;
             }
-            let end = start + count;
-            if end > tree_bits {
+            if start + count > tree_bits {
                 return Err(TreeError::TreeEndsEarly {
                     tree_bits: tree_bits as u64,
                 });
             }
-            let ones = internal.rank1(end) - internal.rank1(start);
-            (start, count) = (end, 4 * ones);
+            (start, count) = next_depth(&internal, start, count);
         }
         if start != tree_bits {
             return Err(TreeError::TreeBitsLeftOver {
