@@ -618,19 +618,12 @@ impl Micromap {
                 format: self.format,
             });
         }
-        self.write(index, state);
-        Ok(())
-    }
-
-    /// [`set`](Self::set) past its checks: `index` below `len`, `state` in
-    /// the format.
-    #[inline]
-    fn write(&mut self, index: u64, state: State) {
         let (byte, shift) = self.position(index);
         let mask = (1u8 << self.format.bits_per_state()) - 1;
         if let Some(slot) = self.data.get_mut(byte) {
             *slot = (*slot & !(mask << shift)) | (state.bits() << shift);
         }
+        Ok(())
     }
 
     /// Sets micro-triangles `start..start + count` to `state`: the
