@@ -69,9 +69,11 @@ struct Node {
 }
 
 impl Node {
+    /// The child with the lowest two bits of `digit`, whose parent's half
+    /// side is `2^half_log2` (`const`: [`LEAVES`] is built from it).
     #[inline(always)]
-    fn child(self, digit: u64, half_log2: u32) -> Node {
-        let step = CHILDREN[usize::from(self.flags) | ((digit as usize & 3) << 2)];
+    const fn child(self, digit: u64, half_log2: u32) -> Node {
+        let step = CHILDREN[self.flags as usize | ((digit as usize & 3) << 2)];
         Node {
             u: self.u + (step.du << half_log2),
             v: self.v.wrapping_add(step.dv << half_log2),
@@ -95,7 +97,7 @@ struct Leaf {
 
 /// `LEAVES[flags][s]`: the leaf that the digits of `s` (the last
 /// `GROUP_DIGITS` digits of an index) reach from a node with `flags`,
-/// composed from [`CHILDREN`] one digit at a time. The offsets stay within
+/// by [`Node::child`] one digit at a time. The offsets stay within
 /// `0..8` and `-8..8`. A suffix with leading zero digits from the root
 /// (flags 0, so digit 0 is Left: same origin, same flags) is also the leaf
 /// of a shorter suffix, which serves levels below `GROUP_DIGITS`.
@@ -109,20 +111,21 @@ const LEAVES: [[Leaf; 64]; 4] = {
     while flags < 4 {
         let mut suffix = 0;
         while suffix < 64 {
-            let (mut du, mut dv, mut node_flags) = (0u64, 0u64, flags as u8);
+            // The walk from a node at the origin, one digit at a time.
+            let mut node = Node {
+                u: 0,
+                v: 0,
+                flags: flags as u8,
+            };
             let mut below = GROUP_DIGITS;
             while below > 0 {
                 below -= 1;
-                let digit = (suffix >> (2 * below)) & 3;
-                let step = CHILDREN[node_flags as usize | (digit << 2)];
-                du += step.du << below;
-                dv = dv.wrapping_add(step.dv << below);
-                node_flags = step.flags;
+                node = node.child((suffix >> (2 * below)) as u64, below);
             }
             table[flags][suffix] = Leaf {
-                du: du as u8,
-                dv: dv as i64 as i8,
-                flags: node_flags,
+                du: node.u as u8,
+                dv: node.v as i64 as i8,
+                flags: node.flags,
             };
             suffix += 1;
         }
