@@ -1,18 +1,224 @@
-//! The x86-64 backends: the safe loops of [`super::kernel`] compiled again
-//! with AVX2 or AVX-512 enabled, so the compiler vectorises them 8 or 16
-//! lanes wide, and the level-order tree's lookup compiled again with
-//! hardware `popcnt`. This is the only module of the crate allowed `unsafe`: calling
-//! a `#[target_feature]` function is `unsafe` because running it on a CPU
-//! without the feature is undefined behaviour. Each call below sits behind a
-//! runtime check of exactly the features its callee enables; where the check
-//! fails the function returns `false` and the caller falls back to the
-//! portable loop (which is the same kernel without target features).
+//! The x86-64 backends: the chunked pipeline of [`super::kernel`] with its
+//! float first half and bit interleave written with SSE2, AVX2 and AVX-512
+//! instructions ([`kernel::Lanes`]), the wide kernel compiled again with
+//! AVX2 or AVX-512 enabled so the compiler vectorises it, and the
+//! level-order tree's lookup compiled again with hardware `popcnt`. This is
+//! the only module of the crate allowed `unsafe`: intrinsics are `unsafe`
+//! to call on the crate's minimum Rust version, and calling a
+//! `#[target_feature]` function is `unsafe` because running it on a CPU
+//! without the feature is undefined behaviour. Each such call below sits
+//! behind a runtime check of exactly the features its callee enables; where
+//! the check fails the function returns `false` and the caller falls back
+//! to the portable loop.
+//!
+//! What the intrinsics add over the safe kernel: a truncating conversion
+//! (`cvttps2dq`, which safe Rust's saturating casts cannot use directly),
+//! packing the cells into 16-bit words for the integer half, and, with
+//! AVX2 and AVX-512, the interleave by byte shuffles (`pshufb` as a 16-entry
+//! table that spreads a nibble to the even bits of a byte) instead of
+//! twelve shifts and masks per word.
 #![allow(unsafe_code)]
 
-use super::kernel::{self, Params};
+use super::kernel::{self, Cells, Halves, Lanes, Params, CHUNK};
+
+/// Stamps a [`Lanes`] for one instruction set from one body: `$ops` names
+/// the set's intrinsics under common names, and `interleave` is either
+/// `shuffle` (byte shuffles, SSSE3 and up) or `portable` (the safe
+/// interleave of [`kernel::PortableLanes`], for SSE2, which has no byte
+/// shuffle).
+///
+/// The cells are packed to 16 bits per 128-bit lane (a pack of two vectors
+/// puts lane `l`'s four points of the first before its four of the second),
+/// and the shuffle interleave unpacks per 128-bit lane, which restores the
+/// order: the low halves of every lane are the first vector's points, the
+/// high halves the second's. With 128-bit vectors (SSE2) the pack keeps the
+/// points in order, as the portable interleave needs.
+///
+/// The type's field is private and the type is built only where its
+/// features are known to be present: SSE2 is the x86-64 baseline, and the
+/// others are built only inside the `#[target_feature]` loop that
+/// [`feature_loop!`] calls after detecting them. Holding one proves the CPU
+/// has the features, which is what makes its safe methods sound.
+macro_rules! simd_lanes {
+    ($(#[$attr:meta])* $name:ident, $ops:ident, interleave: $interleave:ident) => {
+        $(#[$attr])*
+        pub(crate) struct $name(());
+
+        $(#[$attr])*
+        impl Lanes for $name {
+            #[inline(always)]
+            fn cells(&self, u: &[f32; CHUNK], v: &[f32; CHUNK], scale: f32, cells: &mut Cells) {
+                use $ops::*;
+                /// The cells of the `LANES` points from `at` (32-bit lanes)
+                /// and their diagonal outcomes as 0 or 1.
+                #[inline(always)]
+                unsafe fn coordinates(
+                    (u, v, at): (&[f32; CHUNK], &[f32; CHUNK], usize),
+                    (floor, below_one, scale): (Ps, Ps, Ps),
+                ) -> (Si, Si, Si) {
+                    // (No closures in these bodies: a closure would not
+                    // inherit the target features on every supported
+                    // compiler, and its intrinsics would not inline.)
+                    let (x, y) = (loadu_ps(u.as_ptr().add(at)), loadu_ps(v.as_ptr().add(at)));
+                    let fu = mul_ps(min_ps(max_ps(x, floor), below_one), scale);
+                    let fv = mul_ps(min_ps(max_ps(y, floor), below_one), scale);
+                    let (iu, iv) = (cvttps_epi32(fu), cvttps_epi32(fv));
+                    let sum = add_ps(sub_ps(fu, cvtepi32_ps(iu)), sub_ps(fv, cvtepi32_ps(iv)));
+                    // The sum is below 2: its truncation is the diagonal test.
+                    (iu, iv, cvttps_epi32(sum))
+                }
+                // SAFETY: `self` exists only where the CPU has the
+                // features (see the type); the loads of LANES f32 and the
+                // stores of 2 * LANES u16 stay inside the chunk's arrays
+                // (CHUNK is a multiple of 2 * LANES, every offset plus its
+                // width at most CHUNK).
+                unsafe {
+                    let limits = (set1_ps(f32::MIN_POSITIVE), set1_ps(kernel::BELOW_ONE), set1_ps(scale));
+                    let mut k = 0;
+                    while k < CHUNK {
+                        let (iu0, iv0, d0) = coordinates((u, v, k), limits);
+                        let (iu1, iv1, d1) = coordinates((u, v, k + LANES), limits);
+                        storeu_si(cells.iu.as_mut_ptr().add(k).cast(), pack_u16(iu0, iu1));
+                        storeu_si(cells.iv.as_mut_ptr().add(k).cast(), pack_u16(iv0, iv1));
+                        storeu_si(cells.diagonal.as_mut_ptr().add(k).cast(), pack_u16(d0, d1));
+                        k += 2 * LANES;
+                    }
+                }
+            }
+
+            #[inline(always)]
+            fn interleave(&self, halves: &Halves, out: &mut [u32; CHUNK]) {
+                simd_lanes!(@interleave $interleave, $ops, halves, out);
+            }
+        }
+    };
+    (@interleave portable, $ops:ident, $halves:ident, $out:ident) => {
+        kernel::PortableLanes.interleave($halves, $out)
+    };
+    (@interleave shuffle, $ops:ident, $halves:ident, $out:ident) => {{
+        use $ops::*;
+        // SAFETY: as in `cells`; loads of 2 * LANES u16 and stores of
+        // LANES u32 at offsets up to CHUNK minus their width.
+        unsafe {
+            let nibble = set1_epi8(0x0f);
+            // A nibble's four bits on the even bits of a byte.
+            let spread = broadcast_128(core::arch::x86_64::_mm_setr_epi8(
+                0, 1, 4, 5, 16, 17, 20, 21, 64, 65, 68, 69, 80, 81, 84, 85,
+            ));
+            // Byte pairs (b0's, b1's) -> b0's | b1's << 1.
+            let pair = set1_epi16(0x0201);
+            let mut k = 0;
+            while k < CHUNK {
+                let b0 = loadu_si($halves.b0.as_ptr().add(k).cast());
+                let b1 = loadu_si($halves.b1.as_ptr().add(k).cast());
+                // Each point's bytes: b0 low, b1 low, b0 high, b1 high.
+                let points = [unpacklo_epi8(b0, b1), unpackhi_epi8(b0, b1)];
+                for (j, bytes) in points.into_iter().enumerate() {
+                    let low = shuffle_epi8(spread, and_si(bytes, nibble));
+                    let high = shuffle_epi8(spread, and_si(srli_epi16::<4>(bytes), nibble));
+                    // Each 16-bit word of `low` is one byte of the index,
+                    // of `high` the byte above it.
+                    let index = or_si(
+                        maddubs_epi16(low, pair),
+                        slli_epi16::<8>(maddubs_epi16(high, pair)),
+                    );
+                    storeu_si($out.as_mut_ptr().add(k + LANES * j).cast(), index);
+                }
+                k += 2 * LANES;
+            }
+        }
+    }};
+}
+
+/// SSE2's intrinsics under the names [`simd_lanes!`] uses.
+mod sse2_ops {
+    use core::arch::x86_64 as x86;
+    pub(super) use core::arch::x86_64::{
+        __m128 as Ps, __m128i as Si, _mm_add_ps as add_ps, _mm_cvtepi32_ps as cvtepi32_ps,
+        _mm_cvttps_epi32 as cvttps_epi32, _mm_loadu_ps as loadu_ps, _mm_max_ps as max_ps,
+        _mm_min_ps as min_ps, _mm_mul_ps as mul_ps, _mm_set1_ps as set1_ps,
+        _mm_storeu_si128 as storeu_si, _mm_sub_ps as sub_ps,
+    };
+    /// f32 lanes of a vector.
+    pub(super) const LANES: usize = 4;
+
+    /// Two vectors of values in `0..2^16` as one of 16-bit words, in order.
+    /// SSE2's only 32-to-16-bit pack saturates signed, so the values are
+    /// moved down by `2^15` first and back after.
+    ///
+    /// # Safety
+    /// None beyond SSE2, the x86-64 baseline.
+    #[inline(always)]
+    pub(super) unsafe fn pack_u16(a: Si, b: Si) -> Si {
+        let bias = x86::_mm_set1_epi32(0x8000);
+        let packed = x86::_mm_packs_epi32(x86::_mm_sub_epi32(a, bias), x86::_mm_sub_epi32(b, bias));
+        x86::_mm_xor_si128(packed, x86::_mm_set1_epi16(i16::MIN))
+    }
+}
+
+/// AVX2's intrinsics under the names [`simd_lanes!`] uses.
+#[cfg(feature = "std")]
+mod avx2_ops {
+    pub(super) use core::arch::x86_64::{
+        __m256 as Ps, __m256i as Si, _mm256_add_ps as add_ps, _mm256_and_si256 as and_si,
+        _mm256_broadcastsi128_si256 as broadcast_128, _mm256_cvtepi32_ps as cvtepi32_ps,
+        _mm256_cvttps_epi32 as cvttps_epi32, _mm256_loadu_ps as loadu_ps,
+        _mm256_loadu_si256 as loadu_si, _mm256_maddubs_epi16 as maddubs_epi16,
+        _mm256_max_ps as max_ps, _mm256_min_ps as min_ps, _mm256_mul_ps as mul_ps,
+        _mm256_or_si256 as or_si, _mm256_packus_epi32 as pack_u16, _mm256_set1_epi16 as set1_epi16,
+        _mm256_set1_epi8 as set1_epi8, _mm256_set1_ps as set1_ps,
+        _mm256_shuffle_epi8 as shuffle_epi8, _mm256_slli_epi16 as slli_epi16,
+        _mm256_srli_epi16 as srli_epi16, _mm256_storeu_si256 as storeu_si, _mm256_sub_ps as sub_ps,
+        _mm256_unpackhi_epi8 as unpackhi_epi8, _mm256_unpacklo_epi8 as unpacklo_epi8,
+    };
+    /// f32 lanes of a vector.
+    pub(super) const LANES: usize = 8;
+}
+
+/// AVX-512's intrinsics (F and BW) under the names [`simd_lanes!`] uses.
+#[cfg(all(feature = "std", micromap_avx512))]
+mod avx512_ops {
+    pub(super) use core::arch::x86_64::{
+        __m512 as Ps, __m512i as Si, _mm512_add_ps as add_ps, _mm512_and_si512 as and_si,
+        _mm512_broadcast_i32x4 as broadcast_128, _mm512_cvtepi32_ps as cvtepi32_ps,
+        _mm512_cvttps_epi32 as cvttps_epi32, _mm512_loadu_ps as loadu_ps,
+        _mm512_loadu_si512 as loadu_si, _mm512_maddubs_epi16 as maddubs_epi16,
+        _mm512_max_ps as max_ps, _mm512_min_ps as min_ps, _mm512_mul_ps as mul_ps,
+        _mm512_or_si512 as or_si, _mm512_packus_epi32 as pack_u16, _mm512_set1_epi16 as set1_epi16,
+        _mm512_set1_epi8 as set1_epi8, _mm512_set1_ps as set1_ps,
+        _mm512_shuffle_epi8 as shuffle_epi8, _mm512_slli_epi16 as slli_epi16,
+        _mm512_srli_epi16 as srli_epi16, _mm512_storeu_si512 as storeu_si, _mm512_sub_ps as sub_ps,
+        _mm512_unpackhi_epi8 as unpackhi_epi8, _mm512_unpacklo_epi8 as unpacklo_epi8,
+    };
+    /// f32 lanes of a vector.
+    pub(super) const LANES: usize = 16;
+}
+
+simd_lanes!(Sse2Lanes, sse2_ops, interleave: portable);
+simd_lanes!(
+    #[cfg(feature = "std")]
+    Avx2Lanes,
+    avx2_ops,
+    interleave: shuffle
+);
+simd_lanes!(
+    #[cfg(all(feature = "std", micromap_avx512))]
+    // Built only by compilers from 1.89 on (the cfg), where these are stable.
+    #[allow(clippy::incompatible_msrv)]
+    Avx512Lanes,
+    avx512_ops,
+    interleave: shuffle
+);
+
+/// [`kernel::narrow_chunked`] through [`Sse2Lanes`]: the portable backend
+/// on x86-64.
+pub(crate) fn narrow_slice_sse2(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) {
+    // SSE2 is the x86-64 baseline: every CPU this runs on has it.
+    kernel::narrow_chunked(&Sse2Lanes(()), u, v, out, params);
+}
 
 /// The features the AVX-512 functions enable, all checked before a call.
-#[cfg(micromap_avx512)]
+#[cfg(all(feature = "std", micromap_avx512))]
 macro_rules! avx512_detected {
     () => {
         std::arch::is_x86_feature_detected!("avx512f")
@@ -23,11 +229,13 @@ macro_rules! avx512_detected {
 }
 
 /// Whether this CPU runs the AVX2 backend.
+#[cfg(feature = "std")]
 pub(super) fn has_avx2() -> bool {
     std::arch::is_x86_feature_detected!("avx2")
 }
 
 /// Whether this CPU runs the AVX-512 backend (and this compiler built it).
+#[cfg(feature = "std")]
 pub(super) fn has_avx512() -> bool {
     #[cfg(micromap_avx512)]
     {
@@ -41,30 +249,34 @@ pub(super) fn has_avx512() -> bool {
 
 /// Stamps one kernel loop compiled with target features: an `unsafe fn`
 /// with `#[target_feature]` (not a safe `#[target_feature]` function, which
-/// needs Rust 1.86, above the crate's minimum supported version) and the
-/// safe entry point that calls it only after detecting every feature it
-/// enables, returning `false` (nothing written) otherwise.
+/// needs Rust 1.86, above the crate's minimum supported version) whose body
+/// is written in place (so that everything it inlines is compiled with the
+/// features), and the safe entry point that calls it only after detecting
+/// every feature it enables, returning `false` (nothing written) otherwise.
 macro_rules! feature_loop {
     (
         $(#[$cfg:meta])?
         $doc:literal, $entry:ident, $compiled:ident, $features:literal, $detected:expr,
-        $out:ty, $kernel:expr
+        $out:ty, |$u:ident, $v:ident, $o:ident, $params:ident| $body:expr
     ) => {
+        #[cfg(feature = "std")]
         $(#[$cfg])?
         /// # Safety
         /// The CPU must support every feature in the `target_feature` list.
         #[target_feature(enable = $features)]
-        unsafe fn $compiled(u: &[f32], v: &[f32], out: &mut [$out], params: &Params) {
-            $kernel(u, v, out, params);
+        unsafe fn $compiled($u: &[f32], $v: &[f32], $o: &mut [$out], $params: &Params) {
+            $body
         }
 
+        #[cfg(feature = "std")]
         #[doc = $doc]
         pub(super) fn $entry(u: &[f32], v: &[f32], out: &mut [$out], params: &Params) -> bool {
             $(#[$cfg])?
             if $detected {
                 // SAFETY: every feature the compiled loop enables was
                 // detected just above; its body is safe code on valid
-                // slices.
+                // slices, or a `Lanes` whose existence asserts exactly
+                // these features.
                 unsafe { $compiled(u, v, out, params) };
                 return true;
             }
@@ -75,13 +287,14 @@ macro_rules! feature_loop {
 }
 
 feature_loop!(
-    "[`kernel::narrow_slice`] with AVX2; `false` if the CPU lacks AVX2.",
+    "[`kernel::narrow_chunked`] through [`Avx2Lanes`]; `false` if the CPU \
+     lacks AVX2.",
     narrow_slice_avx2,
     narrow_avx2,
     "avx2",
     has_avx2(),
     u32,
-    kernel::narrow_slice::<{ kernel::CELL_BY_TRUNC }>
+    |u, v, out, params| kernel::narrow_chunked(&Avx2Lanes(()), u, v, out, params)
 );
 feature_loop!(
     "[`kernel::wide_slice`] with AVX2; `false` if the CPU lacks AVX2.",
@@ -90,18 +303,18 @@ feature_loop!(
     "avx2",
     has_avx2(),
     u64,
-    kernel::wide_slice
+    |u, v, out, params| kernel::wide_slice(u, v, out, params)
 );
 feature_loop!(
     #[cfg(micromap_avx512)]
-    "[`kernel::narrow_slice`] with AVX-512; `false` if the CPU lacks one of \
-     the features or the compiler could not build the backend.",
+    "[`kernel::narrow_chunked`] through [`Avx512Lanes`]; `false` if the CPU \
+     lacks one of the features or the compiler could not build the backend.",
     narrow_slice_avx512,
     narrow_avx512,
     "avx512f,avx512bw,avx512vl,avx512dq",
     avx512_detected!(),
     u32,
-    kernel::narrow_slice::<{ kernel::CELL_BY_TRUNC }>
+    |u, v, out, params| kernel::narrow_chunked(&Avx512Lanes(()), u, v, out, params)
 );
 feature_loop!(
     #[cfg(micromap_avx512)]
@@ -111,12 +324,12 @@ feature_loop!(
     "avx512f,avx512bw,avx512vl,avx512dq",
     avx512_detected!(),
     u64,
-    kernel::wide_slice
+    |u, v, out, params| kernel::wide_slice(u, v, out, params)
 );
 
 /// # Safety
 /// The CPU must support `popcnt`.
-#[cfg(feature = "alloc")]
+#[cfg(feature = "std")]
 #[target_feature(enable = "popcnt")]
 unsafe fn level_order_get_popcnt(
     tree: &crate::succinct::LevelOrderTree,
@@ -128,7 +341,7 @@ unsafe fn level_order_get_popcnt(
 /// [`crate::succinct::LevelOrderTree::get`] with hardware `popcnt` where the
 /// CPU has it (x86-64's baseline does not, and a software popcount on the
 /// rank's critical path doubles the lookup), else the same code without.
-#[cfg(feature = "alloc")]
+#[cfg(feature = "std")]
 #[inline]
 pub(crate) fn level_order_get(
     tree: &crate::succinct::LevelOrderTree,

@@ -1,19 +1,32 @@
 //! The reference's steps rewritten without branches on the bits of the
-//! floats: safe code, one lane at a time, written so that a loop over slices
-//! vectorises. [`super::arch`] compiles the same loops again with AVX2 or
-//! AVX-512 enabled; everything here is `#[inline(always)]` so that each
-//! caller gets its own copy under its own target features.
+//! floats, in safe code, in two shapes:
+//!
+//! * **Point by point** ([`narrow`], [`wide`]): one lane at a time, written
+//!   so that a loop over slices vectorises; `spec::index_f32`,
+//!   `batch::index_f32_one` and the wide batch run it, [`super::arch`]
+//!   compiles the wide loop again with AVX2 or AVX-512 enabled.
+//! * **In chunks** ([`narrow_chunked`], levels `0..=16`, the narrow batch):
+//!   [`CHUNK`] points go through three stages, each its own loop. The first
+//!   half (float) and the bit interleave come from a [`Lanes`]: the safe
+//!   [`PortableLanes`] here, or [`super::arch`]'s SSE2, AVX2 and AVX-512
+//!   ones with intrinsics. The integer half between them is
+//!   [`integer_half_chunk`], in 16-bit words, for every backend: every
+//!   value is below `2^16` at these levels, so a vector holds twice as many
+//!   points as in 32-bit words.
+//!
+//! Everything here is `#[inline(always)]` so that each caller gets its own
+//! copy under its own target features.
 //!
 //! # The first half in floats
 //!
 //! [`narrow`] takes the cell and fraction as `CELL` says. The vector
-//! backends use the reference's own binary32 steps ([`coordinate_trunc`]
-//! with a truncation instruction, [`coordinate_float`] with the `2^23`
-//! rounding trick on SSE2), after a float clamp that flushes subnormals and
+//! backends use the reference's own binary32 steps (a truncating
+//! conversion in [`super::arch`], [`coordinate_float`]'s `2^23` rounding
+//! trick in safe code), after a float clamp that flushes subnormals and
 //! stops below 1 ([`clamp_flushed`] says why neither changes the index),
 //! and decide `uf + vf >= 1.0f` as the reference does: fewer operations
 //! than the shifts below, which serve the wide form (levels above 16) and
-//! the scalar callers.
+//! `batch::index_f32_one`.
 //!
 //! # The first half on the bits
 //!
@@ -186,11 +199,16 @@ pub(crate) fn unit_coordinate(bits: u32, params: &Params) -> (u32, u32) {
 /// The reference's clamp to `[0, 1]` on floats, with two changes that
 /// leave its index alone:
 ///
-/// * Subnormals are flushed to 0 (with NaN, negatives and zeros they fail
-///   the first test; NaN compares false). This keeps the float steps after
-///   it off the slow paths CPUs take on subnormals: a subnormal's cell is 0
-///   and its fraction, below `2^-110` at level 16, cannot move `uf + vf`
-///   across `1 - 2^-25` (the other fraction is at most `1 - 2^-24`).
+/// * Everything below the smallest normal, `2^-126`, becomes `2^-126`:
+///   subnormals, zeros, negatives and NaN (which compares false), in one
+///   `max` whose NaN operand is the first (x86's `maxps` then returns the
+///   second). This keeps the float steps after it off the slow paths CPUs
+///   take on subnormals. Every such value has cell 0 and a fraction below
+///   `2^-110` at level 16 (the reference's is 0 or a subnormal's
+///   `2^level` multiple, below `2^-110` too), and a fraction that small
+///   cannot move `uf + vf` across `1 - 2^-25`: the other fraction is at
+///   most `1 - 2^-24`, so the real sum stays below `1 - 2^-25` and the
+///   binary32 sum below 1 either way.
 /// * Everything from 1 up (`+inf` too) becomes `1 - 2^-24`, the float below
 ///   1, whose cell is `last` at every level `0..=16`: the cell the
 ///   reference clamps `x = 1` to, so no cell needs clamping afterwards. Its
@@ -198,15 +216,21 @@ pub(crate) fn unit_coordinate(bits: u32, params: &Params) -> (u32, u32) {
 ///   makes `iu + iv < last` false, which rules the diagonal step out.
 #[inline(always)]
 fn clamp_flushed(bits: u32) -> f32 {
-    const BELOW_ONE: f32 = 1.0 - f32::EPSILON / 2.0;
     let x = f32::from_bits(bits);
-    let x = if x >= f32::MIN_POSITIVE { x } else { 0.0 };
+    let x = if x > f32::MIN_POSITIVE {
+        x
+    } else {
+        f32::MIN_POSITIVE
+    };
     if x < BELOW_ONE {
         x
     } else {
         BELOW_ONE
     }
 }
+
+/// `1 - 2^-24`, the float below 1: where [`clamp_flushed`] stops.
+pub(crate) const BELOW_ONE: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// `2^23`: adding it to a float in `[0, 2^23)` leaves an integer in the low
 /// bits of the sum's significand.
@@ -228,18 +252,6 @@ fn coordinate_float(bits: u32, params: &Params) -> (u32, f32) {
     let above = rounded > fu;
     let truncated = rounded - if above { 1.0 } else { 0.0 };
     let cell = (sum.to_bits() & 0x7f_ffff) - u32::from(above);
-    (cell, fu - truncated)
-}
-
-/// [`coordinate_float`] for targets with a vector truncation (SSE4.1's
-/// `roundps` and up; elsewhere `trunc` is a library call): `trunc` takes
-/// the cell as a float, and the `2^23` sum turns it into an integer.
-#[cfg(feature = "std")]
-#[inline(always)]
-fn coordinate_trunc(bits: u32, params: &Params) -> (u32, f32) {
-    let fu = clamp_flushed(bits) * params.scale;
-    let truncated = fu.trunc();
-    let cell = (truncated + MAGIC).to_bits() & 0x7f_ffff;
     (cell, fu - truncated)
 }
 
@@ -294,19 +306,12 @@ fn interleave_16(b0: u32, b1: u32) -> u32 {
 pub(crate) const CELL_BY_SHIFTS: u8 = 0;
 /// [`coordinate_float`]'s float steps (SSE2 has no per-lane shifts).
 pub(crate) const CELL_BY_FLOAT: u8 = 1;
-/// [`coordinate_trunc`]'s float steps with a truncation instruction.
-#[cfg(feature = "std")]
-pub(crate) const CELL_BY_TRUNC: u8 = 2;
 
 /// The reference in binary32 for one pair of bit patterns, levels `0..=16`:
 /// the same bits as `spec::index_f32`, the cell and fraction taken as `CELL`
 /// says.
 #[inline(always)]
 pub(crate) fn narrow<const CELL: u8>(u_bits: u32, v_bits: u32, params: &Params) -> u32 {
-    #[cfg(feature = "std")]
-    if CELL == CELL_BY_TRUNC {
-        return narrow_by_floats(u_bits, v_bits, params, coordinate_trunc);
-    }
     if CELL == CELL_BY_FLOAT {
         narrow_by_floats(u_bits, v_bits, params, coordinate_float)
     } else {
@@ -368,12 +373,214 @@ pub(crate) fn wide_from_clamped_cell(iu: u32, iv: u32, diagonal: bool, last: u32
     u64::from(low) | (u64::from(high) << 32)
 }
 
-/// [`narrow`] over slices of equal length (checked by the caller).
-#[inline(always)]
-pub(crate) fn narrow_slice<const CELL: u8>(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) {
-    for ((out, u), v) in out.iter_mut().zip(u).zip(v) {
-        *out = narrow::<CELL>(u.to_bits(), v.to_bits(), params);
+/// Points per chunk of the chunked pipeline: enough that each stage's loop
+/// keeps its vector registers busy and is not unrolled into straight-line
+/// code (which the compiler vectorises worse), small enough that a chunk's
+/// buffers (about 3 KiB) stay in L1.
+pub(crate) const CHUNK: usize = 256;
+
+/// The first half's output for one chunk: clamped cells (at most `last`)
+/// and the diagonal outcome (0 or 1), in the order a backend's [`Lanes`]
+/// chose (the integer half works point by point, so any order the
+/// backend's interleave undoes is fine).
+pub(crate) struct Cells {
+    /// `min(trunc(u * 2^level), last)` per point.
+    pub iu: [u16; CHUNK],
+    /// `min(trunc(v * 2^level), last)` per point.
+    pub iv: [u16; CHUNK],
+    /// `uf + vf >= 1.0f` per point, as 0 or 1.
+    pub diagonal: [u16; CHUNK],
+}
+
+/// The integer half's output for one chunk: `b0` and `b1` before the
+/// interleave, in the order of [`Cells`].
+pub(crate) struct Halves {
+    /// `b0` per point.
+    pub b0: [u16; CHUNK],
+    /// `b1` per point.
+    pub b1: [u16; CHUNK],
+}
+
+/// The two stages of the chunked pipeline that differ between instruction
+/// sets: the float first half and the bit interleave. The integer half
+/// between them ([`integer_half_chunk`]) is this module's safe code for
+/// every backend.
+///
+/// An implementation's [`Lanes::cells`] may store the points of a chunk in
+/// any fixed order (packing instructions work within 128-bit lanes) as long
+/// as its [`Lanes::interleave`] writes each point's index back to the
+/// point's position.
+pub(crate) trait Lanes {
+    /// The cells and diagonal outcomes of the chunk's points.
+    fn cells(&self, u: &[f32; CHUNK], v: &[f32; CHUNK], scale: f32, cells: &mut Cells);
+    /// `out[i] = spread(b0) | spread(b1) << 1` for every point.
+    fn interleave(&self, halves: &Halves, out: &mut [u32; CHUNK]);
+}
+
+/// [`Lanes`] in safe code, points in order: the first half by
+/// [`coordinate_float`] (no float-to-integer conversion, which baselines
+/// without a vector form of it would do one lane at a time) and the
+/// interleave as two 16-bit perfect shuffles.
+pub(crate) struct PortableLanes;
+
+impl Lanes for PortableLanes {
+    #[inline(always)]
+    fn cells(&self, u: &[f32; CHUNK], v: &[f32; CHUNK], scale: f32, cells: &mut Cells) {
+        let params = Params {
+            last: 0, // coordinate_float reads only the scale
+            shift_base: 0,
+            scale,
+            threshold: 0,
+        };
+        for k in 0..CHUNK {
+            let (iu, uf) = coordinate_float(u[k].to_bits(), &params);
+            let (iv, vf) = coordinate_float(v[k].to_bits(), &params);
+            // Cells are at most 2^16 - 1 (levels 0..=16, x < 1).
+            cells.iu[k] = iu as u16;
+            cells.iv[k] = iv as u16;
+            cells.diagonal[k] = u16::from(uf + vf >= 1.0);
+        }
     }
+
+    #[inline(always)]
+    fn interleave(&self, halves: &Halves, out: &mut [u32; CHUNK]) {
+        let mut low = [0u16; CHUNK];
+        let mut high = [0u16; CHUNK];
+        for k in 0..CHUNK {
+            let (b0, b1) = (halves.b0[k], halves.b1[k]);
+            low[k] = shuffle_bytes((b0 & 0xff) | (b1 << 8));
+            high[k] = shuffle_bytes((b0 >> 8) | (b1 & 0xff00));
+        }
+        for ((out, low), high) in out.iter_mut().zip(low).zip(high) {
+            *out = u32::from(low) | (u32::from(high) << 16);
+        }
+    }
+}
+
+/// The perfect shuffle of a 16-bit word: its low byte to the even bits,
+/// its high byte to the odd bits (three of [`interleave_16`]'s four steps).
+#[inline(always)]
+fn shuffle_bytes(x: u16) -> u16 {
+    let mut x = x;
+    let mut t;
+    t = (x ^ (x >> 4)) & 0x00f0;
+    x ^= t ^ (t << 4);
+    t = (x ^ (x >> 2)) & 0x0c0c;
+    x ^= t ^ (t << 2);
+    t = (x ^ (x >> 1)) & 0x2222;
+    x ^= t ^ (t << 1);
+    x
+}
+
+/// The integer half of one chunk in 16-bit words (levels `0..=16`: every
+/// value is at most `last <= 2^16 - 1`), so a vector holds twice as many
+/// points as in the 32-bit [`integer_half`]. From `iu, iv <= last`:
+///
+/// * the fold is `iu = min(iu, last - iv)`;
+/// * `~iw` is `s = min(iu + iv + d, last)` after the fold: when the sum is
+///   below `last` the reference subtracts `d` from `iw`; when it is `last`
+///   (on the hypotenuse, folded or not) it does not, and the `min` takes
+///   `last` back. The addition saturates, so `last + 1` at level 16 does
+///   not wrap;
+/// * `b0 = iu ^ s` (both at most `last`, so the reference's `& last` changes
+///   nothing), then `t`, the prefix XOR and `b1` as the reference has them.
+#[inline(always)]
+pub(crate) fn integer_half_chunk(cells: &Cells, last: u16, halves: &mut Halves) {
+    for k in 0..CHUNK {
+        let (iu, iv, d) = (cells.iu[k], cells.iv[k], cells.diagonal[k]);
+        let room = last - iv;
+        let iu = iu.min(room);
+        let s = (iu + iv).saturating_add(d).min(last);
+        let b0 = iu ^ s;
+        let t = (iu ^ iv) & b0;
+        let mut f = t;
+        f ^= f >> 1;
+        f ^= f >> 2;
+        f ^= f >> 4;
+        f ^= f >> 8;
+        halves.b0[k] = b0;
+        halves.b1[k] = ((f ^ iu) & !b0) | t;
+    }
+}
+
+/// One chunk through the three stages. A function, not a closure in
+/// [`narrow_chunked`]: closures do not inherit the caller's target features
+/// on every supported compiler, and the intrinsics in `lanes` must inline
+/// into the `#[target_feature]` loop.
+#[inline(always)]
+fn run_chunk<L: Lanes>(
+    lanes: &L,
+    (u, v, out): (&[f32; CHUNK], &[f32; CHUNK], &mut [u32; CHUNK]),
+    scale: f32,
+    last: u16,
+    (cells, halves): (&mut Cells, &mut Halves),
+) {
+    lanes.cells(u, v, scale, cells);
+    integer_half_chunk(cells, last, halves);
+    lanes.interleave(halves, out);
+}
+
+/// The reference in binary32 over slices of equal length (checked by the
+/// caller), levels `0..=16`, in chunks of [`CHUNK`] points through
+/// `lanes`' first half and interleave; a last partial chunk runs padded
+/// with zeros, unless it is so short that [`narrow`] point by point costs
+/// less.
+#[inline(always)]
+pub(crate) fn narrow_chunked<L: Lanes>(
+    lanes: &L,
+    u: &[f32],
+    v: &[f32],
+    out: &mut [u32],
+    params: &Params,
+) {
+    /// Below this many points a padded chunk costs more than the points.
+    const SHORT: usize = 16;
+    let last = params.last as u16; // levels 0..=16
+    let mut cells = Cells {
+        iu: [0; CHUNK],
+        iv: [0; CHUNK],
+        diagonal: [0; CHUNK],
+    };
+    let mut halves = Halves {
+        b0: [0; CHUNK],
+        b1: [0; CHUNK],
+    };
+    let mut outs = out.chunks_exact_mut(CHUNK);
+    let mut us = u.chunks_exact(CHUNK);
+    let mut vs = v.chunks_exact(CHUNK);
+    for ((out, u), v) in (&mut outs).zip(&mut us).zip(&mut vs) {
+        // `chunks_exact` yields slices of exactly `CHUNK` elements.
+        if let (Ok(u), Ok(v), Ok(out)) = (u.try_into(), v.try_into(), out.try_into()) {
+            run_chunk(
+                lanes,
+                (u, v, out),
+                params.scale,
+                last,
+                (&mut cells, &mut halves),
+            );
+        }
+    }
+    let (out, u, v) = (outs.into_remainder(), us.remainder(), vs.remainder());
+    if out.len() < SHORT {
+        for ((out, u), v) in out.iter_mut().zip(u).zip(v) {
+            *out = narrow::<CELL_BY_FLOAT>(u.to_bits(), v.to_bits(), params);
+        }
+    } else {
+        let (mut padded_u, mut padded_v) = ([0f32; CHUNK], [0f32; CHUNK]);
+        let mut padded_out = [0u32; CHUNK];
+        padded_u[..u.len()].copy_from_slice(u);
+        padded_v[..v.len()].copy_from_slice(v);
+        let chunk = (&padded_u, &padded_v, &mut padded_out);
+        run_chunk(lanes, chunk, params.scale, last, (&mut cells, &mut halves));
+        out.copy_from_slice(&padded_out[..out.len()]);
+    }
+}
+
+/// [`narrow_chunked`] through [`PortableLanes`]: the portable backend
+/// where no instruction set of [`super::arch`] applies.
+#[cfg(not(target_arch = "x86_64"))]
+pub(crate) fn narrow_slice_portable(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) {
+    narrow_chunked(&PortableLanes, u, v, out, params);
 }
 
 /// [`wide`] over slices of equal length (checked by the caller).
@@ -423,6 +630,55 @@ mod tests {
         for _ in 0..20_000 {
             crate::xorshift(&mut x);
             check((x as u32) % (ONE_BITS + 1));
+        }
+    }
+
+    /// The chunked pipeline with the safe stages (the portable backend of
+    /// targets other than x86-64, which CI does not run) against [`narrow`]
+    /// point by point: full chunks, a padded tail and a short one, special
+    /// values and random bits, every level.
+    #[test]
+    fn portable_lanes_equal_the_point_kernel() {
+        const POINTS: usize = 2 * CHUNK + 40;
+        let special = [
+            f32::NAN,
+            -f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            -0.0,
+            0.0,
+            f32::from_bits(1),
+            f32::from_bits(0x7f_ffff),
+            f32::MIN_POSITIVE,
+            BELOW_ONE,
+            1.0,
+            1.5,
+            -0.25,
+            0.5,
+        ];
+        let mut x = 0x0123_4567_89ab_cdefu64;
+        let (mut u, mut v) = ([0f32; POINTS], [0f32; POINTS]);
+        let mut out = [0u32; POINTS];
+        for level in 0..=16 {
+            let params = Params::new(level, BINARY32_THRESHOLD);
+            for (k, (u, v)) in u.iter_mut().zip(v.iter_mut()).enumerate() {
+                crate::xorshift(&mut x);
+                *u = special.get(k % 29).copied().unwrap_or(f32::from_bits(x as u32));
+                *v = f32::from_bits((x >> 32) as u32 % (ONE_BITS + 1));
+            }
+            for len in [POINTS, 2 * CHUNK + 17, CHUNK + 3, 15, 0] {
+                narrow_chunked(&PortableLanes, &u[..len], &v[..len], &mut out[..len], &params);
+                for k in 0..len {
+                    let expected = narrow::<CELL_BY_SHIFTS>(u[k].to_bits(), v[k].to_bits(), &params);
+                    assert_eq!(
+                        out[k],
+                        expected,
+                        "level {level}, length {len}, point {k}: u {:#010x}, v {:#010x}",
+                        u[k].to_bits(),
+                        v[k].to_bits()
+                    );
+                }
+            }
         }
     }
 

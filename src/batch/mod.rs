@@ -6,15 +6,17 @@
 //! rewrite of the reference's steps (see `src/batch/kernel.rs` for the
 //! derivation) over the whole slice:
 //!
-//! * the clamp by float comparisons (NaN and negatives to 0), with two
-//!   changes that leave the index alone: subnormals are flushed to 0 and
-//!   everything from 1 up becomes the float below 1, whose cell is the one
-//!   the reference clamps 1's to;
+//! * the clamp by float comparisons, with two changes that leave the index
+//!   alone: everything below the smallest normal (NaN, negatives, zeros,
+//!   subnormals) becomes the smallest normal, and everything from 1 up
+//!   becomes the float below 1, whose cell is the one the reference clamps
+//!   1's to;
 //! * the cell `trunc(x * 2^level)` and the fraction by the reference's own
 //!   float operations, all exact (a vector truncation where the CPU has one,
 //!   the `2^23` rounding trick on SSE2);
 //! * the reference's `uf + vf >= 1.0f` as it is, in binary32;
-//! * the fold, prefix XOR and interleave: the reference's integer half.
+//! * the fold, prefix XOR and interleave: the reference's integer half, in
+//!   16-bit words (every value is below `2^16` at levels `0..=16`).
 //!
 //! The wide form (and [`index_f32_one`]) takes the cell and fraction from
 //! the exponent and significand by shifts instead, and decides the rounded
@@ -23,13 +25,18 @@
 //!
 //! # Backends
 //!
-//! The loop is compiled several times ([`Backend`]): for the target's
-//! baseline ([`Backend::Portable`], vectorised as far as the baseline allows:
-//! SSE2 on x86-64) and, on x86-64 with `std`, with AVX2 and with AVX-512
-//! enabled, picked at run time by CPU feature detection (done once and
-//! cached). All backends run the same safe kernel; only the instructions the
-//! compiler may use differ. [`index_f32_with`] forces a backend, for tests
-//! and benchmarks.
+//! The narrow loop runs in chunks of 256 points through three stages: the
+//! first half (float), the integer half (16-bit words) and the interleave.
+//! Each [`Backend`] is one instruction set for the first and last stage:
+//! [`Backend::Portable`] is the target's baseline (SSE2 on x86-64: the
+//! first half with its truncating conversion; safe code elsewhere), and on
+//! x86-64 with `std`, AVX2 and AVX-512 add the interleave by byte shuffles.
+//! They are picked at run time by CPU feature detection (done once and
+//! cached). The integer half is the same safe code for every backend,
+//! compiled for each; the wide loop is one safe kernel compiled for each.
+//! [`index_f32_with`] forces a backend, for tests and benchmarks. Every
+//! backend gives the same bits (`crates/verify/tests/batch.rs` stamps the
+//! same tests on each).
 //!
 //! ```
 //! use micromap_index::{batch, spec, SpecLevel};
@@ -49,7 +56,7 @@
 //! [`spec::index_f32`]: crate::spec::index_f32
 //! [`spec::wide_index_f32`]: crate::spec::wide_index_f32
 
-#[cfg(all(feature = "std", target_arch = "x86_64"))]
+#[cfg(target_arch = "x86_64")]
 pub(crate) mod arch;
 pub(crate) mod kernel;
 
@@ -193,7 +200,10 @@ struct Loops<O> {
 
 /// The reference in 32-bit words; the portable build takes the float cell.
 const NARROW: Loops<u32> = Loops {
-    portable: kernel::narrow_slice::<{ kernel::CELL_BY_FLOAT }>,
+    #[cfg(target_arch = "x86_64")]
+    portable: arch::narrow_slice_sse2,
+    #[cfg(not(target_arch = "x86_64"))]
+    portable: kernel::narrow_slice_portable,
     #[cfg(all(feature = "std", target_arch = "x86_64"))]
     avx2: arch::narrow_slice_avx2,
     #[cfg(all(feature = "std", target_arch = "x86_64"))]
@@ -353,8 +363,9 @@ pub fn wide_index_f32_with(
     run_loop(backend, u, v, out, &params, &WIDE)
 }
 
-/// The reference in binary32 for one point: the batch kernel on one lane,
-/// the same bits as [`spec::index_f32`](crate::spec::index_f32) (which runs
+/// The reference in binary32 for one point: the batch kernel on one lane
+/// with the cell and fraction taken by shifts of the float's bits, the same
+/// bits as [`spec::index_f32`](crate::spec::index_f32) (the same kernel with
 /// the reference's own float steps). Infallible, so a caller's loop carries
 /// no `Result`.
 ///

@@ -79,6 +79,7 @@ pub use real::cell_real_ref;
 #[cfg(feature = "exact")]
 pub use real::{cell_real, index_real, wide_index_real};
 
+use crate::batch::kernel;
 use crate::{Level, SpecLevel};
 
 /// The highest level for which the 32-bit reference computes valid indices
@@ -87,6 +88,18 @@ pub const MAX_LEVEL: u32 = SpecLevel::MAX;
 
 /// The index the Vulkan reference returns on a GPU for the hit `(u, v)`:
 /// defined for every pair of `f32` (see the [module docs](self)).
+///
+/// The same bits as [`reference_bits_f32`] (the C code's steps literally),
+/// computed by the branch-free rewrite that [`crate::batch`] runs over
+/// slices: the float clamp, the reference's own exact float steps for the
+/// cell and fraction (a `2^23` rounding instead of a float-to-integer
+/// conversion), its binary32 `uf + vf >= 1.0f`, and the integer half
+/// without branches. In a caller's loop over slices it inlines and the
+/// compiler vectorises it (SSE2 on the x86-64 baseline); one call at a time
+/// it costs about what the literal port costs (`docs/performance.md`).
+/// Checked against the literal port and the C reference on every structured
+/// pair, the rounding window and random bits at every level
+/// (`crates/verify/tests/batch.rs`, `c_oracle.rs`).
 ///
 /// ```
 /// use micromap_index::{spec, SpecLevel};
@@ -98,7 +111,8 @@ pub const MAX_LEVEL: u32 = SpecLevel::MAX;
 #[inline]
 #[must_use]
 pub fn index_f32(u: f32, v: f32, level: SpecLevel) -> u32 {
-    reference_bits_f32(u, v, level.get())
+    let params = kernel::Params::new(level.get(), kernel::BINARY32_THRESHOLD);
+    kernel::narrow::<{ kernel::CELL_BY_FLOAT }>(u.to_bits(), v.to_bits(), &params)
 }
 
 /// The reference's bits in binary32 for any `u32` level, exactly as its C

@@ -152,6 +152,27 @@ fn bench_index_f32(c: &mut Criterion) {
                 black_box(&out);
             });
         });
+        // The same calls in an iterator loop over the slices, the way a
+        // caller's loop over parallel arrays usually reads: no bounds
+        // checks, so the compiler may vectorise what it inlines.
+        group.bench_function("c-reference (iterator loop)", |b| {
+            b.iter(|| {
+                let l = black_box(level_number);
+                for ((o, &u), &v) in out.iter_mut().zip(u).zip(v) {
+                    *o = spec_index(u, v, l);
+                }
+                black_box(&out);
+            });
+        });
+        group.bench_function("spec::index_f32 (iterator loop)", |b| {
+            b.iter(|| {
+                let l = black_box(level);
+                for ((o, &u), &v) in out.iter_mut().zip(u).zip(v) {
+                    *o = spec::index_f32(u, v, l);
+                }
+                black_box(&out);
+            });
+        });
         group.bench_function("spec::index_f32_by_integers", |b| {
             b.iter(|| {
                 let l = black_box(level);

@@ -1,5 +1,7 @@
 //! `batch::index_f32` / `wide_index_f32` on every backend against the scalar
-//! port (`spec::index_f32`, `spec::wide_index_f32`) and the C reference:
+//! port (`spec::reference_bits_f32`, `spec::wide_index_f32`) and the C
+//! reference, and the scalar entry points built on the same kernel
+//! (`spec::index_f32`, `batch::index_f32_one`) against the port:
 //! arbitrary bit patterns (proptest), every pair of a structured set (NaN
 //! payloads, ±0, ±inf, subnormals, lattice lines and their neighbours,
 //! values outside `[0, 1]`) at every level, and pairs straddling the
@@ -119,7 +121,7 @@ fn assert_narrow(backend: Backend, u: &[f32], v: &[f32], level: u32) -> bool {
         return false;
     };
     for (i, &got) in out.iter().enumerate() {
-        let expected = spec::index_f32(u[i], v[i], SpecLevel::new(level).unwrap());
+        let expected = spec::reference_bits_f32(u[i], v[i], level);
         assert_eq!(
             got,
             expected,
@@ -127,6 +129,22 @@ fn assert_narrow(backend: Backend, u: &[f32], v: &[f32], level: u32) -> bool {
             u[i].to_bits(),
             v[i].to_bits()
         );
+        let lvl = SpecLevel::new(level).unwrap();
+        for (name, scalar) in [
+            ("spec::index_f32", spec::index_f32(u[i], v[i], lvl)),
+            (
+                "batch::index_f32_one",
+                batch::index_f32_one(u[i], v[i], lvl),
+            ),
+        ] {
+            assert_eq!(
+                scalar,
+                expected,
+                "{name}: u = {:#010x}, v = {:#010x}, level {level}: {scalar} != port {expected}",
+                u[i].to_bits(),
+                v[i].to_bits()
+            );
+        }
     }
     true
 }
@@ -221,6 +239,37 @@ macro_rules! backend_tests {
                                 "{BACKEND}: u = {:#010x}, v = {:#010x}, level {level}: batch {got} != C {c}",
                                 u[i].to_bits(), v[i].to_bits()
                             );
+                        }
+                    }
+                }
+
+                /// Every length from 0 to past two chunks of the kernel
+                /// (256 points): full chunks, a padded last chunk and a
+                /// short tail run point by point.
+                #[test]
+                fn every_length_around_the_chunks() {
+                    let values = edge_values();
+                    let mut state = 0x2545_f491_4f6c_dd1du64;
+                    let mut next = move || {
+                        state ^= state << 13;
+                        state ^= state >> 7;
+                        state ^= state << 17;
+                        state
+                    };
+                    for len in (0..=530).chain([767, 768, 769, 1000]) {
+                        let level = (next() % 17) as u32;
+                        let mut pick = || {
+                            let r = next();
+                            if r % 3 == 0 {
+                                values[(r >> 8) as usize % values.len()]
+                            } else {
+                                f32::from_bits((r >> 16) as u32 % 0x3f80_0001)
+                            }
+                        };
+                        let u: Vec<f32> = (0..len).map(|_| pick()).collect();
+                        let v: Vec<f32> = (0..len).map(|_| pick()).collect();
+                        if !assert_narrow(BACKEND, &u, &v, level) {
+                            return note_skipped(BACKEND);
                         }
                     }
                 }
@@ -328,9 +377,11 @@ fn errors_write_nothing() {
 
 proptest! {
     #[test]
-    fn one_point_entry_equals_the_port(u in any::<u32>(), v in any::<u32>(), level in 0u32..=16) {
+    fn one_point_entries_equal_the_port(u in any::<u32>(), v in any::<u32>(), level in 0u32..=16) {
         let (u, v) = (f32::from_bits(u), f32::from_bits(v));
+        let port = spec::reference_bits_f32(u, v, level);
         let level = SpecLevel::new(level).unwrap();
-        prop_assert_eq!(batch::index_f32_one(u, v, level), spec::index_f32(u, v, level));
+        prop_assert_eq!(batch::index_f32_one(u, v, level), port);
+        prop_assert_eq!(spec::index_f32(u, v, level), port);
     }
 }

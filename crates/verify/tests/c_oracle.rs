@@ -1,4 +1,5 @@
-//! `spec::reference_bits_f32` and `spec::reference_bits_f32_by_integers` (integers only) against
+//! `spec::reference_bits_f32` and `spec::reference_bits_f32_by_integers` (integers only), and at
+//! levels `0..=16` the kernel-based `spec::index_f32` and `batch::index_f32_one`, against
 //! the Vulkan reference compiled from C
 //! (`reference/c/spec_reference.c`, via the `micromap-index-c-reference`
 //! dev-dependency): bit-exact on structured edge cases, on pairs straddling
@@ -10,6 +11,7 @@
 
 use micromap_index::internals::rounding_flips_diagonal;
 use micromap_index::spec::{reference_bits_f32, reference_bits_f32_by_integers};
+use micromap_index::{batch, spec, SpecLevel};
 use micromap_index_c_reference::spec_index;
 use micromap_index_verify::rng::SplitMix64;
 use micromap_index_verify::value::{next_down_f32, next_up_f32};
@@ -172,12 +174,21 @@ impl Oracle {
         let port = reference_bits_f32(u, v, level);
         let mirror = reference_bits_f32_by_integers(u, v, level);
         let reference = spec_index(u, v, level);
-        if port != reference || mirror != reference {
+        // The kernel's entry points take a validated level.
+        let (kernel, one) = match SpecLevel::new(level) {
+            Ok(valid) => (
+                spec::index_f32(u, v, valid),
+                batch::index_f32_one(u, v, valid),
+            ),
+            Err(_) => (reference, reference),
+        };
+        if port != reference || mirror != reference || kernel != reference || one != reference {
             self.mismatches += 1;
             if self.first.len() < MAX_REPORTED {
                 self.first.push(format!(
                     "u = {:#010x} ({u:e}), v = {:#010x} ({v:e}), level = {level}: \
-                     Rust reference_bits_f32 = {port}, reference_bits_f32_by_integers = {mirror}, C reference = {reference}",
+                     Rust reference_bits_f32 = {port}, reference_bits_f32_by_integers = {mirror}, \
+                     index_f32 = {kernel}, index_f32_one = {one}, C reference = {reference}",
                     u.to_bits(),
                     v.to_bits(),
                 ));
