@@ -23,16 +23,17 @@ use super::kernel::{self, Cells, Halves, Lanes, Params, CHUNK};
 
 /// Stamps a [`Lanes`] for one instruction set from one body: `$ops` names
 /// the set's intrinsics under common names, and `interleave` is either
-/// `shuffle` (byte shuffles, SSSE3 and up) or `portable` (the safe
-/// interleave of [`kernel::PortableLanes`], for SSE2, which has no byte
-/// shuffle).
+/// `shuffle` (byte shuffles, SSSE3 and up: a nibble table) or `unpack`
+/// (SSE2, which has no byte shuffle: the perfect shuffle of each 16-bit
+/// word by shifts and masks, as [`kernel::PortableLanes`] does, without
+/// its widening steps).
 ///
 /// The cells are packed to 16 bits per 128-bit lane (a pack of two vectors
 /// puts lane `l`'s four points of the first before its four of the second),
 /// and the shuffle interleave unpacks per 128-bit lane, which restores the
 /// order: the low halves of every lane are the first vector's points, the
-/// high halves the second's. With 128-bit vectors (SSE2) the pack keeps the
-/// points in order, as the portable interleave needs.
+/// high halves the second's (with 128-bit vectors, SSE2, that is plain
+/// order).
 ///
 /// The type's field is private and the type is built only where its
 /// features are known to be present: SSE2 is the x86-64 baseline, and the
@@ -92,9 +93,33 @@ macro_rules! simd_lanes {
             }
         }
     };
-    (@interleave portable, $ops:ident, $halves:ident, $out:ident) => {
-        kernel::PortableLanes.interleave($halves, $out)
-    };
+    (@interleave unpack, $ops:ident, $halves:ident, $out:ident) => {{
+        use $ops::*;
+        // SAFETY: as in `cells`; loads of 2 * LANES u16 and stores of
+        // LANES u32 at offsets up to CHUNK minus their width.
+        unsafe {
+            let masks = [set1_epi16(0x00f0), set1_epi16(0x0c0c), set1_epi16(0x2222)];
+            let mut k = 0;
+            while k < CHUNK {
+                let b0 = loadu_si($halves.b0.as_ptr().add(k).cast());
+                let b1 = loadu_si($halves.b1.as_ptr().add(k).cast());
+                // Each point's 16-bit words: (b0 low, b1 low), (b0 high, b1
+                // high), already where its index goes; each word then takes
+                // the perfect shuffle of its two bytes (`shuffle_bytes`).
+                let points = [unpacklo_epi8(b0, b1), unpackhi_epi8(b0, b1)];
+                for (j, mut x) in points.into_iter().enumerate() {
+                    let t = and_si(xor_si(x, srli_epi16::<4>(x)), masks[0]);
+                    x = xor_si(x, xor_si(t, slli_epi16::<4>(t)));
+                    let t = and_si(xor_si(x, srli_epi16::<2>(x)), masks[1]);
+                    x = xor_si(x, xor_si(t, slli_epi16::<2>(t)));
+                    let t = and_si(xor_si(x, srli_epi16::<1>(x)), masks[2]);
+                    x = xor_si(x, xor_si(t, slli_epi16::<1>(t)));
+                    storeu_si($out.as_mut_ptr().add(k + LANES * j).cast(), x);
+                }
+                k += 2 * LANES;
+            }
+        }
+    }};
     (@interleave shuffle, $ops:ident, $halves:ident, $out:ident) => {{
         use $ops::*;
         // SAFETY: as in `cells`; loads of 2 * LANES u16 and stores of
@@ -134,10 +159,13 @@ macro_rules! simd_lanes {
 mod sse2_ops {
     use core::arch::x86_64 as x86;
     pub(super) use core::arch::x86_64::{
-        __m128 as Ps, __m128i as Si, _mm_add_ps as add_ps, _mm_cvtepi32_ps as cvtepi32_ps,
-        _mm_cvttps_epi32 as cvttps_epi32, _mm_loadu_ps as loadu_ps, _mm_max_ps as max_ps,
-        _mm_min_ps as min_ps, _mm_mul_ps as mul_ps, _mm_set1_ps as set1_ps,
-        _mm_storeu_si128 as storeu_si, _mm_sub_ps as sub_ps,
+        __m128 as Ps, __m128i as Si, _mm_add_ps as add_ps, _mm_and_si128 as and_si,
+        _mm_cvtepi32_ps as cvtepi32_ps, _mm_cvttps_epi32 as cvttps_epi32, _mm_loadu_ps as loadu_ps,
+        _mm_loadu_si128 as loadu_si, _mm_max_ps as max_ps, _mm_min_ps as min_ps,
+        _mm_mul_ps as mul_ps, _mm_set1_epi16 as set1_epi16, _mm_set1_ps as set1_ps,
+        _mm_slli_epi16 as slli_epi16, _mm_srli_epi16 as srli_epi16, _mm_storeu_si128 as storeu_si,
+        _mm_sub_ps as sub_ps, _mm_unpackhi_epi8 as unpackhi_epi8,
+        _mm_unpacklo_epi8 as unpacklo_epi8, _mm_xor_si128 as xor_si,
     };
     /// f32 lanes of a vector.
     pub(super) const LANES: usize = 4;
@@ -194,7 +222,7 @@ mod avx512_ops {
     pub(super) const LANES: usize = 16;
 }
 
-simd_lanes!(Sse2Lanes, sse2_ops, interleave: portable);
+simd_lanes!(Sse2Lanes, sse2_ops, interleave: unpack);
 simd_lanes!(
     #[cfg(feature = "std")]
     Avx2Lanes,

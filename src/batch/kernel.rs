@@ -420,9 +420,13 @@ pub(crate) trait Lanes {
 /// [`Lanes`] in safe code, points in order: the first half by
 /// [`coordinate_float`] (no float-to-integer conversion, which baselines
 /// without a vector form of it would do one lane at a time) and the
-/// interleave as two 16-bit perfect shuffles.
+/// interleave as two 16-bit perfect shuffles. The portable backend of
+/// targets without [`super::arch`] (x86-64 has SSE2 in its baseline, whose
+/// [`super::arch`] lanes it runs instead); tested on every target.
+#[cfg(any(test, not(target_arch = "x86_64")))]
 pub(crate) struct PortableLanes;
 
+#[cfg(any(test, not(target_arch = "x86_64")))]
 impl Lanes for PortableLanes {
     #[inline(always)]
     fn cells(&self, u: &[f32; CHUNK], v: &[f32; CHUNK], scale: f32, cells: &mut Cells) {
@@ -459,6 +463,7 @@ impl Lanes for PortableLanes {
 
 /// The perfect shuffle of a 16-bit word: its low byte to the even bits,
 /// its high byte to the odd bits (three of [`interleave_16`]'s four steps).
+#[cfg(any(test, not(target_arch = "x86_64")))]
 #[inline(always)]
 fn shuffle_bytes(x: u16) -> u16 {
     let mut x = x;
@@ -663,13 +668,23 @@ mod tests {
             let params = Params::new(level, BINARY32_THRESHOLD);
             for (k, (u, v)) in u.iter_mut().zip(v.iter_mut()).enumerate() {
                 crate::xorshift(&mut x);
-                *u = special.get(k % 29).copied().unwrap_or(f32::from_bits(x as u32));
+                *u = special
+                    .get(k % 29)
+                    .copied()
+                    .unwrap_or(f32::from_bits(x as u32));
                 *v = f32::from_bits((x >> 32) as u32 % (ONE_BITS + 1));
             }
             for len in [POINTS, 2 * CHUNK + 17, CHUNK + 3, 15, 0] {
-                narrow_chunked(&PortableLanes, &u[..len], &v[..len], &mut out[..len], &params);
+                narrow_chunked(
+                    &PortableLanes,
+                    &u[..len],
+                    &v[..len],
+                    &mut out[..len],
+                    &params,
+                );
                 for k in 0..len {
-                    let expected = narrow::<CELL_BY_SHIFTS>(u[k].to_bits(), v[k].to_bits(), &params);
+                    let expected =
+                        narrow::<CELL_BY_SHIFTS>(u[k].to_bits(), v[k].to_bits(), &params);
                     assert_eq!(
                         out[k],
                         expected,
