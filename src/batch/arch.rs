@@ -25,8 +25,7 @@ use super::kernel::{self, Cells, Halves, Lanes, Params, CHUNK};
 /// the set's intrinsics under common names, and `interleave` is either
 /// `shuffle` (byte shuffles, SSSE3 and up: a nibble table) or `unpack`
 /// (SSE2, which has no byte shuffle: the perfect shuffle of each 16-bit
-/// word by shifts and masks, as [`kernel::PortableLanes`] does, without
-/// its widening steps).
+/// word by shifts and masks).
 ///
 /// The cells are packed to 16 bits per 128-bit lane (a pack of two vectors
 /// puts lane `l`'s four points of the first before its four of the second),
@@ -105,7 +104,8 @@ macro_rules! simd_lanes {
                 let b1 = loadu_si($halves.b1.as_ptr().add(k).cast());
                 // Each point's 16-bit words: (b0 low, b1 low), (b0 high, b1
                 // high), already where its index goes; each word then takes
-                // the perfect shuffle of its two bytes (`shuffle_bytes`).
+                // the perfect shuffle of its two bytes (the kernel's
+                // `shuffle_half_bytes`).
                 let points = [unpacklo_epi8(b0, b1), unpackhi_epi8(b0, b1)];
                 for (j, mut x) in points.into_iter().enumerate() {
                     let t = and_si(xor_si(x, srli_epi16::<4>(x)), masks[0]);

@@ -289,9 +289,18 @@ fn integer_half<const WIDE: bool>(iu: u32, iv: u32, diagonal: bool, last: u32) -
 #[inline(always)]
 fn interleave_16(b0: u32, b1: u32) -> u32 {
     let mut x = b0 | (b1 << 16);
-    let mut t;
-    t = (x ^ (x >> 8)) & 0x0000_ff00;
+    let t = (x ^ (x >> 8)) & 0x0000_ff00;
     x ^= t ^ (t << 8);
+    shuffle_half_bytes(x)
+}
+
+/// The perfect shuffle of each 16-bit half of `x` on its own: the half's
+/// low byte to its even bits, its high byte to its odd bits (the last three
+/// steps of [`interleave_16`]).
+#[inline(always)]
+fn shuffle_half_bytes(x: u32) -> u32 {
+    let mut x = x;
+    let mut t;
     t = (x ^ (x >> 4)) & 0x00f0_00f0;
     x ^= t ^ (t << 4);
     t = (x ^ (x >> 2)) & 0x0c0c_0c0c;
@@ -420,7 +429,7 @@ pub(crate) trait Lanes {
 /// [`Lanes`] in safe code, points in order: the first half by
 /// [`coordinate_float`] (no float-to-integer conversion, which baselines
 /// without a vector form of it would do one lane at a time) and the
-/// interleave as two 16-bit perfect shuffles. The portable backend of
+/// interleave of [`narrow`]. The portable backend of
 /// targets without [`super::arch`] (x86-64 has SSE2 in its baseline, whose
 /// [`super::arch`] lanes it runs instead); tested on every target.
 #[cfg(any(test, not(target_arch = "x86_64")))]
@@ -448,33 +457,10 @@ impl Lanes for PortableLanes {
 
     #[inline(always)]
     fn interleave(&self, halves: &Halves, out: &mut [u32; CHUNK]) {
-        let mut low = [0u16; CHUNK];
-        let mut high = [0u16; CHUNK];
-        for k in 0..CHUNK {
-            let (b0, b1) = (halves.b0[k], halves.b1[k]);
-            low[k] = shuffle_bytes((b0 & 0xff) | (b1 << 8));
-            high[k] = shuffle_bytes((b0 >> 8) | (b1 & 0xff00));
-        }
-        for ((out, low), high) in out.iter_mut().zip(low).zip(high) {
-            *out = u32::from(low) | (u32::from(high) << 16);
+        for ((out, &b0), &b1) in out.iter_mut().zip(&halves.b0).zip(&halves.b1) {
+            *out = interleave_16(u32::from(b0), u32::from(b1));
         }
     }
-}
-
-/// The perfect shuffle of a 16-bit word: its low byte to the even bits,
-/// its high byte to the odd bits (three of [`interleave_16`]'s four steps).
-#[cfg(any(test, not(target_arch = "x86_64")))]
-#[inline(always)]
-fn shuffle_bytes(x: u16) -> u16 {
-    let mut x = x;
-    let mut t;
-    t = (x ^ (x >> 4)) & 0x00f0;
-    x ^= t ^ (t << 4);
-    t = (x ^ (x >> 2)) & 0x0c0c;
-    x ^= t ^ (t << 2);
-    t = (x ^ (x >> 1)) & 0x2222;
-    x ^= t ^ (t << 1);
-    x
 }
 
 /// The integer half of one chunk in 16-bit words (levels `0..=16`: every
