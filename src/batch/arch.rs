@@ -383,3 +383,66 @@ pub(crate) fn level_order_get(
         tree.get_portable(index)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every backend this CPU runs (SSE2, the x86-64 portable one, always)
+    /// against the point kernel at several levels, over full chunks, a
+    /// padded tail and a short one. Small enough for Miri, which checks the
+    /// loads and stores of this module's `unsafe` blocks:
+    /// `cargo +nightly miri test -p micromap-index --lib batch::arch`
+    /// (SSE2), with `RUSTFLAGS="-C target-feature=+avx2"` for the AVX2
+    /// lanes too.
+    #[test]
+    fn lanes_equal_the_point_kernel() {
+        const POINTS: usize = CHUNK + 40;
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        let (mut u, mut v) = ([0f32; POINTS], [0f32; POINTS]);
+        let mut out = [0u32; POINTS];
+        for (k, (u, v)) in u.iter_mut().zip(v.iter_mut()).enumerate() {
+            crate::xorshift(&mut x);
+            // Every fourth point any bit pattern (NaN, negatives, huge),
+            // the others in [0, 1].
+            *u = if k % 4 == 0 {
+                f32::from_bits(x as u32)
+            } else {
+                f32::from_bits(x as u32 % 0x3f80_0001)
+            };
+            *v = f32::from_bits((x >> 32) as u32 % 0x3f80_0001);
+        }
+        for level in [0, 1, 5, 12, 16] {
+            let params = Params::new(level, kernel::BINARY32_THRESHOLD);
+            let check = |out: &[u32]| {
+                for (k, &got) in out.iter().enumerate() {
+                    let expected = kernel::narrow::<{ kernel::CELL_BY_SHIFTS }>(
+                        u[k].to_bits(),
+                        v[k].to_bits(),
+                        &params,
+                    );
+                    assert_eq!(
+                        got,
+                        expected,
+                        "level {level}, length {}, point {k}",
+                        out.len()
+                    );
+                }
+            };
+            for len in [POINTS, CHUNK + 17, 15] {
+                narrow_slice_sse2(&u[..len], &v[..len], &mut out[..len], &params);
+                check(&out[..len]);
+                #[cfg(feature = "std")]
+                {
+                    if narrow_slice_avx2(&u[..len], &v[..len], &mut out[..len], &params) {
+                        check(&out[..len]);
+                    }
+                    #[cfg(micromap_avx512)]
+                    if narrow_slice_avx512(&u[..len], &v[..len], &mut out[..len], &params) {
+                        check(&out[..len]);
+                    }
+                }
+            }
+        }
+    }
+}
