@@ -19,7 +19,7 @@
 //! twelve shifts and masks per word.
 #![allow(unsafe_code)]
 
-use super::kernel::{self, Cells, Halves, Lanes, Params, CHUNK};
+use super::kernel::{self, Cells, Halves, Lanes, Narrow, Params, Wide, CHUNK};
 
 /// Stamps a [`Lanes`] for one instruction set from one body: `$ops` names
 /// the set's intrinsics under common names, and `interleave` is either
@@ -47,7 +47,7 @@ macro_rules! simd_lanes {
         $(#[$attr])*
         impl Lanes for $name {
             #[inline(always)]
-            fn cells(&self, u: &[f32; CHUNK], v: &[f32; CHUNK], scale: f32, cells: &mut Cells) {
+            fn cells(&self, u: &[f32; CHUNK], v: &[f32; CHUNK], scale: f32, cells: &mut Cells<u16>) {
                 use $ops::*;
                 /// The cells of the `LANES` points from `at` (32-bit lanes)
                 /// and their diagonal outcomes as 0 or 1.
@@ -87,72 +87,87 @@ macro_rules! simd_lanes {
             }
 
             #[inline(always)]
-            fn interleave(&self, halves: &Halves, out: &mut [u32; CHUNK]) {
-                simd_lanes!(@interleave $interleave, $ops, halves, out);
+            fn interleave(&self, halves: &Halves<u16>, out: &mut [u32; CHUNK]) {
+                use $ops::*;
+                simd_lanes!(@pairs $interleave, $ops);
+                // SAFETY: as in `cells`; loads of 2 * LANES u16 and stores
+                // of LANES u32 at offsets up to CHUNK minus their width.
+                unsafe {
+                    let mut k = 0;
+                    while k < CHUNK {
+                        let b0 = loadu_si(halves.b0.as_ptr().add(k).cast());
+                        let b1 = loadu_si(halves.b1.as_ptr().add(k).cast());
+                        // Per 128-bit lane, the unpacks put each point's
+                        // bytes b0 low, b1 low, b0 high, b1 high where its
+                        // index goes, and undo `cells`' pack order.
+                        storeu_si(out.as_mut_ptr().add(k).cast(), pairs(unpacklo_epi8(b0, b1)));
+                        storeu_si(out.as_mut_ptr().add(k + LANES).cast(), pairs(unpackhi_epi8(b0, b1)));
+                        k += 2 * LANES;
+                    }
+                }
+            }
+
+            #[inline(always)]
+            fn wide_interleave(&self, halves: &Halves<u32>, out: &mut [u64; CHUNK]) {
+                use $ops::*;
+                simd_lanes!(@pairs $interleave, $ops);
+                // SAFETY: as in `cells`; loads of LANES u32 and stores of
+                // LANES / 2 u64 at offsets up to CHUNK minus their width.
+                unsafe {
+                    let mut k = 0;
+                    while k < CHUNK {
+                        // The points' 64-bit groups reordered so that the
+                        // low halves of the 128-bit lanes hold the first
+                        // half of the points, in order.
+                        let b0 = order_for_unpack(loadu_si(halves.b0.as_ptr().add(k).cast()));
+                        let b1 = order_for_unpack(loadu_si(halves.b1.as_ptr().add(k).cast()));
+                        // Each point's bytes: b0's and b1's byte 0, then
+                        // byte 1, 2, 3: its index's 16-bit words.
+                        storeu_si(out.as_mut_ptr().add(k).cast(), pairs(unpacklo_epi8(b0, b1)));
+                        storeu_si(out.as_mut_ptr().add(k + LANES / 2).cast(), pairs(unpackhi_epi8(b0, b1)));
+                        k += LANES;
+                    }
+                }
             }
         }
     };
-    (@interleave unpack, $ops:ident, $halves:ident, $out:ident) => {{
-        use $ops::*;
-        // SAFETY: as in `cells`; loads of 2 * LANES u16 and stores of
-        // LANES u32 at offsets up to CHUNK minus their width.
-        unsafe {
-            let masks = [set1_epi16(0x00f0), set1_epi16(0x0c0c), set1_epi16(0x2222)];
-            let mut k = 0;
-            while k < CHUNK {
-                let b0 = loadu_si($halves.b0.as_ptr().add(k).cast());
-                let b1 = loadu_si($halves.b1.as_ptr().add(k).cast());
-                // Each point's 16-bit words: (b0 low, b1 low), (b0 high, b1
-                // high), already where its index goes; each word then takes
-                // the perfect shuffle of its two bytes (the kernel's
-                // `shuffle_half_bytes`).
-                let points = [unpacklo_epi8(b0, b1), unpackhi_epi8(b0, b1)];
-                for (j, mut x) in points.into_iter().enumerate() {
-                    let t = and_si(xor_si(x, srli_epi16::<4>(x)), masks[0]);
-                    x = xor_si(x, xor_si(t, slli_epi16::<4>(t)));
-                    let t = and_si(xor_si(x, srli_epi16::<2>(x)), masks[1]);
-                    x = xor_si(x, xor_si(t, slli_epi16::<2>(t)));
-                    let t = and_si(xor_si(x, srli_epi16::<1>(x)), masks[2]);
-                    x = xor_si(x, xor_si(t, slli_epi16::<1>(t)));
-                    storeu_si($out.as_mut_ptr().add(k + LANES * j).cast(), x);
-                }
-                k += 2 * LANES;
-            }
+    // `pairs`: every 16-bit word (b0's byte, b1's byte) of a vector to
+    // those bytes' bits interleaved, b0's on the even bits. A function,
+    // not a closure, for the target features (see `cells`).
+    (@pairs unpack, $ops:ident) => {
+        /// The perfect shuffle of each 16-bit word, by three
+        /// shift-and-mask steps (the kernel's `shuffle_half_bytes`).
+        #[inline(always)]
+        unsafe fn pairs(mut x: Si) -> Si {
+            use $ops::*;
+            let t = and_si(xor_si(x, srli_epi16::<4>(x)), set1_epi16(0x00f0));
+            x = xor_si(x, xor_si(t, slli_epi16::<4>(t)));
+            let t = and_si(xor_si(x, srli_epi16::<2>(x)), set1_epi16(0x0c0c));
+            x = xor_si(x, xor_si(t, slli_epi16::<2>(t)));
+            let t = and_si(xor_si(x, srli_epi16::<1>(x)), set1_epi16(0x2222));
+            xor_si(x, xor_si(t, slli_epi16::<1>(t)))
         }
-    }};
-    (@interleave shuffle, $ops:ident, $halves:ident, $out:ident) => {{
-        use $ops::*;
-        // SAFETY: as in `cells`; loads of 2 * LANES u16 and stores of
-        // LANES u32 at offsets up to CHUNK minus their width.
-        unsafe {
+    };
+    (@pairs shuffle, $ops:ident) => {
+        /// Each nibble spread to the even bits of a byte by a 16-entry
+        /// byte shuffle, then each word's two spread bytes merged as
+        /// b0's | b1's << 1 by a multiply-add of the byte pairs with
+        /// (1, 2).
+        #[inline(always)]
+        unsafe fn pairs(bytes: Si) -> Si {
+            use $ops::*;
             let nibble = set1_epi8(0x0f);
-            // A nibble's four bits on the even bits of a byte.
             let spread = broadcast_128(core::arch::x86_64::_mm_setr_epi8(
                 0, 1, 4, 5, 16, 17, 20, 21, 64, 65, 68, 69, 80, 81, 84, 85,
             ));
-            // Byte pairs (b0's, b1's) -> b0's | b1's << 1.
             let pair = set1_epi16(0x0201);
-            let mut k = 0;
-            while k < CHUNK {
-                let b0 = loadu_si($halves.b0.as_ptr().add(k).cast());
-                let b1 = loadu_si($halves.b1.as_ptr().add(k).cast());
-                // Each point's bytes: b0 low, b1 low, b0 high, b1 high.
-                let points = [unpacklo_epi8(b0, b1), unpackhi_epi8(b0, b1)];
-                for (j, bytes) in points.into_iter().enumerate() {
-                    let low = shuffle_epi8(spread, and_si(bytes, nibble));
-                    let high = shuffle_epi8(spread, and_si(srli_epi16::<4>(bytes), nibble));
-                    // Each 16-bit word of `low` is one byte of the index,
-                    // of `high` the byte above it.
-                    let index = or_si(
-                        maddubs_epi16(low, pair),
-                        slli_epi16::<8>(maddubs_epi16(high, pair)),
-                    );
-                    storeu_si($out.as_mut_ptr().add(k + LANES * j).cast(), index);
-                }
-                k += 2 * LANES;
-            }
+            let low = shuffle_epi8(spread, and_si(bytes, nibble));
+            let high = shuffle_epi8(spread, and_si(srli_epi16::<4>(bytes), nibble));
+            // Each 16-bit word of `low` is one byte of the index, of
+            // `high` the byte above it.
+            or_si(maddubs_epi16(low, pair), slli_epi16::<8>(maddubs_epi16(high, pair)))
         }
-    }};
+    };
 }
 
 /// SSE2's intrinsics under the names [`simd_lanes!`] uses.
@@ -169,6 +184,12 @@ mod sse2_ops {
     };
     /// f32 lanes of a vector.
     pub(super) const LANES: usize = 4;
+
+    /// One 128-bit lane: already in unpack order.
+    #[inline(always)]
+    pub(super) fn order_for_unpack(a: Si) -> Si {
+        a
+    }
 
     /// Two vectors of values in `0..2^16` as one of 16-bit words, in order.
     /// SSE2's only 32-to-16-bit pack saturates signed, so the values are
@@ -201,6 +222,15 @@ mod avx2_ops {
     };
     /// f32 lanes of a vector.
     pub(super) const LANES: usize = 8;
+
+    /// 64-bit groups 0, 2, 1, 3: lane 0 gets groups 0 and 1's places.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2.
+    #[inline(always)]
+    pub(super) unsafe fn order_for_unpack(a: Si) -> Si {
+        core::arch::x86_64::_mm256_permute4x64_epi64::<0b11_01_10_00>(a)
+    }
 }
 
 /// AVX-512's intrinsics (F and BW) under the names [`simd_lanes!`] uses.
@@ -220,6 +250,18 @@ mod avx512_ops {
     };
     /// f32 lanes of a vector.
     pub(super) const LANES: usize = 16;
+
+    /// 64-bit groups 0, 4, 1, 5, 2, 6, 3, 7: lane `l` gets groups `l` and
+    /// `l + 4`.
+    ///
+    /// # Safety
+    /// The CPU must have AVX-512 F.
+    #[inline(always)]
+    #[allow(clippy::incompatible_msrv)] // built from Rust 1.89 on (the cfg)
+    pub(super) unsafe fn order_for_unpack(a: Si) -> Si {
+        use core::arch::x86_64::{_mm512_permutexvar_epi64, _mm512_setr_epi64};
+        _mm512_permutexvar_epi64(_mm512_setr_epi64(0, 4, 1, 5, 2, 6, 3, 7), a)
+    }
 }
 
 simd_lanes!(Sse2Lanes, sse2_ops, interleave: unpack);
@@ -238,11 +280,16 @@ simd_lanes!(
     interleave: shuffle
 );
 
-/// [`kernel::narrow_chunked`] through [`Sse2Lanes`]: the portable backend
-/// on x86-64.
+/// [`kernel::chunked`] through [`Sse2Lanes`]: the portable backend on
+/// x86-64.
 pub(crate) fn narrow_slice_sse2(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) {
     // SSE2 is the x86-64 baseline: every CPU this runs on has it.
-    kernel::narrow_chunked(&Sse2Lanes(()), u, v, out, params);
+    kernel::chunked::<Narrow, _>(&Sse2Lanes(()), u, v, out, params);
+}
+
+/// The wide form through [`Sse2Lanes`].
+pub(crate) fn wide_slice_sse2(u: &[f32], v: &[f32], out: &mut [u64], params: &Params) {
+    kernel::chunked::<Wide, _>(&Sse2Lanes(()), u, v, out, params);
 }
 
 /// The features the AVX-512 functions enable, all checked before a call.
@@ -315,44 +362,44 @@ macro_rules! feature_loop {
 }
 
 feature_loop!(
-    "[`kernel::narrow_chunked`] through [`Avx2Lanes`]; `false` if the CPU \
-     lacks AVX2.",
+    "[`kernel::chunked`] through [`Avx2Lanes`]; `false` if the CPU lacks \
+     AVX2.",
     narrow_slice_avx2,
     narrow_avx2,
     "avx2",
     has_avx2(),
     u32,
-    |u, v, out, params| kernel::narrow_chunked(&Avx2Lanes(()), u, v, out, params)
+    |u, v, out, params| kernel::chunked::<Narrow, _>(&Avx2Lanes(()), u, v, out, params)
 );
 feature_loop!(
-    "[`kernel::wide_slice`] with AVX2; `false` if the CPU lacks AVX2.",
+    "The wide form through [`Avx2Lanes`]; `false` if the CPU lacks AVX2.",
     wide_slice_avx2,
     wide_avx2,
     "avx2",
     has_avx2(),
     u64,
-    |u, v, out, params| kernel::wide_slice(u, v, out, params)
+    |u, v, out, params| kernel::chunked::<Wide, _>(&Avx2Lanes(()), u, v, out, params)
 );
 feature_loop!(
     #[cfg(micromap_avx512)]
-    "[`kernel::narrow_chunked`] through [`Avx512Lanes`]; `false` if the CPU \
-     lacks one of the features or the compiler could not build the backend.",
+    "[`kernel::chunked`] through [`Avx512Lanes`]; `false` if the CPU lacks \
+     one of the features or the compiler could not build the backend.",
     narrow_slice_avx512,
     narrow_avx512,
     "avx512f,avx512bw,avx512vl,avx512dq",
     avx512_detected!(),
     u32,
-    |u, v, out, params| kernel::narrow_chunked(&Avx512Lanes(()), u, v, out, params)
+    |u, v, out, params| kernel::chunked::<Narrow, _>(&Avx512Lanes(()), u, v, out, params)
 );
 feature_loop!(
     #[cfg(micromap_avx512)]
-    "[`kernel::wide_slice`] with AVX-512; `false` if unavailable.",
+    "The wide form through [`Avx512Lanes`]; `false` if unavailable.",
     wide_slice_avx512,
     wide_avx512,
     "avx512f,avx512bw,avx512vl,avx512dq",
     avx512_detected!(),
     u64,
-    |u, v, out, params| kernel::wide_slice(u, v, out, params)
+    |u, v, out, params| kernel::chunked::<Wide, _>(&Avx512Lanes(()), u, v, out, params)
 );
 
 /// # Safety
@@ -429,7 +476,33 @@ mod tests {
                     );
                 }
             };
+            let wide_params = Params::new(2 * level, kernel::BINARY32_THRESHOLD);
+            let check_wide = |out: &[u64]| {
+                for (k, &got) in out.iter().enumerate() {
+                    let expected = kernel::wide(u[k].to_bits(), v[k].to_bits(), &wide_params);
+                    assert_eq!(
+                        got,
+                        expected,
+                        "wide level {}, length {}, point {k}",
+                        2 * level,
+                        out.len()
+                    );
+                }
+            };
+            let mut wide_out = [0u64; POINTS];
             for len in [POINTS, CHUNK + 17, 15] {
+                wide_slice_sse2(&u[..len], &v[..len], &mut wide_out[..len], &wide_params);
+                check_wide(&wide_out[..len]);
+                #[cfg(feature = "std")]
+                {
+                    if wide_slice_avx2(&u[..len], &v[..len], &mut wide_out[..len], &wide_params) {
+                        check_wide(&wide_out[..len]);
+                    }
+                    #[cfg(micromap_avx512)]
+                    if wide_slice_avx512(&u[..len], &v[..len], &mut wide_out[..len], &wide_params) {
+                        check_wide(&wide_out[..len]);
+                    }
+                }
                 narrow_slice_sse2(&u[..len], &v[..len], &mut out[..len], &params);
                 check(&out[..len]);
                 #[cfg(feature = "std")]

@@ -216,7 +216,10 @@ const NARROW: Loops<u32> = Loops {
 
 /// The reference widened to 64-bit words.
 const WIDE: Loops<u64> = Loops {
-    portable: kernel::wide_slice,
+    #[cfg(target_arch = "x86_64")]
+    portable: arch::wide_slice_sse2,
+    #[cfg(not(target_arch = "x86_64"))]
+    portable: kernel::wide_slice_portable,
     #[cfg(all(feature = "std", target_arch = "x86_64"))]
     avx2: arch::wide_slice_avx2,
     #[cfg(all(feature = "std", target_arch = "x86_64"))]

@@ -245,7 +245,7 @@ macro_rules! backend_tests {
 
                 /// Every length from 0 to past two chunks of the kernel
                 /// (256 points): full chunks, a padded last chunk and a
-                /// short tail run point by point.
+                /// short tail run point by point, both forms.
                 #[test]
                 fn every_length_around_the_chunks() {
                     let values = edge_values();
@@ -271,6 +271,7 @@ macro_rules! backend_tests {
                         if !assert_narrow(BACKEND, &u, &v, level) {
                             return note_skipped(BACKEND);
                         }
+                        assert_wide(BACKEND, &u, &v, (next() % 33) as u32);
                     }
                 }
 
