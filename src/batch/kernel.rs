@@ -3,16 +3,18 @@
 //!
 //! * **Point by point** ([`narrow`], [`wide`]): one lane at a time, written
 //!   so that a loop over slices vectorises; `spec::index_f32`,
-//!   `batch::index_f32_one` and the wide batch run it, [`super::arch`]
-//!   compiles the wide loop again with AVX2 or AVX-512 enabled.
-//! * **In chunks** ([`chunked`], the batch loops):
-//!   [`CHUNK`] points go through three stages, each its own loop. The first
-//!   half (float) and the bit interleave come from a [`Lanes`]: the safe
+//!   `batch::index_f32_one`, the exact entry points of `uv2index` and the
+//!   batch loops' short tails run it.
+//! * **In chunks** ([`chunked`], the batch loops, in two forms: [`Narrow`]
+//!   for levels `0..=16`, [`Wide`] for `0..=32`): [`CHUNK`] points go
+//!   through three stages, each its own loop. The narrow first half
+//!   (float) and both interleaves come from a [`Lanes`]: the safe
 //!   [`PortableLanes`] here, or [`super::arch`]'s SSE2, AVX2 and AVX-512
-//!   ones with intrinsics. The integer half between them is
-//!   [`integer_half_chunk`], in 16-bit words, for every backend: every
-//!   value is below `2^16` at these levels, so a vector holds twice as many
-//!   points as in 32-bit words.
+//!   ones with intrinsics. The wide first half ([`wide_cells`]) and the
+//!   integer half ([`integer_half_u16`], [`integer_half_u32`]) are safe
+//!   code for every backend; the narrow one runs in 16-bit words, since
+//!   every value is below `2^16` at its levels, so a vector holds twice as
+//!   many points as in 32-bit words.
 //!
 //! Everything here is `#[inline(always)]` so that each caller gets its own
 //! copy under its own target features.

@@ -25,15 +25,16 @@
 //!
 //! # Backends
 //!
-//! The narrow loop runs in chunks of 256 points through three stages: the
-//! first half (float), the integer half (16-bit words) and the interleave.
-//! Each [`Backend`] is one instruction set for the first and last stage:
-//! [`Backend::Portable`] is the target's baseline (SSE2 on x86-64: the
-//! first half with its truncating conversion; safe code elsewhere), and on
+//! Both loops run in chunks of 256 points through three stages: the first
+//! half, the integer half (16-bit words for levels `0..=16`, 32-bit for the
+//! wide form) and the interleave. Each [`Backend`] is one instruction set
+//! for the stages that differ: [`Backend::Portable`] is the target's
+//! baseline (SSE2 on x86-64: the narrow first half with its truncating
+//! conversion, the interleave by byte unpacks; safe code elsewhere), and on
 //! x86-64 with `std`, AVX2 and AVX-512 add the interleave by byte shuffles.
 //! They are picked at run time by CPU feature detection (done once and
-//! cached). The integer half is the same safe code for every backend,
-//! compiled for each; the wide loop is one safe kernel compiled for each.
+//! cached). The integer half and the wide first half are the same safe
+//! code for every backend, compiled for each.
 //! [`index_f32_with`] forces a backend, for tests and benchmarks. Every
 //! backend gives the same bits (`crates/verify/tests/batch.rs` stamps the
 //! same tests on each).
