@@ -37,7 +37,7 @@ use super::kernel::{self, Cells, Halves, Lanes, Narrow, Params, Wide, CHUNK};
 /// The type's field is private and the type is built only where its
 /// features are known to be present: SSE2 is the x86-64 baseline, and the
 /// others are built only inside the `#[target_feature]` loop that
-/// [`feature_loop!`] calls after detecting them. Holding one proves the CPU
+/// `feature_loop!` calls after detecting them. Holding one proves the CPU
 /// has the features, which is what makes its safe methods sound.
 macro_rules! simd_lanes {
     ($(#[$attr:meta])* $name:ident, $ops:ident, interleave: $interleave:ident) => {

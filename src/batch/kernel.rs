@@ -9,7 +9,7 @@
 //!   for levels `0..=16`, [`Wide`] for `0..=32`): [`CHUNK`] points go
 //!   through three stages, each its own loop. The narrow first half
 //!   (float) and both interleaves come from a [`Lanes`]: the safe
-//!   [`PortableLanes`] here, or [`super::arch`]'s SSE2, AVX2 and AVX-512
+//!   `PortableLanes` here, or [`super::arch`]'s SSE2, AVX2 and AVX-512
 //!   ones with intrinsics. The wide first half ([`wide_cells`]) and the
 //!   integer half ([`integer_half_u16`], [`integer_half_u32`]) are safe
 //!   code for every backend; the narrow one runs in 16-bit words, since
