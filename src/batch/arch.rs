@@ -1,8 +1,9 @@
 //! The x86-64 backends: the chunked pipeline of [`super::kernel`] with its
 //! float first half and bit interleave written with SSE2, AVX2 and AVX-512
-//! instructions ([`kernel::Lanes`]), the wide kernel compiled again with
-//! AVX2 or AVX-512 enabled so the compiler vectorises it, and the
-//! level-order tree's lookup compiled again with hardware `popcnt`. This is
+//! instructions ([`kernel::Lanes`]), both forms' loops compiled with AVX2
+//! or AVX-512 enabled so the compiler also vectorises their safe stages for
+//! those sets, and the level-order tree's lookup compiled again with
+//! hardware `popcnt`. This is
 //! the only module of the crate allowed `unsafe`: intrinsics are `unsafe`
 //! to call on the crate's minimum Rust version, and calling a
 //! `#[target_feature]` function is `unsafe` because running it on a CPU
@@ -47,7 +48,7 @@ macro_rules! simd_lanes {
         $(#[$attr])*
         impl Lanes for $name {
             #[inline(always)]
-            fn cells(&self, u: &[f32; CHUNK], v: &[f32; CHUNK], scale: f32, cells: &mut Cells<u16>) {
+            fn cells(&self, u: &[f32; CHUNK], v: &[f32; CHUNK], params: &Params, cells: &mut Cells<u16>) {
                 use $ops::*;
                 /// The cells of the `LANES` points from `at` (32-bit lanes)
                 /// and their diagonal outcomes as 0 or 1.
@@ -73,7 +74,7 @@ macro_rules! simd_lanes {
                 // (CHUNK is a multiple of 2 * LANES, every offset plus its
                 // width at most CHUNK).
                 unsafe {
-                    let limits = (set1_ps(f32::MIN_POSITIVE), set1_ps(kernel::BELOW_ONE), set1_ps(scale));
+                    let limits = (set1_ps(f32::MIN_POSITIVE), set1_ps(kernel::BELOW_ONE), set1_ps(params.scale));
                     let mut k = 0;
                     while k < CHUNK {
                         let (iu0, iv0, d0) = coordinates((u, v, k), limits);

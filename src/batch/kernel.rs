@@ -434,7 +434,7 @@ pub(crate) struct Halves<W> {
 pub(crate) trait Lanes {
     /// The cells and diagonal outcomes of the chunk's points, levels
     /// `0..=16`.
-    fn cells(&self, u: &[f32; CHUNK], v: &[f32; CHUNK], scale: f32, cells: &mut Cells<u16>);
+    fn cells(&self, u: &[f32; CHUNK], v: &[f32; CHUNK], params: &Params, cells: &mut Cells<u16>);
     /// `out[i] = spread(b0) | spread(b1) << 1` for every point, 16-bit halves.
     fn interleave(&self, halves: &Halves<u16>, out: &mut [u32; CHUNK]);
     /// The same for 32-bit halves, points in order.
@@ -453,16 +453,10 @@ pub(crate) struct PortableLanes;
 #[cfg(any(test, not(target_arch = "x86_64")))]
 impl Lanes for PortableLanes {
     #[inline(always)]
-    fn cells(&self, u: &[f32; CHUNK], v: &[f32; CHUNK], scale: f32, cells: &mut Cells<u16>) {
-        let params = Params {
-            last: 0, // coordinate_float reads only the scale
-            shift_base: 0,
-            scale,
-            threshold: 0,
-        };
+    fn cells(&self, u: &[f32; CHUNK], v: &[f32; CHUNK], params: &Params, cells: &mut Cells<u16>) {
         for k in 0..CHUNK {
-            let (iu, uf) = coordinate_float(u[k].to_bits(), &params);
-            let (iv, vf) = coordinate_float(v[k].to_bits(), &params);
+            let (iu, uf) = coordinate_float(u[k].to_bits(), params);
+            let (iv, vf) = coordinate_float(v[k].to_bits(), params);
             // Cells are at most 2^16 - 1 (levels 0..=16, x < 1).
             cells.iu[k] = iu as u16;
             cells.iv[k] = iv as u16;
@@ -587,7 +581,7 @@ impl Form for Narrow {
         params: &Params,
         cells: &mut Cells<u16>,
     ) {
-        lanes.cells(u, v, params.scale, cells);
+        lanes.cells(u, v, params, cells);
     }
     #[inline(always)]
     fn integer_half(cells: &Cells<u16>, params: &Params, halves: &mut Halves<u16>) {

@@ -12,8 +12,8 @@
 //!   becomes the float below 1, whose cell is the one the reference clamps
 //!   1's to;
 //! * the cell `trunc(x * 2^level)` and the fraction by the reference's own
-//!   float operations, all exact (a vector truncation where the CPU has one,
-//!   the `2^23` rounding trick on SSE2);
+//!   float operations, all exact (the truncating conversion `cvttps2dq` on
+//!   x86-64, the `2^23` rounding trick in the safe code of other targets);
 //! * the reference's `uf + vf >= 1.0f` as it is, in binary32;
 //! * the fold, prefix XOR and interleave: the reference's integer half, in
 //!   16-bit words (every value is below `2^16` at levels `0..=16`).

@@ -90,8 +90,8 @@ pub const MAX_LEVEL: u32 = SpecLevel::MAX;
 /// defined for every pair of `f32` (see the [module docs](self)).
 ///
 /// The same bits as [`reference_bits_f32`] (the C code's steps literally),
-/// computed by the branch-free rewrite that [`crate::batch`] runs over
-/// slices: the float clamp, the reference's own exact float steps for the
+/// computed by the point-by-point form of [`crate::batch`]'s branch-free
+/// rewrite (the batch loops run it for short tails): the float clamp, the reference's own exact float steps for the
 /// cell and fraction (a `2^23` rounding instead of a float-to-integer
 /// conversion), its binary32 `uf + vf >= 1.0f`, and the integer half
 /// without branches. In a caller's loop over slices it inlines and the
