@@ -1,7 +1,7 @@
 //! The PNG and JPEG alpha reader on any bytes: no panic, limits kept,
-//! `width * height` texels (`micromap_index_verify::fuzzing::alpha_image`).
+//! `width * height` texels (`micromap_index_lab::fuzzing::alpha_image`).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 
-fuzz_target!(|data: &[u8]| micromap_index_verify::fuzzing::alpha_image(data));
+fuzz_target!(|data: &[u8]| micromap_index_lab::fuzzing::alpha_image(data));

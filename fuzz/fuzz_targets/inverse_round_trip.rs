@@ -1,7 +1,7 @@
 //! index -> micro-triangle -> points -> index
-//! (`micromap_index_verify::fuzzing::inverse_round_trip`).
+//! (`micromap_index_lab::fuzzing::inverse_round_trip`).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 
-fuzz_target!(|data: &[u8]| micromap_index_verify::fuzzing::inverse_round_trip(data));
+fuzz_target!(|data: &[u8]| micromap_index_lab::fuzzing::inverse_round_trip(data));

@@ -1,9 +1,9 @@
 //! `spec::index_f32` = `fixed::index_mirror_f32` = the C reference, bit for
-//! bit, on any `f32` pair and level (decoding: `micromap_index_verify::fuzzing::spec_vs_mirror`).
+//! bit, on any `f32` pair and level (decoding: `micromap_index_lab::fuzzing::spec_vs_mirror`).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use micromap_index_verify::fuzzing;
+use micromap_index_lab::fuzzing;
 use micromap_index_c_reference::spec_index;
 
 fuzz_target!(|data: &[u8]| {

@@ -9,8 +9,8 @@
 
 Run from anywhere: python3 fuzz/seeds/make_asset_seeds.py
 The output is deterministic. The inputs follow
-micromap_index_verify::fuzzing::{alpha_image, triangles_json, gltf_asset}: the
-whole input is the file. crates/verify/src/assets/tests.rs also reads the
+micromap_index_lab::fuzzing::{alpha_image, triangles_json, gltf_asset}: the
+whole input is the file. crates/lab/src/assets/tests.rs also reads the
 two JPEGs, which a small baseline encoder below writes (flat 8 x 8 blocks:
 DC coefficients only, all quantizers 1).
 """

@@ -36,7 +36,7 @@
 //! cached). The integer half and the wide first half are the same safe
 //! code for every backend, compiled for each.
 //! [`index_f32_with`] forces a backend, for tests and benchmarks. Every
-//! backend gives the same bits (`crates/verify/tests/batch.rs` stamps the
+//! backend gives the same bits (`crates/lab/tests/batch.rs` stamps the
 //! same tests on each).
 //!
 //! ```

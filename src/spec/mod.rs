@@ -99,7 +99,7 @@ pub const MAX_LEVEL: u32 = SpecLevel::MAX;
 /// it costs about what the literal port costs (`docs/performance.md`).
 /// Checked against the literal port and the C reference on every structured
 /// pair, the rounding window and random bits at every level
-/// (`crates/verify/tests/batch.rs`, `c_oracle.rs`).
+/// (`crates/lab/tests/batch.rs`, `c_oracle.rs`).
 ///
 /// ```
 /// use micromap_index::{spec, SpecLevel};

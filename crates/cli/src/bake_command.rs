@@ -15,7 +15,7 @@ use micromap_index::micromap::{
 };
 use micromap_index::succinct::{LevelOrderTree, PaperTree};
 use micromap_index::Level;
-use micromap_index_verify::assets::{
+use micromap_index_lab::assets::{
     decode_alpha_image, read_gltf_file, read_triangles_json, AlphaImage, AlphaTexels, AssetError,
     Limits,
 };

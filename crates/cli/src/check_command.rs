@@ -1,7 +1,7 @@
 //! `micromap-index check --vectors FILE --answers FILE [--levels A..=B]
 //! [--tags T,..] [--exclude-tags T,..] [--examples K] [--json]`: compares
 //! another implementation's answers with a vector file and prints the
-//! report (`micromap_index_verify::vectors::CheckReport`) to stdout.
+//! report (`micromap_index_lab::vectors::CheckReport`) to stdout.
 //!
 //! The answers are read first (`--answers -` reads stdin), then the vector
 //! file is streamed case by case: memory for the answers and one case.
@@ -22,7 +22,7 @@
 
 use crate::output::{print_then, report, Exit};
 use crate::usage_error;
-use micromap_index_verify::vectors::{
+use micromap_index_lab::vectors::{
     check_reader, is_known_tag, parse_answers, parse_vector_file, tag, Selection, VectorFile,
 };
 use std::collections::BTreeMap;

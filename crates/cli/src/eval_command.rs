@@ -9,7 +9,7 @@
 use crate::input::{BoundedLines, Line, MAX_LINE_BYTES};
 use crate::output::{self, Exit, Stdout};
 use crate::usage;
-use micromap_index_verify::eval::{eval_line_bytes, Variant};
+use micromap_index_lab::eval::{eval_line_bytes, Variant};
 use std::io;
 
 pub(crate) fn run(options: &[&str]) -> Exit {

@@ -3,7 +3,7 @@
 //! exit-code table.
 
 use crate::output::exit_code_table;
-use micromap_index_verify::eval::Variant;
+use micromap_index_lab::eval::Variant;
 use std::fmt::Write as _;
 
 const HEADER: &str = "\

@@ -6,7 +6,7 @@ use std::io::{self, BufRead};
 
 /// The longest `eval` input line, in bytes (without the newline). A valid
 /// line is far shorter: two values of at most 20,000 characters
-/// (`micromap_index_verify::value::MAX_VALUE_LEN`) and a level.
+/// (`micromap_index_lab::value::MAX_VALUE_LEN`) and a level.
 pub(crate) const MAX_LINE_BYTES: usize = 1 << 20;
 
 /// One input line.

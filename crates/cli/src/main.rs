@@ -1,5 +1,5 @@
 //! `micromap-index`: the command-line front end. Parsing and printing only;
-//! the work is in the library and in `micromap-index-verify`. Each command
+//! the work is in the library and in `micromap-index-lab`. Each command
 //! lives in its own module; `help` has the usage texts, `output` the one
 //! output layer (stdout and stderr writers that never panic) and the
 //! exit-code table.

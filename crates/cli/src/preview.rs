@@ -6,7 +6,7 @@ use crate::bake_command::baked_state;
 use micromap_index::bake::{BakedTriangle, UvTriangle};
 use micromap_index::inverse::micro_triangles;
 use micromap_index::micromap::State;
-use micromap_index_verify::assets::{AlphaImage, AlphaTexels};
+use micromap_index_lab::assets::{AlphaImage, AlphaTexels};
 
 /// Colours by state value: transparent blue, opaque green, unknown-
 /// transparent red, unknown-opaque yellow.

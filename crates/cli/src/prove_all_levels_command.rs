@@ -4,8 +4,8 @@
 
 use crate::output::{print_then, report as report_error, Exit};
 use crate::usage;
-use micromap_index_verify::prove::WalkVersion;
-use micromap_index_verify::prove_all_levels::{prove_all_levels, AllLevelsReport, Verdict};
+use micromap_index_lab::prove::WalkVersion;
+use micromap_index_lab::prove_all_levels::{prove_all_levels, AllLevelsReport, Verdict};
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::time::Instant;

@@ -8,7 +8,7 @@
 use crate::output::{self, Exit, Stdout};
 use crate::usage;
 use micromap_index::Level;
-use micromap_index_verify::prove::{
+use micromap_index_lab::prove::{
     prove_level, sample_level, LevelReport, Method, Mismatch, Progress, ProveError, Reference,
     Settings, WalkVersion, FACE_KINDS,
 };

@@ -11,7 +11,7 @@ use crate::output::{print_then, report, Exit};
 use micromap_index::micromap::{Format, State};
 use micromap_index::succinct::{LevelOrderTree, PaperTree, TreeError, MAX_TREE_LEVEL};
 use micromap_index::Level;
-use micromap_index_verify::value::Value;
+use micromap_index_lab::value::Value;
 use serde::Serialize;
 use std::io::{self, Read};
 use std::process::ExitCode;

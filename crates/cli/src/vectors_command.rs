@@ -20,7 +20,7 @@
 use crate::output::{self, Exit, Stdout};
 use crate::usage;
 use crate::write_all_or_nothing::{check_destination, write_files};
-use micromap_index_verify::vectors::{compute_answers, generate_sets, AnswerSource};
+use micromap_index_lab::vectors::{compute_answers, generate_sets, AnswerSource};
 use std::fs::File;
 use std::io;
 use std::path::Path;

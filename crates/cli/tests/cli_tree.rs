@@ -4,7 +4,7 @@
 use micromap_index::micromap::{Format, State};
 use micromap_index::succinct::{LevelOrderTree, PaperTree};
 use micromap_index::{spec, Level};
-use micromap_index_verify::rng::SplitMix64;
+use micromap_index_lab::rng::SplitMix64;
 use std::io::Write;
 use std::process::{Command, Output, Stdio};
 
@@ -147,7 +147,7 @@ fn lookup_reads_the_encoded_map() {
     ] {
         let level = Level::new(4).unwrap();
         let value = |t: &str| {
-            micromap_index_verify::value::Value::parse(t)
+            micromap_index_lab::value::Value::parse(t)
                 .unwrap()
                 .to_f32()
                 .unwrap()

@@ -1,7 +1,7 @@
 //! The Vulkan specification's reference `BarycentricsToSpaceFillingCurveIndex`,
 //! compiled from C (`reference/c/spec_reference.c`), as an independent oracle
 //! for `micromap_index::spec::reference_bits_f32`. A dev-dependency of the
-//! verification crate (`crates/verify`) only; never part of the library.
+//! verification crate (`crates/lab`) only; never part of the library.
 
 // The one unsafe operation in this crate is the call in `spec_index`: the
 // C oracle is reached through FFI (the workspace denies unsafe elsewhere).

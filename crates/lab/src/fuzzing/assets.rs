@@ -1,0 +1,197 @@
+//! The bodies of the fuzz targets `alpha_image`, `triangles_json` and
+//! `gltf_asset` (module [`crate::assets`]), replayed on stable by
+//! `crates/lab/tests/fuzz_corpus.rs`.
+
+use crate::assets::{
+    decode_alpha_image, read_gltf_bytes, read_triangles_json, AlphaTexels, AssetError, GltfAsset,
+    Limits,
+};
+
+/// The limits of the asset targets: 2^16 pixels and 16 MiB, so that no
+/// input can make a run slow or large.
+pub const FUZZ_LIMITS: Limits = Limits {
+    max_pixels: 1 << 16,
+    max_bytes: 1 << 24,
+};
+
+/// A 2 x 2 grey + alpha PNG (alpha 0, 85, 170, 255), which the
+/// `gltf_asset` body serves for every external URI, buffers included
+/// (written by `fuzz/seeds/make_asset_seeds.py`).
+pub const FUZZ_PNG: [u8; 75] = [
+    0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48, 0x44, 0x52,
+    0x00, 0x00, 0x00, 0x02, 0x00, 0x00, 0x00, 0x02, 0x08, 0x04, 0x00, 0x00, 0x00, 0xd8, 0xbf, 0xc5,
+    0xaf, 0x00, 0x00, 0x00, 0x12, 0x49, 0x44, 0x41, 0x54, 0x78, 0xda, 0x63, 0x60, 0x60, 0x60, 0x08,
+    0x65, 0x60, 0x58, 0xc5, 0xf0, 0x1f, 0x00, 0x05, 0x05, 0x01, 0xff, 0x9f, 0xe8, 0xa7, 0xeb, 0x00,
+    0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82,
+];
+
+/// [`decode_alpha_image`] on any bytes (the whole input is the image file)
+/// under [`FUZZ_LIMITS`]: never panics, and an accepted image has
+/// `width * height` texels, within the pixel limit, `Float` texels in
+/// `[0, 1]`; the error of a rejected one displays on one line.
+///
+/// ```
+/// use micromap_index_lab::fuzzing::{alpha_image, FUZZ_PNG};
+/// alpha_image(&FUZZ_PNG);
+/// alpha_image(b"\x89PNG\r\n\x1a\n");
+/// alpha_image(b"\xff\xd8\xff");
+/// ```
+///
+/// # Panics
+///
+/// When a property fails.
+pub fn alpha_image(data: &[u8]) {
+    match decode_alpha_image(data, &FUZZ_LIMITS) {
+        Ok(image) => {
+            let pixels = u64::from(image.width) * u64::from(image.height);
+            assert!(
+                (1..=FUZZ_LIMITS.max_pixels).contains(&pixels),
+                "accepted a {} x {} image",
+                image.width,
+                image.height
+            );
+            assert_eq!(
+                image.texels.len() as u64,
+                pixels,
+                "{} x {} image with {} texels",
+                image.width,
+                image.height,
+                image.texels.len()
+            );
+            if let AlphaTexels::Float(texels) = &image.texels {
+                assert!(
+                    texels.iter().all(|t| (0.0..=1.0).contains(t)),
+                    "float texels outside [0, 1]"
+                );
+            }
+        }
+        Err(error) => check_error(&error),
+    }
+}
+
+/// [`read_triangles_json`] on any bytes: never panics; what it accepts
+/// writes back (each number as Rust's shortest round-trip decimal, `±inf`
+/// as `±1e39`) to text that reads back bit for bit; the error of a rejected
+/// input displays on one line.
+///
+/// ```
+/// use micromap_index_lab::fuzzing::triangles_json;
+/// triangles_json(br#"{"triangles": [[[0.1, 0], [1e39, 0], [0, 1]]]}"#);
+/// triangles_json(b"{");
+/// ```
+///
+/// # Panics
+///
+/// When a property fails.
+pub fn triangles_json(data: &[u8]) {
+    match read_triangles_json(data) {
+        Ok(triangles) => {
+            let number = |x: f32| {
+                if x.is_infinite() {
+                    if x > 0.0 { "1e39" } else { "-1e39" }.to_string()
+                } else {
+                    format!("{x:?}")
+                }
+            };
+            let items: Vec<String> = triangles
+                .iter()
+                .map(|t| {
+                    let corners: Vec<String> = t
+                        .iter()
+                        .map(|[u, v]| format!("[{}, {}]", number(*u), number(*v)))
+                        .collect();
+                    format!("[{}]", corners.join(", "))
+                })
+                .collect();
+            let text = format!("{{\"triangles\": [{}]}}", items.join(", "));
+            let again = match read_triangles_json(text.as_bytes()) {
+                Ok(again) => again,
+                Err(e) => panic!("{triangles:?} writes as {text:?}, which fails: {e}"),
+            };
+            let bits = |t: &[[[f32; 2]; 3]]| -> Vec<u32> {
+                t.iter().flatten().flatten().map(|x| x.to_bits()).collect()
+            };
+            assert_eq!(
+                bits(&again),
+                bits(&triangles),
+                "{text:?} reads back differently"
+            );
+        }
+        Err(error) => check_error(&error),
+    }
+}
+
+/// [`read_gltf_bytes`] on any bytes (the whole input is the `.gltf` or
+/// `.glb`) under [`FUZZ_LIMITS`], every external URI resolving to
+/// [`FUZZ_PNG`] (except URIs ending in `.missing`, which fail): never
+/// panics; an accepted asset is consistent (each primitive's image exists,
+/// images within the pixel limit with `width * height` texels, the cutoff
+/// not negative, everything held within the byte limit); the error of a
+/// rejected input displays on one line.
+///
+/// ```
+/// use micromap_index_lab::fuzzing::gltf_asset;
+/// gltf_asset(br#"{"asset": {"version": "2.0"}, "meshes": [{"primitives": [{"attributes": {}}]}]}"#);
+/// gltf_asset(b"glTF\x02\0\0\0");
+/// ```
+///
+/// # Panics
+///
+/// When a property fails.
+pub fn gltf_asset(data: &[u8]) {
+    let mut resolve = |uri: &str| {
+        if uri.ends_with(".missing") {
+            Err(AssetError::Io {
+                path: uri.to_string(),
+                message: "not found".to_string(),
+            })
+        } else {
+            Ok(FUZZ_PNG.to_vec())
+        }
+    };
+    match read_gltf_bytes(data, &mut resolve, &FUZZ_LIMITS) {
+        Ok(asset) => check_asset(&asset),
+        Err(error) => check_error(&error),
+    }
+}
+
+fn check_asset(asset: &GltfAsset) {
+    assert_eq!(asset.images.len(), asset.image_info.len());
+    let mut held = 0u64;
+    for image in &asset.images {
+        let pixels = u64::from(image.width) * u64::from(image.height);
+        assert!((1..=FUZZ_LIMITS.max_pixels).contains(&pixels));
+        assert_eq!(image.texels.len() as u64, pixels);
+        held += match image.texels {
+            AlphaTexels::Unorm8(_) => pixels,
+            AlphaTexels::Float(_) => 4 * pixels,
+        };
+    }
+    for primitive in &asset.primitives {
+        assert!(
+            primitive.image < asset.images.len(),
+            "primitive {}/{} uses image {} of {}",
+            primitive.mesh,
+            primitive.primitive,
+            primitive.image,
+            asset.images.len()
+        );
+        assert!(primitive.alpha_cutoff >= 0.0);
+        held += 24 * primitive.triangles.len() as u64;
+    }
+    assert!(
+        held <= FUZZ_LIMITS.max_bytes,
+        "{held} bytes of images and triangles"
+    );
+    for warning in &asset.warnings {
+        assert!(!warning.contains('\n'), "warning {warning:?}");
+    }
+}
+
+fn check_error(error: &AssetError) {
+    let text = error.to_string();
+    assert!(
+        !text.is_empty() && !text.contains('\n'),
+        "error message {text:?}"
+    );
+}
