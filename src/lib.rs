@@ -95,8 +95,10 @@ macro_rules! unstable_pub_fn {
 #[doc = include_str!("../README.md")]
 mod readme {}
 
-/// Marsaglia's xorshift64, the unit tests' one source of pseudo-random
-/// numbers: the next state of `x`.
+/// Marsaglia's xorshift64, left only for the unit tests of
+/// `src/batch/kernel.rs` and `src/batch/arch.rs` (being moved to `src/kernel/`
+/// and `src/arch/`): they switch to `micromap_index_test_support::SplitMix64`,
+/// the one PRNG every other test uses, after that move, and this goes.
 #[cfg(test)]
 pub(crate) fn xorshift(x: &mut u64) -> u64 {
     *x ^= *x << 13;

@@ -10,6 +10,7 @@ use micromap_index::bake::{
 use micromap_index::inverse::micro_triangles;
 use micromap_index::micromap::{Format, State, TriangleOpacity, UnknownPolicy};
 use micromap_index::Level;
+use micromap_index_test_support::SplitMix64;
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, Zero};
@@ -24,24 +25,6 @@ fn seed(constant: u64) -> u64 {
         .map_or(constant, |s| {
             constant ^ s.wrapping_mul(0x9e37_79b9_7f4a_7c15)
         })
-}
-
-/// splitmix64: deterministic, dependency-free.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
-    }
-    fn pick<T: Copy>(&mut self, items: &[T]) -> T {
-        items[self.below(items.len() as u64) as usize]
-    }
 }
 
 fn rational(x: f32) -> BigRational {
@@ -178,14 +161,14 @@ fn sample_points(vertices: [(u64, u64); 3], extra: u32) -> Vec<(u64, u64)> {
     out
 }
 
-fn random_coordinate(rng: &mut Rng, size: u32) -> f32 {
+fn random_coordinate(rng: &mut SplitMix64, size: u32) -> f32 {
     match rng.below(7) {
         // On a texel boundary (possibly outside the texture).
         0 => (rng.below(4 * u64::from(size)) as f32 - 2.0 * size as f32) / size as f32,
         // On a half-texel (linear filtering's boundaries).
         1 => (rng.below(8 * u64::from(size)) as f32 - 4.0 * size as f32) / (2 * size) as f32,
         // Anywhere near the texture.
-        2 | 3 => (rng.next() >> 40) as f32 / (1u64 << 24) as f32 * 3.0 - 1.0,
+        2 | 3 => (rng.next_u64() >> 40) as f32 / (1u64 << 24) as f32 * 3.0 - 1.0,
         // Far outside.
         4 => rng.pick(&[1000.0f32, -777.25, 65536.5, -3.0e4]),
         // Tiny next to ordinary values.
@@ -194,7 +177,7 @@ fn random_coordinate(rng: &mut Rng, size: u32) -> f32 {
     }
 }
 
-fn random_triangle(rng: &mut Rng, width: u32, height: u32) -> UvTriangle {
+fn random_triangle(rng: &mut SplitMix64, width: u32, height: u32) -> UvTriangle {
     let mut c = || {
         [
             random_coordinate(rng, width),
@@ -224,7 +207,7 @@ struct Case {
     level: Level,
 }
 
-fn random_case(rng: &mut Rng) -> Case {
+fn random_case(rng: &mut SplitMix64) -> Case {
     let width = 1 + rng.below(6) as u32;
     let height = 1 + rng.below(6) as u32;
     let cutoff_alpha = rng.pick(&[0.5f32, 0.25, 0.0, 1.0]);
@@ -266,7 +249,7 @@ fn baker(oracle: &Oracle) -> Baker {
 /// Also measures tightness: unknowns the samples confirm as mixed.
 #[test]
 fn known_states_are_never_contradicted_by_exact_samples() {
-    let mut rng = Rng(seed(0x5eed_ba6e));
+    let mut rng = SplitMix64::new(seed(0x5eed_ba6e));
     let (mut known, mut unknown, mut confirmed_unknown) = (0u64, 0u64, 0u64);
     let mut over_budget = 0;
     for case_number in 0..1000 {
@@ -378,7 +361,7 @@ fn in_closed_triangle(p: &(BigRational, BigRational), t: &[(BigRational, BigRati
 /// the other class.
 #[test]
 fn verifier_accepts_sound_bakes_and_catches_every_flip_with_a_witness() {
-    let mut rng = Rng(seed(0x0ba5_e1e5));
+    let mut rng = SplitMix64::new(seed(0x0ba5_e1e5));
     let mut caught = 0;
     for case_number in 0..600 {
         let case = random_case(&mut rng);

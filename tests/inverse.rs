@@ -20,6 +20,7 @@ use micromap_index::inverse::{micro_triangle, MicroTriangle};
 use micromap_index::num::Fixed64;
 use micromap_index::uv2index::{self, Walk};
 use micromap_index::{spec, Error, Level, SpecLevel};
+use micromap_index_test_support::SplitMix64;
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed};
@@ -432,13 +433,9 @@ fn sample_indices(level: Level) -> Vec<u64> {
         last / 3 * 2,
         0x5555_5555_5555_5555 & last,
     ];
-    let mut state = 0x9e37_79b9_7f4a_7c15u64 ^ u64::from(level.get());
+    let mut rng = SplitMix64::new(0x9e37_79b9_7f4a_7c15 ^ u64::from(level.get()));
     for _ in 0..200 {
-        // xorshift64
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        indices.push(state & last);
+        indices.push(rng.next_u64() & last);
     }
     indices
 }

@@ -746,6 +746,7 @@ impl Baker {
 mod tests {
     use super::*;
     use crate::bake::{AddressMode, Filter, Unorm8Texture};
+    use micromap_index_test_support::SplitMix64;
 
     /// The `i64` walk gives the `i128` walk's micromap wherever
     /// [`Placed::narrowed`] accepts a root: roots with coordinates just
@@ -754,8 +755,8 @@ mod tests {
     /// with a shift of 59 are refused.
     #[test]
     fn narrow_and_wide_walks_agree_near_their_threshold() {
-        let mut state = 0x0b5e_55ed_u64;
-        let mut next = move || crate::xorshift(&mut state);
+        let mut rng = SplitMix64::new(0x0b5e_55ed);
+        let mut next = move || rng.next_u64();
         // 4 x 4 checks of random alpha, so that known states are common.
         let checks: Vec<u8> = (0..16).map(|_| (next() % 256) as u8).collect();
         let texels: Vec<u8> = (0..16 * 16)

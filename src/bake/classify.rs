@@ -547,14 +547,15 @@ impl TexelClasses {
 mod tests {
     use super::*;
     use crate::bake::Unorm8Texture;
+    use micromap_index_test_support::SplitMix64;
 
     /// The per-texel search in `i64` finds what the one in `i128` finds
     /// (classes and witnesses) on small blocks just inside `+-2^62`, where
     /// [`Block::narrowed`] stops; a block reaching `2^62` is not narrowed.
     #[test]
     fn narrow_and_wide_texel_searches_agree_near_their_threshold() {
-        let mut state = 0x7e57_u64;
-        let mut next = move || crate::xorshift(&mut state);
+        let mut rng = SplitMix64::new(0x7e57);
+        let mut next = move || rng.next_u64();
         let texels: Vec<u8> = (0..16).map(|_| (next() % 256) as u8).collect();
         let texture = Unorm8Texture::new(4, 4, &texels).unwrap();
         let edge = 1i128 << 62;

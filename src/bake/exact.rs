@@ -525,6 +525,7 @@ impl ExactTriangle {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use micromap_index_test_support::SplitMix64;
 
     #[test]
     fn wide_products_match_i128_where_they_fit_and_big_ones_compare() {
@@ -626,14 +627,8 @@ mod tests {
     /// differences up to twice that), and `meets` agrees with all of them.
     #[test]
     fn narrow_small_and_wide_paths_agree_near_their_thresholds() {
-        let mut state = 0x5eed_u64;
-        let mut next = move || {
-            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-            let mut z = state;
-            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-            z ^ (z >> 31)
-        };
+        let mut rng = SplitMix64::new(0x5eed);
+        let mut next = move || rng.next_u64();
         let mut seen = [[0u32; 2]; 3];
         for threshold in [NARROW_COORDINATE as i128, SMALL_COORDINATE as i128] {
             for case in 0..20_000 {

@@ -257,6 +257,7 @@ impl PackedStates {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use micromap_index_test_support::SplitMix64;
 
     /// rank1 against a count over the bits, around every block and word
     /// boundary of 2000- and 3000-bit vectors: an irregular pattern, all
@@ -265,10 +266,10 @@ mod tests {
     fn rank_equals_counting_the_bits() {
         for (len, pattern) in [(2000usize, 0), (3000, 1), (3000, 2)] {
             let mut bits = BitVec::new();
-            let mut x = 0x9e37_79b9_7f4a_7c15u64;
+            let mut rng = SplitMix64::new(0x9e37_79b9_7f4a_7c15);
             let mut plain = Vec::new();
             for _ in 0..len {
-                crate::xorshift(&mut x);
+                let x = rng.next_u64();
                 let bit = match pattern {
                     0 => x % 3 == 0,
                     1 => true,

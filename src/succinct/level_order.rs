@@ -458,7 +458,7 @@ impl LevelOrderTree {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::xorshift;
+    use micromap_index_test_support::SplitMix64;
 
     /// The dispatched lookup (hardware `popcnt` where the CPU has it) and
     /// the portable one answer alike on every index of random maps with
@@ -466,8 +466,8 @@ mod tests {
     /// public `get` elsewhere cover only the path this CPU takes.
     #[test]
     fn dispatched_and_portable_lookups_agree() {
-        let mut x = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || xorshift(&mut x);
+        let mut rng = SplitMix64::new(0x2545_f491_4f6c_dd1d);
+        let mut next = move || rng.next_u64();
         for level in 0..=7u32 {
             for format in [Format::TwoState, Format::FourState] {
                 let count = 1usize << (2 * level);
@@ -499,11 +499,11 @@ mod tests {
     /// leaf entries and positions, and every index reads its state.
     #[test]
     fn top_table_answers_like_the_flat_map() {
-        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rng = SplitMix64::new(0x9e37_79b9_7f4a_7c15);
         let count = 1usize << 18;
         let states: Vec<State> = (0..count)
             .map(|i| {
-                let r = xorshift(&mut x);
+                let r = rng.next_u64();
                 if i < count / 16 || r % 3 == 0 {
                     State::Opaque
                 } else {
