@@ -5,8 +5,8 @@
 //!   equal the exact walk on random floats biased toward lattice lines and
 //!   subnormals.
 //!
-//! (The quickcheck property of spec-f32 against spec-real is in
-//! `differential_quickcheck.rs`: one property-testing engine per file.)
+//! (The property of spec-f32 against spec-real is in
+//! `spec_rounding_window.rs`.)
 
 use micromap_index::{spec, uv2index, Level, SpecLevel};
 use num_bigint::BigInt;

@@ -1,20 +1,20 @@
-//! quickcheck: the spec in binary32 against its exact reading on random
+//! proptest: the spec in binary32 against its exact reading on random
 //! `f32` pairs, with the precise statement of where they may differ.
 
 use micromap_index::{spec, SpecLevel};
+use micromap_index_test_support::window_fractions;
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::One;
-use quickcheck::{Arbitrary, Gen, QuickCheck};
+use proptest::prelude::*;
+use proptest::strategy::ValueTree;
+use proptest::test_runner::TestRunner;
 
 /// `numerator / 2^denominator_log2`.
 fn rational(numerator: i64, denominator_log2: u32) -> BigRational {
     BigRational::new(numerator.into(), BigInt::one() << denominator_log2)
 }
-/// A pair of f32 for the spec comparison: arbitrary bits (NaN, inf, huge,
-/// negative), values in [0, 1], or a pair whose scaled fractions sum to
-/// within a few ulps of 1 at some level (the only place binary32 rounding
-/// matters).
+/// A pair of f32 for the spec comparison.
 #[derive(Clone, Copy, Debug)]
 struct SpecInput {
     u: f32,
@@ -22,41 +22,47 @@ struct SpecInput {
     level: u32,
 }
 
-impl Arbitrary for SpecInput {
-    fn arbitrary(g: &mut Gen) -> Self {
-        let level = u32::arbitrary(g) % 17;
-        let unit = |g: &mut Gen| f32::from_bits(u32::arbitrary(g) % 0x3f80_0001);
-        let (u, v) = match u8::arbitrary(g) % 4 {
-            0 => (
-                f32::from_bits(u32::arbitrary(g)),
-                f32::from_bits(u32::arbitrary(g)),
-            ),
-            1 => (unit(g), unit(g)),
-            _ => {
-                // Scaled fractions uf in [1/2, 1) and vf = (1 - uf) - k ulps,
-                // so uf + vf = 1 - k ulp(vf): in the window for small k when
-                // vf is fine enough. Small cells keep the points exact.
-                let cells = 1u32 << level;
-                let uf = f32::from_bits(0x3f00_0000 + u32::arbitrary(g) % 0x80_0000);
-                let rest = 1.0 - uf; // exact (Sterbenz)
-                let k = u32::arbitrary(g) % 6;
-                let vf = f32::from_bits(rest.to_bits().saturating_sub(k));
-                let small_cell = |g: &mut Gen| match u8::arbitrary(g) % 3 {
-                    0 => 0,
-                    1 => 1 % cells,
-                    _ => u32::arbitrary(g) % cells,
-                };
-                let u = (small_cell(g) as f32 + uf) / cells as f32;
-                let v = (small_cell(g) as f32 + vf) / cells as f32;
-                if bool::arbitrary(g) {
-                    (u, v)
-                } else {
+/// Arbitrary bits (NaN, inf, huge, negative), values in [0, 1], or (half
+/// of the cases) a pair whose scaled fractions sum to within a few ulps of
+/// 1 at some level (the only place binary32 rounding matters).
+fn spec_input() -> impl Strategy<Value = SpecInput> {
+    let unit = || (0u32..=0x3f80_0000).prop_map(f32::from_bits);
+    let pair = prop_oneof![
+        1 => (any::<u32>(), any::<u32>())
+            .prop_map(|(u, v)| (f32::from_bits(u), f32::from_bits(v)))
+            .boxed(),
+        1 => (unit(), unit()).boxed(),
+    ];
+    (0u32..17).prop_flat_map(move |level| {
+        let cells = 1u32 << level;
+        // Small cells keep the points exact.
+        let small_cell = prop_oneof![Just(0), Just(1 % cells), 0..cells];
+        // Scaled fractions uf in [1/2, 1) and vf = (1 - uf) - k ulps, so
+        // uf + vf = 1 - k ulp(vf): in the window for small k when vf is
+        // fine enough.
+        let window = (
+            any::<u32>(),
+            0u32..6,
+            small_cell.clone(),
+            small_cell,
+            any::<bool>(),
+        )
+            .prop_map(move |(bits, k, cu, cv, swap)| {
+                let (uf, vf) = window_fractions(bits, k);
+                let u = (cu as f32 + uf) / cells as f32;
+                let v = (cv as f32 + vf) / cells as f32;
+                if swap {
                     (v, u)
+                } else {
+                    (u, v)
                 }
-            }
-        };
-        SpecInput { u, v, level }
-    }
+            });
+        prop_oneof![1 => pair.clone(), 1 => window].prop_map(move |(u, v)| SpecInput {
+            u,
+            v,
+            level,
+        })
+    })
 }
 
 /// The reference's clamp, as exact rationals (NaN -> 0, ±inf -> 0/1).
@@ -105,9 +111,13 @@ fn classify_spec_difference(input: SpecInput) -> Option<bool> {
 /// make sure it does, often.
 #[test]
 fn spec_input_generator_reaches_the_rounding_window() {
-    let mut g = Gen::new(100);
+    let mut runner = TestRunner::deterministic();
+    let strategy = spec_input();
     let differing = (0..20_000)
-        .filter(|_| classify_spec_difference(SpecInput::arbitrary(&mut g)) == Some(true))
+        .filter(|_| {
+            let input = strategy.new_tree(&mut runner).unwrap().current();
+            classify_spec_difference(input) == Some(true)
+        })
         .count();
     assert!(
         differing >= 200,
@@ -115,11 +125,13 @@ fn spec_input_generator_reaches_the_rounding_window() {
     );
 }
 
-#[test]
-fn spec_f32_differs_from_spec_exact_only_in_the_rounding_window() {
-    QuickCheck::new()
-        .tests(20_000)
-        .quickcheck(spec_difference_is_exactly_the_rounding_window as fn(SpecInput) -> bool);
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(20_000))]
+
+    #[test]
+    fn spec_f32_differs_from_spec_exact_only_in_the_rounding_window(input in spec_input()) {
+        prop_assert!(spec_difference_is_exactly_the_rounding_window(input));
+    }
 }
 
 /// Concrete binary32 inputs where the reference on a GPU and its exact
