@@ -24,7 +24,7 @@ use micromap_index::batch::{self, Backend};
 use micromap_index::internals::{exact_index_f32_ref, exact_index_f64_ref, micro_triangle_ref};
 use micromap_index::{inverse, spec, uv2index, Level, SpecLevel};
 use micromap_index_c_reference::spec_index;
-use micromap_index_lab::rng::SplitMix64 as Rng;
+use micromap_index_test_support::SplitMix64 as Rng;
 use std::hint::black_box;
 use std::time::Duration;
 

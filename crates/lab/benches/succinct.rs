@@ -26,7 +26,7 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Through
 use micromap_index::micromap::{Format, Micromap, State};
 use micromap_index::succinct::{LevelOrderTree, PaperTree};
 use micromap_index::Level;
-use micromap_index_lab::rng::SplitMix64;
+use micromap_index_test_support::SplitMix64;
 use std::hint::black_box;
 use std::time::Duration;
 

@@ -10,7 +10,7 @@
 //! ```
 
 use micromap_index::{uv2index, Level};
-use micromap_index_lab::rng::SplitMix64;
+use micromap_index_test_support::SplitMix64;
 use num_rational::BigRational;
 
 /// Sampling on the crate's `SplitMix64` stream.

@@ -4,7 +4,7 @@
 //! lab's code keeps one path to it.
 //!
 //! ```
-//! use micromap_index_lab::rng::SplitMix64;
+//! use micromap_index_test_support::SplitMix64;
 //! let mut rng = SplitMix64::new(0);
 //! assert_eq!(rng.next_u64(), 0xe220_a839_7b1d_cdaf);
 //! assert!(rng.below(10) < 10);

@@ -16,57 +16,9 @@ use micromap_index::batch::{self, Backend, BatchError};
 use micromap_index::spec;
 use micromap_index::{Level, SpecLevel};
 use micromap_index_c_reference::spec_index;
+use micromap_index_test_support::{edge_values, step_ulps, SplitMix64};
 use proptest::prelude::*;
 use std::io::Write;
-
-/// Structured `f32` values: where the clamp, the quantisation or the
-/// truncation changes behaviour, and their neighbours.
-fn edge_values() -> Vec<f32> {
-    let mut values: Vec<f32> = [
-        0x7fc0_0000u32, // quiet NaN
-        0xffc0_0000,    // negative quiet NaN
-        0x7f80_0001,    // signalling NaN
-        0xff80_0001,
-        0x7fff_ffff,
-        0x8000_0000, // -0
-        0x0000_0001, // smallest subnormal
-        0x0000_0002,
-        0x007f_ffff, // largest subnormal
-        0x0040_0000,
-        0x8000_0001, // negative subnormal
-        0x0080_0000, // smallest normal
-        0x7f80_0000, // +inf
-        0xff80_0000, // -inf
-        0x7f7f_ffff, // f32::MAX
-    ]
-    .into_iter()
-    .map(f32::from_bits)
-    .collect();
-    for m in 0..=26 {
-        let scale = 2f32.powi(-m);
-        let top = 1u32 << m.min(24);
-        for k in [
-            1,
-            3,
-            top / 2,
-            top.saturating_sub(1),
-            top,
-            top + 1,
-            0x5a5a5 % top.max(1),
-        ] {
-            let x = k as f32 * scale;
-            for steps in -2i32..=2 {
-                let bits = (i64::from(x.to_bits()) + i64::from(steps)).max(0) as u32;
-                values.push(f32::from_bits(bits));
-                values.push(-f32::from_bits(bits));
-            }
-        }
-    }
-    values.extend([0.1, 1.0 / 3.0, 2.0 / 3.0, 0.9, 1.5, 2.0, 1e10, 1e30, -0.5]);
-    values.sort_unstable_by_key(|x| x.to_bits());
-    values.dedup_by_key(|x| x.to_bits());
-    values
-}
 
 /// Pairs `(u, v) = (fu, fv) * 2^-level` whose fractions `fu + fv` straddle
 /// `1 - 2^-25`, where binary32 rounding decides the reference's diagonal test.
@@ -78,8 +30,7 @@ fn rounding_window(level: u32) -> (Vec<f32>, Vec<f32>) {
         let partner = (1.0 - f64::from(base) - 2f64.powi(-25)) as f32;
         for du in -2i32..=2 {
             for dv in -3i32..=3 {
-                let fu = f32::from_bits((base.to_bits() as i32 + du) as u32);
-                let fv = f32::from_bits((partner.to_bits() as i32 + dv) as u32);
+                let (fu, fv) = (step_ulps(base, du), step_ulps(partner, dv));
                 u.push(fu * scale);
                 v.push(fv * scale);
             }
@@ -249,13 +200,8 @@ macro_rules! backend_tests {
                 #[test]
                 fn every_length_around_the_chunks() {
                     let values = edge_values();
-                    let mut state = 0x2545_f491_4f6c_dd1du64;
-                    let mut next = move || {
-                        state ^= state << 13;
-                        state ^= state >> 7;
-                        state ^= state << 17;
-                        state
-                    };
+                    let mut rng = SplitMix64::new(0x2545_f491_4f6c_dd1d);
+                    let mut next = move || rng.next_u64();
                     for len in (0..=530).chain([767, 768, 769, 1000]) {
                         let level = (next() % 17) as u32;
                         let mut pick = || {
@@ -317,7 +263,7 @@ macro_rules! backend_tests {
                         let scale = 2f32.powi(-(level as i32));
                         let nudge = |k: u32, steps: i32| {
                             let x = (k % ((1 << level) + 1)) as f32 * scale;
-                            f32::from_bits((i64::from(x.to_bits()) + i64::from(steps)).max(0) as u32)
+                            step_ulps(x, steps)
                         };
                         let u: Vec<f32> = cells.iter().map(|c| nudge(c.0, c.2)).collect();
                         let v: Vec<f32> = cells.iter().map(|c| nudge(c.1, c.3)).collect();

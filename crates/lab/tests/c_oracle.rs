@@ -13,8 +13,7 @@ use micromap_index::internals::rounding_flips_diagonal;
 use micromap_index::spec::{reference_bits_f32, reference_bits_f32_by_integers};
 use micromap_index::{batch, spec, SpecLevel};
 use micromap_index_c_reference::spec_index;
-use micromap_index_lab::rng::SplitMix64;
-use micromap_index_lab::value::{next_down_f32, next_up_f32};
+use micromap_index_test_support::{edge_values, step_ulps, window_partner, SplitMix64};
 use std::io::Write;
 
 /// The levels every pair is checked at.
@@ -25,93 +24,6 @@ const HIGH_LEVELS: [u32; 6] = [32, 33, 47, 63, 1000, u32::MAX];
 
 /// Mismatches printed in full before the test gives up listing them.
 const MAX_REPORTED: usize = 20;
-
-/// Structured `f32` inputs for the reference: the values where its clamp,
-/// quantisation or truncation changes behaviour, and their neighbours.
-///
-/// * NaN with several payloads, quiet and signalling, both signs;
-/// * ±0, ±inf, the smallest and largest subnormals, `f32::MIN_POSITIVE`,
-///   the values 1 ulp below and above 0;
-/// * for every `m` in `0..=24`, dyadics `k / 2^m` with a spread of `k`
-///   (1, 3, around `2^(m-1)`, `2^m - 3`, `2^m - 1`, `2^m`, `2^m + 1` just
-///   above 1, one scrambled odd `k`), each with its neighbours 1 ulp below
-///   and above and its negation: grid lines of every level up to 24,
-///   including 1/2 and 1;
-/// * a few non-dyadic fractions, values above 1, huge values and negatives.
-///
-/// Sorted by bit pattern, without duplicates.
-fn edge_values() -> Vec<f32> {
-    let mut values: Vec<f32> = [
-        0x7fc0_0000, // the default quiet NaN
-        0xffc0_0000, // ... negative
-        0x7fc0_0001, // quiet, payload 1
-        0x7fff_ffff, // quiet, all payload bits
-        0xffff_ffff, // ... negative
-        0x7f80_0001, // signalling, payload 1
-        0xff80_0001, // ... negative
-        0x7fa5_a5a5, // signalling, mixed payload
-    ]
-    .into_iter()
-    .map(f32::from_bits)
-    .collect();
-
-    let smallest_subnormal = f32::from_bits(1);
-    let largest_subnormal = f32::from_bits(0x007f_ffff);
-    let magnitudes = [
-        0.0,
-        f32::INFINITY,
-        smallest_subnormal,
-        largest_subnormal,
-        f32::MIN_POSITIVE,
-        f32::MAX,
-        f32::EPSILON,
-        0.1,
-        1.0 / 3.0,
-        2.0 / 3.0,
-        0.9,
-        1.5,
-        2.0,
-        3.0,
-        1e3,
-        16_777_216.0,    // 2^24: above it f32 has no fractions
-        2_147_483_648.0, // 2^31
-        4_294_967_296.0, // 2^32: would not fit the reference's uint32_t
-        1e10,
-        1e30,
-    ];
-    for x in magnitudes {
-        values.extend([x, -x]);
-    }
-
-    for m in 0..=24u32 {
-        let n = 1u32 << m;
-        let ks = [
-            1,
-            3,
-            (n / 2).saturating_sub(1),
-            n / 2 + 1,
-            n.saturating_sub(3),
-            n - 1,
-            n,
-            n + 1,
-            (0x9e37_79b9 % n) | 1,
-        ];
-        for k in ks.into_iter().filter(|&k| k > 0) {
-            let x = (f64::from(k) / f64::from(n)) as f32;
-            values.extend([x, next_up_f32(x), next_down_f32(x), -x]);
-        }
-    }
-
-    values.sort_unstable_by_key(|x| x.to_bits());
-    values.dedup_by_key(|x| x.to_bits());
-    values
-}
-
-/// `x` moved by `steps` ulps (for finite `x >= 0`, staying non-negative).
-fn step_ulps(x: f32, steps: i32) -> f32 {
-    let bits = i64::from(x.to_bits()) + i64::from(steps);
-    f32::from_bits(bits.max(0) as u32)
-}
 
 /// The reference's quantisation of one coordinate, for choosing inputs (the
 /// comparison never uses it): the clamped `x * 2^level`, its truncation and
@@ -221,22 +133,6 @@ impl Oracle {
     }
 }
 
-#[test]
-fn edge_values_cover_the_listed_cases() {
-    let values = edge_values();
-    let has = |x: f32| values.iter().any(|y| y.to_bits() == x.to_bits());
-    for x in [0.0, -0.0, 0.5, 1.0, f32::MIN_POSITIVE, f32::INFINITY] {
-        assert!(has(x) && has(-x), "{x:e}");
-    }
-    for x in [0.5f32, 1.0, 0.25 * 3.0, 1.0 / 16_777_216.0] {
-        assert!(has(next_up_f32(x)) && has(next_down_f32(x)), "{x:e}");
-    }
-    assert!(has(f32::from_bits(1)) && has(-f32::from_bits(1)));
-    assert!(has(f32::from_bits(0x007f_ffff)));
-    let nans = values.iter().filter(|x| x.is_nan());
-    assert!(nans.clone().count() >= 6 && nans.clone().any(|x| x.is_sign_negative()));
-}
-
 /// Every ordered pair of edge values at every level.
 #[test]
 fn edge_value_pairs_at_every_level() {
@@ -301,8 +197,7 @@ fn pairs_around_the_diagonal_rounding_window() {
             for iv in rows.into_iter().filter(|&iv| iv < cells) {
                 // Near the complement of `uf` (f64 then f32 may round it):
                 // the ulp steps below cover the window either way.
-                let target = (iv as f64 + 1.0 - f64::from(uf)) / cells as f64;
-                let aim = target as f32;
+                let aim = window_partner(uf, iv, level);
                 for steps in -4..=4 {
                     let v = step_ulps(aim, steps);
                     let (_, vf) = quantize(v, level);

@@ -11,7 +11,7 @@ use common::VERSION1_MISMATCHES;
 use micromap_index::num::Fixed64;
 use micromap_index::{spec, uv2index, Level, SpecLevel};
 use micromap_index_lab::lattice::{face_count, faces, Face, FaceKind};
-use micromap_index_lab::rng::SplitMix64;
+use micromap_index_test_support::SplitMix64;
 use std::collections::BTreeMap;
 
 const LEVELS: std::ops::RangeInclusive<u32> = 0..=10;

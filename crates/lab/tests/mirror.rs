@@ -4,7 +4,7 @@
 //! f32 in [0, 1] for u against a fixed set of v partners.
 
 use micromap_index::spec;
-use micromap_index_lab::rng::SplitMix64;
+use micromap_index_test_support::{edge_values, window_fractions, SplitMix64};
 
 fn assert_same(u: f32, v: f32, level: u32) {
     let (mirror, reference) = (
@@ -20,49 +20,9 @@ fn assert_same(u: f32, v: f32, level: u32) {
     );
 }
 
-/// The f32 values where something changes: NaNs, zeros, infinities,
-/// subnormal and normal extremes, 0 / 1 / 1/2 and every `k / 2^m` with
-/// small k up to m = 26, each with its ±1, ±2 ulp neighbours, values
-/// above 1 and below 0.
-fn structured_values() -> Vec<f32> {
-    let mut values = vec![
-        f32::NAN,
-        -f32::NAN,
-        f32::from_bits(0x7f80_0001),
-        f32::from_bits(0xffc0_1234),
-        0.0,
-        -0.0,
-        f32::INFINITY,
-        f32::NEG_INFINITY,
-        f32::from_bits(1),
-        f32::from_bits(0x007f_ffff),
-        f32::MIN_POSITIVE,
-        f32::MAX,
-        f32::MIN,
-        f32::EPSILON,
-        1.5,
-        2.0,
-        1e30,
-        -1e-30,
-        -0.5,
-        -1.0,
-    ];
-    for m in 0..=26 {
-        for k in [1u32, 3, 5, 7, (1 << m.min(24)) - 1] {
-            let x = k as f32 / (1u64 << m) as f32;
-            if x <= 1.0 {
-                for ulps in -2i32..=2 {
-                    values.push(f32::from_bits((x.to_bits() as i32 + ulps).max(0) as u32));
-                }
-            }
-        }
-    }
-    values
-}
-
 #[test]
 fn mirror_matches_spec_on_every_structured_pair() {
-    let values = structured_values();
+    let values = edge_values();
     for level in 0..=33 {
         for &u in &values {
             for &v in &values {
@@ -81,12 +41,7 @@ fn mirror_matches_spec_in_the_rounding_window() {
     for _ in 0..400_000 {
         let level = (rng.next_u64() % 17) as u32;
         let cells = (1u64 << level) as f32;
-        let uf = f32::from_bits(0x3f00_0000 + (rng.next_u64() % 0x80_0000) as u32);
-        let vf = f32::from_bits(
-            (1.0 - uf)
-                .to_bits()
-                .saturating_sub((rng.next_u64() % 6) as u32),
-        );
+        let (uf, vf) = window_fractions(rng.next_u64() as u32, rng.next_u64() as u32);
         let cell = |r: u64| (r % (1u64 << level)) as f32 * (r & 1) as f32;
         let u = (cell(rng.next_u64()) + uf) / cells;
         let v = (cell(rng.next_u64()) + vf) / cells;

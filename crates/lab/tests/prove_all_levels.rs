@@ -14,7 +14,7 @@ use micromap_index_lab::prove::{for_each_face, WalkVersion};
 use micromap_index_lab::prove_all_levels::{
     explore, face_containing, prove_all_levels, Machine, ProductState, Verdict,
 };
-use micromap_index_lab::rng::SplitMix64;
+use micromap_index_test_support::{window_partner, SplitMix64};
 use std::collections::HashSet;
 
 fn level(n: u32) -> Level {
@@ -218,9 +218,8 @@ fn binary32_reference_is_the_transducers_reference_outside_the_rounding_window()
         let fraction = |x: f32| x * scale - (x * scale).trunc();
         let mut v = if i % 3 == 0 {
             // Aim at the window: vf just below 1 - uf, a few ulps down.
-            let iv = rng.below(1 << n) as f64;
-            let target = (iv + 1.0 - f64::from(fraction(u))) / f64::from(scale);
-            let v = (target as f32)
+            let iv = rng.below(1 << n);
+            let v = window_partner(fraction(u), iv, n)
                 .to_bits()
                 .saturating_sub(rng.below(4) as u32);
             f32::from_bits(v)

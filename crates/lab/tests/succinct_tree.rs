@@ -10,7 +10,7 @@ mod succinct_maps;
 use micromap_index::micromap::{Format, State};
 use micromap_index::succinct::{LevelOrderTree, PaperTree, Section, TreeError};
 use micromap_index::{spec, Level};
-use micromap_index_lab::rng::SplitMix64;
+use micromap_index_test_support::SplitMix64;
 use proptest::prelude::*;
 use succinct_maps::*;
 

@@ -10,8 +10,9 @@
 //! * [`edge_values`]: the structured `f32` inputs of the index functions
 //!   (NaN payloads, zeros, infinities, subnormals, lattice lines of every
 //!   level and their neighbours).
-//! * [`window_fractions`]: scaled fractions whose sum lies just below 1,
-//!   where binary32 rounding decides the reference's diagonal test.
+//! * [`window_fractions`] and [`window_partner`]: scaled fractions whose sum
+//!   lies just below 1, where binary32 rounding decides the reference's
+//!   diagonal test.
 //!
 //! ```
 //! use micromap_index_test_support::{edge_values, step_ulps, SplitMix64};
@@ -209,6 +210,21 @@ pub fn window_fractions(bits: u32, k: u32) -> (f32, f32) {
     let uf = f32::from_bits(0x3f00_0000 + bits % 0x80_0000);
     let vf = f32::from_bits((1.0 - uf).to_bits().saturating_sub(k % 6));
     (uf, vf)
+}
+
+/// The `v` aimed at the rounding window from a point whose scaled fraction
+/// is `uf`: `(row + 1 - uf) / 2^level` (computed in binary64, then rounded to
+/// binary32), whose scaled fraction in cell `row` complements `uf` to 1 up
+/// to that rounding. A few [`step_ulps`] either way then cover the window
+/// `[1 - 2^-25, 1)` of the reference's `uf + vf >= 1`.
+///
+/// ```
+/// use micromap_index_test_support::window_partner;
+/// assert_eq!(window_partner(0.25, 1, 2), 0.4375); // (1 + 0.75) / 4
+/// ```
+#[must_use]
+pub fn window_partner(uf: f32, row: u64, level: u32) -> f32 {
+    ((row as f64 + 1.0 - f64::from(uf)) / (1u64 << level) as f64) as f32
 }
 
 #[cfg(test)]

@@ -8,7 +8,7 @@
 use micromap_index::inverse::micro_triangle;
 use micromap_index::micromap::{Format, State};
 use micromap_index::Level;
-use micromap_index_lab::rng::SplitMix64;
+use micromap_index_test_support::SplitMix64;
 
 /// `4^level`.
 pub fn count(level: u32) -> usize {
