@@ -25,7 +25,10 @@ use micromap_index::Level;
 use num_bigint::BigInt;
 use num_rational::BigRational;
 
-/// What kind of face a representative point stands for.
+/// What kind of face a representative point stands for. The declaration
+/// order is the one order of kinds everywhere ([`FaceKind::ALL`],
+/// [`FACE_OFFSETS`], per-kind counts such as the prover's
+/// `mismatches_by_kind`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum FaceKind {
     /// A lattice vertex.
@@ -43,6 +46,51 @@ pub enum FaceKind {
 }
 
 impl FaceKind {
+    /// Every kind, in declaration order.
+    pub const ALL: [FaceKind; 6] = [
+        FaceKind::Vertex,
+        FaceKind::HorizontalEdge,
+        FaceKind::VerticalEdge,
+        FaceKind::DiagonalEdge,
+        FaceKind::Upright,
+        FaceKind::UpsideDown,
+    ];
+
+    /// The position of the kind in [`FaceKind::ALL`] (and [`FACE_OFFSETS`]):
+    /// the slot of per-kind counts.
+    ///
+    /// ```
+    /// use micromap_index_lab::lattice::FaceKind;
+    /// assert!(FaceKind::ALL.iter().enumerate().all(|(i, k)| k.index() == i));
+    /// ```
+    #[must_use]
+    pub const fn index(self) -> usize {
+        self as usize
+    }
+
+    /// The offset of the kind's representative point from its cell's
+    /// lower-left vertex `(4a, 4b)`, in units of `1 / (4 * 2^level)`
+    /// ([`FACE_OFFSETS`]).
+    #[must_use]
+    pub const fn offset(self) -> (u64, u64) {
+        let (dx, dy, _) = FACE_OFFSETS[self.index()];
+        (dx, dy)
+    }
+
+    /// The kind of the face whose representative point is `(x, y)` in units
+    /// of `1 / (4 * 2^level)` (a point of [`faces`]): the inverse of
+    /// [`FaceKind::offset`], by `(x % 4, y % 4)`.
+    ///
+    /// ```
+    /// use micromap_index_lab::lattice::FaceKind;
+    /// assert_eq!(FaceKind::at(6, 4), FaceKind::HorizontalEdge);
+    /// assert_eq!(FaceKind::at(7, 3), FaceKind::UpsideDown);
+    /// ```
+    #[must_use]
+    pub const fn at(x: u64, y: u64) -> FaceKind {
+        KIND_AT_RESIDUE[(y % 4 * 4 + x % 4) as usize]
+    }
+
     /// Whether the face is the interior of a micro-triangle.
     #[must_use]
     pub fn is_open_triangle(self) -> bool {
@@ -129,6 +177,29 @@ pub const FACE_OFFSETS: [(u64, u64, FaceKind); 6] = [
     (1, 1, FaceKind::Upright),
     (3, 3, FaceKind::UpsideDown),
 ];
+
+// FACE_OFFSETS lists the kinds in declaration order (FaceKind::offset and
+// FaceKind::index rely on it).
+const _: () = {
+    let mut i = 0;
+    while i < FACE_OFFSETS.len() {
+        assert!(FACE_OFFSETS[i].2 as usize == i);
+        i += 1;
+    }
+};
+
+/// [`FaceKind::at`]'s table, indexed by `(y % 4) * 4 + x % 4`, built from
+/// [`FACE_OFFSETS`] (residues that are no representative read upside-down).
+const KIND_AT_RESIDUE: [FaceKind; 16] = {
+    let mut table = [FaceKind::UpsideDown; 16];
+    let mut i = 0;
+    while i < FACE_OFFSETS.len() {
+        let (dx, dy, kind) = FACE_OFFSETS[i];
+        table[(dy * 4 + dx) as usize] = kind;
+        i += 1;
+    }
+    table
+};
 
 /// The faces anchored at cell `(a, b)` of `level` that lie in the closed
 /// triangle. A cell outside the lattice (`a + b > 2^level`) has none.

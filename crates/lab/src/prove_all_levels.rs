@@ -1329,16 +1329,17 @@ pub fn face_containing(x: u64, y: u64, scale_log2: u32, level: Level) -> Face {
     let unit = 1u64 << below;
     let (a, b) = (x >> below, y >> below);
     let (ru, rv) = (x & (unit - 1), y & (unit - 1));
-    let (dx, dy, kind) = match (ru == 0, rv == 0) {
-        (true, true) => (0, 0, FaceKind::Vertex),
-        (true, false) => (0, 2, FaceKind::VerticalEdge),
-        (false, true) => (2, 0, FaceKind::HorizontalEdge),
+    let kind = match (ru == 0, rv == 0) {
+        (true, true) => FaceKind::Vertex,
+        (true, false) => FaceKind::VerticalEdge,
+        (false, true) => FaceKind::HorizontalEdge,
         _ => match (ru + rv).cmp(&unit) {
-            Ordering::Equal => (2, 2, FaceKind::DiagonalEdge),
-            Ordering::Less => (1, 1, FaceKind::Upright),
-            Ordering::Greater => (3, 3, FaceKind::UpsideDown),
+            Ordering::Equal => FaceKind::DiagonalEdge,
+            Ordering::Less => FaceKind::Upright,
+            Ordering::Greater => FaceKind::UpsideDown,
         },
     };
+    let (dx, dy) = kind.offset();
     Face {
         level,
         x: 4 * a + dx,

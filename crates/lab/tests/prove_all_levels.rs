@@ -9,7 +9,7 @@ mod common;
 
 use common::VERSION1_MISMATCHES;
 use micromap_index::{internals, spec, uv2index, Level, SpecLevel};
-use micromap_index_lab::lattice::{Face, FaceKind};
+use micromap_index_lab::lattice::Face;
 use micromap_index_lab::prove::{for_each_face, WalkVersion};
 use micromap_index_lab::prove_all_levels::{
     explore, face_containing, prove_all_levels, Machine, ProductState, Verdict,
@@ -71,7 +71,7 @@ fn cross_check(
                 "reference, {face:?}"
             );
             if run.walk_index != run.reference_index {
-                per_kind[kind_slot(face.kind)] += 1;
+                per_kind[face.kind.index()] += 1;
             }
             visited.extend(run.states);
             faces += 1;
@@ -81,17 +81,6 @@ fn cross_check(
         mismatches.push(per_kind);
     }
     (visited, mismatches)
-}
-
-fn kind_slot(kind: FaceKind) -> usize {
-    match kind {
-        FaceKind::Vertex => 0,
-        FaceKind::HorizontalEdge => 1,
-        FaceKind::VerticalEdge => 2,
-        FaceKind::DiagonalEdge => 3,
-        FaceKind::Upright => 4,
-        FaceKind::UpsideDown => 5,
-    }
 }
 
 /// Levels 0..=8: the transducers agree with the real functions on every

@@ -152,19 +152,6 @@ impl LeafFaces {
     }
 }
 
-/// The kind of the face whose representative is `(x, y)` at scale
-/// `4 * 2^level` (only needed for mismatches).
-pub(super) fn kind_of(x: u64, y: u64) -> FaceKind {
-    match (x % 4, y % 4) {
-        (0, 0) => FaceKind::Vertex,
-        (2, 0) => FaceKind::HorizontalEdge,
-        (0, 2) => FaceKind::VerticalEdge,
-        (2, 2) => FaceKind::DiagonalEdge,
-        (1, 1) => FaceKind::Upright,
-        _ => FaceKind::UpsideDown,
-    }
-}
-
 /// A node one level above the leaves, with its four leaves' faces: what
 /// the hot loop walks (faces come from the table's lists, so there is no
 /// branch per leaf).
@@ -247,7 +234,7 @@ pub fn for_each_face(
     }
     impl<F: FnMut(Face, u64)> EveryFace<'_, F> {
         fn face(&mut self, [x, y]: [u64; 2], index: u64) {
-            let kind = kind_of(x, y);
+            let kind = FaceKind::at(x, y);
             let level = self.level;
             (self.visit)(Face { level, x, y, kind }, index);
         }

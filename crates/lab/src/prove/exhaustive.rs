@@ -23,8 +23,8 @@ impl Tally {
         reference: u64,
         keep: usize,
     ) {
-        let kind = kind_of(x, y);
-        self.mismatches_by_kind[kind_slot(kind)] += 1;
+        let kind = FaceKind::at(x, y);
+        self.mismatches_by_kind[kind.index()] += 1;
         if self.examples.len() < keep {
             self.examples.push(Mismatch {
                 face: Face { level, x, y, kind },

@@ -312,26 +312,9 @@ impl LevelReport {
     }
 }
 
-/// The face kinds in the order [`LevelReport::mismatches_by_kind`] uses.
-pub const FACE_KINDS: [FaceKind; 6] = [
-    FaceKind::Vertex,
-    FaceKind::HorizontalEdge,
-    FaceKind::VerticalEdge,
-    FaceKind::DiagonalEdge,
-    FaceKind::Upright,
-    FaceKind::UpsideDown,
-];
-
-pub(super) fn kind_slot(kind: FaceKind) -> usize {
-    match kind {
-        FaceKind::Vertex => 0,
-        FaceKind::HorizontalEdge => 1,
-        FaceKind::VerticalEdge => 2,
-        FaceKind::DiagonalEdge => 3,
-        FaceKind::Upright => 4,
-        FaceKind::UpsideDown => 5,
-    }
-}
+/// The face kinds in the order [`LevelReport::mismatches_by_kind`] uses:
+/// [`FaceKind::ALL`] (the lattice owns the order).
+pub const FACE_KINDS: [FaceKind; 6] = FaceKind::ALL;
 
 /// Why a check could not run.
 #[derive(Clone, Debug, PartialEq, Eq)]

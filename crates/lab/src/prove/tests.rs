@@ -66,7 +66,7 @@ fn random_faces_are_faces() {
         for _ in 0..1000 {
             let face = sampler.draw(&mut rng);
             assert!(face.x + face.y <= 4 << level.get());
-            assert_eq!(kind_of(face.x, face.y), face.kind);
+            assert_eq!(FaceKind::at(face.x, face.y), face.kind);
         }
     }
 }
