@@ -20,7 +20,7 @@ grep -m1 "model name" /proc/cpuinfo
 grep -m1 "cpu family" /proc/cpuinfo
 uptime
 best() { # baker texture level -> best seconds
-  "$bin" --baker "$1" --texture "$assets/$2.png" --triangles grid.tris.json \
+  "$bin" --baker "$1" --texture "$assets/$2.png" --triangles "$assets/grid.tris.json" \
     --level "$3" --format 4 --repeat "$repeat" --out "$out/$1" >/dev/null
   python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["timing"]["best_seconds"])' "$out/$1/summary.json"
 }

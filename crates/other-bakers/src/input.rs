@@ -181,6 +181,14 @@ mod tests {
         assert_eq!(token.parse::<f64>().unwrap() as f32, 1.0);
     }
 
+    /// The grid the runs bake (`assets/crytek-sponza/grid.tris.json`, shared
+    /// with the repository's bake docs) is `--grid 8`.
+    #[test]
+    fn committed_grid_is_the_8_by_8_grid() {
+        let committed = include_str!("../../../assets/crytek-sponza/grid.tris.json");
+        assert_eq!(parse_triangles(committed).unwrap(), grid_triangles(8));
+    }
+
     #[test]
     fn grid_round_trips_through_json() {
         let grid = grid_triangles(8);
