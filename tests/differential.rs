@@ -9,6 +9,7 @@
 //! `spec_rounding_window.rs`.)
 
 use micromap_index::{spec, uv2index, Level, SpecLevel};
+use micromap_index_test_support::step_ulps_f64;
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Zero};
@@ -87,20 +88,11 @@ fn float_coordinate() -> impl Strategy<Value = f64> {
     prop_oneof![
         (0u32..=33, 0u64..=(1 << 33), -3i64..=3).prop_map(|(m, k, ulps)| {
             let line = (k % ((1 << m) + 1)) as f64 / (1u64 << m) as f64;
-            step_ulps(line, ulps).clamp(0.0, 1.0)
+            step_ulps_f64(line, ulps).clamp(0.0, 1.0)
         }),
         (1u64..(1 << 52)).prop_map(f64::from_bits),
         (0u64..=0x3ff0_0000_0000_0000).prop_map(f64::from_bits),
     ]
-}
-
-fn step_ulps(x: f64, ulps: i64) -> f64 {
-    let bits = x.to_bits() as i64 + ulps;
-    if bits < 0 {
-        0.0
-    } else {
-        f64::from_bits(bits as u64)
-    }
 }
 
 /// Float points folded into the triangle (exactly: `1 - x` is exact for

@@ -13,32 +13,25 @@ use micromap_index::num::WalkNumber;
 use micromap_index::spec::{self, wide_index_from_cell};
 use micromap_index::uv2index::{exact_index_f32, exact_index_f64};
 use micromap_index::Level;
+use micromap_index_test_support::{step_ulps, step_ulps_f64};
 use num_rational::BigRational;
 use proptest::prelude::*;
 
 /// `x` moved by `steps` ulps, staying non-negative (bit patterns of
 /// non-negative floats order like the floats).
-fn nudge_f32(x: f32, steps: i32) -> f32 {
-    f32::from_bits((i64::from(x.to_bits()) + i64::from(steps)).max(0) as u32)
-}
-
-fn nudge_f64(x: f64, steps: i64) -> f64 {
-    f64::from_bits((i128::from(x.to_bits()) + i128::from(steps)).max(0) as u64)
-}
-
 /// A dyadic `k / 2^m` (`k <= 2^m`) moved by a few ulps: near a lattice line
 /// of every level `>= m`.
 fn near_line_f32() -> impl Strategy<Value = f32> {
     (0u32..=26, any::<u32>(), -3i32..=3).prop_map(|(m, k, steps)| {
         let k = k % ((1u32 << m.min(24)) + 1);
-        nudge_f32(k as f32 * 2f32.powi(-(m as i32)), steps)
+        step_ulps(k as f32 * 2f32.powi(-(m as i32)), steps)
     })
 }
 
 fn near_line_f64() -> impl Strategy<Value = f64> {
     (0u32..=55, any::<u64>(), -3i64..=3).prop_map(|(m, k, steps)| {
         let k = k % ((1u64 << m.min(53)) + 1);
-        nudge_f64(k as f64 * 2f64.powi(-(m as i32)), steps)
+        step_ulps_f64(k as f64 * 2f64.powi(-(m as i32)), steps)
     })
 }
 
@@ -73,7 +66,7 @@ fn in_triangle_f32() -> impl Strategy<Value = (f32, f32)> {
             // 1 - u rounded to binary32 may round up; step down until inside.
             let mut v = (1.0 - f64::from(u)) as f32;
             while outside(u, v) {
-                v = nudge_f32(v, -1);
+                v = step_ulps(v, -1);
             }
             (u, v)
         } else {
@@ -126,7 +119,7 @@ proptest! {
     #[test]
     fn f64_near_lines_equals_the_walk(u in near_line_f64(), v in near_line_f64(), level in 0u32..=32) {
         let (u, v) = (u.min(1.0), v.min(1.0));
-        let v = if u + v > 1.0 { nudge_f64(1.0 - u, -1) } else { v };
+        let v = if u + v > 1.0 { step_ulps_f64(1.0 - u, -1) } else { v };
         let level = Level::new(level).unwrap();
         let walk = exact_index_f64_ref(u, v, level);
         prop_assert_eq!(exact_index_f64(u, v, level), walk.clone(),
@@ -167,7 +160,7 @@ fn structured_pairs_every_level() {
         for k in [1u32, 3, 1 << m.max(1) >> 1, (1 << m) - 1, 1 << m] {
             let x = k as f32 * 2f32.powi(-m);
             for steps in -2..=2 {
-                values.push(nudge_f32(x, steps));
+                values.push(step_ulps(x, steps));
             }
         }
     }

@@ -24,7 +24,7 @@ use micromap_index::batch::{self, Backend};
 use micromap_index::internals::{exact_index_f32_ref, exact_index_f64_ref, micro_triangle_ref};
 use micromap_index::{inverse, spec, uv2index, Level, SpecLevel};
 use micromap_index_c_reference::spec_index;
-use micromap_index_test_support::SplitMix64 as Rng;
+use micromap_index_test_support::{step_ulps, SplitMix64 as Rng};
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -47,10 +47,6 @@ fn uniform_point(rng: &mut Rng) -> (f32, f32) {
     }
 }
 
-fn nudge(x: f32, steps: i32) -> f32 {
-    f32::from_bits((i64::from(x.to_bits()) + i64::from(steps)).max(0) as u32)
-}
-
 struct Set {
     name: &'static str,
     u: Vec<f32>,
@@ -68,7 +64,7 @@ fn input_sets() -> Vec<Set> {
     make("near-lines", &mut |rng| {
         let line = |rng: &mut Rng| {
             let k = rng.below(1 << 16) as f32 * 2f32.powi(-16);
-            nudge(k, rng.below(7) as i32 - 3)
+            step_ulps(k, rng.below(7) as i32 - 3)
         };
         let (u, v) = (line(rng), line(rng));
         if f64::from(u) + f64::from(v) > 1.0 {

@@ -10,7 +10,7 @@
 //! ```
 
 use micromap_index::{uv2index, Level};
-use micromap_index_test_support::SplitMix64;
+use micromap_index_test_support::{step_ulps, step_ulps_f64, SplitMix64};
 use num_rational::BigRational;
 
 /// Sampling on the crate's `SplitMix64` stream.
@@ -49,7 +49,7 @@ impl Float for f32 {
         format!("0x{:08x}", self.to_bits())
     }
     fn step_ulps(self, ulps: i64) -> Self {
-        f32::from_bits((i64::from(self.to_bits()) + ulps).max(0) as u32)
+        step_ulps(self, ulps.clamp(-(1 << 31), (1 << 31) - 1) as i32)
     }
     fn float_walk(u: Self, v: Self, level: Level) -> Result<u64, micromap_index::Error> {
         uv2index::index_in_f32_arithmetic(u, v, level)
@@ -71,7 +71,7 @@ impl Float for f64 {
         format!("0x{:016x}", self.to_bits())
     }
     fn step_ulps(self, ulps: i64) -> Self {
-        f64::from_bits((self.to_bits() as i64 + ulps).max(0) as u64)
+        step_ulps_f64(self, ulps)
     }
     fn float_walk(u: Self, v: Self, level: Level) -> Result<u64, micromap_index::Error> {
         uv2index::index_in_f64_arithmetic(u, v, level)

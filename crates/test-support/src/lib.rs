@@ -6,7 +6,7 @@
 //! * [`SplitMix64`]: the deterministic generator behind every sampled set,
 //!   the committed conformance vectors included (so its sequence is fixed:
 //!   changing it changes `reference/vectors/`).
-//! * [`step_ulps`]: a value moved by a number of ulps.
+//! * [`step_ulps`] and [`step_ulps_f64`]: a value moved by a number of ulps.
 //! * [`edge_values`]: the structured `f32` inputs of the index functions
 //!   (NaN payloads, zeros, infinities, subnormals, lattice lines of every
 //!   level and their neighbours).
@@ -92,6 +92,20 @@ impl SplitMix64 {
 pub fn step_ulps(x: f32, steps: i32) -> f32 {
     let bits = i64::from(x.to_bits()) + i64::from(steps);
     f32::from_bits(bits.clamp(0, i64::from(u32::MAX)) as u32)
+}
+
+/// [`step_ulps`] for `f64`: `x` moved by `steps` bit patterns, never below
+/// `+0`.
+///
+/// ```
+/// use micromap_index_test_support::step_ulps_f64;
+/// assert_eq!(step_ulps_f64(1.0, 1), 1.0 + f64::EPSILON);
+/// assert_eq!(step_ulps_f64(0.0, -1).to_bits(), 0);
+/// ```
+#[must_use]
+pub fn step_ulps_f64(x: f64, steps: i64) -> f64 {
+    let bits = i128::from(x.to_bits()) + i128::from(steps);
+    f64::from_bits(bits.clamp(0, i128::from(u64::MAX)) as u64)
 }
 
 /// Structured `f32` inputs for the index functions: the values where their

@@ -68,6 +68,7 @@ use crate::value::{Value, MAX_VALUE_LEN};
 use crate::vectors;
 use micromap_index::inverse::{micro_triangle, MicroTriangle};
 use micromap_index::{spec, uv2index, Level, SpecLevel};
+use micromap_index_test_support::step_ulps;
 use num_bigint::BigInt;
 use num_rational::BigRational;
 
@@ -113,13 +114,6 @@ impl<'a> Bytes<'a> {
 #[allow(clippy::manual_clamp)] // `f32::clamp` keeps NaN
 fn clamp_unit_f32(x: f32) -> f32 {
     x.max(0.0).min(1.0)
-}
-
-/// `x` moved by `delta` steps of its bit pattern, saturating at the
-/// pattern's ends (for non-negative `x`: `delta` ulps, never below `+0`).
-fn nudge_f32(x: f32, delta: i8) -> f32 {
-    let bits = i64::from(x.to_bits()) + i64::from(delta);
-    f32::from_bits(bits.clamp(0, i64::from(u32::MAX)) as u32)
 }
 
 /// One decoded input of [`spec_vs_mirror`] and the index both
@@ -218,7 +212,10 @@ pub fn spec_vs_mirror(data: &[u8]) -> SpecCase {
     let mut v = f32::from_bits(bytes.u32());
     let level = u32::from(bytes.byte());
     if bytes.byte() & 1 == 1 {
-        v = nudge_f32(complement_fraction(u, v, level % 32), bytes.byte() as i8);
+        v = step_ulps(
+            complement_fraction(u, v, level % 32),
+            i32::from(bytes.byte() as i8),
+        );
     }
     let index = spec::reference_bits_f32(u, v, level);
     let case = SpecCase { u, v, level, index };
