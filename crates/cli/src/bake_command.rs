@@ -7,7 +7,7 @@ use crate::output::{print_then, report, Exit};
 use crate::write_all_or_nothing::{check_destination, write_files};
 use micromap_index::bake::{
     levels_within_budget, useful_level, AddressMode, AlphaTexture, BakedOpacity, Baker, Comparison,
-    Cutoff, Filter, Sampler, Texel, TriangleStatus, UvTriangle,
+    Cutoff, Filter, Sampler, TriangleStatus, UvTriangle,
 };
 use micromap_index::micromap::{
     read_buffers, BufferBytes, BuildOptions, Format, IndexWidth, MicromapBuffersBuilder,
@@ -15,8 +15,8 @@ use micromap_index::micromap::{
 };
 use micromap_index::succinct::{LevelOrderTree, PaperTree};
 use micromap_index::Level;
-use micromap_index_lab::assets::{
-    decode_alpha_image, read_gltf_file, read_triangles_json, AlphaImage, AlphaTexels, AssetError,
+use micromap_index_assets::{
+    decode_alpha_image, read_gltf_file, read_triangles_json, AlphaImage, AssetError, ImageTexture,
     Limits,
 };
 use serde::Serialize;
@@ -115,25 +115,32 @@ fn finish(outcome: Result<(String, Exit), Failure>) -> ExitCode {
 
 /// An `AlphaImage` as the baker's texture; glTF's `baseColorFactor` alpha
 /// multiplies every texel (in `f64`).
-struct ImageTexture<'a> {
-    image: &'a AlphaImage,
+struct FactorTexture<'a> {
+    image: ImageTexture<'a>,
     factor: f64,
 }
 
-impl AlphaTexture for ImageTexture<'_> {
+impl<'a> FactorTexture<'a> {
+    fn new(image: &'a AlphaImage, factor: f64) -> Result<Self, Failure> {
+        Ok(FactorTexture {
+            image: image
+                .texture()
+                .map_err(|e| Failure::Malformed(e.to_string()))?,
+            factor,
+        })
+    }
+}
+
+impl AlphaTexture for FactorTexture<'_> {
     fn width(&self) -> u32 {
-        self.image.width
+        self.image.width()
     }
     fn height(&self) -> u32 {
-        self.image.height
+        self.image.height()
     }
     fn alpha(&self, x: u32, y: u32) -> f64 {
-        let i = y as usize * self.image.width as usize + x as usize;
-        // The library's texel conversions (`c / 255`, f32 as is).
-        let alpha = match &self.image.texels {
-            AlphaTexels::Unorm8(t) => t[i].alpha(),
-            AlphaTexels::Float(t) => t[i].alpha(),
-        };
+        // The library's texel conversions (`c / 255`, `c / 65535`).
+        let alpha = self.image.alpha(x, y);
         if self.factor == 1.0 {
             alpha
         } else {
@@ -279,17 +286,6 @@ fn read_file(path: &Path) -> Result<Vec<u8>, Failure> {
     std::fs::read(path).map_err(|e| Failure::Io(format!("cannot read {}: {e}", path.display())))
 }
 
-fn gltf_address(code: u32) -> Result<AddressMode, String> {
-    match code {
-        10497 => Ok(AddressMode::Repeat),
-        33648 => Ok(AddressMode::MirroredRepeat),
-        33071 => Ok(AddressMode::ClampToEdge),
-        other => Err(format!(
-            "glTF wrap mode {other} is not one of 10497, 33648, 33071"
-        )),
-    }
-}
-
 fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
     let limits = Limits::default();
     let cutoff_of = |value: f32| {
@@ -308,31 +304,17 @@ fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
             })?;
             let mut jobs = Vec::new();
             for prim in &gltf.primitives {
-                let filter = s.filter.unwrap_or(match prim.sampler.mag_filter {
-                    Some(9728) => Filter::Nearest,
-                    _ => Filter::Linear,
-                });
-                let address_u = match s.address_u {
-                    Some(mode) => mode,
-                    None => gltf_address(prim.sampler.wrap_s)
-                        .map_err(|e| Failure::Malformed(format!("{asset}: {e}")))?,
-                };
-                let address_v = match s.address_v {
-                    Some(mode) => mode,
-                    None => gltf_address(prim.sampler.wrap_t)
-                        .map_err(|e| Failure::Malformed(format!("{asset}: {e}")))?,
-                };
                 jobs.push(Job {
                     name: format!("mesh {} primitive {}", prim.mesh, prim.primitive),
                     image: prim.image,
                     factor: f64::from(prim.alpha_factor),
                     sampler: Sampler {
-                        filter,
-                        address_u,
-                        address_v,
+                        filter: s.filter.unwrap_or(prim.sampler.filter),
+                        address_u: s.address_u.unwrap_or(prim.sampler.address_u),
+                        address_v: s.address_v.unwrap_or(prim.sampler.address_v),
                         border_alpha: s.border,
                     },
-                    cutoff: cutoff_of(s.cutoff.unwrap_or(prim.alpha_cutoff))?,
+                    cutoff: cutoff_of(s.cutoff.unwrap_or(prim.cutoff.alpha()))?,
                     triangles: prim.triangles.clone(),
                 });
             }
@@ -572,10 +554,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     let mut done = 0usize;
     for (job, job_levels) in input.jobs.iter().zip(&levels) {
         let image = &input.images[job.image];
-        let texture = ImageTexture {
-            image,
-            factor: job.factor,
-        };
+        let texture = FactorTexture::new(image, job.factor)?;
         let baker = Baker::new(&texture, job.sampler, job.cutoff)
             .map_err(|e| Failure::Malformed(format!("{}: {e}", job.name)))?;
         let mut baked = Vec::with_capacity(job.triangles.len());
@@ -832,10 +811,7 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
         )));
     }
     let image = &input.images[job.image];
-    let texture = ImageTexture {
-        image,
-        factor: job.factor,
-    };
+    let texture = FactorTexture::new(image, job.factor)?;
     let baker = Baker::new(&texture, job.sampler, job.cutoff)
         .map_err(|e| Failure::Malformed(e.to_string()))?;
     let mut out = VerifyJson {

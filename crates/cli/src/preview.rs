@@ -6,7 +6,7 @@ use crate::bake_command::baked_state;
 use micromap_index::bake::{BakedTriangle, UvTriangle};
 use micromap_index::inverse::micro_triangles;
 use micromap_index::micromap::State;
-use micromap_index_lab::assets::{AlphaImage, AlphaTexels};
+use micromap_index_assets::{AlphaImage, AlphaTexels};
 
 /// Colours by state value: transparent blue, opaque green, unknown-
 /// transparent red, unknown-opaque yellow.
@@ -69,6 +69,7 @@ pub(crate) fn render<'a>(
                 let i = (y / scale) as usize * image.width as usize + (x / scale) as usize;
                 let alpha = match &image.texels {
                     AlphaTexels::Unorm8(t) => f32::from(t[i]) / 255.0,
+                    AlphaTexels::Unorm16(t) => f32::from(t[i]) / 65535.0,
                     AlphaTexels::Float(t) => t[i].clamp(0.0, 1.0),
                 };
                 let grey = (40.0 + 180.0 * alpha) as u8;
