@@ -2,7 +2,6 @@
 //! several) in grey, every micro-triangle of every triangle tinted by its
 //! state, the mesh triangles' edges in white.
 
-use crate::bake_command::baked_state;
 use micromap_index::bake::{BakedTriangle, UvTriangle};
 use micromap_index::inverse::micro_triangles;
 use micromap_index::micromap::State;
@@ -94,7 +93,7 @@ pub(crate) fn render<'a>(
             }
             let level = b.opacity.level();
             for t in micro_triangles(level) {
-                let state = baked_state(&b.opacity, t.index());
+                let state = b.opacity.state(t.index()).unwrap_or(State::UnknownOpaque);
                 let n = f64::from(1u32 << level.get());
                 let corners = t.vertices_scaled().map(|(a, bb)| {
                     let (a, bb) = (a as f64 / n, bb as f64 / n);

@@ -9,6 +9,7 @@ use self::glb::split_glb;
 use self::json::{short, Obj};
 use self::material::raw_materials;
 use crate::{check_limit, AlphaImage, AssetError, Limits};
+use micromap_index::bake::mesh::Material;
 use micromap_index::bake::{Cutoff, Sampler};
 use serde_json::value::RawValue;
 use serde_json::Value;
@@ -72,6 +73,28 @@ pub struct MaskPrimitive {
     /// `c / 255`, `c / 65535`, `max(c / 127, -1)`, `max(c / 32767, -1)`,
     /// each one binary32 division; others as the integer's value.
     pub triangles: Vec<[[f32; 2]; 3]>,
+}
+
+impl MaskPrimitive {
+    /// Its material as [`bake::mesh`](micromap_index::bake::mesh) takes it:
+    /// sampler, cutoff and alpha factor.
+    ///
+    /// ```
+    /// use micromap_index_assets::{read_gltf_file, Limits};
+    /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/crytek-sponza/cards.gltf");
+    /// let asset = read_gltf_file(path.as_ref(), &Limits::default()).unwrap();
+    /// let material = asset.primitives[1].material();
+    /// assert_eq!(material.cutoff.alpha(), 0.3);
+    /// assert_eq!(material.alpha_factor, 1.0);
+    /// ```
+    #[must_use]
+    pub fn material(&self) -> Material {
+        Material {
+            sampler: self.sampler,
+            cutoff: self.cutoff,
+            alpha_factor: self.alpha_factor,
+        }
+    }
 }
 
 /// Where a decoded image of [`GltfAsset::images`] came from.
