@@ -72,6 +72,28 @@ impl BakedOpacity {
         }
     }
 
+    /// The state of micro-triangle `i`: the map's, or for a special index
+    /// its one state whatever `i`; `None` past the end of the map.
+    ///
+    /// ```
+    /// use micromap_index::bake::BakedOpacity;
+    /// use micromap_index::micromap::{Format, Micromap, State};
+    /// use micromap_index::Level;
+    /// let mut map = Micromap::new(Level::new(1).unwrap(), Format::FourState).unwrap();
+    /// map.set(2, State::Opaque).unwrap();
+    /// let baked = BakedOpacity::Map(map);
+    /// assert_eq!(baked.state(2), Some(State::Opaque));
+    /// assert_eq!(baked.state(4), None);
+    /// assert_eq!(BakedOpacity::Special(State::UnknownOpaque).state(99), Some(State::UnknownOpaque));
+    /// ```
+    #[must_use]
+    pub fn state(&self, i: u64) -> Option<State> {
+        match self {
+            BakedOpacity::Map(map) => map.get(i),
+            BakedOpacity::Special(state) => Some(*state),
+        }
+    }
+
     /// The micromap's level; 0 for a special index (one state for the
     /// whole triangle, as a level-0 map would hold it).
     #[must_use]

@@ -57,6 +57,13 @@
 //! micro-triangle edge is at most one texel long; [`levels_within_budget`]
 //! lowers the highest levels first until the micromaps fit a byte budget.
 //!
+//! # Whole meshes
+//!
+//! [`mesh::bake_meshes`] does all of it for meshes (UV triangles, or
+//! indices into strided UVs, each with its texture and [`mesh::Material`]):
+//! levels, budget, the bake, the deduplicated API buffers and a
+//! [`mesh::BakeReport`].
+//!
 //! ```
 //! use micromap_index::bake::{useful_level, Baker, Cutoff, Sampler, Unorm8Texture};
 //! use micromap_index::micromap::{Format, State};
@@ -77,6 +84,7 @@
 mod baker;
 mod classify;
 mod exact;
+pub mod mesh;
 mod texture;
 
 pub use baker::{

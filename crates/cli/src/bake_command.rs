@@ -1,23 +1,25 @@
 //! `micromap-index bake` and `micromap-index verify-bake`: the exact baker
-//! (library: `micromap_index::bake`) on real assets, and its verifier on
-//! any baker's buffers.
+//! (library: `micromap_index::bake`, the whole-mesh pipeline in
+//! `bake::mesh`) on real assets read by `micromap_index_assets`, and its
+//! verifier on any baker's buffers. This file parses the options, reads
+//! the inputs and serialises the results; `preview.rs` draws the picture.
 
 use crate::args::Parsed;
 use crate::output::{print_then, report, Exit};
 use crate::write_all_or_nothing::{check_destination, write_files};
+use micromap_index::bake::mesh::{
+    bake_meshes, LevelRule, Material, Mesh, MeshBakeError, MeshOptions, MeshTriangles,
+};
 use micromap_index::bake::{
-    levels_within_budget, useful_level, AddressMode, AlphaTexture, BakedOpacity, Baker, Comparison,
-    Cutoff, Filter, Sampler, Texel, TriangleStatus, UvTriangle,
+    AddressMode, AlphaTexture, Baker, Comparison, Cutoff, Filter, Sampler, UvTriangle,
 };
 use micromap_index::micromap::{
-    read_buffers, BufferBytes, BuildOptions, Format, IndexWidth, MicromapBuffersBuilder,
-    MicromapIndex, ReadOptions, State, TriangleOpacity, UnknownPolicy,
+    read_buffers, BufferBytes, Format, IndexWidth, MicromapIndex, ReadOptions, TriangleOpacity,
+    UnknownPolicy,
 };
-use micromap_index::succinct::{LevelOrderTree, PaperTree};
 use micromap_index::Level;
-use micromap_index_lab::assets::{
-    decode_alpha_image, read_gltf_file, read_triangles_json, AlphaImage, AlphaTexels, AssetError,
-    Limits,
+use micromap_index_assets::{
+    decode_alpha_image, read_gltf_file, read_triangles_json, AlphaImage, AssetError, Limits,
 };
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -113,40 +115,12 @@ fn finish(outcome: Result<(String, Exit), Failure>) -> ExitCode {
     }
 }
 
-/// An `AlphaImage` as the baker's texture; glTF's `baseColorFactor` alpha
-/// multiplies every texel (in `f64`).
-struct ImageTexture<'a> {
-    image: &'a AlphaImage,
-    factor: f64,
-}
-
-impl AlphaTexture for ImageTexture<'_> {
-    fn width(&self) -> u32 {
-        self.image.width
-    }
-    fn height(&self) -> u32 {
-        self.image.height
-    }
-    fn alpha(&self, x: u32, y: u32) -> f64 {
-        let i = y as usize * self.image.width as usize + x as usize;
-        // The library's texel conversions (`c / 255`, f32 as is).
-        let alpha = match &self.image.texels {
-            AlphaTexels::Unorm8(t) => t[i].alpha(),
-            AlphaTexels::Float(t) => t[i].alpha(),
-        };
-        if self.factor == 1.0 {
-            alpha
-        } else {
-            alpha * self.factor
-        }
-    }
-}
-
-/// One texture with its sampler, cutoff and triangles.
+/// One texture with its sampler, cutoff and triangles (a mesh to bake).
 struct Job {
     name: String,
     image: usize,
-    factor: f64,
+    /// glTF's `baseColorFactor[3]` (1 for `--texture`).
+    factor: f32,
     sampler: Sampler,
     cutoff: Cutoff,
     triangles: Vec<UvTriangle>,
@@ -279,17 +253,6 @@ fn read_file(path: &Path) -> Result<Vec<u8>, Failure> {
     std::fs::read(path).map_err(|e| Failure::Io(format!("cannot read {}: {e}", path.display())))
 }
 
-fn gltf_address(code: u32) -> Result<AddressMode, String> {
-    match code {
-        10497 => Ok(AddressMode::Repeat),
-        33648 => Ok(AddressMode::MirroredRepeat),
-        33071 => Ok(AddressMode::ClampToEdge),
-        other => Err(format!(
-            "glTF wrap mode {other} is not one of 10497, 33648, 33071"
-        )),
-    }
-}
-
 fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
     let limits = Limits::default();
     let cutoff_of = |value: f32| {
@@ -308,31 +271,17 @@ fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
             })?;
             let mut jobs = Vec::new();
             for prim in &gltf.primitives {
-                let filter = s.filter.unwrap_or(match prim.sampler.mag_filter {
-                    Some(9728) => Filter::Nearest,
-                    _ => Filter::Linear,
-                });
-                let address_u = match s.address_u {
-                    Some(mode) => mode,
-                    None => gltf_address(prim.sampler.wrap_s)
-                        .map_err(|e| Failure::Malformed(format!("{asset}: {e}")))?,
-                };
-                let address_v = match s.address_v {
-                    Some(mode) => mode,
-                    None => gltf_address(prim.sampler.wrap_t)
-                        .map_err(|e| Failure::Malformed(format!("{asset}: {e}")))?,
-                };
                 jobs.push(Job {
                     name: format!("mesh {} primitive {}", prim.mesh, prim.primitive),
                     image: prim.image,
-                    factor: f64::from(prim.alpha_factor),
+                    factor: prim.alpha_factor,
                     sampler: Sampler {
-                        filter,
-                        address_u,
-                        address_v,
+                        filter: s.filter.unwrap_or(prim.sampler.filter),
+                        address_u: s.address_u.unwrap_or(prim.sampler.address_u),
+                        address_v: s.address_v.unwrap_or(prim.sampler.address_v),
                         border_alpha: s.border,
                     },
-                    cutoff: cutoff_of(s.cutoff.unwrap_or(prim.alpha_cutoff))?,
+                    cutoff: cutoff_of(s.cutoff.unwrap_or(prim.cutoff.alpha()))?,
                     triangles: prim.triangles.clone(),
                 });
             }
@@ -386,7 +335,7 @@ fn index_width(p: &Parsed<'_>) -> Result<IndexWidth, Failure> {
     }
 }
 
-#[derive(Serialize, Default)]
+#[derive(Serialize)]
 struct StateCounts {
     transparent: u64,
     opaque: u64,
@@ -394,13 +343,19 @@ struct StateCounts {
     unknown_opaque: u64,
 }
 
-impl StateCounts {
-    fn add(&mut self, counts: [u64; 4]) {
-        self.transparent += counts[0];
-        self.opaque += counts[1];
-        self.unknown_transparent += counts[2];
-        self.unknown_opaque += counts[3];
+impl From<[u64; 4]> for StateCounts {
+    /// Counts by `State::bits`.
+    fn from(counts: [u64; 4]) -> Self {
+        StateCounts {
+            transparent: counts[0],
+            opaque: counts[1],
+            unknown_transparent: counts[2],
+            unknown_opaque: counts[3],
+        }
     }
+}
+
+impl StateCounts {
     fn total(&self) -> u64 {
         self.transparent + self.opaque + self.unknown_transparent + self.unknown_opaque
     }
@@ -440,7 +395,7 @@ struct Summary {
     warnings: Vec<String>,
 }
 
-#[derive(Serialize, Default)]
+#[derive(Serialize)]
 struct StatusCounts {
     exact: usize,
     not_finite: usize,
@@ -448,20 +403,14 @@ struct StatusCounts {
     budget_exceeded: usize,
 }
 
-/// Twice the triangle's area in texels squared (for the area-weighted
-/// known fraction).
-fn texel_area(uv: &UvTriangle, (w, h): (u32, u32)) -> f64 {
-    let p = uv.map(|c| {
-        (
-            f64::from(c[0]) * f64::from(w),
-            f64::from(c[1]) * f64::from(h),
-        )
-    });
-    let a = ((p[1].0 - p[0].0) * (p[2].1 - p[0].1) - (p[1].1 - p[0].1) * (p[2].0 - p[0].0)).abs();
-    if a.is_finite() {
-        a
-    } else {
-        0.0
+impl From<micromap_index::bake::mesh::StatusCounts> for StatusCounts {
+    fn from(s: micromap_index::bake::mesh::StatusCounts) -> Self {
+        StatusCounts {
+            exact: s.exact,
+            not_finite: s.not_finite,
+            out_of_exact_range: s.out_of_exact_range,
+            budget_exceeded: s.budget_exceeded,
+        }
     }
 }
 
@@ -536,118 +485,67 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     check_destination(&out, &OUTPUTS, p.flag("--force")).map_err(Failure::Malformed)?;
     let input = read_input(&p, &s)?;
 
-    // Levels per triangle.
-    let mut levels: Vec<Vec<Level>> = input
+    // The textures as the baker reads them, and one mesh per job.
+    let textures = input
+        .images
+        .iter()
+        .map(|image| {
+            image
+                .texture()
+                .map_err(|e| Failure::Malformed(e.to_string()))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let meshes: Vec<Mesh<'_>> = input
         .jobs
         .iter()
-        .map(|job| {
-            let size = (
-                input.images[job.image].width,
-                input.images[job.image].height,
-            );
-            job.triangles
-                .iter()
-                .map(|uv| fixed_level.unwrap_or_else(|| useful_level(uv, size, max_level)))
-                .collect()
+        .map(|job| Mesh {
+            triangles: MeshTriangles::Uv(&job.triangles),
+            texture: &textures[job.image],
+            material: Material {
+                sampler: job.sampler,
+                cutoff: job.cutoff,
+                alpha_factor: job.factor,
+            },
         })
         .collect();
-    if let Some(budget) = budget {
-        let flat: Vec<Level> = levels.iter().flatten().copied().collect();
-        let mut capped = levels_within_budget(&flat, format, budget).into_iter();
-        for job_levels in &mut levels {
-            for level in job_levels.iter_mut() {
-                *level = capped.next().unwrap_or(*level);
-            }
-        }
-    }
-
-    let total: usize = input.jobs.iter().map(|j| j.triangles.len()).sum();
+    let options = MeshOptions {
+        levels: match fixed_level {
+            Some(level) => LevelRule::Fixed(level),
+            None => LevelRule::Useful { max: max_level },
+        },
+        format,
+        unknown: two_state,
+        budget_bytes: budget,
+        ..MeshOptions::default()
+    };
     let show_progress = !p.flag("--quiet") && std::io::stderr().is_terminal();
-    let started = Instant::now();
-    let mut counts = StateCounts::default();
-    let mut status = StatusCounts::default();
-    let mut known_area = 0.0;
-    let mut area = 0.0;
-    let mut baked_all = Vec::with_capacity(input.jobs.len());
-    let mut done = 0usize;
-    for (job, job_levels) in input.jobs.iter().zip(&levels) {
-        let image = &input.images[job.image];
-        let texture = ImageTexture {
-            image,
-            factor: job.factor,
-        };
-        let baker = Baker::new(&texture, job.sampler, job.cutoff)
-            .map_err(|e| Failure::Malformed(format!("{}: {e}", job.name)))?;
-        let mut baked = Vec::with_capacity(job.triangles.len());
-        for (uv, &level) in job.triangles.iter().zip(job_levels) {
-            let b = baker
-                .bake(uv, level, format, two_state)
-                .map_err(|e| Failure::Malformed(e.to_string()))?;
-            counts.add(b.counts);
-            let n = b.counts.iter().sum::<u64>().max(1) as f64;
-            let a = texel_area(uv, baker.size());
-            area += a;
-            known_area += a * (b.counts[0] + b.counts[1]) as f64 / n;
-            match b.status {
-                TriangleStatus::Exact => status.exact += 1,
-                TriangleStatus::NotFinite => status.not_finite += 1,
-                TriangleStatus::OutOfExactRange => status.out_of_exact_range += 1,
-                TriangleStatus::BudgetExceeded => status.budget_exceeded += 1,
-            }
-            baked.push(b);
-            done += 1;
-            if show_progress && (done % 64 == 0 || done == total) {
-                crate::output::to_stderr(format_args!(
-                    "\rbaking: {done}/{total} triangles ({}%)",
-                    done * 100 / total.max(1)
-                ));
-            }
+    let mut progress = |done: usize, total: usize| {
+        if show_progress && (done % 64 == 0 || done == total) {
+            crate::output::to_stderr(format_args!(
+                "\rbaking: {done}/{total} triangles ({}%)",
+                done * 100 / total.max(1)
+            ));
         }
-        baked_all.push(baked);
-    }
+    };
+    let started = Instant::now();
+    let baked = bake_meshes(&meshes, &options, &mut progress).map_err(|e| match e {
+        MeshBakeError::Texture { mesh, error } => {
+            Failure::Malformed(format!("{}: {error}", input.jobs[mesh].name))
+        }
+        other => Failure::Malformed(other.to_string()),
+    })?;
     let bake_seconds = started.elapsed().as_secs_f64();
     if show_progress {
         crate::output::to_stderr("\n");
     }
-
-    // Buffers: one geometry per job, deduplicated across all.
-    let mut builder = MicromapBuffersBuilder::new(BuildOptions::default());
-    for baked in &baked_all {
-        builder
-            .add_geometry(baked.iter().map(|b| b.opacity.as_opacity()))
-            .map_err(|e| Failure::Malformed(e.to_string()))?;
-    }
-    let buffers = builder
-        .finish()
-        .map_err(|e| Failure::Malformed(e.to_string()))?;
+    let (buffers, report) = (&baked.buffers, &baked.report);
     let mut indices = Vec::new();
-    let mut special = 0;
     for g in 0..buffers.geometry_count() {
         indices.extend(
             buffers
                 .index_bytes(g, width)
                 .map_err(|e| Failure::Malformed(e.to_string()))?,
         );
-        special += buffers
-            .geometry_indices(g)
-            .map_err(|e| Failure::Malformed(e.to_string()))?
-            .iter()
-            .filter(|i| matches!(i, MicromapIndex::Special(_)))
-            .count();
-    }
-    let (mut paper_bits, mut level_order_bits) = (0u64, 0u64);
-    for map in buffers.micromaps() {
-        if let Ok(tree) = PaperTree::from_micromap(map) {
-            paper_bits += tree.total_bits();
-            level_order_bits += LevelOrderTree::from_paper(&tree).total_bits();
-        }
-    }
-    let mut level_histogram = vec![0u64; 13];
-    for level in levels.iter().flatten() {
-        level_histogram[level.get() as usize] += 1;
-    }
-    while level_histogram.len() > 1 && level_histogram.last() == Some(&0) {
-        level_histogram.pop();
     }
     let mut first_index = 0;
     let jobs = input
@@ -678,20 +576,21 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
             summary
         })
         .collect();
+    let counts = StateCounts::from(report.counts);
     let micro = counts.total();
     let summary = Summary {
-        triangles: total,
+        triangles: report.triangles,
         format: u32::from(format.raw()),
-        levels: level_histogram,
-        known_fraction: (counts.opaque + counts.transparent) as f64 / micro.max(1) as f64,
-        known_area_fraction: if area > 0.0 { known_area / area } else { 0.0 },
+        levels: report.levels.clone(),
+        known_fraction: report.known_fraction,
+        known_area_fraction: report.known_area_fraction,
         micro_triangles: counts,
-        status,
-        micromaps_after_dedup: buffers.records().len(),
-        special_index_triangles: special,
-        bytes_flat: buffers.data().len(),
-        bytes_paper_tree: paper_bits.div_ceil(8),
-        bytes_level_order_tree: level_order_bits.div_ceil(8),
+        status: StatusCounts::from(report.status),
+        micromaps_after_dedup: report.micromaps,
+        special_index_triangles: report.special_index_triangles,
+        bytes_flat: report.bytes_flat,
+        bytes_paper_tree: report.bytes_paper_tree,
+        bytes_level_order_tree: report.bytes_level_order_tree,
         index_width_bits: width.bytes() * 8,
         bake_seconds,
         micro_triangles_per_second: micro as f64 / bake_seconds.max(1e-9),
@@ -723,7 +622,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
             input
                 .jobs
                 .iter()
-                .zip(&baked_all)
+                .zip(&baked.triangles)
                 .map(|(job, baked)| (job.image, job.triangles.as_slice(), baked.as_slice())),
         )
         .map_err(Failure::Io)?;
@@ -731,14 +630,6 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     }
     write_files(&out, &files).map_err(Failure::Io)?;
     Ok((summary_json, Exit::Success))
-}
-
-/// The state a baked triangle shows at micro-triangle `i` (for the preview).
-pub(crate) fn baked_state(opacity: &BakedOpacity, i: u64) -> State {
-    match opacity {
-        BakedOpacity::Map(map) => map.get(i).unwrap_or(State::UnknownOpaque),
-        BakedOpacity::Special(state) => *state,
-    }
 }
 
 pub(crate) fn run_verify(options: &[&str]) -> ExitCode {
@@ -832,10 +723,10 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
         )));
     }
     let image = &input.images[job.image];
-    let texture = ImageTexture {
-        image,
-        factor: job.factor,
-    };
+    // The texture path has no alpha factor.
+    let texture = image
+        .texture()
+        .map_err(|e| Failure::Malformed(e.to_string()))?;
     let baker = Baker::new(&texture, job.sampler, job.cutoff)
         .map_err(|e| Failure::Malformed(e.to_string()))?;
     let mut out = VerifyJson {

@@ -2,11 +2,10 @@
 //! several) in grey, every micro-triangle of every triangle tinted by its
 //! state, the mesh triangles' edges in white.
 
-use crate::bake_command::baked_state;
 use micromap_index::bake::{BakedTriangle, UvTriangle};
 use micromap_index::inverse::micro_triangles;
 use micromap_index::micromap::State;
-use micromap_index_lab::assets::{AlphaImage, AlphaTexels};
+use micromap_index_assets::{AlphaImage, AlphaTexels};
 
 /// Colours by state value: transparent blue, opaque green, unknown-
 /// transparent red, unknown-opaque yellow.
@@ -69,6 +68,7 @@ pub(crate) fn render<'a>(
                 let i = (y / scale) as usize * image.width as usize + (x / scale) as usize;
                 let alpha = match &image.texels {
                     AlphaTexels::Unorm8(t) => f32::from(t[i]) / 255.0,
+                    AlphaTexels::Unorm16(t) => f32::from(t[i]) / 65535.0,
                     AlphaTexels::Float(t) => t[i].clamp(0.0, 1.0),
                 };
                 let grey = (40.0 + 180.0 * alpha) as u8;
@@ -93,7 +93,7 @@ pub(crate) fn render<'a>(
             }
             let level = b.opacity.level();
             for t in micro_triangles(level) {
-                let state = baked_state(&b.opacity, t.index());
+                let state = b.opacity.state(t.index()).unwrap_or(State::UnknownOpaque);
                 let n = f64::from(1u32 << level.get());
                 let corners = t.vertices_scaled().map(|(a, bb)| {
                     let (a, bb) = (a as f64 / n, bb as f64 / n);

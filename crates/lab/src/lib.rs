@@ -1,8 +1,6 @@
 //! The verification lab of `micromap-index` (not published): everything that
 //! checks the library rather than being it.
 //!
-//! * [`assets`]: readers of real assets (PNG and JPEG alpha textures,
-//!   `TRIS.json`, glTF 2.0) for a baker, fuzzed.
 //! * [`prove`]: the face-by-face proof that the walk equals the reference
 //!   on every face of a level's lattice ([`lattice`]).
 //! * [`vectors`]: the conformance vectors, their generator and checker.
@@ -15,7 +13,6 @@
 // fuzz target or a test reports it.
 #![allow(clippy::missing_panics_doc)]
 
-pub mod assets;
 pub mod eval;
 #[cfg(feature = "fuzzing")]
 pub mod fuzzing;

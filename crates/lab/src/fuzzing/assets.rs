@@ -1,8 +1,8 @@
 //! The bodies of the fuzz targets `alpha_image`, `triangles_json` and
-//! `gltf_asset` (module [`crate::assets`]), replayed on stable by
+//! `gltf_asset` (the readers of [`micromap_index_assets`]), replayed on stable by
 //! `crates/lab/tests/fuzz_corpus.rs`.
 
-use crate::assets::{
+use micromap_index_assets::{
     decode_alpha_image, read_gltf_bytes, read_triangles_json, AlphaTexels, AssetError, GltfAsset,
     Limits,
 };
@@ -27,8 +27,9 @@ pub const FUZZ_PNG: [u8; 75] = [
 
 /// [`decode_alpha_image`] on any bytes (the whole input is the image file)
 /// under [`FUZZ_LIMITS`]: never panics, and an accepted image has
-/// `width * height` texels, within the pixel limit, `Float` texels in
-/// `[0, 1]`; the error of a rejected one displays on one line.
+/// `width * height` texels, within the pixel limit, and `Float` texels (no
+/// decoder makes them) in `[0, 1]`; the error of a rejected one displays on
+/// one line.
 ///
 /// ```
 /// use micromap_index_lab::fuzzing::{alpha_image, FUZZ_PNG};
@@ -164,6 +165,7 @@ fn check_asset(asset: &GltfAsset) {
         assert_eq!(image.texels.len() as u64, pixels);
         held += match image.texels {
             AlphaTexels::Unorm8(_) => pixels,
+            AlphaTexels::Unorm16(_) => 2 * pixels,
             AlphaTexels::Float(_) => 4 * pixels,
         };
     }
@@ -176,7 +178,7 @@ fn check_asset(asset: &GltfAsset) {
             primitive.image,
             asset.images.len()
         );
-        assert!(primitive.alpha_cutoff >= 0.0);
+        assert!(primitive.cutoff.alpha() >= 0.0);
         held += 24 * primitive.triangles.len() as u64;
     }
     assert!(

@@ -52,9 +52,9 @@
 //! [`vectors::parse_vector_file`]: crate::vectors::parse_vector_file
 //! [`vectors::parse_answers`]: crate::vectors::parse_answers
 //! [`vectors::check`]: crate::vectors::check
-//! [`assets::decode_alpha_image`]: crate::assets::decode_alpha_image
-//! [`assets::read_triangles_json`]: crate::assets::read_triangles_json
-//! [`assets::read_gltf_bytes`]: crate::assets::read_gltf_bytes
+//! [`assets::decode_alpha_image`]: micromap_index_assets::decode_alpha_image
+//! [`assets::read_triangles_json`]: micromap_index_assets::read_triangles_json
+//! [`assets::read_gltf_bytes`]: micromap_index_assets::read_gltf_bytes
 
 mod assets;
 mod eval_input;

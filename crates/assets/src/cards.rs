@@ -6,13 +6,12 @@
 //! `MICROMAP_INDEX_WRITE_ASSETS=1` it writes them instead:
 //!
 //! ```sh
-//! MICROMAP_INDEX_WRITE_ASSETS=1 cargo test -p micromap-index-lab --lib assets::cards
+//! MICROMAP_INDEX_WRITE_ASSETS=1 cargo test -p micromap-index-assets --lib cards
 //! ```
 
-use super::gltf::{CLAMP_TO_EDGE, LINEAR, MIRRORED_REPEAT, NEAREST, REPEAT};
+use super::gltf::{GltfSampler, CLAMP_TO_EDGE, LINEAR, MIRRORED_REPEAT, NEAREST, REPEAT};
 use super::{
-    read_gltf_bytes, read_gltf_file, read_triangles_json, AlphaTexels, AssetError, GltfSampler,
-    Limits,
+    read_gltf_bytes, read_gltf_file, read_triangles_json, AlphaTexels, AssetError, Limits,
 };
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
@@ -438,7 +437,7 @@ fn committed_cards_are_reproducible() {
         let committed = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         assert!(
             committed == bytes,
-            "{} differs from what src/assets/cards.rs generates; rerun with MICROMAP_INDEX_WRITE_ASSETS=1",
+            "{} differs from what crates/assets/src/cards.rs generates; rerun with MICROMAP_INDEX_WRITE_ASSETS=1",
             path.display()
         );
     }
@@ -460,14 +459,14 @@ fn check_cards(asset: &super::GltfAsset) {
         assert_eq!(primitive.texture, card.material);
         let (image, sampler) = TEXTURES[card.material];
         assert_eq!(asset.image_info[primitive.image].index, image);
-        assert_eq!(primitive.sampler, samplers()[sampler]);
+        assert_eq!(primitive.sampler, samplers()[sampler].to_sampler());
         let cutoff = CUTOFFS[card.material].unwrap_or(0.5) as f32;
-        assert_eq!(primitive.alpha_cutoff, cutoff, "{}", card.name);
+        assert_eq!(primitive.cutoff.alpha(), cutoff, "{}", card.name);
         assert_eq!(primitive.alpha_factor, 1.0);
         assert_eq!(primitive.tex_coord, 0);
         assert_eq!(primitive.triangles, card.triangles(), "{}", card.name);
     }
-    assert_eq!(asset.primitives[1].alpha_cutoff, 0.3f32);
+    assert_eq!(asset.primitives[1].cutoff.alpha(), 0.3f32);
     assert_eq!(asset.images.len(), 2);
     let sizes: Vec<(u32, u32)> = asset.images.iter().map(|i| (i.width, i.height)).collect();
     assert_eq!(sizes, [(512, 512), (256, 1024)]);

@@ -18,7 +18,7 @@ impl ImageFormat {
     /// The format whose signature `bytes` start with.
     ///
     /// ```
-    /// use micromap_index_lab::assets::ImageFormat;
+    /// use micromap_index_assets::ImageFormat;
     /// assert_eq!(ImageFormat::detect(b"\x89PNG\r\n\x1a\n..."), Some(ImageFormat::Png));
     /// assert_eq!(ImageFormat::detect(b"\xff\xd8\xff\xe0"), Some(ImageFormat::Jpeg));
     /// assert_eq!(ImageFormat::detect(b"GIF89a"), None);
@@ -58,7 +58,7 @@ impl fmt::Display for ImageFormat {
 ///
 /// 8-bit samples (and PNG's 1, 2 and 4-bit grey and palettes, scaled to 8
 /// bits) give [`AlphaTexels::Unorm8`]; 16-bit samples (PNG, 16-bit lossless
-/// JPEG) give [`AlphaTexels::Float`] with `value / 65535` rounded once.
+/// JPEG) give [`AlphaTexels::Unorm16`], exactly as stored.
 /// Palette PNGs are expanded. Of an animated PNG, the default image is
 /// read. Row 0 is the image's top row.
 ///
@@ -67,7 +67,7 @@ impl fmt::Display for ImageFormat {
 /// against [`Limits::max_bytes`]. Never panics.
 ///
 /// ```
-/// use micromap_index_lab::assets::{decode_alpha_image, AlphaTexels, Limits};
+/// use micromap_index_assets::{decode_alpha_image, AlphaTexels, Limits};
 /// // A 1 x 1 grey PNG of value 0x80.
 /// let png = b"\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR\0\0\0\x01\0\0\0\x01\x08\0\0\0\0\x3a\x7e\x9b\x55\
 ///     \0\0\0\x0aIDAT\x78\x9c\x63\x68\0\0\0\x82\0\x81\x77\xcd\x72\xb6\0\0\0\0IEND\xae\x42\x60\x82";
@@ -242,14 +242,12 @@ fn decode_png(bytes: &[u8], limits: &Limits) -> Result<AlphaImage, AssetError> {
     } else {
         let sample = |p: &[u8], i: usize| u64::from(u16::from_be_bytes([p[2 * i], p[2 * i + 1]]));
         let mut texels = Vec::with_capacity(pixels);
-        texels.extend(pixel_iter.map(|p| {
-            let value = match alpha {
-                Some(a) => sample(p, a),
-                None => luma(sample(p, 0), sample(p, 1), sample(p, 2)),
-            };
-            value as f32 / 65535.0
+        texels.extend(pixel_iter.map(|p| match alpha {
+            Some(a) => sample(p, a) as u16,
+            // The luma of 16-bit samples is at most 65535.
+            None => luma(sample(p, 0), sample(p, 1), sample(p, 2)) as u16,
         }));
-        AlphaTexels::Float(texels)
+        AlphaTexels::Unorm16(texels)
     };
     Ok(AlphaImage {
         width,
@@ -308,9 +306,9 @@ fn decode_jpeg(bytes: &[u8], limits: &Limits) -> Result<AlphaImage, AssetError> 
                 .collect(),
         ),
         // 16-bit lossless JPEG: samples in native byte order.
-        jpeg_decoder::PixelFormat::L16 => AlphaTexels::Float(
+        jpeg_decoder::PixelFormat::L16 => AlphaTexels::Unorm16(
             data.chunks_exact(2)
-                .map(|p| f32::from(u16::from_ne_bytes([p[0], p[1]])) / 65535.0)
+                .map(|p| u16::from_ne_bytes([p[0], p[1]]))
                 .collect(),
         ),
         jpeg_decoder::PixelFormat::CMYK32 => return Err(cmyk()),

@@ -1,11 +1,12 @@
 //! Tests of the asset readers: every image kind, the `TRIS.json` rules, and
 //! each error path of the glTF reader on small hand-made assets.
 
-use super::gltf::{CLAMP_TO_EDGE, MIRRORED_REPEAT, NEAREST, REPEAT};
+use super::gltf::{CLAMP_TO_EDGE, MIRRORED_REPEAT, NEAREST};
 use super::{
     decode_alpha_image, read_gltf_bytes, read_triangles_json, AlphaImage, AlphaTexels, AssetError,
-    GltfAsset, GltfSampler, ImageFormat, Limits,
+    GltfAsset, ImageFormat, Limits,
 };
+use micromap_index::bake::{AddressMode, Filter, Sampler};
 use serde_json::{json, Value};
 use std::path::Path;
 
@@ -48,14 +49,14 @@ fn decode(bytes: &[u8]) -> AlphaImage {
 fn unorm8(image: &AlphaImage) -> &[u8] {
     match &image.texels {
         AlphaTexels::Unorm8(texels) => texels,
-        AlphaTexels::Float(_) => panic!("expected 8-bit texels"),
+        _ => panic!("expected 8-bit texels"),
     }
 }
 
-fn float(image: &AlphaImage) -> &[f32] {
+fn unorm16(image: &AlphaImage) -> &[u16] {
     match &image.texels {
-        AlphaTexels::Float(texels) => texels,
-        AlphaTexels::Unorm8(_) => panic!("expected float texels"),
+        AlphaTexels::Unorm16(texels) => texels,
+        _ => panic!("expected 16-bit texels"),
     }
 }
 
@@ -116,7 +117,7 @@ fn png_grey_and_alpha_channels() {
 }
 
 #[test]
-fn png_16_bit_is_float() {
+fn png_16_bit_is_exact() {
     let image = decode(&png(
         3,
         1,
@@ -126,7 +127,8 @@ fn png_16_bit_is_float() {
         None,
         None,
     ));
-    assert_eq!(float(&image), [0.0, 32768.0 / 65535.0, 1.0]);
+    assert_eq!(unorm16(&image), [0, 0x8000, 0xffff]);
+    assert_eq!(image.get(1, 0), Some(32768.0 / 65535.0));
     let rgba = [0, 1, 0, 2, 0, 3, 0x12, 0x34];
     let image = decode(&png(
         1,
@@ -137,7 +139,7 @@ fn png_16_bit_is_float() {
         None,
         None,
     ));
-    assert_eq!(float(&image), [f32::from(0x1234u16) / 65535.0]);
+    assert_eq!(unorm16(&image), [0x1234]);
     let rgb = [0xff, 0xff, 0, 0, 0, 0];
     let image = decode(&png(
         1,
@@ -149,7 +151,7 @@ fn png_16_bit_is_float() {
         None,
     ));
     // round(0.2126 * 65535) = 13933.
-    assert_eq!(float(&image), [13933.0 / 65535.0]);
+    assert_eq!(unorm16(&image), [13933]);
 }
 
 #[test]
@@ -612,14 +614,13 @@ fn gltf_fixture_reads() {
         ),
         (0, 0, 0, 0, 0, 0)
     );
-    assert_eq!((p.alpha_cutoff, p.alpha_factor), (0.5, 1.0));
+    assert_eq!((p.cutoff.alpha(), p.alpha_factor), (0.5, 1.0));
+    // glTF's defaults: REPEAT both ways, no magFilter (read as linear).
     assert_eq!(
         p.sampler,
-        GltfSampler {
-            wrap_s: REPEAT,
-            wrap_t: REPEAT,
-            mag_filter: None,
-            min_filter: None
+        Sampler {
+            filter: Filter::Linear,
+            ..Sampler::default()
         }
     );
     assert_eq!(p.triangles, QUAD);
@@ -853,7 +854,7 @@ fn gltf_materials_samplers_and_warnings() {
                 p.mesh,
                 p.primitive,
                 p.material,
-                p.alpha_cutoff,
+                p.cutoff.alpha(),
                 p.alpha_factor,
             )
         })
@@ -868,14 +869,20 @@ fn gltf_materials_samplers_and_warnings() {
     );
     assert_eq!(
         asset.primitives[0].sampler,
-        GltfSampler {
-            wrap_s: CLAMP_TO_EDGE,
-            wrap_t: MIRRORED_REPEAT,
-            mag_filter: Some(NEAREST),
-            min_filter: Some(9987)
+        Sampler {
+            filter: Filter::Nearest,
+            address_u: AddressMode::ClampToEdge,
+            address_v: AddressMode::MirroredRepeat,
+            border_alpha: 0.0
         }
     );
-    assert_eq!(asset.primitives[1].sampler, GltfSampler::default());
+    assert_eq!(
+        asset.primitives[1].sampler,
+        Sampler {
+            filter: Filter::Linear,
+            ..Sampler::default()
+        }
+    );
     // One image, decoded once, for two textures.
     assert_eq!(asset.images.len(), 1);
     assert!(asset.primitives.iter().all(|p| p.image == 0));

@@ -36,7 +36,7 @@ struct TrisFile<'a> {
 /// multiple of the input's length. Never panics.
 ///
 /// ```
-/// use micromap_index_lab::assets::read_triangles_json;
+/// use micromap_index_assets::read_triangles_json;
 /// // 0.1 rounds once to the nearest binary32 value; 1e39 overflows to inf.
 /// let triangles = read_triangles_json(br#"{"triangles": [[[0.1, 0], [1, 0], [0, 1e39]]], "name": "x"}"#).unwrap();
 /// assert_eq!(triangles[0][0][0], 0.1f32);

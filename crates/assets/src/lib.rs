@@ -1,6 +1,9 @@
-//! Readers for the real assets a baker starts from: alpha textures (PNG,
-//! JPEG), triangle lists in UV space (`TRIS.json`) and glTF 2.0 scenes
-//! (`.gltf` with external or `data:` buffers, or `.glb`).
+//! Readers for the real assets an opacity-micromap baker starts from: alpha
+//! textures (PNG, JPEG), triangle lists in UV space (`TRIS.json`) and glTF
+//! 2.0 scenes (`.gltf` with external or `data:` buffers, or `.glb`),
+//! returning the types of [`micromap_index::bake`]: textures it views
+//! without conversion ([`AlphaImage::texture`]),
+//! [`Sampler`](micromap_index::bake::Sampler)s and [`Cutoff`]s.
 //!
 //! Every reader takes untrusted bytes: it never panics, and it bounds every
 //! allocation by [`Limits`] or by the length of its input (the fuzz targets
@@ -15,6 +18,7 @@
 //!   a glTF whose material is `alphaMode: "MASK"` with a base colour
 //!   texture, with its UVs, alpha cutoff, sampler and decoded image.
 //!
+//!
 //! ## Coordinates
 //!
 //! Images are row-major with row 0 the **top** row of the picture, as PNG
@@ -22,41 +26,48 @@
 //! image too (`u` to the right, `v` down), so texel `(x, y)` covers
 //! `u` in `[x / width, (x + 1) / width]` and `v` in `[y / height, (y + 1) / height]`
 //! with no flip. UVs are returned as stored: outside `[0, 1]` the
-//! sampler's wrap modes ([`GltfSampler`]) apply.
+//! sampler's address modes ([`MaskPrimitive::sampler`]) apply.
 //!
 //! ```
-//! use micromap_index_lab::assets::{read_triangles_json, AssetError};
+//! use micromap_index_assets::{read_triangles_json, AssetError};
 //! let triangles = read_triangles_json(br#"{"triangles": [[[0, 0], [1, 0], [0, 0.1]]]}"#)?;
 //! assert_eq!(triangles, vec![[[0.0, 0.0], [1.0, 0.0], [0.0, 0.1]]]);
 //! # Ok::<(), AssetError>(())
 //! ```
 
+#![forbid(unsafe_code)]
+
 mod gltf;
 mod image;
-mod triangles;
+mod tris_json;
 
 #[cfg(test)]
 mod cards;
 #[cfg(test)]
 mod tests;
 
-pub use self::gltf::{
-    read_gltf_bytes, read_gltf_file, GltfAsset, GltfImageInfo, GltfSampler, MaskPrimitive,
-    CLAMP_TO_EDGE, LINEAR, MIRRORED_REPEAT, NEAREST, REPEAT,
-};
+pub use self::gltf::{read_gltf_bytes, read_gltf_file, GltfAsset, GltfImageInfo, MaskPrimitive};
 pub use self::image::{decode_alpha_image, ImageFormat};
-pub use self::triangles::read_triangles_json;
+pub use self::tris_json::read_triangles_json;
 
+use micromap_index::bake::{
+    AlphaTexture, Cutoff, F32Texture, TextureError, Unorm16Texture, Unorm8Texture,
+};
 use std::fmt;
 
 /// The texels of an [`AlphaImage`]: one value per pixel, row-major, row 0 the
-/// image's top row.
+/// image's top row, in the texel types of [`micromap_index::bake`]
+/// ([`Texel`](micromap_index::bake::Texel)), so that a
+/// [`SliceTexture`](micromap_index::bake::SliceTexture) views them as they
+/// are ([`AlphaImage::texture`]).
 #[derive(Clone, Debug, PartialEq)]
 pub enum AlphaTexels {
-    /// 8-bit values; `0` is transparent, `255` opaque (value / 255).
+    /// 8-bit samples; `0` is transparent, `255` opaque (alpha `c / 255`).
     Unorm8(Vec<u8>),
-    /// Values in `[0, 1]` from 16-bit samples (`value / 65535`, rounded once
-    /// to binary32).
+    /// 16-bit samples, exactly as stored (alpha `c / 65535`).
+    Unorm16(Vec<u16>),
+    /// Alpha values as they are. The decoders here never produce them; for
+    /// images built by the caller (from a float format, say).
     Float(Vec<f32>),
 }
 
@@ -66,6 +77,7 @@ impl AlphaTexels {
     pub fn len(&self) -> usize {
         match self {
             AlphaTexels::Unorm8(texels) => texels.len(),
+            AlphaTexels::Unorm16(texels) => texels.len(),
             AlphaTexels::Float(texels) => texels.len(),
         }
     }
@@ -76,13 +88,25 @@ impl AlphaTexels {
         self.len() == 0
     }
 
-    /// Texel `i` as a value in `[0, 1]` (`Unorm8` as `value / 255`, rounded
-    /// once to binary32); `None` past the end.
+    /// Texel `i` as a binary32 value (`Unorm8` as `c / 255` and `Unorm16`
+    /// as `c / 65535`, each rounded once to binary32; the baker reads the
+    /// exact quotients instead); `None` past the end.
     #[must_use]
     pub fn get(&self, i: usize) -> Option<f32> {
         match self {
             AlphaTexels::Unorm8(texels) => texels.get(i).map(|&t| f32::from(t) / 255.0),
+            AlphaTexels::Unorm16(texels) => texels.get(i).map(|&t| f32::from(t) / 65535.0),
             AlphaTexels::Float(texels) => texels.get(i).copied(),
+        }
+    }
+
+    /// Bytes the texels hold (1, 2 or 4 per texel).
+    #[must_use]
+    pub fn byte_len(&self) -> u64 {
+        match self {
+            AlphaTexels::Unorm8(texels) => texels.len() as u64,
+            AlphaTexels::Unorm16(texels) => (texels.len() as u64).saturating_mul(2),
+            AlphaTexels::Float(texels) => (texels.len() as u64).saturating_mul(4),
         }
     }
 }
@@ -100,8 +124,36 @@ pub struct AlphaImage {
 }
 
 impl AlphaImage {
-    /// The texel in column `x`, row `y` (row 0 at the top) as a value in
-    /// `[0, 1]`; `None` outside the image.
+    /// The image as a texture the baker reads, over the texels as they are
+    /// (no copy, no conversion). Fails only if `texels` does not hold
+    /// `width * height` values (the readers never return such an image) or
+    /// the image has `2^32` texels or more.
+    ///
+    /// ```
+    /// use micromap_index::bake::{AlphaTexture, Baker, Cutoff, Sampler};
+    /// use micromap_index_assets::{AlphaImage, AlphaTexels};
+    /// let image = AlphaImage { width: 2, height: 1, texels: AlphaTexels::Unorm16(vec![0, 65535]) };
+    /// let texture = image.texture().unwrap();
+    /// assert_eq!((texture.alpha(0, 0), texture.alpha(1, 0)), (0.0, 1.0));
+    /// let baker = Baker::new(&texture, Sampler::default(), Cutoff::default()).unwrap();
+    /// assert_eq!(baker.size(), (2, 1));
+    /// ```
+    pub fn texture(&self) -> Result<ImageTexture<'_>, TextureError> {
+        Ok(match &self.texels {
+            AlphaTexels::Unorm8(t) => {
+                ImageTexture::Unorm8(Unorm8Texture::new(self.width, self.height, t)?)
+            }
+            AlphaTexels::Unorm16(t) => {
+                ImageTexture::Unorm16(Unorm16Texture::new(self.width, self.height, t)?)
+            }
+            AlphaTexels::Float(t) => {
+                ImageTexture::Float(F32Texture::new(self.width, self.height, t)?)
+            }
+        })
+    }
+
+    /// The texel in column `x`, row `y` (row 0 at the top) as a binary32
+    /// value (see [`AlphaTexels::get`]); `None` outside the image.
     #[must_use]
     pub fn get(&self, x: u32, y: u32) -> Option<f32> {
         if x >= self.width || y >= self.height {
@@ -109,6 +161,50 @@ impl AlphaImage {
         }
         let i = u64::from(y) * u64::from(self.width) + u64::from(x);
         self.texels.get(usize::try_from(i).ok()?)
+    }
+}
+
+/// An [`AlphaImage`] viewed as the baker's texture ([`AlphaImage::texture`]):
+/// the library's [`SliceTexture`](micromap_index::bake::SliceTexture) over
+/// the image's own texels, whichever their type.
+#[derive(Clone, Copy, Debug)]
+pub enum ImageTexture<'a> {
+    /// 8-bit texels.
+    Unorm8(Unorm8Texture<'a>),
+    /// 16-bit texels.
+    Unorm16(Unorm16Texture<'a>),
+    /// `f32` texels.
+    Float(F32Texture<'a>),
+}
+
+impl AlphaTexture for ImageTexture<'_> {
+    fn width(&self) -> u32 {
+        match self {
+            ImageTexture::Unorm8(t) => t.width(),
+            ImageTexture::Unorm16(t) => t.width(),
+            ImageTexture::Float(t) => t.width(),
+        }
+    }
+    fn height(&self) -> u32 {
+        match self {
+            ImageTexture::Unorm8(t) => t.height(),
+            ImageTexture::Unorm16(t) => t.height(),
+            ImageTexture::Float(t) => t.height(),
+        }
+    }
+    fn alpha(&self, x: u32, y: u32) -> f64 {
+        match self {
+            ImageTexture::Unorm8(t) => t.alpha(x, y),
+            ImageTexture::Unorm16(t) => t.alpha(x, y),
+            ImageTexture::Float(t) => t.alpha(x, y),
+        }
+    }
+    fn is_opaque(&self, x: u32, y: u32, cutoff: &Cutoff) -> bool {
+        match self {
+            ImageTexture::Unorm8(t) => t.is_opaque(x, y, cutoff),
+            ImageTexture::Unorm16(t) => t.is_opaque(x, y, cutoff),
+            ImageTexture::Float(t) => t.is_opaque(x, y, cutoff),
+        }
     }
 }
 
@@ -235,7 +331,7 @@ impl AssetError {
         }
     }
 
-    fn gltf(field: impl Into<String>, message: impl Into<String>) -> AssetError {
+    pub(crate) fn gltf(field: impl Into<String>, message: impl Into<String>) -> AssetError {
         AssetError::Gltf {
             field: field.into(),
             message: message.into(),

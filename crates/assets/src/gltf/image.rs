@@ -1,0 +1,60 @@
+//! Images: each `images[i]` the primitives use, from a URI or a buffer
+//! view, decoded once.
+
+use super::uri::uri_label;
+use super::{GltfImageInfo, Reader};
+use crate::{decode_alpha_image, AssetError, Limits};
+use std::borrow::Cow;
+
+impl Reader<'_, '_> {
+    /// Decodes image `index` (once); its position in `asset.images`.
+    pub(super) fn image(&mut self, index: usize, what: &str) -> Result<usize, AssetError> {
+        if let Some(&position) = self.images.get(&index) {
+            return Ok(position);
+        }
+        let image = self.root.element("images", index, what)?;
+        let uri = image.opt_str("uri")?;
+        let view = image.opt_usize("bufferView")?;
+        let limits = Limits {
+            max_pixels: self.limits.max_pixels,
+            max_bytes: self.budget.left,
+        };
+        let (bytes, label): (Cow<'_, [u8]>, String) = match (uri, view) {
+            (Some(uri), None) => {
+                let label = format!("{} (uri {:?})", image.path, uri_label(uri));
+                let bytes = self.load_uri(uri).map_err(|e| e.within(&label))?;
+                (Cow::Owned(bytes), label)
+            }
+            (None, Some(view)) => {
+                let label = format!("{} (bufferViews[{view}])", image.path);
+                let (bytes, _) = self.view_bytes(view, &image.field("bufferView"))?;
+                (Cow::Borrowed(bytes), label)
+            }
+            (Some(_), Some(_)) => return Err(image.error("uri", "given together with bufferView")),
+            (None, None) => return Err(image.error("uri", "missing, and no bufferView either")),
+        };
+        let decoded = decode_alpha_image(&bytes, &limits).map_err(|e| e.within(&label));
+        drop(bytes);
+        let decoded = decoded?;
+        let texel_bytes = decoded.texels.byte_len();
+        self.budget.take(|| label.clone(), texel_bytes)?;
+        let info = GltfImageInfo {
+            index,
+            uri: uri.map(|uri| {
+                if uri.starts_with("data:") {
+                    uri_label(uri)
+                } else {
+                    uri.to_string()
+                }
+            }),
+            buffer_view: view,
+            mime_type: image.opt_str("mimeType")?.map(str::to_string),
+            name: image.opt_str("name")?.map(str::to_string),
+        };
+        let position = self.asset.images.len();
+        self.asset.images.push(decoded);
+        self.asset.image_info.push(info);
+        self.images.insert(index, position);
+        Ok(position)
+    }
+}

@@ -1,0 +1,545 @@
+//! [`read_gltf_file`] and [`read_gltf_bytes`]: the alpha-tested triangles of
+//! a glTF 2.0 asset, with their UVs, cutoffs, samplers and images.
+//!
+//! This file holds the public types, the entry points and the walk over
+//! meshes; `glb` splits the container, `json` walks the JSON, `uri`,
+//! `accessor`, `material`, `sampler` and `image` read what their names say.
+
+use self::glb::split_glb;
+use self::json::{short, Obj};
+use self::material::raw_materials;
+use crate::{check_limit, AlphaImage, AssetError, Limits};
+use micromap_index::bake::mesh::Material;
+use micromap_index::bake::{Cutoff, Sampler};
+use serde_json::value::RawValue;
+use serde_json::Value;
+use std::borrow::Cow;
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::fmt::Write as _;
+use std::io::Read;
+use std::path::Path;
+use std::rc::Rc;
+
+mod accessor;
+mod glb;
+mod image;
+mod json;
+mod material;
+mod sampler;
+mod uri;
+
+pub(crate) use self::sampler::GltfSampler;
+#[cfg(test)]
+pub(crate) use self::sampler::{CLAMP_TO_EDGE, LINEAR, MIRRORED_REPEAT, NEAREST, REPEAT};
+
+/// One triangle primitive of a glTF mesh whose material is alpha-tested
+/// (`alphaMode: "MASK"`) with a base colour texture.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MaskPrimitive {
+    /// The mesh: index into the glTF's `meshes`.
+    pub mesh: usize,
+    /// The primitive: index into the mesh's `primitives`.
+    pub primitive: usize,
+    /// The material: index into the glTF's `materials`.
+    pub material: usize,
+    /// `material.alphaCutoff` (default 0.5), rounded once from its decimal
+    /// text to binary32, with glTF's comparison
+    /// ([`Comparison::AtLeast`](micromap_index::bake::Comparison::AtLeast)):
+    /// a texel is opaque where `alpha * alpha_factor >= cutoff`. Never
+    /// negative.
+    pub cutoff: Cutoff,
+    /// `pbrMetallicRoughness.baseColorFactor[3]` (default 1), rounded once
+    /// from its decimal text; it multiplies the texture's alpha.
+    pub alpha_factor: f32,
+    /// The texture: index into the glTF's `textures`.
+    pub texture: usize,
+    /// The decoded image: index into [`GltfAsset::images`] (not into the
+    /// glTF's `images`; [`GltfAsset::image_info`] maps back).
+    pub image: usize,
+    /// The texture's sampler (`samplers[i]`, or glTF's defaults), as the
+    /// runtime samples: `magFilter` `NEAREST` is
+    /// [`Filter::Nearest`](micromap_index::bake::Filter::Nearest), `LINEAR`
+    /// or unspecified `Linear`; `wrapS` and `wrapT` (default `REPEAT`) are
+    /// the address modes along `u` and `v` of the same names; border alpha 0
+    /// (glTF has no clamp-to-border). The reader checks that every code is
+    /// one glTF defines (`minFilter` too, which magnification-free baking
+    /// does not use).
+    pub sampler: Sampler,
+    /// `baseColorTexture.texCoord`: the triangles are `TEXCOORD_<tex_coord>`.
+    pub tex_coord: u32,
+    /// The UVs of each triangle, in order, with the indices applied (or
+    /// vertices `3i, 3i + 1, 3i + 2` without indices). Integer UVs
+    /// (`KHR_mesh_quantization`) are converted as glTF says: normalized
+    /// `c / 255`, `c / 65535`, `max(c / 127, -1)`, `max(c / 32767, -1)`,
+    /// each one binary32 division; others as the integer's value.
+    pub triangles: Vec<[[f32; 2]; 3]>,
+}
+
+impl MaskPrimitive {
+    /// Its material as [`bake::mesh`](micromap_index::bake::mesh) takes it:
+    /// sampler, cutoff and alpha factor.
+    ///
+    /// ```
+    /// use micromap_index_assets::{read_gltf_file, Limits};
+    /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/crytek-sponza/cards.gltf");
+    /// let asset = read_gltf_file(path.as_ref(), &Limits::default()).unwrap();
+    /// let material = asset.primitives[1].material();
+    /// assert_eq!(material.cutoff.alpha(), 0.3);
+    /// assert_eq!(material.alpha_factor, 1.0);
+    /// ```
+    #[must_use]
+    pub fn material(&self) -> Material {
+        Material {
+            sampler: self.sampler,
+            cutoff: self.cutoff,
+            alpha_factor: self.alpha_factor,
+        }
+    }
+}
+
+/// Where a decoded image of [`GltfAsset::images`] came from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GltfImageInfo {
+    /// Its index into the glTF's `images`.
+    pub index: usize,
+    /// `images[index].uri` as written (percent-encoded), `data:` URIs cut
+    /// to their header (`data:image/png;base64,...`), if it has one.
+    pub uri: Option<String>,
+    /// `images[index].bufferView`, if it has one.
+    pub buffer_view: Option<usize>,
+    /// `images[index].mimeType`, if given (the format is detected from the
+    /// bytes, not from this).
+    pub mime_type: Option<String>,
+    /// `images[index].name`, if given.
+    pub name: Option<String>,
+}
+
+/// What [`read_gltf_file`] and [`read_gltf_bytes`] read from a glTF.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct GltfAsset {
+    /// Every alpha-tested triangle primitive, in the order of `meshes` and
+    /// their `primitives`.
+    pub primitives: Vec<MaskPrimitive>,
+    /// The images the primitives use, each decoded once
+    /// ([`decode_alpha_image`](crate::decode_alpha_image)), in order of first use.
+    pub images: Vec<AlphaImage>,
+    /// For each of [`GltfAsset::images`], where it came from.
+    pub image_info: Vec<GltfImageInfo>,
+    /// What was skipped or is not applied, one line each: primitives that
+    /// are not triangles, materials that are not `MASK` (counted), `MASK`
+    /// materials without a base colour texture, `COLOR_0` (its alpha is not
+    /// multiplied in), `KHR_texture_transform` (not applied to the UVs),
+    /// oddities of the GLB container.
+    pub warnings: Vec<String>,
+}
+
+/// Reads a `.gltf` (JSON, with buffers and images in files next to it or in
+/// `data:` URIs) or a `.glb` (told apart by the GLB magic `glTF`, not by
+/// name), resolving relative URIs against the file's directory.
+///
+/// A URI is percent-decoded, then joined to the directory; absolute paths
+/// and URIs with a scheme (other than `data:`) are refused. Every file read
+/// (the glTF itself included) must be at most [`Limits::max_bytes`] long.
+/// Errors name the file. See [`read_gltf_bytes`] for what is read.
+///
+/// ```no_run
+/// use micromap_index_assets::{read_gltf_file, Limits};
+/// let asset = read_gltf_file("assets/crytek-sponza/cards.gltf".as_ref(), &Limits::default())?;
+/// for primitive in &asset.primitives {
+///     let image = &asset.images[primitive.image];
+///     println!("mesh {} primitive {}: {} triangles on {} x {}, cutoff {}",
+///         primitive.mesh, primitive.primitive, primitive.triangles.len(),
+///         image.width, image.height, primitive.cutoff.alpha());
+/// }
+/// # Ok::<(), micromap_index_assets::AssetError>(())
+/// ```
+pub fn read_gltf_file(path: &Path, limits: &Limits) -> Result<GltfAsset, AssetError> {
+    let bytes = read_file(path, limits.max_bytes)?;
+    let base = path.parent().unwrap_or_else(|| Path::new(""));
+    let mut resolve = |uri: &str| -> Result<Vec<u8>, AssetError> {
+        if uri.starts_with(['/', '\\']) || Path::new(uri).is_absolute() {
+            return Err(AssetError::Uri {
+                uri: uri.to_string(),
+                message: "absolute paths are not supported; use a path relative to the glTF"
+                    .to_string(),
+            });
+        }
+        read_file(&base.join(uri), limits.max_bytes)
+    };
+    read_gltf_bytes(&bytes, &mut resolve, limits).map_err(|e| e.within(path.display().to_string()))
+}
+
+/// The whole file, if it is at most `max_bytes` long.
+fn read_file(path: &Path, max_bytes: u64) -> Result<Vec<u8>, AssetError> {
+    let io = |e: std::io::Error| AssetError::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    };
+    let file = std::fs::File::open(path).map_err(io)?;
+    let length = file.metadata().map_err(io)?.len();
+    check_limit(|| format!("file {}", path.display()), length, max_bytes)?;
+    let mut bytes = Vec::with_capacity(usize::try_from(length).unwrap_or(0));
+    // `take`: a file that grows while being read stays within the limit.
+    file.take(max_bytes.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(io)?;
+    check_limit(
+        || format!("file {}", path.display()),
+        bytes.len() as u64,
+        max_bytes,
+    )?;
+    Ok(bytes)
+}
+
+/// Reads a glTF 2.0 asset from bytes: GLB if they start with the magic
+/// `glTF`, JSON otherwise. `resolve` is called with each external URI a
+/// needed buffer or image names, percent-decoded (`leaf%20a.png` →
+/// `leaf a.png`), and returns the bytes; `data:` URIs (base64 or
+/// percent-encoded) are decoded here, and URIs with any other scheme are
+/// refused without calling it. For fuzzing without a filesystem.
+///
+/// For every primitive of every mesh (in order; nodes and scenes are not
+/// read, so every mesh counts once):
+///
+/// * mode 4 (`TRIANGLES`, the default) is read; other modes are skipped
+///   with a warning;
+/// * the material must be `alphaMode: "MASK"` with
+///   `pbrMetallicRoughness.baseColorTexture`; primitives with `OPAQUE`
+///   (also no material) or `BLEND` materials are skipped and counted in one
+///   warning, `MASK` without a texture is skipped with a warning;
+/// * `TEXCOORD_<texCoord>`: `VEC2` of `FLOAT`, or of (normalized or not)
+///   `UNSIGNED_BYTE`, `UNSIGNED_SHORT`, `BYTE`, `SHORT`
+///   (`KHR_mesh_quantization`), through `byteOffset`, the buffer view's
+///   `byteStride`, and sparse substitution; an accessor without a buffer
+///   view is zeros (plus its sparse values);
+/// * `indices`: `SCALAR` `UNSIGNED_BYTE`, `UNSIGNED_SHORT` or
+///   `UNSIGNED_INT` (sparse too), each below the UV count; without
+///   indices, vertices are taken in order; a count that is not a multiple
+///   of 3 drops the last one or two with a warning;
+/// * the texture's `source` image (from a `uri` or a `bufferView`) is
+///   decoded once by [`decode_alpha_image`](crate::decode_alpha_image); its sampler is read.
+///
+/// Buffers are loaded only when a needed buffer view is in them; the GLB
+/// `BIN` chunk is buffer 0 when that has no `uri`. A required extension
+/// other than `KHR_mesh_quantization`, `KHR_texture_transform` (its
+/// transform is not applied: warning), `KHR_materials_*` (except
+/// `KHR_materials_pbrSpecularGlossiness`), `KHR_lights_punctual` and
+/// `KHR_mesh_gpu_instancing` is an error. Accessor alignment is not checked.
+///
+/// Limits: each image is decoded within [`Limits::max_pixels`]; the loaded
+/// buffers, decoded images and UV, index and triangle arrays together stay
+/// within [`Limits::max_bytes`]. Every index, offset and length is checked
+/// with overflow-free arithmetic. Never panics.
+///
+/// ```
+/// use micromap_index_assets::{read_gltf_bytes, AssetError, Limits};
+/// let gltf = br#"{"asset": {"version": "2.0"}, "meshes": [{"primitives": [{"attributes": {}}]}]}"#;
+/// let mut no_files = |uri: &str| Err(AssetError::Uri { uri: uri.into(), message: "no files".into() });
+/// let asset = read_gltf_bytes(gltf, &mut no_files, &Limits::default()).unwrap();
+/// assert!(asset.primitives.is_empty());
+/// assert_eq!(asset.warnings, ["skipped 1 primitive whose material is not alphaMode MASK (1 OPAQUE, 0 BLEND)"]);
+/// ```
+pub fn read_gltf_bytes(
+    bytes: &[u8],
+    resolve: &mut dyn FnMut(&str) -> Result<Vec<u8>, AssetError>,
+    limits: &Limits,
+) -> Result<GltfAsset, AssetError> {
+    let mut warnings = Vec::new();
+    let (json, bin) = if bytes.starts_with(b"glTF") {
+        split_glb(bytes, &mut warnings)?
+    } else {
+        (bytes, None)
+    };
+    let json = json.strip_prefix(b"\xef\xbb\xbf").unwrap_or(json);
+    let root: Value = serde_json::from_slice(json).map_err(|e| AssetError::Json {
+        message: e.to_string(),
+    })?;
+    let Value::Object(root) = &root else {
+        return Err(AssetError::gltf("(top level)", "is not a JSON object"));
+    };
+    let raw_materials = raw_materials(json)?;
+    let mut reader = Reader {
+        root: Obj {
+            map: root,
+            path: String::new(),
+        },
+        raw_materials,
+        bin,
+        resolve,
+        limits: *limits,
+        budget: Budget {
+            left: limits.max_bytes,
+            limit: limits.max_bytes,
+        },
+        buffers: HashMap::new(),
+        uvs: HashMap::new(),
+        images: HashMap::new(),
+        asset: GltfAsset {
+            warnings,
+            ..GltfAsset::default()
+        },
+    };
+    reader.check_header()?;
+    reader.read_meshes()?;
+    Ok(reader.asset)
+}
+
+/// What may still be held, of [`Limits::max_bytes`].
+struct Budget {
+    left: u64,
+    limit: u64,
+}
+
+impl Budget {
+    fn take(&mut self, what: impl FnOnce() -> String, bytes: u64) -> Result<(), AssetError> {
+        if bytes <= self.left {
+            self.left -= bytes;
+            Ok(())
+        } else {
+            Err(AssetError::LimitExceeded {
+                what: format!("{} (bytes, with what is already loaded)", what()),
+                size: (self.limit - self.left).saturating_add(bytes),
+                limit: self.limit,
+            })
+        }
+    }
+}
+
+/// `a * b` in bytes, or `u64::MAX` on overflow (then over any budget).
+fn bytes_of(count: u64, size: u64) -> u64 {
+    count.saturating_mul(size)
+}
+
+/// How the reader walks a glTF.
+struct Reader<'a, 'r> {
+    root: Obj<'a>,
+    raw_materials: Vec<&'a RawValue>,
+    bin: Option<&'a [u8]>,
+    resolve: &'r mut dyn FnMut(&str) -> Result<Vec<u8>, AssetError>,
+    limits: Limits,
+    budget: Budget,
+    /// Loaded buffers by index, each exactly `byteLength` bytes.
+    buffers: HashMap<usize, Cow<'a, [u8]>>,
+    /// Decoded UV accessors by index.
+    uvs: HashMap<usize, Rc<Vec<[f32; 2]>>>,
+    /// glTF image index -> index into `asset.images`.
+    images: HashMap<usize, usize>,
+    asset: GltfAsset,
+}
+
+/// Extensions a glTF may require that do not change the mask.
+fn supported_required(name: &str) -> bool {
+    matches!(
+        name,
+        "KHR_mesh_quantization"
+            | "KHR_texture_transform"
+            | "KHR_lights_punctual"
+            | "KHR_mesh_gpu_instancing"
+    ) || (name.starts_with("KHR_materials_") && name != "KHR_materials_pbrSpecularGlossiness")
+}
+
+fn mode_name(mode: u64) -> &'static str {
+    match mode {
+        0 => "POINTS",
+        1 => "LINES",
+        2 => "LINE_LOOP",
+        3 => "LINE_STRIP",
+        5 => "TRIANGLE_STRIP",
+        6 => "TRIANGLE_FAN",
+        _ => "unknown",
+    }
+}
+
+impl Reader<'_, '_> {
+    fn warn(&mut self, warning: String) {
+        self.asset.warnings.push(warning);
+    }
+
+    /// `asset.version` is 2.x, and every required extension is supported.
+    fn check_header(&self) -> Result<(), AssetError> {
+        let asset = self.root.obj("asset")?;
+        let version = asset.str("version")?;
+        if version.split('.').next() != Some("2") {
+            return Err(asset.error(
+                "version",
+                format!("{version:?}: only glTF 2.x is supported"),
+            ));
+        }
+        if let Some(min) = asset.opt_str("minVersion")? {
+            if min != "2.0" {
+                return Err(
+                    asset.error("minVersion", format!("{min:?}: only glTF 2.0 is supported"))
+                );
+            }
+        }
+        let required = self
+            .root
+            .opt_array("extensionsRequired")?
+            .unwrap_or_default();
+        for (i, name) in required.iter().enumerate() {
+            let field = format!("extensionsRequired[{i}]");
+            let name = name.as_str().ok_or_else(|| {
+                AssetError::gltf(&field, format!("{}, expected a string", short(name)))
+            })?;
+            if !supported_required(name) {
+                return Err(AssetError::gltf(
+                    field,
+                    format!("the asset requires extension {name}, which is not supported"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn read_meshes(&mut self) -> Result<(), AssetError> {
+        let meshes = self.root.opt_array("meshes")?.unwrap_or_default();
+        let (mut opaque, mut blend) = (0usize, 0usize);
+        let mut untextured: BTreeMap<usize, usize> = BTreeMap::new();
+        let mut colored = Vec::new();
+        let mut transformed = BTreeSet::new();
+        for m in 0..meshes.len() {
+            let mesh = self.root.element("meshes", m, "meshes")?;
+            let primitives = mesh
+                .opt_array("primitives")?
+                .ok_or_else(|| mesh.error("primitives", "missing"))?;
+            for p in 0..primitives.len() {
+                let primitive = mesh.element("primitives", p, "primitives")?;
+                let mode = primitive.opt_u64("mode")?.unwrap_or(4);
+                if mode != 4 {
+                    self.warn(format!(
+                        "{}: mode {mode} ({}) is not TRIANGLES (4), skipped",
+                        primitive.path,
+                        mode_name(mode)
+                    ));
+                    continue;
+                }
+                let Some(material_index) = primitive.opt_usize("material")? else {
+                    opaque += 1;
+                    continue;
+                };
+                let material =
+                    self.root
+                        .element("materials", material_index, &primitive.field("material"))?;
+                match material.opt_str("alphaMode")?.unwrap_or("OPAQUE") {
+                    "MASK" => {}
+                    "OPAQUE" => {
+                        opaque += 1;
+                        continue;
+                    }
+                    "BLEND" => {
+                        blend += 1;
+                        continue;
+                    }
+                    other => {
+                        return Err(material.error(
+                            "alphaMode",
+                            format!("{other:?} is not OPAQUE, MASK or BLEND"),
+                        ))
+                    }
+                }
+                let pbr = material.opt_obj("pbrMetallicRoughness")?;
+                let Some(texture_info) = pbr
+                    .as_ref()
+                    .map(|pbr| pbr.opt_obj("baseColorTexture"))
+                    .transpose()?
+                    .flatten()
+                else {
+                    *untextured.entry(material_index).or_default() += 1;
+                    continue;
+                };
+                let texture_index = texture_info.usize("index")?;
+                let tex_coord = texture_info.opt_u32("texCoord")?.unwrap_or(0);
+                if let Some(extensions) = texture_info.opt_obj("extensions")? {
+                    if extensions.has("KHR_texture_transform") {
+                        transformed.insert(material_index);
+                    }
+                }
+                let attributes = primitive.obj("attributes")?;
+                if attributes.has("COLOR_0") {
+                    colored.push(primitive.path.clone());
+                }
+                let (cutoff, alpha_factor) = self.material_numbers(material_index, &material)?;
+                let uv_key = format!("TEXCOORD_{tex_coord}");
+                let uv_accessor = attributes.opt_usize(&uv_key)?.ok_or_else(|| {
+                    attributes.error(
+                        &uv_key,
+                        format!(
+                            "missing, but {} = {tex_coord}",
+                            texture_info.field("texCoord")
+                        ),
+                    )
+                })?;
+                let uvs = self.uvs(uv_accessor, &attributes.field(&uv_key))?;
+                let indices = match primitive.opt_usize("indices")? {
+                    Some(accessor) => Some(self.indices(accessor, &primitive.field("indices"))?),
+                    None => None,
+                };
+                let triangles = self.triangles(&primitive.path, &uvs, indices.as_deref())?;
+                let texture =
+                    self.root
+                        .element("textures", texture_index, &texture_info.field("index"))?;
+                let sampler = match texture.opt_usize("sampler")? {
+                    Some(s) => self.sampler(s, &texture.field("sampler"))?,
+                    None => GltfSampler::default(),
+                }
+                .to_sampler();
+                let source = texture.opt_usize("source")?.ok_or_else(|| {
+                    texture.error(
+                        "source",
+                        "missing (images only in an extension, such as KHR_texture_basisu, are not supported)",
+                    )
+                })?;
+                let image = self.image(source, &texture.field("source"))?;
+                self.asset.primitives.push(MaskPrimitive {
+                    mesh: m,
+                    primitive: p,
+                    material: material_index,
+                    cutoff,
+                    alpha_factor,
+                    texture: texture_index,
+                    image,
+                    sampler,
+                    tex_coord,
+                    triangles,
+                });
+            }
+        }
+        if opaque + blend > 0 {
+            let total = opaque + blend;
+            self.warn(format!(
+                "skipped {total} primitive{} whose material is not alphaMode MASK ({opaque} OPAQUE, {blend} BLEND)",
+                if total == 1 { "" } else { "s" }
+            ));
+        }
+        for (material, count) in untextured {
+            self.warn(format!(
+                "materials[{material}] is alphaMode MASK without pbrMetallicRoughness.baseColorTexture: {count} primitive{} skipped",
+                if count == 1 { "" } else { "s" }
+            ));
+        }
+        if !colored.is_empty() {
+            self.warn(format!(
+                "{} primitive{} ha{} COLOR_0, whose alpha is not applied: {}",
+                colored.len(),
+                if colored.len() == 1 { "" } else { "s" },
+                if colored.len() == 1 { "s" } else { "ve" },
+                list(&colored)
+            ));
+        }
+        for material in transformed {
+            self.warn(format!(
+                "materials[{material}].pbrMetallicRoughness.baseColorTexture has KHR_texture_transform, which is not applied to the UVs"
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The first few paths of a list, for a warning.
+fn list(paths: &[String]) -> String {
+    let mut text = paths.iter().take(4).cloned().collect::<Vec<_>>().join(", ");
+    if paths.len() > 4 {
+        let _ = write!(text, ", ... ({} more)", paths.len() - 4);
+    }
+    text
+}

@@ -1,0 +1,646 @@
+//! Whole meshes: [`bake_meshes`] chooses a level per triangle, fits a byte
+//! budget, bakes every triangle exactly ([`Baker::bake`]), deduplicates the
+//! micromaps into API buffers ([`MicromapBuffers`], one geometry per mesh)
+//! and reports what it found ([`BakeReport`]).
+//!
+//! A [`Mesh`] is its triangles in UV space ([`MeshTriangles`]: one
+//! [`UvTriangle`] each, or indices into a strided UV array), the texture it
+//! is alpha-tested against and its [`Material`] (sampler, cutoff and the
+//! alpha factor, glTF's `baseColorFactor[3]`). [`MeshOptions`] says how to
+//! bake all of them: the level rule ([`LevelRule`]), format, what unknowns
+//! become in a 2-state format, and an optional byte budget for the
+//! micromap data of all meshes together.
+//!
+//! ```
+//! use micromap_index::bake::mesh::{bake_mesh, Material, Mesh, MeshOptions, MeshTriangles};
+//! use micromap_index::bake::Unorm8Texture;
+//! use micromap_index::micromap::State;
+//!
+//! // An 8 x 8 texture, opaque in its left three columns.
+//! let texels: Vec<u8> = (0..64).map(|i| if (i % 8) < 3 { 255 } else { 0 }).collect();
+//! let texture = Unorm8Texture::new(8, 8, &texels).unwrap();
+//! // A quad over the whole texture: four corners, two triangles.
+//! let uvs = [0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0];
+//! let indices = [0, 1, 2, 0, 2, 3];
+//! let mesh = Mesh {
+//!     triangles: MeshTriangles::Indexed { indices: &indices, uvs: &uvs, stride: 2 },
+//!     texture: &texture,
+//!     material: Material::default(),
+//! };
+//! let baked = bake_mesh(&mesh, &MeshOptions::default()).unwrap();
+//! assert_eq!(baked.report.triangles, 2);
+//! assert_eq!(baked.buffers.geometry_indices(0).unwrap().len(), 2);
+//! // Edges of 8 and 11.3 texels: level 4 (the paper's eq. 1).
+//! assert_eq!(baked.report.levels, [0, 0, 0, 0, 2]);
+//! assert!(baked.report.counts[State::Opaque.bits() as usize] > 0);
+//! assert!(baked.report.known_fraction > 0.5 && baked.report.known_fraction < 1.0);
+//! ```
+
+use super::baker::{BakeError, BakedTriangle, Baker, TriangleStatus, UvTriangle};
+use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
+use super::{levels_within_budget, useful_level, DEFAULT_BLOCK_BUDGET};
+use crate::micromap::{
+    BufferError, BuildOptions, Format, MicromapBuffers, MicromapBuffersBuilder, MicromapIndex,
+    UnknownPolicy,
+};
+use crate::succinct::{LevelOrderTree, PaperTree};
+use crate::Level;
+use alloc::borrow::Cow;
+use alloc::vec;
+use alloc::vec::Vec;
+use core::fmt;
+
+/// A mesh's triangles in UV space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MeshTriangles<'a> {
+    /// One [`UvTriangle`] per triangle.
+    Uv(&'a [UvTriangle]),
+    /// Triangle `t` is vertices `indices[3t]`, `indices[3t + 1]`,
+    /// `indices[3t + 2]`; vertex `i`'s UV is `uvs[stride i]`,
+    /// `uvs[stride i + 1]` (`stride` floats per vertex, at least 2, so UVs
+    /// may sit inside interleaved vertex data). `indices.len()` must be a
+    /// multiple of 3 and every index name a vertex in `uvs`.
+    Indexed {
+        /// Three vertex indices per triangle.
+        indices: &'a [u32],
+        /// The vertices' data, `stride` floats each, `(u, v)` first.
+        uvs: &'a [f32],
+        /// Floats from one vertex to the next.
+        stride: usize,
+    },
+}
+
+impl MeshTriangles<'_> {
+    /// The number of triangles (for `Indexed`, `indices.len() / 3`).
+    #[must_use]
+    pub fn len(&self) -> usize {
+        match self {
+            MeshTriangles::Uv(triangles) => triangles.len(),
+            MeshTriangles::Indexed { indices, .. } => indices.len() / 3,
+        }
+    }
+
+    /// Whether there are no triangles.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The triangles as [`UvTriangle`]s (borrowed when they already are).
+    fn resolve(&self, mesh: usize) -> Result<Cow<'_, [UvTriangle]>, MeshBakeError> {
+        let (indices, uvs, stride) = match *self {
+            MeshTriangles::Uv(triangles) => return Ok(Cow::Borrowed(triangles)),
+            MeshTriangles::Indexed {
+                indices,
+                uvs,
+                stride,
+            } => (indices, uvs, stride),
+        };
+        if stride < 2 || indices.len() % 3 != 0 {
+            return Err(MeshBakeError::Layout {
+                mesh,
+                indices: indices.len(),
+                stride,
+            });
+        }
+        let vertices = (uvs.len() + stride - 2) / stride;
+        let vertex = |triangle: usize, index: u32| -> Result<[f32; 2], MeshBakeError> {
+            let at = (index as usize)
+                .checked_mul(stride)
+                .filter(|&at| at < uvs.len().saturating_sub(1));
+            match at {
+                Some(at) => Ok([uvs[at], uvs[at + 1]]),
+                None => Err(MeshBakeError::Index {
+                    mesh,
+                    triangle,
+                    index,
+                    vertices,
+                }),
+            }
+        };
+        let mut triangles = Vec::with_capacity(indices.len() / 3);
+        for (t, corners) in indices.chunks_exact(3).enumerate() {
+            triangles.push([
+                vertex(t, corners[0])?,
+                vertex(t, corners[1])?,
+                vertex(t, corners[2])?,
+            ]);
+        }
+        Ok(Cow::Owned(triangles))
+    }
+}
+
+/// How a mesh's texture is alpha-tested: the sampler, the cutoff, and a
+/// factor on every texel's alpha.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    /// The sampler the runtime reads the texture with.
+    pub sampler: Sampler,
+    /// The alpha test.
+    pub cutoff: Cutoff,
+    /// Multiplies every texel's alpha before the cutoff (glTF's
+    /// `pbrMetallicRoughness.baseColorFactor[3]`): the baker reads
+    /// `alpha * alpha_factor`, one `f64` product, and at `1.0` the texel's
+    /// alpha as it is.
+    pub alpha_factor: f32,
+}
+
+impl Default for Material {
+    /// The default sampler and cutoff (glTF's `alpha >= 0.5`), factor 1.
+    fn default() -> Self {
+        Material {
+            sampler: Sampler::default(),
+            cutoff: Cutoff::default(),
+            alpha_factor: 1.0,
+        }
+    }
+}
+
+/// A mesh to bake: its triangles, the texture they are alpha-tested
+/// against, and its material.
+#[derive(Clone, Copy)]
+pub struct Mesh<'a> {
+    /// The triangles in UV space.
+    pub triangles: MeshTriangles<'a>,
+    /// The alpha texture.
+    pub texture: &'a dyn AlphaTexture,
+    /// Sampler, cutoff and alpha factor.
+    pub material: Material,
+}
+
+/// The level each triangle is baked at.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LevelRule {
+    /// One level for every triangle.
+    Fixed(Level),
+    /// Each triangle's [`useful_level`] (the paper's eq. 1: edges at most
+    /// one texel long), capped at `max`.
+    Useful {
+        /// The highest level chosen.
+        max: Level,
+    },
+}
+
+impl Default for LevelRule {
+    /// [`LevelRule::Useful`] up to level 12, the highest DXR allows and
+    /// Vulkan devices report.
+    fn default() -> Self {
+        LevelRule::Useful { max: Level(12) }
+    }
+}
+
+/// How [`bake_meshes`] bakes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MeshOptions {
+    /// The level of each triangle.
+    pub levels: LevelRule,
+    /// 2-state or 4-state micromaps.
+    pub format: Format,
+    /// What unknown micro-triangles become in a 2-state format.
+    pub unknown: UnknownPolicy,
+    /// At most this many bytes of micromap data, before deduplication, for
+    /// all meshes together: the highest levels are lowered first
+    /// ([`levels_within_budget`]). `None`: no budget.
+    pub budget_bytes: Option<u64>,
+    /// Block tests a micro-triangle may use ([`Baker::with_block_budget`]).
+    pub block_budget: u32,
+}
+
+impl Default for MeshOptions {
+    /// Useful levels up to 12, 4-state, fallback for unknowns, no byte
+    /// budget, [`DEFAULT_BLOCK_BUDGET`].
+    fn default() -> Self {
+        MeshOptions {
+            levels: LevelRule::default(),
+            format: Format::FourState,
+            unknown: UnknownPolicy::Fallback,
+            budget_bytes: None,
+            block_budget: DEFAULT_BLOCK_BUDGET,
+        }
+    }
+}
+
+/// Triangles by how they were baked ([`TriangleStatus`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StatusCounts {
+    /// [`TriangleStatus::Exact`].
+    pub exact: usize,
+    /// [`TriangleStatus::NotFinite`].
+    pub not_finite: usize,
+    /// [`TriangleStatus::OutOfExactRange`].
+    pub out_of_exact_range: usize,
+    /// [`TriangleStatus::BudgetExceeded`].
+    pub budget_exceeded: usize,
+}
+
+/// What [`bake_meshes`] found, over all meshes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BakeReport {
+    /// Triangles baked.
+    pub triangles: usize,
+    /// Triangles per chosen level (`levels[n]` at level `n`), up to the
+    /// highest level used (at least one entry). A triangle baked as a
+    /// special index counts at the level it was given.
+    pub levels: Vec<u64>,
+    /// Micro-triangles per state, indexed by
+    /// [`State::bits`](crate::micromap::State::bits), counted before a
+    /// 2-state format resolves the unknowns.
+    pub counts: [u64; 4],
+    /// Triangles by how they were baked.
+    pub status: StatusCounts,
+    /// Known (opaque or transparent) micro-triangles over all
+    /// micro-triangles (0 when there are none).
+    pub known_fraction: f64,
+    /// The known fraction of each triangle weighted by its area in texels
+    /// (0 when the triangles have no area).
+    pub known_area_fraction: f64,
+    /// Distinct micromaps in the buffers, after deduplication.
+    pub micromaps: usize,
+    /// Triangles whose index is a special index (one state for the whole
+    /// triangle: uniform, or not placeable on the exact grid).
+    pub special_index_triangles: usize,
+    /// Bytes of packed micromap data ([`MicromapBuffers::data`]).
+    pub bytes_flat: usize,
+    /// Bytes the distinct micromaps take as the paper's succinct trees
+    /// ([`PaperTree`]).
+    pub bytes_paper_tree: u64,
+    /// Bytes they take as level-order trees ([`LevelOrderTree`]).
+    pub bytes_level_order_tree: u64,
+}
+
+/// What [`bake_meshes`] returns: the buffers, the report, and every baked
+/// triangle (for previews and checks).
+#[derive(Clone, Debug)]
+pub struct MeshBake {
+    /// One geometry per mesh, micromaps deduplicated across all.
+    pub buffers: MicromapBuffers,
+    /// The statistics.
+    pub report: BakeReport,
+    /// The baked triangles, per mesh, in order.
+    pub triangles: Vec<Vec<BakedTriangle>>,
+}
+
+/// Why [`bake_meshes`] failed.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum MeshBakeError {
+    /// Mesh `mesh`'s texture, sampler or cutoff was refused by
+    /// [`Baker::new`].
+    Texture {
+        /// The mesh, by position.
+        mesh: usize,
+        /// Why.
+        error: TextureError,
+    },
+    /// Mesh `mesh` is `Indexed` with a stride below 2 or a number of
+    /// indices that is not a multiple of 3.
+    Layout {
+        /// The mesh, by position.
+        mesh: usize,
+        /// The number of indices.
+        indices: usize,
+        /// The stride.
+        stride: usize,
+    },
+    /// An index of mesh `mesh` names no vertex.
+    Index {
+        /// The mesh, by position.
+        mesh: usize,
+        /// The triangle.
+        triangle: usize,
+        /// The index.
+        index: u32,
+        /// The vertices there are.
+        vertices: usize,
+    },
+    /// A triangle could not be baked (level above 16, allocation).
+    Bake(BakeError),
+    /// The buffers could not be built.
+    Buffers(BufferError),
+}
+
+impl fmt::Display for MeshBakeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            MeshBakeError::Texture { mesh, error } => write!(f, "mesh {mesh}: {error}"),
+            MeshBakeError::Layout {
+                mesh,
+                indices,
+                stride,
+            } => write!(
+                f,
+                "mesh {mesh}: {indices} indices with stride {stride}: expected a multiple of 3 indices and a stride of at least 2"
+            ),
+            MeshBakeError::Index {
+                mesh,
+                triangle,
+                index,
+                vertices,
+            } => write!(
+                f,
+                "mesh {mesh}: triangle {triangle} has index {index}, past the {vertices} vertices"
+            ),
+            MeshBakeError::Bake(e) => e.fmt(f),
+            MeshBakeError::Buffers(e) => e.fmt(f),
+        }
+    }
+}
+
+impl core::error::Error for MeshBakeError {}
+
+/// A texture whose every alpha is multiplied by `factor`.
+struct FactorTexture<'a> {
+    inner: &'a dyn AlphaTexture,
+    factor: f64,
+}
+
+impl AlphaTexture for FactorTexture<'_> {
+    fn width(&self) -> u32 {
+        self.inner.width()
+    }
+    fn height(&self) -> u32 {
+        self.inner.height()
+    }
+    fn alpha(&self, x: u32, y: u32) -> f64 {
+        self.inner.alpha(x, y) * self.factor
+    }
+}
+
+/// Twice the triangle's area in texels squared (for the area-weighted
+/// known fraction); 0 if not finite.
+fn texel_area(uv: &UvTriangle, (w, h): (u32, u32)) -> f64 {
+    let p = uv.map(|c| {
+        (
+            f64::from(c[0]) * f64::from(w),
+            f64::from(c[1]) * f64::from(h),
+        )
+    });
+    let a = (p[1].0 - p[0].0) * (p[2].1 - p[0].1) - (p[1].1 - p[0].1) * (p[2].0 - p[0].0);
+    // |a| without std.
+    let a = f64::from_bits(a.to_bits() & !(1 << 63));
+    if a.is_finite() {
+        a
+    } else {
+        0.0
+    }
+}
+
+/// [`bake_meshes`] for one mesh, without progress.
+pub fn bake_mesh(mesh: &Mesh<'_>, options: &MeshOptions) -> Result<MeshBake, MeshBakeError> {
+    bake_meshes(core::slice::from_ref(mesh), options, &mut |_, _| {})
+}
+
+/// Bakes every mesh: levels per triangle (the rule, then the budget over
+/// all meshes), each triangle exactly ([`Baker::bake`]: sound, see
+/// [`crate::bake`]), then the buffers, one geometry per mesh in order,
+/// micromaps deduplicated across all, and the report.
+///
+/// `progress(done, total)` is called after each triangle (`total` over all
+/// meshes). The output depends only on the inputs: the same meshes and
+/// options give the same bytes.
+///
+/// ```
+/// use micromap_index::bake::mesh::{bake_meshes, LevelRule, Material, Mesh, MeshOptions, MeshTriangles};
+/// use micromap_index::bake::Unorm8Texture;
+/// use micromap_index::micromap::Format;
+/// use micromap_index::Level;
+///
+/// let opaque = [255u8; 4];
+/// let texture = Unorm8Texture::new(2, 2, &opaque).unwrap();
+/// let triangle = [[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]];
+/// let mesh = Mesh { triangles: MeshTriangles::Uv(&triangle), texture: &texture, material: Material::default() };
+/// let options = MeshOptions { levels: LevelRule::Fixed(Level::new(3).unwrap()), format: Format::TwoState, ..MeshOptions::default() };
+/// let mut calls = 0;
+/// let baked = bake_meshes(&[mesh, mesh], &options, &mut |_, _| calls += 1).unwrap();
+/// assert_eq!(calls, 2);
+/// // All opaque: each triangle is the special index "opaque", no micromap.
+/// assert_eq!(baked.report.special_index_triangles, 2);
+/// assert_eq!((baked.report.micromaps, baked.buffers.geometry_count()), (0, 2));
+/// assert_eq!(baked.report.known_fraction, 1.0);
+/// ```
+pub fn bake_meshes(
+    meshes: &[Mesh<'_>],
+    options: &MeshOptions,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<MeshBake, MeshBakeError> {
+    let triangles: Vec<Cow<'_, [UvTriangle]>> = meshes
+        .iter()
+        .enumerate()
+        .map(|(m, mesh)| mesh.triangles.resolve(m))
+        .collect::<Result<_, _>>()?;
+
+    // Levels per triangle.
+    let mut levels: Vec<Vec<Level>> = meshes
+        .iter()
+        .zip(&triangles)
+        .map(|(mesh, triangles)| {
+            let size = (mesh.texture.width(), mesh.texture.height());
+            triangles
+                .iter()
+                .map(|uv| match options.levels {
+                    LevelRule::Fixed(level) => level,
+                    LevelRule::Useful { max } => useful_level(uv, size, max),
+                })
+                .collect()
+        })
+        .collect();
+    if let Some(budget) = options.budget_bytes {
+        let flat: Vec<Level> = levels.iter().flatten().copied().collect();
+        let mut capped = levels_within_budget(&flat, options.format, budget).into_iter();
+        for mesh_levels in &mut levels {
+            for level in mesh_levels.iter_mut() {
+                *level = capped.next().unwrap_or(*level);
+            }
+        }
+    }
+
+    let total: usize = triangles.iter().map(|t| t.len()).sum();
+    let mut counts = [0u64; 4];
+    let mut status = StatusCounts::default();
+    let mut known_area = 0.0;
+    let mut area = 0.0;
+    let mut baked_all = Vec::with_capacity(meshes.len());
+    let mut done = 0usize;
+    for (m, ((mesh, triangles), mesh_levels)) in
+        meshes.iter().zip(&triangles).zip(&levels).enumerate()
+    {
+        let material = &mesh.material;
+        let baker = if material.alpha_factor == 1.0 {
+            Baker::new(mesh.texture, material.sampler, material.cutoff)
+        } else {
+            let texture = FactorTexture {
+                inner: mesh.texture,
+                factor: f64::from(material.alpha_factor),
+            };
+            Baker::new(&texture, material.sampler, material.cutoff)
+        }
+        .map_err(|error| MeshBakeError::Texture { mesh: m, error })?
+        .with_block_budget(options.block_budget);
+        let mut baked = Vec::with_capacity(triangles.len());
+        for (uv, &level) in triangles.iter().zip(mesh_levels) {
+            let b = baker
+                .bake(uv, level, options.format, options.unknown)
+                .map_err(MeshBakeError::Bake)?;
+            for (sum, count) in counts.iter_mut().zip(b.counts) {
+                *sum += count;
+            }
+            let n = b.counts.iter().sum::<u64>().max(1) as f64;
+            let a = texel_area(uv, baker.size());
+            area += a;
+            known_area += a * (b.counts[0] + b.counts[1]) as f64 / n;
+            match b.status {
+                TriangleStatus::Exact => status.exact += 1,
+                TriangleStatus::NotFinite => status.not_finite += 1,
+                TriangleStatus::OutOfExactRange => status.out_of_exact_range += 1,
+                TriangleStatus::BudgetExceeded => status.budget_exceeded += 1,
+            }
+            baked.push(b);
+            done += 1;
+            progress(done, total);
+        }
+        baked_all.push(baked);
+    }
+
+    // Buffers: one geometry per mesh, deduplicated across all.
+    let mut builder = MicromapBuffersBuilder::new(BuildOptions::default());
+    for baked in &baked_all {
+        builder
+            .add_geometry(baked.iter().map(|b| b.opacity.as_opacity()))
+            .map_err(MeshBakeError::Buffers)?;
+    }
+    let buffers = builder.finish().map_err(MeshBakeError::Buffers)?;
+    let mut special = 0;
+    for g in 0..buffers.geometry_count() {
+        special += buffers
+            .geometry_indices(g)
+            .map_err(MeshBakeError::Buffers)?
+            .iter()
+            .filter(|i| matches!(i, MicromapIndex::Special(_)))
+            .count();
+    }
+    let (mut paper_bits, mut level_order_bits) = (0u64, 0u64);
+    for map in buffers.micromaps() {
+        if let Ok(tree) = PaperTree::from_micromap(map) {
+            paper_bits += tree.total_bits();
+            level_order_bits += LevelOrderTree::from_paper(&tree).total_bits();
+        }
+    }
+    // Levels 0..=12 (those DXR allows), more if used.
+    let mut level_histogram = vec![0u64; 13];
+    for level in levels.iter().flatten() {
+        let slot = level.get() as usize;
+        if slot >= level_histogram.len() {
+            level_histogram.resize(slot + 1, 0);
+        }
+        level_histogram[slot] += 1;
+    }
+    while level_histogram.len() > 1 && level_histogram.last() == Some(&0) {
+        level_histogram.pop();
+    }
+    let micro: u64 = counts.iter().sum();
+    let report = BakeReport {
+        triangles: total,
+        levels: level_histogram,
+        counts,
+        status,
+        known_fraction: (counts[1] + counts[0]) as f64 / micro.max(1) as f64,
+        known_area_fraction: if area > 0.0 { known_area / area } else { 0.0 },
+        micromaps: buffers.records().len(),
+        special_index_triangles: special,
+        bytes_flat: buffers.data().len(),
+        bytes_paper_tree: paper_bits.div_ceil(8),
+        bytes_level_order_tree: level_order_bits.div_ceil(8),
+    };
+    Ok(MeshBake {
+        buffers,
+        report,
+        triangles: baked_all,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bake::Unorm8Texture;
+
+    #[test]
+    fn indexed_and_uv_triangles_bake_alike() {
+        let texels: Vec<u8> = (0..64).map(|i| if (i % 8) < 3 { 255 } else { 0 }).collect();
+        let texture = Unorm8Texture::new(8, 8, &texels).unwrap();
+        // Interleaved: (u, v, extra) per vertex.
+        let data = [0.0, 0.0, 9.0, 1.0, 0.0, 9.0, 1.0, 1.0, 9.0, 0.0, 1.0, 9.0];
+        let indices = [0, 1, 2, 0, 2, 3];
+        let triangles = [
+            [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]],
+            [[0.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+        ];
+        let mesh = |triangles| Mesh {
+            triangles,
+            texture: &texture,
+            material: Material::default(),
+        };
+        let options = MeshOptions::default();
+        let a = bake_mesh(
+            &mesh(MeshTriangles::Indexed {
+                indices: &indices,
+                uvs: &data,
+                stride: 3,
+            }),
+            &options,
+        )
+        .unwrap();
+        let b = bake_mesh(&mesh(MeshTriangles::Uv(&triangles)), &options).unwrap();
+        assert_eq!(a.report, b.report);
+        assert_eq!(a.buffers.data(), b.buffers.data());
+        assert_eq!(a.triangles, b.triangles);
+        // Out of range, and a bad layout.
+        let bad = bake_mesh(
+            &mesh(MeshTriangles::Indexed {
+                indices: &[0, 1, 4],
+                uvs: &data,
+                stride: 3,
+            }),
+            &options,
+        );
+        assert_eq!(
+            bad.unwrap_err(),
+            MeshBakeError::Index {
+                mesh: 0,
+                triangle: 0,
+                index: 4,
+                vertices: 4
+            }
+        );
+        let bad = bake_mesh(
+            &mesh(MeshTriangles::Indexed {
+                indices: &[0, 1],
+                uvs: &data,
+                stride: 3,
+            }),
+            &options,
+        );
+        assert!(matches!(bad, Err(MeshBakeError::Layout { .. })));
+    }
+
+    #[test]
+    fn the_alpha_factor_scales_the_texture() {
+        let texels = [128u8; 4];
+        let texture = Unorm8Texture::new(2, 2, &texels).unwrap();
+        let triangle = [[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]];
+        let bake = |alpha_factor| {
+            let mesh = Mesh {
+                triangles: MeshTriangles::Uv(&triangle),
+                texture: &texture,
+                material: Material {
+                    alpha_factor,
+                    ..Material::default()
+                },
+            };
+            bake_mesh(&mesh, &MeshOptions::default()).unwrap().report
+        };
+        // 128/255 passes 0.5; times 0.5 it does not. Edges of 2 and 2.8
+        // texels: level 2, 16 micro-triangles.
+        assert_eq!(bake(1.0).counts, [0, 16, 0, 0]);
+        assert_eq!(bake(0.5).counts, [16, 0, 0, 0]);
+    }
+}
