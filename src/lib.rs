@@ -110,6 +110,7 @@ pub mod bake;
 pub mod batch;
 mod error;
 pub mod inverse;
+mod kernel;
 mod level;
 pub mod micromap;
 pub mod num;

@@ -1,4 +1,4 @@
-//! The x86-64 backends: the chunked pipeline of [`super::kernel`] with its
+//! The x86-64 backends: the chunked pipeline of [`crate::kernel`] with its
 //! float first half and bit interleave written with SSE2, AVX2 and AVX-512
 //! instructions ([`kernel::Lanes`]), both forms' loops compiled with AVX2
 //! or AVX-512 enabled so the compiler also vectorises their safe stages for
@@ -20,7 +20,7 @@
 //! twelve shifts and masks per word.
 #![allow(unsafe_code)]
 
-use super::kernel::{self, Cells, Halves, Lanes, Narrow, Params, Wide, CHUNK};
+use crate::kernel::{self, Cells, Halves, Lanes, Narrow, Params, Wide, CHUNK};
 
 /// Stamps a [`Lanes`] for one instruction set from one body: `$ops` names
 /// the set's intrinsics under common names, and `interleave` is either

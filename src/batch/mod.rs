@@ -3,7 +3,7 @@
 //!
 //! Ray tracers and bakers map millions of hits per frame. [`index_f32`]
 //! validates the level and the slice lengths once, then runs a branch-free
-//! rewrite of the reference's steps (see `src/batch/kernel.rs` for the
+//! rewrite of the reference's steps (see `src/kernel/` for the
 //! derivation) over the whole slice:
 //!
 //! * the clamp by float comparisons, with two changes that leave the index
@@ -59,8 +59,8 @@
 
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod arch;
-pub(crate) mod kernel;
 
+use crate::kernel;
 use crate::{Level, SpecLevel};
 use core::fmt;
 use core::sync::atomic::{AtomicU8, Ordering};
