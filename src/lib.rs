@@ -66,9 +66,9 @@
 //! API (portable backend; AVX2 / AVX-512 dispatch needs `std` for CPU
 //! feature detection) and the inverse.
 #![cfg_attr(not(feature = "std"), no_std)]
-// `deny` (also the workspace lint), not `forbid`: `batch::arch`
-// (runtime-dispatched SIMD) is the one module allowed `unsafe`, to call
-// `#[target_feature]` functions behind CPU feature checks.
+// `deny` (also the workspace lint), not `forbid`: `arch::x86_64`
+// (runtime-dispatched SIMD and `popcnt`) is the one module allowed
+// `unsafe`, to call `#[target_feature]` functions behind CPU feature checks.
 #![deny(unsafe_code)]
 #![deny(missing_docs)]
 
@@ -105,6 +105,7 @@ pub(crate) fn xorshift(x: &mut u64) -> u64 {
     *x
 }
 
+mod arch;
 #[cfg(feature = "alloc")]
 pub mod bake;
 pub mod batch;

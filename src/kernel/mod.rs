@@ -10,7 +10,7 @@
 //!   [`CHUNK`] points go through three stages, each its own loop. The
 //!   narrow first half (float) and both interleaves come from a [`Lanes`]:
 //!   the safe `PortableLanes` (`portable.rs`, the portable backend of
-//!   targets other than x86-64), or [`crate::batch::arch`]'s SSE2, AVX2 and
+//!   targets other than x86-64), or [`crate::arch`]'s SSE2, AVX2 and
 //!   AVX-512 ones with intrinsics. The wide first half
 //!   ([`wide_cells`](pipeline::wide_cells)) and the integer half
 //!   ([`integer_half_u16`](pipeline::integer_half_u16),
@@ -30,7 +30,7 @@
 //!
 //! [`narrow`] takes the cell and fraction as `CELL` says. The vector
 //! backends use the reference's own binary32 steps (a truncating
-//! conversion in [`crate::batch::arch`],
+//! conversion in [`crate::arch`],
 //! [`coordinate_float`](point::coordinate_float)'s `2^23` rounding trick in
 //! safe code), after a float clamp that flushes subnormals and stops below
 //! 1 ([`clamp_flushed`](point::clamp_flushed) says why neither changes the

@@ -1,5 +1,5 @@
 //! The safe lanes: the chunked pipeline's portable backend on targets
-//! without [`crate::batch::arch`]'s intrinsics, tested on every target.
+//! without [`crate::arch`]'s intrinsics, tested on every target.
 
 use super::point::{coordinate_float, interleave_16, interleave_32};
 use super::Params;
@@ -11,7 +11,7 @@ use super::{Cells, Halves, Lanes, CHUNK};
 /// [`coordinate_float`] (no float-to-integer conversion, which baselines
 /// without a vector form of it would do one lane at a time) and the
 /// interleave of [`narrow`](super::narrow) and [`wide`](super::wide). The
-/// portable backend of targets without [`crate::batch::arch`]'s lanes (x86-64 has
+/// portable backend of targets without [`crate::arch`]'s lanes (x86-64 has
 /// SSE2 in its baseline, whose lanes it runs instead); tested on every
 /// target.
 pub(crate) struct PortableLanes;
@@ -45,7 +45,7 @@ impl Lanes for PortableLanes {
 }
 
 /// [`chunked`] through [`PortableLanes`]: the portable backend where no
-/// instruction set of [`crate::batch::arch`] applies.
+/// instruction set of [`crate::arch`] applies.
 #[cfg(not(target_arch = "x86_64"))]
 pub(crate) fn narrow_slice_portable(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) {
     chunked::<Narrow, _>(&PortableLanes, u, v, out, params);
