@@ -1,7 +1,8 @@
 //! Build probe: `#[target_feature(enable = "avx512f")]` is stable from Rust
 //! 1.89 on, above this crate's minimum supported version. When the compiler
 //! accepts it, the cfg `micromap_avx512` turns on the AVX-512 backend of
-//! `batch`; older compilers build every other backend.
+//! `batch` (its loops in `src/arch/x86_64.rs`); older compilers build every
+//! other backend.
 
 use std::env;
 use std::process::Command;

@@ -66,9 +66,9 @@
 //! API (portable backend; AVX2 / AVX-512 dispatch needs `std` for CPU
 //! feature detection) and the inverse.
 #![cfg_attr(not(feature = "std"), no_std)]
-// `deny` (also the workspace lint), not `forbid`: `batch::arch`
-// (runtime-dispatched SIMD) is the one module allowed `unsafe`, to call
-// `#[target_feature]` functions behind CPU feature checks.
+// `deny` (also the workspace lint), not `forbid`: `arch::x86_64`
+// (runtime-dispatched SIMD and `popcnt`) is the one module allowed
+// `unsafe`, to call `#[target_feature]` functions behind CPU feature checks.
 #![deny(unsafe_code)]
 #![deny(missing_docs)]
 
@@ -95,23 +95,13 @@ macro_rules! unstable_pub_fn {
 #[doc = include_str!("../README.md")]
 mod readme {}
 
-/// Marsaglia's xorshift64, left only for the unit tests of
-/// `src/batch/kernel.rs` and `src/batch/arch.rs` (being moved to `src/kernel/`
-/// and `src/arch/`): they switch to `micromap_index_test_support::SplitMix64`,
-/// the one PRNG every other test uses, after that move, and this goes.
-#[cfg(test)]
-pub(crate) fn xorshift(x: &mut u64) -> u64 {
-    *x ^= *x << 13;
-    *x ^= *x >> 7;
-    *x ^= *x << 17;
-    *x
-}
-
+mod arch;
 #[cfg(feature = "alloc")]
 pub mod bake;
 pub mod batch;
 mod error;
 pub mod inverse;
+mod kernel;
 mod level;
 pub mod micromap;
 pub mod num;

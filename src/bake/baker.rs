@@ -1,10 +1,11 @@
 //! [`Baker`]: one texture, sampler and cutoff; bakes and verifies triangles.
 
 use super::classify::{is_small, Block, Classes, Search, TexelClasses};
-use super::exact::{narrowed_below, AxisFrame, ExactTriangle, FrameError, GridInt};
+use super::exact::{narrowed_below, AxisFrame, ExactTriangle, FrameError};
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
 use crate::inverse::micro_triangles;
 use crate::micromap::{Format, Micromap, MicromapError, State, TriangleOpacity, UnknownPolicy};
+use crate::num::wide::GridInt;
 use crate::Level;
 use alloc::vec::Vec;
 use core::fmt;

@@ -2,8 +2,9 @@
 //! sample: texel classes with prefix sums, the image of a block of texel
 //! coordinates under the address modes, and an exact block search.
 
-use super::exact::{narrowed_below, ExactTriangle, GridInt};
+use super::exact::{narrowed_below, ExactTriangle};
 use super::texture::{AddressMode, AlphaTexture, Cutoff, Filter, Sampler, TextureError};
+use crate::num::wide::GridInt;
 use alloc::vec::Vec;
 
 /// Mixed blocks of at most this many texels are searched texel by texel.

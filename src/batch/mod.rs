@@ -3,7 +3,7 @@
 //!
 //! Ray tracers and bakers map millions of hits per frame. [`index_f32`]
 //! validates the level and the slice lengths once, then runs a branch-free
-//! rewrite of the reference's steps (see `src/batch/kernel.rs` for the
+//! rewrite of the reference's steps (see `src/kernel/` for the
 //! derivation) over the whole slice:
 //!
 //! * the clamp by float comparisons, with two changes that leave the index
@@ -57,104 +57,12 @@
 //! [`spec::index_f32`]: crate::spec::index_f32
 //! [`spec::wide_index_f32`]: crate::spec::wide_index_f32
 
-#[cfg(target_arch = "x86_64")]
-pub(crate) mod arch;
-pub(crate) mod kernel;
-
+use crate::arch::{self, Loops};
+use crate::kernel;
 use crate::{Level, SpecLevel};
 use core::fmt;
-use core::sync::atomic::{AtomicU8, Ordering};
 
-/// One compilation of the batch loop.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[non_exhaustive]
-pub enum Backend {
-    /// The loop compiled for the target's baseline features (SSE2 on
-    /// x86-64). Always available.
-    Portable,
-    /// x86-64 with AVX2 (8 lanes of 32 bits).
-    Avx2,
-    /// x86-64 with AVX-512 F, BW, VL and DQ (16 lanes of 32 bits). Built only
-    /// by compilers that support it (Rust 1.89 and later).
-    Avx512,
-}
-
-impl Backend {
-    /// Every backend, available here or not, fastest last.
-    pub const ALL: [Backend; 3] = [Backend::Portable, Backend::Avx2, Backend::Avx512];
-
-    /// Whether this CPU (and this build) can run the backend.
-    ///
-    /// ```
-    /// use micromap_index::batch::Backend;
-    /// assert!(Backend::Portable.is_available());
-    /// ```
-    #[must_use]
-    pub fn is_available(self) -> bool {
-        match self {
-            Backend::Portable => true,
-            #[cfg(all(feature = "std", target_arch = "x86_64"))]
-            Backend::Avx2 => arch::has_avx2(),
-            #[cfg(all(feature = "std", target_arch = "x86_64"))]
-            Backend::Avx512 => arch::has_avx512(),
-            #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
-            Backend::Avx2 | Backend::Avx512 => false,
-        }
-    }
-
-    /// The backends this CPU can run, in the order of [`Backend::ALL`].
-    ///
-    /// ```
-    /// use micromap_index::batch::Backend;
-    /// assert_eq!(Backend::available().next(), Some(Backend::Portable));
-    /// ```
-    pub fn available() -> impl Iterator<Item = Backend> {
-        Backend::ALL
-            .into_iter()
-            .filter(|backend| backend.is_available())
-    }
-
-    /// The fastest available backend; detected on the first call and cached.
-    ///
-    /// ```
-    /// use micromap_index::batch::Backend;
-    /// assert!(Backend::best().is_available());
-    /// ```
-    #[must_use]
-    pub fn best() -> Backend {
-        static BEST: AtomicU8 = AtomicU8::new(u8::MAX);
-        let cached = BEST.load(Ordering::Relaxed);
-        if let Some(&backend) = Backend::ALL.get(usize::from(cached)) {
-            return backend;
-        }
-        let best = Backend::available().last().unwrap_or(Backend::Portable);
-        let position = Backend::ALL.iter().position(|&b| b == best).unwrap_or(0);
-        // Racing first calls store the same value.
-        BEST.store(position as u8, Ordering::Relaxed);
-        best
-    }
-
-    /// A short lowercase name (`portable`, `avx2`, `avx512`).
-    ///
-    /// ```
-    /// use micromap_index::batch::Backend;
-    /// assert_eq!(Backend::Avx2.name(), "avx2");
-    /// ```
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Backend::Portable => "portable",
-            Backend::Avx2 => "avx2",
-            Backend::Avx512 => "avx512",
-        }
-    }
-}
-
-impl fmt::Display for Backend {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
+pub use crate::arch::Backend;
 
 /// Why a batch call wrote nothing. (Levels are validated by their types,
 /// [`SpecLevel`] and [`Level`], before a call.)
@@ -190,53 +98,6 @@ impl fmt::Display for BatchError {
 
 impl core::error::Error for BatchError {}
 
-/// One slice loop of the kernel (`out` of `O`) compiled for each backend;
-/// a compilation returns `false`, writing nothing, where the CPU cannot run
-/// it.
-struct Loops<O> {
-    portable: fn(&[f32], &[f32], &mut [O], &kernel::Params),
-    avx2: fn(&[f32], &[f32], &mut [O], &kernel::Params) -> bool,
-    avx512: fn(&[f32], &[f32], &mut [O], &kernel::Params) -> bool,
-}
-
-/// The reference in 32-bit words; the portable build takes the float cell.
-const NARROW: Loops<u32> = Loops {
-    #[cfg(target_arch = "x86_64")]
-    portable: arch::narrow_slice_sse2,
-    #[cfg(not(target_arch = "x86_64"))]
-    portable: kernel::narrow_slice_portable,
-    #[cfg(all(feature = "std", target_arch = "x86_64"))]
-    avx2: arch::narrow_slice_avx2,
-    #[cfg(all(feature = "std", target_arch = "x86_64"))]
-    avx512: arch::narrow_slice_avx512,
-    #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
-    avx2: not_built,
-    #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
-    avx512: not_built,
-};
-
-/// The reference widened to 64-bit words.
-const WIDE: Loops<u64> = Loops {
-    #[cfg(target_arch = "x86_64")]
-    portable: arch::wide_slice_sse2,
-    #[cfg(not(target_arch = "x86_64"))]
-    portable: kernel::wide_slice_portable,
-    #[cfg(all(feature = "std", target_arch = "x86_64"))]
-    avx2: arch::wide_slice_avx2,
-    #[cfg(all(feature = "std", target_arch = "x86_64"))]
-    avx512: arch::wide_slice_avx512,
-    #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
-    avx2: not_built,
-    #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
-    avx512: not_built,
-};
-
-/// A backend this build does not have.
-#[cfg(not(all(feature = "std", target_arch = "x86_64")))]
-fn not_built<O>(_: &[f32], _: &[f32], _: &mut [O], _: &kernel::Params) -> bool {
-    false
-}
-
 /// Checks the lengths, then runs `loops` on `backend`.
 fn run_loop<O>(
     backend: Backend,
@@ -253,14 +114,7 @@ fn run_loop<O>(
             out: out.len(),
         });
     }
-    let ran = match backend {
-        Backend::Portable => {
-            (loops.portable)(u, v, out, params);
-            true
-        }
-        Backend::Avx2 => (loops.avx2)(u, v, out, params),
-        Backend::Avx512 => (loops.avx512)(u, v, out, params),
-    };
+    let ran = loops.run(backend, u, v, out, params);
     if ran {
         Ok(())
     } else {
@@ -320,7 +174,7 @@ pub fn index_f32_with(
     out: &mut [u32],
 ) -> Result<(), BatchError> {
     let params = kernel::Params::new(level.get(), kernel::BINARY32_THRESHOLD);
-    run_loop(backend, u, v, out, &params, &NARROW)
+    run_loop(backend, u, v, out, &params, &arch::NARROW)
 }
 
 /// `out[i] = spec::wide_index_f32(u[i], v[i], level)` for every `i`: the
@@ -364,7 +218,7 @@ pub fn wide_index_f32_with(
     out: &mut [u64],
 ) -> Result<(), BatchError> {
     let params = kernel::Params::new(level.get(), kernel::BINARY32_THRESHOLD);
-    run_loop(backend, u, v, out, &params, &WIDE)
+    run_loop(backend, u, v, out, &params, &arch::WIDE)
 }
 
 /// The reference in binary32 for one point: the batch kernel on one lane

@@ -15,6 +15,9 @@ mod float;
 pub mod rational;
 #[cfg(all(feature = "exact", not(feature = "unstable-public-internals")))]
 pub(crate) mod rational;
+// Its one user, the baker, needs `alloc`.
+#[cfg(feature = "alloc")]
+pub(crate) mod wide;
 
 pub use fixed::{Fixed128, Fixed64};
 

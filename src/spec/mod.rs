@@ -79,7 +79,7 @@ pub use real::cell_real_ref;
 #[cfg(feature = "exact")]
 pub use real::{cell_real, index_real, wide_index_real};
 
-use crate::batch::kernel;
+use crate::kernel;
 use crate::{Level, SpecLevel};
 
 /// The highest level for which the 32-bit reference computes valid indices

@@ -353,22 +353,7 @@ impl LevelOrderTree {
     #[must_use]
     #[inline]
     pub fn get(&self, index: u64) -> Option<State> {
-        #[cfg(all(
-            feature = "std",
-            target_arch = "x86_64",
-            not(target_feature = "popcnt")
-        ))]
-        {
-            crate::batch::arch::level_order_get(self, index)
-        }
-        #[cfg(not(all(
-            feature = "std",
-            target_arch = "x86_64",
-            not(target_feature = "popcnt")
-        )))]
-        {
-            self.get_portable(index)
-        }
+        crate::arch::with_popcnt(Lookup { tree: self, index })
     }
 
     /// [`LevelOrderTree::get`] without run-time dispatch: inlined into the
@@ -452,6 +437,21 @@ impl LevelOrderTree {
     pub fn from_bytes(bytes: &[u8]) -> Result<Self, TreeError> {
         let (level, format, bits, data) = super::bytes::read(Layout::LevelOrder, bytes)?;
         Self::checked(level, format, bits, data)
+    }
+}
+
+/// One [`LevelOrderTree::get`] as the body that [`crate::arch::with_popcnt`]
+/// compiles with hardware `popcnt`.
+struct Lookup<'a> {
+    tree: &'a LevelOrderTree,
+    index: u64,
+}
+
+impl crate::arch::PopcntBody for Lookup<'_> {
+    type Output = Option<State>;
+    #[inline(always)]
+    fn run(self) -> Option<State> {
+        self.tree.get_portable(self.index)
     }
 }
 

@@ -45,7 +45,7 @@
 //! against, and what runs above level 19.
 
 use super::index_unchecked;
-use crate::batch::kernel::{self, Params};
+use crate::kernel::{self, Params};
 use crate::num::fixed::sticky_scaled;
 use crate::num::{Fixed128, Fixed64, WalkNumber};
 use crate::spec::Cell;

@@ -1,16 +1,17 @@
-//! The x86-64 backends: the chunked pipeline of [`super::kernel`] with its
-//! float first half and bit interleave written with SSE2, AVX2 and AVX-512
-//! instructions ([`kernel::Lanes`]), both forms' loops compiled with AVX2
-//! or AVX-512 enabled so the compiler also vectorises their safe stages for
-//! those sets, and the level-order tree's lookup compiled again with
-//! hardware `popcnt`. This is
-//! the only module of the crate allowed `unsafe`: intrinsics are `unsafe`
-//! to call on the crate's minimum Rust version, and calling a
-//! `#[target_feature]` function is `unsafe` because running it on a CPU
-//! without the feature is undefined behaviour. Each such call below sits
-//! behind a runtime check of exactly the features its callee enables; where
-//! the check fails the function returns `false` and the caller falls back
-//! to the portable loop.
+//! The x86-64 backends, the crate's only `unsafe` code: the chunked
+//! pipeline of [`crate::kernel`] with its float first half and bit
+//! interleave written with SSE2, AVX2 and AVX-512 instructions
+//! ([`kernel::Lanes`]), both forms' loops compiled with AVX2 or AVX-512
+//! enabled so the compiler also vectorises their safe stages for those
+//! sets, and [`super::PopcntBody`]s (the level-order tree's lookup)
+//! compiled again with hardware `popcnt`. Intrinsics are `unsafe` to call
+//! on the crate's minimum Rust version, and calling a `#[target_feature]`
+//! function is `unsafe` because running it on a CPU without the feature is
+//! undefined behaviour. Each such call below sits behind a runtime check
+//! (the detection in [`super`]) of exactly the features its callee
+//! enables; where the check fails the function returns `false` and the
+//! caller falls back to the portable loop (or runs the body without
+//! `popcnt`).
 //!
 //! What the intrinsics add over the safe kernel: a truncating conversion
 //! (`cvttps2dq`, which safe Rust's saturating casts cannot use directly),
@@ -20,7 +21,13 @@
 //! twelve shifts and masks per word.
 #![allow(unsafe_code)]
 
-use super::kernel::{self, Cells, Halves, Lanes, Narrow, Params, Wide, CHUNK};
+#[cfg(feature = "std")]
+use super::has_avx2;
+#[cfg(all(feature = "std", micromap_avx512))]
+use super::has_avx512;
+#[cfg(all(feature = "std", not(target_feature = "popcnt")))]
+use super::{has_popcnt, PopcntBody};
+use crate::kernel::{self, Cells, Halves, Lanes, Narrow, Params, Wide, CHUNK};
 
 /// Stamps a [`Lanes`] for one instruction set from one body: `$ops` names
 /// the set's intrinsics under common names, and `interleave` is either
@@ -283,44 +290,14 @@ simd_lanes!(
 
 /// [`kernel::chunked`] through [`Sse2Lanes`]: the portable backend on
 /// x86-64.
-pub(crate) fn narrow_slice_sse2(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) {
+pub(super) fn narrow_slice_sse2(u: &[f32], v: &[f32], out: &mut [u32], params: &Params) {
     // SSE2 is the x86-64 baseline: every CPU this runs on has it.
     kernel::chunked::<Narrow, _>(&Sse2Lanes(()), u, v, out, params);
 }
 
 /// The wide form through [`Sse2Lanes`].
-pub(crate) fn wide_slice_sse2(u: &[f32], v: &[f32], out: &mut [u64], params: &Params) {
+pub(super) fn wide_slice_sse2(u: &[f32], v: &[f32], out: &mut [u64], params: &Params) {
     kernel::chunked::<Wide, _>(&Sse2Lanes(()), u, v, out, params);
-}
-
-/// The features the AVX-512 functions enable, all checked before a call.
-#[cfg(all(feature = "std", micromap_avx512))]
-macro_rules! avx512_detected {
-    () => {
-        std::arch::is_x86_feature_detected!("avx512f")
-            && std::arch::is_x86_feature_detected!("avx512bw")
-            && std::arch::is_x86_feature_detected!("avx512vl")
-            && std::arch::is_x86_feature_detected!("avx512dq")
-    };
-}
-
-/// Whether this CPU runs the AVX2 backend.
-#[cfg(feature = "std")]
-pub(super) fn has_avx2() -> bool {
-    std::arch::is_x86_feature_detected!("avx2")
-}
-
-/// Whether this CPU runs the AVX-512 backend (and this compiler built it).
-#[cfg(feature = "std")]
-pub(super) fn has_avx512() -> bool {
-    #[cfg(micromap_avx512)]
-    {
-        avx512_detected!()
-    }
-    #[cfg(not(micromap_avx512))]
-    {
-        false
-    }
 }
 
 /// Stamps one kernel loop compiled with target features: an `unsafe fn`
@@ -388,7 +365,7 @@ feature_loop!(
     narrow_slice_avx512,
     narrow_avx512,
     "avx512f,avx512bw,avx512vl,avx512dq",
-    avx512_detected!(),
+    has_avx512(),
     u32,
     |u, v, out, params| kernel::chunked::<Narrow, _>(&Avx512Lanes(()), u, v, out, params)
 );
@@ -398,37 +375,32 @@ feature_loop!(
     wide_slice_avx512,
     wide_avx512,
     "avx512f,avx512bw,avx512vl,avx512dq",
-    avx512_detected!(),
+    has_avx512(),
     u64,
     |u, v, out, params| kernel::chunked::<Wide, _>(&Avx512Lanes(()), u, v, out, params)
 );
 
 /// # Safety
 /// The CPU must support `popcnt`.
-#[cfg(feature = "std")]
+#[cfg(all(feature = "std", not(target_feature = "popcnt")))]
 #[target_feature(enable = "popcnt")]
-unsafe fn level_order_get_popcnt(
-    tree: &crate::succinct::LevelOrderTree,
-    index: u64,
-) -> Option<crate::micromap::State> {
-    tree.get_portable(index)
+unsafe fn run_popcnt<B: PopcntBody>(body: B) -> B::Output {
+    // `run` is `#[inline(always)]` (the trait's contract): its body is
+    // compiled here, with `popcnt`.
+    body.run()
 }
 
-/// [`crate::succinct::LevelOrderTree::get`] with hardware `popcnt` where the
-/// CPU has it (x86-64's baseline does not, and a software popcount on the
-/// rank's critical path doubles the lookup), else the same code without.
-#[cfg(feature = "std")]
+/// [`super::with_popcnt`] on x86-64: `body` compiled with hardware
+/// `popcnt` where the CPU has it, else the same code without.
+#[cfg(all(feature = "std", not(target_feature = "popcnt")))]
 #[inline]
-pub(crate) fn level_order_get(
-    tree: &crate::succinct::LevelOrderTree,
-    index: u64,
-) -> Option<crate::micromap::State> {
-    if std::arch::is_x86_feature_detected!("popcnt") {
-        // SAFETY: `level_order_get_popcnt` enables only "popcnt", detected
-        // just above.
-        unsafe { level_order_get_popcnt(tree, index) }
+pub(super) fn with_popcnt<B: PopcntBody>(body: B) -> B::Output {
+    if has_popcnt() {
+        // SAFETY: `run_popcnt` enables only "popcnt", detected just above;
+        // its body is the safe code of `body`.
+        unsafe { run_popcnt(body) }
     } else {
-        tree.get_portable(index)
+        body.run()
     }
 }
 
@@ -440,17 +412,17 @@ mod tests {
     /// against the point kernel at several levels, over full chunks, a
     /// padded tail and a short one. Small enough for Miri, which checks the
     /// loads and stores of this module's `unsafe` blocks:
-    /// `cargo +nightly miri test -p micromap-index --lib batch::arch`
+    /// `cargo +nightly miri test -p micromap-index --lib arch::`
     /// (SSE2), with `RUSTFLAGS="-C target-feature=+avx2"` for the AVX2
     /// lanes too.
     #[test]
     fn lanes_equal_the_point_kernel() {
         const POINTS: usize = CHUNK + 40;
-        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rng = micromap_index_test_support::SplitMix64::new(0x9e37_79b9_7f4a_7c15);
         let (mut u, mut v) = ([0f32; POINTS], [0f32; POINTS]);
         let mut out = [0u32; POINTS];
         for (k, (u, v)) in u.iter_mut().zip(v.iter_mut()).enumerate() {
-            crate::xorshift(&mut x);
+            let x = rng.next_u64();
             // Every fourth point any bit pattern (NaN, negatives, huge),
             // the others in [0, 1].
             *u = if k % 4 == 0 {

@@ -1,0 +1,358 @@
+//! The point kernel: the reference for one pair of bit patterns, one lane
+//! at a time, and the scalar steps the chunked pipeline's safe stages
+//! share.
+
+use super::{Params, FRACTION_BITS, INF_BITS, ONE_BITS};
+
+/// The clamped binary32 bits of `x` (as bits): NaN and negatives -> `+0`,
+/// `>= 1` (and `+inf`) -> `1.0`.
+#[inline(always)]
+fn clamp_bits(bits: u32) -> u32 {
+    let clamped = if bits < ONE_BITS { bits } else { ONE_BITS };
+    if bits > INF_BITS {
+        0
+    } else {
+        clamped
+    }
+}
+
+/// The significand `m` (24 bits, hidden bit included) and the shift `s`
+/// with `x * 2^level = m * 2^-s`, for clamped bits.
+#[inline(always)]
+fn significand_and_shift(clamped: u32, params: &Params) -> (u32, u32) {
+    let biased = clamped >> 23;
+    let hidden = if biased == 0 { 0 } else { 1 << 23 };
+    let m = (clamped & 0x7f_ffff) | hidden;
+    let e = if biased == 0 { 1 } else { biased };
+    // e <= 127 and level <= 32: s >= 150 - 32 - 127 = -9, wraps below 0.
+    (m, params.shift_base.wrapping_sub(e))
+}
+
+/// `x >> n`, or 0 when `n >= 32` (what AVX2's `vpsrlvd` computes).
+#[inline(always)]
+fn shr_or_zero(x: u32, n: u32) -> u32 {
+    if n < 32 {
+        x >> n
+    } else {
+        0
+    }
+}
+
+/// `x << n`, or 0 when `n >= 32` (what AVX2's `vpsllvd` computes).
+#[inline(always)]
+fn shl_or_zero(x: u32, n: u32) -> u32 {
+    if n < 32 {
+        x << n
+    } else {
+        0
+    }
+}
+
+/// Cell clamped to `last` and `floor(fraction * 2^31)` of one coordinate,
+/// in 32-bit words, every level `0..=32`.
+///
+/// `s >= 150 - 32 - 127 = -9`. For `s >= 0` the cell is `m >> s`; for
+/// `s < 0` (levels above 23 only) it is `m << -s`. Only `x = 1` has a cell
+/// beyond `last` (`2^level`, which wraps to 0 at level 32), so `x = 1` takes
+/// `last` directly; its fraction then no longer matters, since `iu = last`
+/// rules the diagonal out. The fraction `floor(m * 2^(31 - s)) mod 2^31` is `m << (31 - s)`
+/// with the bits above 31 dropped when `s <= 31` (0 when `s <= 0`), else
+/// `m >> (s - 31)`. Each shift that does not apply has a count `>= 32` as
+/// an unsigned number and gives 0.
+#[inline(always)]
+pub(super) fn coordinate<const WIDE: bool>(bits: u32, params: &Params) -> (u32, u32) {
+    let clamped = clamp_bits(bits);
+    let (m, s) = significand_and_shift(clamped, params);
+    let mut cell = shr_or_zero(m, s);
+    if WIDE {
+        cell |= shl_or_zero(m, 0u32.wrapping_sub(s));
+    }
+    let cell = if clamped == ONE_BITS {
+        params.last
+    } else {
+        cell
+    };
+    let low = shl_or_zero(m, 31u32.wrapping_sub(s)) & 0x7fff_ffff;
+    let high = shr_or_zero(m, s.wrapping_sub(31));
+    (cell, low | high)
+}
+
+/// [`coordinate`] for bits already in `[0, 1]` (`bits <= ONE_BITS`: no
+/// clamp) at levels `0..=16`, in one 64-bit shift instead of three 32-bit
+/// ones, for scalar callers: `floor(x * 2^(level + 31)) = (m << 31) >> s`
+/// (`m < 2^24`, and `s >= 150 - 16 - 127 = 7`, so nothing shifts left) holds
+/// the cell above its low 31 bits and the fraction in them. Only `x = 1`
+/// has a cell beyond `last` (`2^level`, fraction 0), clamped back.
+#[inline(always)]
+pub(crate) fn unit_coordinate(bits: u32, params: &Params) -> (u32, u32) {
+    let biased = bits >> 23;
+    let hidden = if biased == 0 { 0 } else { 1 << 23 };
+    let m = u64::from((bits & 0x7f_ffff) | hidden);
+    let s = params.shift_base - biased.max(1);
+    let scaled = (m << FRACTION_BITS).checked_shr(s).unwrap_or(0);
+    let cell = ((scaled >> FRACTION_BITS) as u32).min(params.last);
+    (cell, scaled as u32 & 0x7fff_ffff)
+}
+
+/// The reference's clamp to `[0, 1]` on floats, with two changes that
+/// leave its index alone:
+///
+/// * Everything below the smallest normal, `2^-126`, becomes `2^-126`:
+///   subnormals, zeros, negatives and NaN (which compares false), in one
+///   `max` whose NaN operand is the first (x86's `maxps` then returns the
+///   second). This keeps the float steps after it off the slow paths CPUs
+///   take on subnormals. Every such value has cell 0 and a fraction below
+///   `2^-110` at level 16 (the reference's is 0 or a subnormal's
+///   `2^level` multiple, below `2^-110` too), and a fraction that small
+///   cannot move `uf + vf` across `1 - 2^-25`: the other fraction is at
+///   most `1 - 2^-24`, so the real sum stays below `1 - 2^-25` and the
+///   binary32 sum below 1 either way.
+/// * Everything from 1 up (`+inf` too) becomes `1 - 2^-24`, the float below
+///   1, whose cell is `last` at every level `0..=16`: the cell the
+///   reference clamps `x = 1` to, so no cell needs clamping afterwards. Its
+///   fraction differs from `x = 1`'s 0 but is never read: a cell of `last`
+///   makes `iu + iv < last` false, which rules the diagonal step out.
+#[inline(always)]
+pub(super) fn clamp_flushed(bits: u32) -> f32 {
+    let x = f32::from_bits(bits);
+    let x = if x > f32::MIN_POSITIVE {
+        x
+    } else {
+        f32::MIN_POSITIVE
+    };
+    if x < BELOW_ONE {
+        x
+    } else {
+        BELOW_ONE
+    }
+}
+
+/// `1 - 2^-24`, the float below 1: where [`clamp_flushed`] stops.
+pub(crate) const BELOW_ONE: f32 = 1.0 - f32::EPSILON / 2.0;
+
+/// `2^23`: adding it to a float in `[0, 2^23)` leaves an integer in the low
+/// bits of the sum's significand.
+const MAGIC: f32 = 8_388_608.0;
+
+/// Cell (at most `last`) and the exact binary32 fraction, by the
+/// reference's own float operations (every one exact): `fu = x * 2^level`,
+/// `iu = trunc(fu)`, `uf = fu - iu`. Levels `0..=16` (`fu <= 2^16`).
+///
+/// The truncation avoids a float-to-integer conversion, which baselines
+/// without a vector form of it (SSE2) do one lane at a time: adding `2^23`
+/// rounds `fu < 2^23` to an integer `r` in the low bits of the sum (exact),
+/// and `r - 1` is taken when `r > fu`.
+#[inline(always)]
+pub(super) fn coordinate_float(bits: u32, params: &Params) -> (u32, f32) {
+    let fu = clamp_flushed(bits) * params.scale;
+    let sum = fu + MAGIC;
+    let rounded = sum - MAGIC;
+    let above = rounded > fu;
+    let truncated = rounded - if above { 1.0 } else { 0.0 };
+    let cell = (sum.to_bits() & 0x7f_ffff) - u32::from(above);
+    (cell, fu - truncated)
+}
+
+/// The reference's integer half from clamped cells (`iu, iv <= last`):
+/// returns `(b0, b1)` before the interleave. `WIDE` adds the fifth
+/// prefix-XOR step that levels above 16 need.
+#[inline(always)]
+pub(super) fn integer_half<const WIDE: bool>(
+    iu: u32,
+    iv: u32,
+    diagonal: bool,
+    last: u32,
+) -> (u32, u32) {
+    let room = last - iv;
+    // Below level 17 every value is under 2^16, so a signed compare (one
+    // instruction in SSE2 and AVX2, which lack unsigned ones) is the same.
+    let below_room = if WIDE {
+        iu < room
+    } else {
+        (iu as i32) < (room as i32)
+    };
+    let d = u32::from(diagonal && below_room);
+    let iu = if below_room { iu } else { room };
+    let b0 = (iu ^ (iu + iv + d)) & last;
+    let t = (iu ^ iv) & b0;
+    let mut f = t;
+    f ^= f >> 1;
+    f ^= f >> 2;
+    f ^= f >> 4;
+    f ^= f >> 8;
+    if WIDE {
+        f ^= f >> 16;
+    }
+    let b1 = ((f ^ iu) & !b0) | t;
+    (b0, b1)
+}
+
+/// `b0` to the even bits and `b1` to the odd bits, for 16-bit halves: the
+/// outer perfect shuffle of `b1:b0`.
+#[inline(always)]
+pub(super) fn interleave_16(b0: u32, b1: u32) -> u32 {
+    let mut x = b0 | (b1 << 16);
+    let t = (x ^ (x >> 8)) & 0x0000_ff00;
+    x ^= t ^ (t << 8);
+    shuffle_half_bytes(x)
+}
+
+/// The perfect shuffle of each 16-bit half of `x` on its own: the half's
+/// low byte to its even bits, its high byte to its odd bits (the last three
+/// steps of [`interleave_16`]).
+#[inline(always)]
+fn shuffle_half_bytes(x: u32) -> u32 {
+    let mut x = x;
+    let mut t;
+    t = (x ^ (x >> 4)) & 0x00f0_00f0;
+    x ^= t ^ (t << 4);
+    t = (x ^ (x >> 2)) & 0x0c0c_0c0c;
+    x ^= t ^ (t << 2);
+    t = (x ^ (x >> 1)) & 0x2222_2222;
+    x ^= t ^ (t << 1);
+    x
+}
+
+/// How [`narrow`] takes the cell and fraction: the bits clamped, then
+/// [`unit_coordinate`]'s one 64-bit shift (scalar callers).
+pub(crate) const CELL_BY_SHIFTS: u8 = 0;
+/// [`coordinate_float`]'s float steps (SSE2 has no per-lane shifts).
+pub(crate) const CELL_BY_FLOAT: u8 = 1;
+
+/// The reference in binary32 for one pair of bit patterns, levels `0..=16`:
+/// the same bits as `spec::index_f32`, the cell and fraction taken as `CELL`
+/// says.
+#[inline(always)]
+pub(crate) fn narrow<const CELL: u8>(u_bits: u32, v_bits: u32, params: &Params) -> u32 {
+    if CELL == CELL_BY_FLOAT {
+        narrow_by_floats(u_bits, v_bits, params, coordinate_float)
+    } else {
+        narrow_in_unit(clamp_bits(u_bits), clamp_bits(v_bits), params)
+    }
+}
+
+/// [`narrow`] from a float first half: `coordinate` gives each cell (at
+/// most `last`) and exact binary32 fraction, and the diagonal test is the
+/// reference's own `uf + vf >= 1.0f`.
+#[inline(always)]
+fn narrow_by_floats(
+    u_bits: u32,
+    v_bits: u32,
+    params: &Params,
+    coordinate: impl Fn(u32, &Params) -> (u32, f32),
+) -> u32 {
+    let (iu, uf) = coordinate(u_bits, params);
+    let (iv, vf) = coordinate(v_bits, params);
+    narrow_from_clamped_cell(iu, iv, uf + vf >= 1.0, params.last)
+}
+
+/// [`narrow`] for bits already in `[0, 1]` (callers check `bits <=
+/// ONE_BITS`), scalar: [`unit_coordinate`]'s one shift per coordinate.
+#[inline(always)]
+pub(crate) fn narrow_in_unit(u_bits: u32, v_bits: u32, params: &Params) -> u32 {
+    let (iu, uf) = unit_coordinate(u_bits, params);
+    let (iv, vf) = unit_coordinate(v_bits, params);
+    narrow_from_clamped_cell(iu, iv, uf + vf >= params.threshold, params.last)
+}
+
+/// The integer half and interleave of levels `0..=16` from cells already
+/// clamped to `last` (`iu, iv <= last`): [`wide_from_clamped_cell`]'s
+/// value there.
+#[inline(always)]
+pub(crate) fn narrow_from_clamped_cell(iu: u32, iv: u32, diagonal: bool, last: u32) -> u32 {
+    let (b0, b1) = integer_half::<false>(iu, iv, diagonal, last);
+    interleave_16(b0, b1)
+}
+
+/// The reference widened to 64 bits for one pair of bit patterns, levels
+/// `0..=32`: the same bits as `spec::wide_index_f32` (binary32 threshold) or
+/// the exact reading of the reference (exact threshold).
+#[inline(always)]
+pub(crate) fn wide(u_bits: u32, v_bits: u32, params: &Params) -> u64 {
+    let (iu, uf) = coordinate::<true>(u_bits, params);
+    let (iv, vf) = coordinate::<true>(v_bits, params);
+    wide_from_clamped_cell(iu, iv, uf + vf >= params.threshold, params.last)
+}
+
+/// The wide integer half and interleave (two 16-bit interleaves in 32-bit
+/// words, then one widening) from cells already clamped to
+/// `last` (`iu, iv <= last`): `spec::wide_index_from_cell` on such cells.
+#[inline(always)]
+pub(crate) fn wide_from_clamped_cell(iu: u32, iv: u32, diagonal: bool, last: u32) -> u64 {
+    let (b0, b1) = integer_half::<true>(iu, iv, diagonal, last);
+    interleave_32(b0, b1)
+}
+
+/// `b0` to the even bits and `b1` to the odd bits, for 32-bit halves: two
+/// 16-bit interleaves.
+#[inline(always)]
+pub(super) fn interleave_32(b0: u32, b1: u32) -> u64 {
+    let low = interleave_16(b0 & 0xffff, b1 & 0xffff);
+    let high = interleave_16(b0 >> 16, b1 >> 16);
+    u64::from(low) | (u64::from(high) << 32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernel::{BINARY32_THRESHOLD, EXACT_THRESHOLD};
+
+    #[test]
+    fn interleave_puts_b0_on_even_bits() {
+        assert_eq!(interleave_16(0xffff, 0), 0x5555_5555);
+        assert_eq!(interleave_16(0, 0xffff), 0xaaaa_aaaa);
+        assert_eq!(interleave_16(0b10, 0b01), 0b0110);
+    }
+
+    #[test]
+    fn unit_coordinate_is_coordinate_in_the_unit_interval() {
+        // No allocation: the lib's tests also run without `alloc`.
+        let check = |b: u32| {
+            if b > ONE_BITS {
+                return;
+            }
+            for level in 0..=16 {
+                let p = Params::new(level, EXACT_THRESHOLD);
+                assert_eq!(
+                    unit_coordinate(b, &p),
+                    coordinate::<false>(b, &p),
+                    "level {level}, bits {b:#010x}"
+                );
+            }
+        };
+        for b in [0, 1, 0x7f_ffff, 0x80_0000, ONE_BITS - 1, ONE_BITS] {
+            check(b);
+        }
+        for e in 0..=127u32 {
+            for b in [e << 23, (e << 23) | 0x7f_ffff, (e << 23) | 0x40_0001] {
+                check(b);
+            }
+        }
+        let mut rng = micromap_index_test_support::SplitMix64::new(0x9e37_79b9_7f4a_7c15);
+        for _ in 0..20_000 {
+            let x = rng.next_u64();
+            check((x as u32) % (ONE_BITS + 1));
+        }
+    }
+
+    #[test]
+    fn coordinates_split_cell_and_fraction() {
+        let p = Params::new(1, BINARY32_THRESHOLD);
+        assert_eq!(coordinate::<false>(0.75f32.to_bits(), &p), (1, 1 << 30));
+        assert_eq!(coordinate::<false>(1.0f32.to_bits(), &p), (1, 0));
+        assert_eq!(coordinate::<false>(f32::NAN.to_bits(), &p), (0, 0));
+        assert_eq!(coordinate::<false>((-0.5f32).to_bits(), &p), (0, 0));
+        assert_eq!(coordinate::<false>(f32::INFINITY.to_bits(), &p), (1, 0));
+        // 2^-149 * 2: far below 2^-31, floors to 0.
+        assert_eq!(coordinate::<false>(1, &p), (0, 0));
+        let p = Params::new(32, BINARY32_THRESHOLD);
+        assert_eq!(coordinate::<true>(1.0f32.to_bits(), &p), (u32::MAX, 0));
+        assert_eq!(coordinate::<true>(0.5f32.to_bits(), &p), (1 << 31, 0));
+        // 2^-40 * 2^32 = 2^-8: fraction 2^-8 * 2^31.
+        assert_eq!(
+            coordinate::<true>(2f32.powi(-40).to_bits(), &p),
+            (0, 1 << 23)
+        );
+        assert_eq!(coordinate::<true>(1, &p), (0, 0));
+    }
+}
