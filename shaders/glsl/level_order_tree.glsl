@@ -65,8 +65,8 @@ uint mmi_lot_rank(uint p, uint tree_bits, out uint bit, out bool ok)
         before = MMI_LOT_RANK(2u * block + 1u);
     }
     uint pair = (p >> 7u) & 3u;
-    // Shifting up by one field puts a zero field at pair 0.
-    uint rank = before + (((relative << 9u) >> (9u * pair)) & 511u);
+    // The ones in the block's words before the pair (none before pair 0).
+    uint rank = before + (pair == 0u ? 0u : (relative >> (9u * (pair - 1u))) & 511u);
     // The pair's (128 bits, four words) words below w, then w below p.
     for (uint x = (p >> 7u) << 2u; x < w; x++) {
         rank += uint(bitCount(MMI_LOT(MMI_TREE_HEADER_WORDS + x)));
