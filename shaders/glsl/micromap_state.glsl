@@ -22,7 +22,7 @@
 //   uint mmi_micromap_state(uint index_width, uint triangle, uint micro_triangle)
 //   uint mmi_micromap_state_at(uint index_width, uint triangle, float u, float v)
 //       (the micro-triangle the Vulkan reference index picks for (u, v))
-//   uint mmi_record_level(uint record)   (MMI_STATE_INVALID if malformed)
+//   uint mmi_record_level(uint record)   (MMI_LEVEL_INVALID if malformed)
 //   uint mmi_triangle_record(uint index_width, uint triangle)
 //       (a record number, MMI_TRIANGLE_SPECIAL | state, MMI_TRIANGLE_INVALID)
 // Return: the state, numbered as micromap_index::micromap::State (0
@@ -45,23 +45,24 @@
 #include "micromap_constants.glsl"
 #include "micromap_index.glsl"
 
-// The level of a record, or MMI_STATE_INVALID when the record is missing or
+// The level of a record, or MMI_LEVEL_INVALID when the record is missing or
 // malformed (format or level out of range).
+#define MMI_LEVEL_INVALID 0xffffffffu
 uint mmi_record_level(uint record)
 {
-    if (record >= MMI_TRIANGLES_LENGTH / 2u) return MMI_STATE_INVALID;
+    if (record >= MMI_TRIANGLES_LENGTH / 2u) return MMI_LEVEL_INVALID;
     uint shape = MMI_TRIANGLES(2u * record + 1u);
     uint level = shape & 0xffffu;
     uint format = shape >> 16u;
-    if (level > MMI_MAX_LEVEL) return MMI_STATE_INVALID;
-    if (format != MMI_FORMAT_2_STATE && format != MMI_FORMAT_4_STATE) return MMI_STATE_INVALID;
+    if (level > MMI_MAX_LEVEL) return MMI_LEVEL_INVALID;
+    if (format != MMI_FORMAT_2_STATE && format != MMI_FORMAT_4_STATE) return MMI_LEVEL_INVALID;
     return level;
 }
 
 uint mmi_record_state(uint record, uint micro_triangle)
 {
     uint level = mmi_record_level(record);
-    if (level == MMI_STATE_INVALID) return MMI_STATE_INVALID;
+    if (level == MMI_LEVEL_INVALID) return MMI_STATE_INVALID;
     if (micro_triangle >= (1u << (2u * level))) return MMI_STATE_INVALID;
     uint offset = MMI_TRIANGLES(2u * record);
     uint bits = MMI_TRIANGLES(2u * record + 1u) >> 16u; // format 1 or 2 = bits per state
@@ -113,7 +114,7 @@ uint mmi_micromap_state_at(uint index_width, uint triangle, float u, float v)
     if (record == MMI_TRIANGLE_INVALID) return MMI_STATE_INVALID;
     if (record >= MMI_TRIANGLE_SPECIAL) return record & 3u;
     uint level = mmi_record_level(record);
-    if (level == MMI_STATE_INVALID) return MMI_STATE_INVALID;
+    if (level == MMI_LEVEL_INVALID) return MMI_STATE_INVALID;
     return mmi_record_state(record, BarycentricsToSpaceFillingCurveIndex(u, v, level));
 }
 

@@ -35,7 +35,7 @@ pub struct Kernel {
 }
 
 struct Buffer {
-    buffer: vk::Buffer,
+    handle: vk::Buffer,
     memory: vk::DeviceMemory,
     bytes: u64,
 }
@@ -53,11 +53,12 @@ impl Gpu {
             .map_err(|e| format!("no Vulkan loader (libvulkan.so.1): {e}"))?;
         let app = vk::ApplicationInfo::default()
             .application_name(c"micromap-index shader check")
-            .api_version(vk::make_api_version(0, 1, 1, 0));
+            .api_version(vk::make_api_version(0, 1, 2, 0));
         let info = vk::InstanceCreateInfo::default().application_info(&app);
         // SAFETY: `info` and `app` outlive the call.
-        let instance = unsafe { entry.create_instance(&info, None) }
-            .map_err(|e| format!("vkCreateInstance: {e}"))?;
+        let instance = unsafe { entry.create_instance(&info, None) }.map_err(|e| {
+            format!("no Vulkan device: vkCreateInstance: {e} (Debian: mesa-vulkan-drivers)")
+        })?;
         match Gpu::open(entry.clone(), &instance) {
             Ok(gpu) => Ok(gpu),
             Err(e) => {
@@ -89,9 +90,28 @@ impl Gpu {
             .to_string_lossy()
             .into_owned();
         let v = props.api_version;
+        // The driver's own name and version (Vulkan 1.2), e.g. "llvmpipe ...
+        // (Mesa 25.0.7 ...)": what reports must name.
+        let mut driver = String::new();
+        if v >= vk::API_VERSION_1_2 {
+            let mut about = vk::PhysicalDeviceDriverProperties::default();
+            let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut about);
+            // SAFETY: a physical device of a Vulkan 1.2 instance, a valid chain.
+            unsafe { instance.get_physical_device_properties2(physical, &mut props2) };
+            let text = |c: Result<&std::ffi::CStr, _>| {
+                c.map_or_else(
+                    |_| "?".into(),
+                    |c: &std::ffi::CStr| c.to_string_lossy().into_owned(),
+                )
+            };
+            driver = format!(
+                ", {} {}",
+                text(about.driver_name_as_c_str()),
+                text(about.driver_info_as_c_str())
+            );
+        }
         let name = format!(
-            "{name} (driver version {:#x}, Vulkan {}.{}.{})",
-            props.driver_version,
+            "{name} (Vulkan {}.{}.{}{driver})",
             vk::api_version_major(v),
             vk::api_version_minor(v),
             vk::api_version_patch(v)
@@ -166,10 +186,9 @@ impl Gpu {
             .stage(stage)
             .layout(layout)];
         // SAFETY: the module and layout are valid; the infos outlive the call.
-        let pipeline = unsafe {
-            d.create_compute_pipelines(vk::PipelineCache::null(), &pipeline_info, None)
-        }
-        .map_err(|(_, e)| format!("vkCreateComputePipelines: {e}"))?[0];
+        let pipeline =
+            unsafe { d.create_compute_pipelines(vk::PipelineCache::null(), &pipeline_info, None) }
+                .map_err(|(_, e)| format!("vkCreateComputePipelines: {e}"))?[0];
         Ok(Kernel {
             module,
             set_layout,
@@ -214,7 +233,7 @@ impl Gpu {
             "vkBindBufferMemory",
         )?;
         Ok(Buffer {
-            buffer,
+            handle: buffer,
             memory,
             bytes,
         })
@@ -250,10 +269,10 @@ impl Gpu {
         Ok(out)
     }
 
-    fn free(&self, buffer: Buffer) {
+    fn free(&self, buffer: &Buffer) {
         // SAFETY: the buffer is no longer used by any pending command.
         unsafe {
-            self.device.destroy_buffer(buffer.buffer, None);
+            self.device.destroy_buffer(buffer.handle, None);
             self.device.free_memory(buffer.memory, None);
         }
     }
@@ -270,7 +289,11 @@ impl Gpu {
         push: [u32; 4],
         invocations: u32,
     ) -> Result<Vec<u32>, String> {
-        assert_eq!(inputs.len() + 1, kernel.bindings, "one input per binding but the last");
+        assert_eq!(
+            inputs.len() + 1,
+            kernel.bindings,
+            "one input per binding but the last"
+        );
         let d = &self.device;
         let mut buffers = Vec::new();
         let result = (|| {
@@ -298,7 +321,7 @@ impl Gpu {
             run?;
             self.read(&buffers[buffers.len() - 1], out_words)
         })();
-        for b in buffers {
+        for b in &buffers {
             self.free(b);
         }
         result
@@ -324,7 +347,7 @@ impl Gpu {
             .iter()
             .map(|b| {
                 [vk::DescriptorBufferInfo::default()
-                    .buffer(b.buffer)
+                    .buffer(b.handle)
                     .offset(0)
                     .range(vk::WHOLE_SIZE)]
             })
@@ -395,8 +418,8 @@ impl Gpu {
                 .map_err(|e| format!("vkCreateFence: {e}"))?;
             let cbs = [cb];
             let submit = [vk::SubmitInfo::default().command_buffers(&cbs)];
-            let done = check(d.queue_submit(self.queue, &submit, fence), "vkQueueSubmit")
-                .and_then(|()| {
+            let done =
+                check(d.queue_submit(self.queue, &submit, fence), "vkQueueSubmit").and_then(|()| {
                     check(
                         d.wait_for_fences(&[fence], true, u64::MAX),
                         "vkWaitForFences",
@@ -411,7 +434,7 @@ impl Gpu {
     }
 
     /// Destroys a kernel.
-    pub fn drop_kernel(&self, kernel: Kernel) {
+    pub fn drop_kernel(&self, kernel: &Kernel) {
         // SAFETY: no pending command uses it (every run waits).
         unsafe {
             let d = &self.device;
@@ -434,4 +457,3 @@ impl Drop for Gpu {
         }
     }
 }
-
