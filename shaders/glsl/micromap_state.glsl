@@ -19,16 +19,17 @@
 //
 // Functions
 //   uint mmi_record_state(uint record, uint micro_triangle)
-//   uint mmi_micromap_state(uint index_width, uint triangle, uint micro_triangle)
-//   uint mmi_micromap_state_at(uint index_width, uint triangle, float u, float v)
+//   uint mmi_micromap_state(uint index_width, uint triangle_id, uint micro_triangle)
+//   uint mmi_micromap_state_at(uint index_width, uint triangle_id, float u, float v)
 //       (the micro-triangle the Vulkan reference index picks for (u, v))
 //   uint mmi_record_level(uint record)   (MMI_LEVEL_INVALID if malformed)
-//   uint mmi_triangle_record(uint index_width, uint triangle)
+//   uint mmi_triangle_record(uint index_width, uint triangle_id)
 //       (a record number, MMI_TRIANGLE_SPECIAL | state, MMI_TRIANGLE_INVALID)
 // Return: the state, numbered as micromap_index::micromap::State (0
 // transparent, 1 opaque, 2 unknown-transparent, 3 unknown-opaque); a 2-state
 // map gives 0 or 1. A special index gives its state for every micro-triangle.
-// Levels 0..=12 (MMI_MAX_LEVEL).
+// Levels 0..=12 (MMI_MAX_LEVEL). (`triangle` is a keyword in HLSL, hence
+// `triangle_id`.)
 //
 // Malformed input is total: every read is bounds-checked against the
 // *_LENGTH macros, nothing out of bounds is read, and MMI_STATE_INVALID (4)
@@ -83,13 +84,13 @@ uint mmi_record_state(uint record, uint micro_triangle)
 // MMI_TRIANGLE_INVALID.
 #define MMI_TRIANGLE_SPECIAL 0xfffffff0u
 #define MMI_TRIANGLE_INVALID 0xffffffffu
-uint mmi_triangle_record(uint index_width, uint triangle)
+uint mmi_triangle_record(uint index_width, uint triangle_id)
 {
     if (index_width != 1u && index_width != 2u && index_width != 4u) return MMI_TRIANGLE_INVALID;
     // The byte offset cannot wrap for any triangle a buffer can hold; larger
     // ids fail the length check.
-    if (triangle >= 0x40000000u) return MMI_TRIANGLE_INVALID;
-    uint at = triangle * index_width;
+    if (triangle_id >= 0x40000000u) return MMI_TRIANGLE_INVALID;
+    uint at = triangle_id * index_width;
     if ((at >> 2u) >= MMI_INDICES_LENGTH) return MMI_TRIANGLE_INVALID;
     uint all_ones = index_width == 4u ? 0xffffffffu : (1u << (8u * index_width)) - 1u;
     uint raw = (MMI_INDICES(at >> 2u) >> (8u * (at & 3u))) & all_ones;
@@ -100,17 +101,17 @@ uint mmi_triangle_record(uint index_width, uint triangle)
     return raw;
 }
 
-uint mmi_micromap_state(uint index_width, uint triangle, uint micro_triangle)
+uint mmi_micromap_state(uint index_width, uint triangle_id, uint micro_triangle)
 {
-    uint record = mmi_triangle_record(index_width, triangle);
+    uint record = mmi_triangle_record(index_width, triangle_id);
     if (record == MMI_TRIANGLE_INVALID) return MMI_STATE_INVALID;
     if (record >= MMI_TRIANGLE_SPECIAL) return record & 3u;
     return mmi_record_state(record, micro_triangle);
 }
 
-uint mmi_micromap_state_at(uint index_width, uint triangle, float u, float v)
+uint mmi_micromap_state_at(uint index_width, uint triangle_id, float u, float v)
 {
-    uint record = mmi_triangle_record(index_width, triangle);
+    uint record = mmi_triangle_record(index_width, triangle_id);
     if (record == MMI_TRIANGLE_INVALID) return MMI_STATE_INVALID;
     if (record >= MMI_TRIANGLE_SPECIAL) return record & 3u;
     uint level = mmi_record_level(record);

@@ -97,9 +97,17 @@ fn compile(source: &Path) -> Vec<u32> {
     let name = source.file_name().unwrap().to_str().unwrap();
     let n = COMPILED.fetch_add(1, Ordering::Relaxed);
     let out = dir.join(format!("{name}.{}.{n}.spv", std::process::id()));
-    let include = format!("-I{}", root().join("shaders/glsl").display());
+    let hlsl = source.extension().is_some_and(|e| e == "hlsl");
+    let folder = if hlsl { "shaders/hlsl" } else { "shaders/glsl" };
+    let include = format!("-I{}", root().join(folder).display());
+    let front_end: &[&str] = if hlsl {
+        &["-D", "-S", "comp", "-e", "main"]
+    } else {
+        &[]
+    };
     let compiled = Command::new("glslangValidator")
         .args(["-V", "--target-env", "vulkan1.1", &include])
+        .args(front_end)
         .arg(source)
         .arg("-o")
         .arg(&out)
@@ -259,7 +267,7 @@ fn alternating(level: u32, format: Format) -> Vec<State> {
 
 /// The maps of one level and format: named, random and structured. Levels
 /// above 8 leave out pure noise (its trees are as large as the map and it
-/// adds nothing the run-length maps do not).
+/// adds nothing the run-length maps do not), levels above 10 keep two maps.
 fn maps(level: u32, format: Format) -> Vec<(&'static str, Vec<State>)> {
     let seed = 0x5eed_0000 + u64::from(level) * 8 + u64::from(format.raw());
     let mut maps = vec![
@@ -273,6 +281,12 @@ fn maps(level: u32, format: Format) -> Vec<(&'static str, Vec<State>)> {
     ];
     if level <= 8 {
         maps.push(("noise", noise(level, format, seed ^ 0xff)));
+    }
+    if level > 10 {
+        // Levels 11 and 12 (16.7 million micro-triangles): the random and
+        // the disc map, which keep every tree depth busy; the uniform and
+        // alternating shapes are the same at every level.
+        maps.truncate(2);
     }
     maps
 }
@@ -385,9 +399,49 @@ fn top_table(bytes: &[u8], depth: u32) -> (Vec<u32>, u32) {
 
 // ---------------------------------------------------------------- tests
 
+/// The two languages of the shader library: each has its check kernels in
+/// `crates/lab/tests/shaders/`. The HLSL twins include the same sources, so
+/// they are checked on fewer levels (0..=9) to keep the test short.
+#[derive(Clone, Copy, Debug)]
+enum Lang {
+    Glsl,
+    Hlsl,
+}
+
+impl Lang {
+    const ALL: [Lang; 2] = [Lang::Glsl, Lang::Hlsl];
+
+    fn kernel(self, name: &str) -> String {
+        match self {
+            Lang::Glsl => format!("crates/lab/tests/shaders/{name}.comp"),
+            Lang::Hlsl => format!("crates/lab/tests/shaders/{name}.hlsl"),
+        }
+    }
+
+    fn index_driver(self) -> &'static str {
+        match self {
+            Lang::Glsl => "reference/drivers/glsl/spec_f32.comp",
+            Lang::Hlsl => "crates/lab/tests/shaders/spec_f32.hlsl",
+        }
+    }
+
+    fn max_level(self) -> u32 {
+        match self {
+            Lang::Glsl => MAX_LEVEL,
+            Lang::Hlsl => 9,
+        }
+    }
+}
+
 #[test]
 fn index_function_passes_the_spec_f32_vectors() {
     let Some(gpu) = setup() else { return };
+    for lang in Lang::ALL {
+        index_function_on_vectors(&gpu, lang);
+    }
+}
+
+fn index_function_on_vectors(gpu: &Gpu, lang: Lang) {
     let path = root().join("reference/vectors/spec-f32.json");
     let vectors = parse_vector_file(&std::fs::read(&path).unwrap()).unwrap();
     assert_eq!(vectors.function, "spec-f32");
@@ -397,8 +451,9 @@ fn index_function_passes_the_spec_f32_vectors() {
         cases.extend([hex(&c.u), hex(&c.v), c.level, 0]);
     }
     let count = vectors.cases.len() as u32;
-    // The conformance driver itself: it includes shaders/glsl/micromap_index.glsl.
-    let k = kernel(&gpu, "reference/drivers/glsl/spec_f32.comp", 2);
+    // The conformance driver itself (it includes
+    // shaders/glsl/micromap_index.glsl), or its HLSL twin.
+    let k = kernel(gpu, lang.index_driver(), 2);
     // One dimension: the driver indexes by gl_GlobalInvocationID.x only.
     assert!(count.div_ceil(64) <= 4096);
     let indices = gpu
@@ -423,17 +478,26 @@ fn index_function_passes_the_spec_f32_vectors() {
     let report = check(&vectors, &Answers { by_id });
     assert!(report.passed(), "{report:?}");
     println!(
-        "spec_f32.comp: {} of {} spec-f32 cases match on {}",
-        report.matched, report.cases, gpu.name
+        "{}: {} of {} spec-f32 cases match on {}",
+        lang.index_driver(),
+        report.matched,
+        report.cases,
+        gpu.name
     );
 }
 
 #[test]
 fn flat_lookup_agrees_with_the_micromap_buffers() {
     let Some(gpu) = setup() else { return };
-    let k = kernel(&gpu, "crates/lab/tests/shaders/flat_lookup.comp", 4);
+    for lang in Lang::ALL {
+        flat_lookup_on_maps(&gpu, lang);
+    }
+}
+
+fn flat_lookup_on_maps(gpu: &Gpu, lang: Lang) {
+    let k = kernel(gpu, &lang.kernel("flat_lookup"), 4);
     let mut lookups = 0usize;
-    for level in 0..=MAX_LEVEL {
+    for level in 0..=lang.max_level() {
         let level_n = Level::new(level).unwrap();
         let mut all = Vec::new();
         for format in [Format::TwoState, Format::FourState] {
@@ -476,7 +540,7 @@ fn flat_lookup_agrees_with_the_micromap_buffers() {
                 // Every micro-triangle and eight past the end.
                 let count = (1usize << (2 * level)) + 8;
                 let push = [0, count as u32, t as u32, width.bytes() as u32];
-                let got = answers(&gpu, &k, &[&data, &records, &indices], push);
+                let got = answers(gpu, &k, &[&data, &records, &indices], push);
                 let expected: Vec<u32> = (0..count as u64).map(expected_of).collect();
                 if let Some((i, g, e)) = first_difference(&got, &expected) {
                     let name = all.get(t).map_or("special or repeat", |m| m.0);
@@ -487,18 +551,27 @@ fn flat_lookup_agrees_with_the_micromap_buffers() {
             // Past the last triangle: invalid, never a read out of bounds.
             let past = (indices.len() * 4 / width.bytes()) as u32;
             let push = [0, 8, past, width.bytes() as u32];
-            let got = answers(&gpu, &k, &[&data, &records, &indices], push);
+            let got = answers(gpu, &k, &[&data, &records, &indices], push);
             assert_eq!(got, [INVALID; 8], "level {level} {width}: triangle {past}");
         }
     }
     gpu.drop_kernel(&k);
-    println!("flat lookup: {lookups} lookups match, levels 0..=12, both formats");
+    println!(
+        "{lang:?} flat lookup: {lookups} lookups match, levels 0..={}, both formats",
+        lang.max_level()
+    );
 }
 
 #[test]
 fn flat_lookup_of_malformed_buffers_is_invalid() {
     let Some(gpu) = setup() else { return };
-    let k = kernel(&gpu, "crates/lab/tests/shaders/flat_lookup.comp", 4);
+    for lang in Lang::ALL {
+        flat_lookup_of_malformed(&gpu, lang);
+    }
+}
+
+fn flat_lookup_of_malformed(gpu: &Gpu, lang: Lang) {
+    let k = kernel(gpu, &lang.kernel("flat_lookup"), 4);
     let record = |offset: u32, level: u32, format: u32| [offset, level | format << 16];
     // Records: 0 fine (level 1, 4-state, 1 byte at 0), 1 level 13, 2 format
     // 3, 3 format 0, 4 data past the buffer's end, 5 level 2 2-state at 3
@@ -515,8 +588,8 @@ fn flat_lookup_of_malformed_buffers_is_invalid() {
     let data = [0b1110_0100u32];
     let expect = |indices: &[u32], width: u32, triangle: u32, expected: &[u32]| {
         let push = [0, expected.len() as u32, triangle, width];
-        let got = answers(&gpu, &k, &[&data, &records, indices], push);
-        assert_eq!(got, expected, "triangle {triangle} width {width}");
+        let got = answers(gpu, &k, &[&data, &records, indices], push);
+        assert_eq!(got, expected, "{lang:?}: triangle {triangle} width {width}");
     };
     let u32s: Vec<u32> = (0..6).chain([0xffff_fffb, 6, 0xffff_fffc]).collect();
     // The good record: states 0, 1, 2, 3, then invalid past 4^1.
@@ -545,15 +618,21 @@ fn flat_lookup_of_malformed_buffers_is_invalid() {
 #[test]
 fn tree_lookups_agree_with_the_library() {
     let Some(gpu) = setup() else { return };
-    let lot = kernel(&gpu, "crates/lab/tests/shaders/level_order_lookup.comp", 4);
-    let paper_k = kernel(&gpu, "crates/lab/tests/shaders/paper_lookup.comp", 3);
+    for lang in Lang::ALL {
+        tree_lookups_on_maps(&gpu, lang);
+    }
+}
+
+fn tree_lookups_on_maps(gpu: &Gpu, lang: Lang) {
+    let lot = kernel(gpu, &lang.kernel("level_order_lookup"), 4);
+    let paper_k = kernel(gpu, &lang.kernel("paper_lookup"), 3);
     let (mut lot_lookups, mut paper_lookups) = (0usize, 0usize);
     let mut paper_skipped = Vec::new();
-    for level in 0..=MAX_LEVEL {
+    for level in 0..=lang.max_level() {
         let level_n = Level::new(level).unwrap();
         for format in [Format::TwoState, Format::FourState] {
             for (name, states) in maps(level, format) {
-                let what = format!("level {level} {format:?} {name}");
+                let what = format!("{lang:?} level {level} {format:?} {name}");
                 let count = (1usize << (2 * level)) + 8;
                 let tree = LevelOrderTree::encode(level_n, format, &states).unwrap();
                 let expected: Vec<u32> = (0..count as u64).map(|i| bits(tree.get(i))).collect();
@@ -572,7 +651,7 @@ fn tree_lookups_agree_with_the_library() {
                 for depth in depths {
                     let (top, top_start) = top_table(&tree.to_bytes(), depth);
                     let push = [0, count as u32, depth, top_start];
-                    let got = answers(&gpu, &lot, &[&bytes, &directory, &top], push);
+                    let got = answers(gpu, &lot, &[&bytes, &directory, &top], push);
                     if let Some((i, g, e)) = first_difference(&got, &expected) {
                         panic!("{what}, top depth {depth}: index {i}: shader {g}, library {e}");
                     }
@@ -595,7 +674,7 @@ fn tree_lookups_agree_with_the_library() {
                     continue;
                 };
                 let push = [0, list.len() as u32, 1, 0];
-                let got = answers(&gpu, &paper_k, &[&paper_bytes, &list], push);
+                let got = answers(gpu, &paper_k, &[&paper_bytes, &list], push);
                 for (&i, &g) in list.iter().zip(&got) {
                     let library = bits(paper.get(u64::from(i)));
                     assert_eq!(g, library, "{what}: paper tree, index {i}");
@@ -639,38 +718,28 @@ fn tree_lookups_agree_with_the_library() {
         ("header only", words(&good[..20]), words(&paper[..20])),
     ] {
         let push = [0, 256, 0, 0];
-        let got = answers(&gpu, &lot, &[&lot_bytes, &directory, &[]], push);
+        let got = answers(gpu, &lot, &[&lot_bytes, &directory, &[]], push);
         assert!(
             got.iter().all(|&s| s == INVALID),
-            "level order, {why}: {got:?}"
+            "{lang:?} level order, {why}: {got:?}"
         );
-        let got = answers(&gpu, &paper_k, &[&paper_bytes, &[]], [0, 256, 0, 0]);
+        let got = answers(gpu, &paper_k, &[&paper_bytes, &[]], [0, 256, 0, 0]);
         assert!(
             got.iter().all(|&s| s == INVALID),
-            "paper tree, {why}: {got:?}"
+            "{lang:?} paper tree, {why}: {got:?}"
         );
     }
     // A top depth the level does not allow, and a missing table.
-    let got = answers(
-        &gpu,
-        &lot,
-        &[&words(&good), &directory, &[]],
-        [0, 256, 4, 0],
-    );
+    let got = answers(gpu, &lot, &[&words(&good), &directory, &[]], [0, 256, 4, 0]);
     assert!(got.iter().all(|&s| s == INVALID), "top depth 4 at level 4");
     // (A one-word table of zeros: prefixes 0 and 1 read it, the others
     // are missing.)
-    let got = answers(
-        &gpu,
-        &lot,
-        &[&words(&good), &directory, &[]],
-        [0, 256, 2, 5],
-    );
+    let got = answers(gpu, &lot, &[&words(&good), &directory, &[]], [0, 256, 2, 5]);
     assert!(got[32..].iter().all(|&s| s == INVALID), "top table missing");
     gpu.drop_kernel(&lot);
     gpu.drop_kernel(&paper_k);
     println!(
-        "level-order tree: {lot_lookups} lookups match; paper tree: {paper_lookups} match \
+        "{lang:?} level-order tree: {lot_lookups} lookups match; paper tree: {paper_lookups} match \
          (every index up to level 6, 515 sampled above where the tree has at most 2^17 bits; \
          not run on {} larger trees)",
         paper_skipped.len()

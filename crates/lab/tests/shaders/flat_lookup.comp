@@ -8,7 +8,7 @@ layout(std430, set = 0, binding = 0) readonly buffer Data { uint data_words[]; }
 layout(std430, set = 0, binding = 1) readonly buffer Triangles { uint triangle_words[]; };
 layout(std430, set = 0, binding = 2) readonly buffer Indices { uint index_words[]; };
 layout(std430, set = 0, binding = 3) writeonly buffer Out { uint answers[]; };
-layout(push_constant) uniform Query { uint start; uint count; uint triangle; uint index_width; };
+layout(push_constant) uniform Query { uint start; uint count; uint triangle_id; uint index_width; };
 
 #define MMI_DATA(i) data_words[i]
 #define MMI_DATA_LENGTH uint(data_words.length())
@@ -24,7 +24,7 @@ void main()
     if (8u * i >= count) return;
     uint packed = 0u;
     for (uint k = 0u; k < 8u && 8u * i + k < count; k++) {
-        packed |= mmi_micromap_state(index_width, triangle, start + 8u * i + k) << (4u * k);
+        packed |= mmi_micromap_state(index_width, triangle_id, start + 8u * i + k) << (4u * k);
     }
     answers[i] = packed;
 }
