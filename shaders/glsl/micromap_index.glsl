@@ -10,9 +10,10 @@
 //   - level 0..=16: the index of the micro-triangle, below 4^level, equal to
 //     the library's spec::index_f32 (checked on the committed spec-f32
 //     conformance vectors by crates/lab/tests/shaders.rs).
-//   - level 17..=31: what the 32-bit reference computes (wrong indices, as the
-//     C code gives them; spec::reference_bits_f32). level >= 32: undefined
-//     value (GLSL shifts by 32 or more are undefined); never a memory access.
+//   - level 17..=31: the reference's 32-bit steps as written (they give wrong
+//     indices there, like the C code; spec::reference_bits_f32; not checked
+//     by the test). level >= 32: an undefined value (GLSL shifts by 32 or
+//     more are undefined); never a memory access.
 //   - Reads no memory; no buffer can be malformed.
 // The float operations are `precise`: a compiler must neither contract nor
 // reassociate them (uf + vf is rounded to binary32 before the compare).
