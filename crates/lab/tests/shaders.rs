@@ -15,7 +15,11 @@
 //! - the paper's Algorithm 3 (`paper_tree.glsl`) against `PaperTree::get`:
 //!   every index up to level 6, sampled indices of the maps whose trees stay
 //!   small above (its scan costs about 4x per level; a bit-serial scan of a
-//!   large level-12 tree for every index would take hours on a CPU device).
+//!   large level-12 tree for every index would take hours on a CPU device);
+//! - both tree lookups on malformed and changed bytes: answers stay in
+//!   `0..=4`, and equal the library's wherever it accepts the bytes;
+//! - the HLSL twins (`shaders/hlsl/`, glslang's HLSL front end) on the same
+//!   vectors and maps of levels 0..=9.
 //!
 //! Without `glslangValidator`/`spirv-val` on `PATH` or without a Vulkan
 //! device each test prints `skipped: ...` and passes, unless
@@ -743,6 +747,81 @@ fn tree_lookups_on_maps(gpu: &Gpu, lang: Lang) {
          (every index up to level 6, 515 sampled above where the tree has at most 2^17 bits; \
          not run on {} larger trees)",
         paper_skipped.len()
+    );
+}
+
+/// Every byte of small trees' bytes replaced by a few values: the shaders
+/// answer in `0..=4` for every index, and exactly as the library wherever
+/// the library accepts the changed bytes.
+#[test]
+fn tree_lookups_of_changed_bytes() {
+    let Some(gpu) = setup() else { return };
+    let lot = kernel(&gpu, &Lang::Glsl.kernel("level_order_lookup"), 4);
+    let paper_k = kernel(&gpu, &Lang::Glsl.kernel("paper_lookup"), 3);
+    let (mut accepted, mut rejected) = (0, 0);
+    for (level, format, seed) in [(3, Format::FourState, 11), (5, Format::TwoState, 12)] {
+        let level_n = Level::new(level).unwrap();
+        let states = runs(level, format, seed);
+        let count = (1u32 << (2 * level)) + 8;
+        let trees = [
+            LevelOrderTree::encode(level_n, format, &states)
+                .unwrap()
+                .to_bytes(),
+            PaperTree::encode(level_n, format, &states)
+                .unwrap()
+                .to_bytes(),
+        ];
+        for (layout, good) in trees.iter().enumerate() {
+            for at in 0..good.len() {
+                for value in [good[at] ^ 1, good[at] ^ 0x80, 0xff, 0] {
+                    if value == good[at] {
+                        continue;
+                    }
+                    let mut bytes = good.clone();
+                    bytes[at] = value;
+                    let library: Option<Vec<u32>> = if layout == 0 {
+                        LevelOrderTree::from_bytes(&bytes)
+                            .ok()
+                            .map(|t| (0..u64::from(count)).map(|i| bits(t.get(i))).collect())
+                    } else {
+                        PaperTree::from_bytes(&bytes)
+                            .ok()
+                            .map(|t| (0..u64::from(count)).map(|i| bits(t.get(i))).collect())
+                    };
+                    let got = if layout == 0 {
+                        // The directory of the changed bits where the header
+                        // still describes them, else the original one.
+                        let tree_bits = u64::from_le_bytes(bytes[8..16].try_into().unwrap());
+                        let fits = 24 + tree_bits.div_ceil(8) <= bytes.len() as u64;
+                        let directory = rank_directory(if fits { &bytes } else { good });
+                        answers(
+                            &gpu,
+                            &lot,
+                            &[&words(&bytes), &directory, &[]],
+                            [0, count, 0, 0],
+                        )
+                    } else {
+                        answers(&gpu, &paper_k, &[&words(&bytes), &[]], [0, count, 0, 0])
+                    };
+                    assert!(
+                        got.iter().all(|&s| s <= INVALID),
+                        "layout {layout} byte {at} = {value:#x}"
+                    );
+                    if let Some(library) = library {
+                        assert_eq!(got, library, "layout {layout} byte {at} = {value:#x}");
+                        accepted += 1;
+                    } else {
+                        rejected += 1;
+                    }
+                }
+            }
+        }
+    }
+    gpu.drop_kernel(&lot);
+    gpu.drop_kernel(&paper_k);
+    println!(
+        "changed tree bytes: {accepted} accepted by the library and answered alike, \
+         {rejected} rejected (shader answers in 0..=4)"
     );
 }
 
