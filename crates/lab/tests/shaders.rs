@@ -25,11 +25,13 @@
 //! device each test prints `skipped: ...` and passes, unless
 //! `MICROMAP_REQUIRE_VULKAN=1` (the CI tier), where it fails.
 //!
-//! The random maps come from a small local generator (`Rng` below): the
-//! workspace's shared PRNG is moving into its own crate.
+//! The random maps come from the workspace's one PRNG
+//! (`micromap_index_test_support::SplitMix64`).
 
 #[path = "shaders/vulkan.rs"]
 mod vulkan;
+
+use micromap_index_test_support::SplitMix64;
 
 use micromap_index::inverse::micro_triangle;
 use micromap_index::micromap::{
@@ -188,19 +190,6 @@ fn first_difference(got: &[u32], expected: &[u32]) -> Option<(usize, u32, u32)> 
 
 // ---------------------------------------------------------------- maps
 
-/// A small local generator (splitmix64) for the random maps.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-}
-
 fn state_of(format: Format, bits: u64) -> State {
     let bits = match format {
         Format::TwoState => bits & 1,
@@ -213,11 +202,11 @@ fn state_of(format: Format, bits: u64) -> State {
 /// to the level): subtrees of every size merge.
 fn runs(level: u32, format: Format, seed: u64) -> Vec<State> {
     let count = 1usize << (2 * level);
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix64::new(seed);
     let mut states = Vec::with_capacity(count);
     while states.len() < count {
-        let k = (rng.next() % 4) as u32;
-        let state = state_of(format, rng.next());
+        let k = (rng.next_u64() % 4) as u32;
+        let state = state_of(format, rng.next_u64());
         // Aligned: a run of 4^k starts at a multiple of 4^k.
         let mut run = 1usize << (2 * k.min(level));
         while states.len() % run != 0 {
@@ -230,9 +219,9 @@ fn runs(level: u32, format: Format, seed: u64) -> Vec<State> {
 
 /// Independent random states (no merging to speak of).
 fn noise(level: u32, format: Format, seed: u64) -> Vec<State> {
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix64::new(seed);
     (0..1usize << (2 * level))
-        .map(|_| state_of(format, rng.next()))
+        .map(|_| state_of(format, rng.next_u64()))
         .collect()
 }
 
@@ -667,10 +656,10 @@ fn tree_lookups_on_maps(gpu: &Gpu, lang: Lang) {
                 let list: Vec<u32> = if level <= 6 {
                     (0..count as u32).collect()
                 } else if paper.tree_bits() <= 1 << 17 {
-                    let mut rng = Rng(u64::from(level) << 8 | u64::from(format.raw()));
+                    let mut rng = SplitMix64::new(u64::from(level) << 8 | u64::from(format.raw()));
                     let n = 1u64 << (2 * level);
                     (0..512)
-                        .map(|_| (rng.next() % n) as u32)
+                        .map(|_| (rng.next_u64() % n) as u32)
                         .chain([0, n as u32 - 1, n as u32])
                         .collect()
                 } else {
