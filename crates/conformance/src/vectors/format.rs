@@ -120,16 +120,19 @@ impl VectorSet {
 }
 
 /// `"0x"` and the 8 hex digits of the bits.
+#[must_use]
 pub fn f32_text(x: f32) -> String {
     format!("0x{:08x}", x.to_bits())
 }
 
 /// Always `p/q`, also for integers (`0/1`), so readers need one form only.
+#[must_use]
 pub fn rational_text(r: &BigRational) -> String {
     format!("{}/{}", r.numer(), r.denom())
 }
 
 /// `x` as an exact rational; `None` for NaN and the infinities.
+#[must_use]
 pub fn exact_of_f32(x: f32) -> Option<BigRational> {
     BigRational::from_float(f64::from(x))
 }
