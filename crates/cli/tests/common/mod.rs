@@ -101,3 +101,29 @@ pub fn scratch(name: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
+
+/// Checks `docs/cli.md` against the flag tables: every command in
+/// `commands` has its usage there exactly as `program help COMMAND` prints
+/// it (rendered from its table), in a text block; and every usage line of
+/// `program` there is one of theirs.
+pub fn docs_show_the_usage(program: &str, commands: &[&str]) {
+    let docs = std::fs::read_to_string(root().join("docs/cli.md")).unwrap();
+    for command in commands {
+        let output = run(&["help", command]);
+        assert_eq!(output.status.code(), Some(0), "help {command}");
+        let usage = text(&output.stdout);
+        let block = format!("```text\n{usage}```\n");
+        assert!(
+            docs.contains(&block),
+            "docs/cli.md lacks `{program} help {command}` as the binary prints it:\n{usage}"
+        );
+    }
+    let prefix = format!("usage: {program} ");
+    for line in docs.lines().filter(|line| line.starts_with(&prefix)) {
+        let command = line[prefix.len()..].split(' ').next().unwrap();
+        assert!(
+            commands.contains(&command),
+            "docs/cli.md shows a usage of {program} {command}, which is not rendered from a table"
+        );
+    }
+}
