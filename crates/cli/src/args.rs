@@ -21,6 +21,23 @@
 //!
 //! This file is also compiled into the lab's binary (`micromap-lab`), by
 //! `#[path]`, so both binaries share one parser and one usage layout.
+//!
+//! Giving a command a table (what `bake` and `verify-bake` still lack: they
+//! call the old [`Parsed::new`] and keep their usage texts apart):
+//!
+//! 1. write `pub(crate) static BAKE: Command = Command { name: "bake",
+//!    forms: &[...], about: "...", flags: &[Flag::value("--gltf", "ASSET",
+//!    "..."), ..., Flag::switch("--force", "...")] }` next to the command;
+//! 2. parse with `BAKE.parse(options).map_err(|e|
+//!    Failure::Usage(e.message("bake")))?` instead of `Parsed::new`; the
+//!    `Parsed` it returns has the same `get` and `flag`;
+//! 3. in `help::COMMANDS`, replace `Usage::Text(BAKE_USAGE)` with
+//!    `Usage::Tables(&[&BAKE], "")` and delete the text;
+//! 4. add the command to `tests/cli_docs.rs` and its rendered usage
+//!    (`micromap-index help bake`) to `docs/cli.md`.
+//!
+//! The one behaviour that changes: `Parsed::new` takes a switch as a value
+//! (`--out --force` sets `--out` to `--force`); a table never does.
 
 use std::fmt::Write as _;
 use std::ops::RangeInclusive;

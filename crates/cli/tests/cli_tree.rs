@@ -137,7 +137,7 @@ fn lookup_reads_the_encoded_map() {
     ] {
         let level = Level::new(4).unwrap();
         let value = |t: &str| {
-            micromap_index_lab::value::Value::parse(t)
+            micromap_index_conformance::value::Value::parse(t)
                 .unwrap()
                 .to_f32()
                 .unwrap()
