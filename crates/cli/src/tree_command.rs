@@ -7,7 +7,7 @@
 //! leaf data) or a value out of range (level above 16, index not below
 //! `4^level`); 3 standard input unreadable.
 
-use crate::args::{Command, Flag, Parsed};
+use crate::args::{whole_number, Command, Flag, Parsed};
 use crate::output::{self, print_then, Exit, Failure};
 use micromap_index::micromap::{Format, State};
 use micromap_index::succinct::{LevelOrderTree, PaperTree, TreeError, MAX_TREE_LEVEL};
@@ -117,17 +117,21 @@ fn parse_format(text: &str) -> Result<Format, Failure> {
     }
 }
 
+/// A level: digits only (no sign), at most [`MAX_TREE_LEVEL`].
 fn parse_level(text: &str) -> Result<Level, Failure> {
-    if text.is_empty() || !text.bytes().all(|b| b.is_ascii_digit()) {
-        return Err(Failure::Malformed(format!(
+    let number = if text.bytes().all(|b| b.is_ascii_digit()) {
+        whole_number(text).ok()
+    } else {
+        None
+    };
+    match number {
+        None => Err(Failure::Malformed(format!(
             "--level {text:?}: expected a whole number"
-        )));
-    }
-    match text.parse::<u32>() {
-        Ok(level) if level <= MAX_TREE_LEVEL => {
-            Level::new(level).map_err(|e| Failure::Malformed(e.to_string()))
+        ))),
+        Some(Some(level)) if level <= u64::from(MAX_TREE_LEVEL) => {
+            Level::new(level as u32).map_err(|e| Failure::Malformed(e.to_string()))
         }
-        _ => Err(Failure::Malformed(format!(
+        Some(_) => Err(Failure::Malformed(format!(
             "level {text} is too high: trees take levels 0..={MAX_TREE_LEVEL}"
         ))),
     }
