@@ -1,15 +1,170 @@
-//! `--name VALUE` / `--name=VALUE` options and `--flag` switches, each at
-//! most once, for the commands that take many of them (`bake`,
-//! `verify-bake`).
+//! The flag tables: each command's flags defined once ([`Flag`]), in one
+//! table per command ([`Command`]) from which both the parser
+//! ([`Command::parse`]) and the usage text ([`usage_text`]) are derived, as
+//! ripgrep's `flags/defs.rs` does; and the level syntax every command shares
+//! ([`level_range`], [`whole_number`]).
+//!
+//! The rules of a command line, the same for every table:
+//!
+//! * a switch (a flag without a value) is the exact word `--name`; it is
+//!   never taken as another flag's value (`--out --force` is `--out` without
+//!   its value), and `--name=VALUE` is refused;
+//! * a valued flag is `--name VALUE` or `--name=VALUE`; the value may start
+//!   with `-` (`--u -0.5`);
+//! * a flag is given at most once unless its table entry is
+//!   [`Flag::repeatable`] (the last value counts);
+//! * anything else is an unknown option.
+//!
+//! Every error message names the command: `locate: unknown option "-x"`,
+//! `check: --vectors needs a value`, `vectors: --force given twice`
+//! ([`ArgError::message`]).
+//!
+//! This file is also compiled into the lab's binary (`micromap-lab`), by
+//! `#[path]`, so both binaries share one parser and one usage layout.
+//!
+//! Giving a command a table (what `bake` and `verify-bake` still lack: they
+//! call the old [`Parsed::new`] and keep their usage texts apart):
+//!
+//! 1. write `pub(crate) static BAKE: Command = Command { name: "bake",
+//!    forms: &[...], about: "...", flags: &[Flag::value("--gltf", "ASSET",
+//!    "..."), ..., Flag::switch("--force", "...")] }` next to the command;
+//! 2. parse with `BAKE.parse(options).map_err(|e|
+//!    Failure::Usage(e.message("bake")))?` instead of `Parsed::new`; the
+//!    `Parsed` it returns has the same `get` and `flag`;
+//! 3. in `help::COMMANDS`, replace `Usage::Text(BAKE_USAGE)` with
+//!    `Usage::Tables(&[&BAKE], "")` and delete the text;
+//! 4. add the command to `tests/cli_docs.rs` and its rendered usage
+//!    (`micromap-index help bake`) to `docs/cli.md`.
+//!
+//! The one behaviour that changes: `Parsed::new` takes a switch as a value
+//! (`--out --force` sets `--out` to `--force`); a table never does.
 
-/// The options found on a command line.
+use std::fmt::Write as _;
+use std::ops::RangeInclusive;
+
+/// One flag of a command's table.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Flag {
+    /// `--name`.
+    pub(crate) name: &'static str,
+    /// The value's placeholder in the usage (`L`, `FILE`); `None` for a
+    /// switch.
+    pub(crate) value: Option<&'static str>,
+    /// What a missing value is called in `needs ...` (`a value` unless the
+    /// command says better: `A..=B`, `a number of faces`).
+    pub(crate) wants: &'static str,
+    /// One line of help, shown after the flag in the usage.
+    pub(crate) help: &'static str,
+    /// Whether the flag may be given again (the last value counts), rather
+    /// than being `given twice`.
+    pub(crate) repeatable: bool,
+}
+
+impl Flag {
+    /// `--name VALUE`.
+    pub(crate) const fn value(name: &'static str, value: &'static str, help: &'static str) -> Flag {
+        Flag {
+            name,
+            value: Some(value),
+            wants: "a value",
+            help,
+            repeatable: false,
+        }
+    }
+
+    /// A switch `--name`.
+    pub(crate) const fn switch(name: &'static str, help: &'static str) -> Flag {
+        Flag {
+            name,
+            value: None,
+            wants: "a value",
+            help,
+            repeatable: false,
+        }
+    }
+
+    /// The same flag, its missing value called `wants` (`needs A..=B`).
+    #[allow(dead_code)] // used by micromap-lab's `prove`
+    pub(crate) const fn wants(self, wants: &'static str) -> Flag {
+        Flag { wants, ..self }
+    }
+
+    /// The same flag, which may be repeated (the last value counts).
+    pub(crate) const fn repeatable(self) -> Flag {
+        Flag {
+            repeatable: true,
+            ..self
+        }
+    }
+
+    /// `--name VALUE` or `--name`, as the usage lists it.
+    fn shown(&self) -> String {
+        match self.value {
+            Some(value) => format!("{} {value}", self.name),
+            None => self.name.to_owned(),
+        }
+    }
+}
+
+/// One command's table: its name, its synopsis, its prose and its flags.
+#[derive(Debug)]
+pub(crate) struct Command {
+    /// The command's words after the program name (`locate`, `tree encode`).
+    pub(crate) name: &'static str,
+    /// The synopsis forms after `PROGRAM NAME ` (one line each; a form may
+    /// continue on indented lines).
+    pub(crate) forms: &'static [&'static str],
+    /// The description, each line indented by two spaces (may be empty).
+    pub(crate) about: &'static str,
+    /// The flags.
+    pub(crate) flags: &'static [Flag],
+}
+
+/// Why a command line does not fit its table.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(crate) enum ArgError<'a> {
+    /// A word that is no flag of the table (the word as given).
+    Unknown(&'a str),
+    /// A valued flag at the end of the line.
+    NeedsValue(&'static Flag),
+    /// A flag given twice.
+    Twice(&'static str),
+    /// A switch given as `--name=VALUE` (the word as given).
+    TakesNoValue(&'static str, &'a str),
+}
+
+impl ArgError<'_> {
+    /// The message, prefixed with the command's name: `locate: unknown
+    /// option "-x"`.
+    pub(crate) fn message(&self, command: &str) -> String {
+        format!("{command}: {}", self.describe())
+    }
+
+    /// The message without the command's name: `unknown option "-x"`,
+    /// `--level needs a value`, `--force given twice`.
+    pub(crate) fn describe(&self) -> String {
+        match self {
+            ArgError::Unknown(word) | ArgError::TakesNoValue(_, word) => {
+                format!("unknown option {word:?}")
+            }
+            ArgError::NeedsValue(flag) => format!("{} needs {}", flag.name, flag.wants),
+            ArgError::Twice(name) => format!("{name} given twice"),
+        }
+    }
+}
+
+/// The flags found on a command line.
+#[derive(Debug, Default)]
 pub(crate) struct Parsed<'a> {
     values: Vec<(&'static str, &'a str)>,
-    flags: Vec<&'static str>,
+    switches: Vec<&'static str>,
 }
 
 impl<'a> Parsed<'a> {
-    /// Parses `given`; `valued` options take a value, `flags` do not. The
+    /// The old parser of `bake` and `verify-bake`, kept until their tables
+    /// are written (see [`Command::parse`] for the one every other command
+    /// uses): `valued` options take a value, `flags` do not; a switch may be
+    /// taken as a value (`--out --force` sets `--out` to `--force`). The
     /// error is a usage message naming the command.
     pub(crate) fn new(
         command: &str,
@@ -17,18 +172,15 @@ impl<'a> Parsed<'a> {
         valued: &[&'static str],
         flags: &[&'static str],
     ) -> Result<Parsed<'a>, String> {
-        let mut parsed = Parsed {
-            values: Vec::new(),
-            flags: Vec::new(),
-        };
+        let mut parsed = Parsed::default();
         let mut rest = given;
         while let Some((&option, after)) = rest.split_first() {
             rest = after;
             if let Some(&flag) = flags.iter().find(|&&f| f == option) {
-                if parsed.flags.contains(&flag) {
+                if parsed.switches.contains(&flag) {
                     return Err(format!("{command}: {flag} given twice"));
                 }
-                parsed.flags.push(flag);
+                parsed.switches.push(flag);
                 continue;
             }
             let (name, inline_value) = match option.split_once('=') {
@@ -55,16 +207,223 @@ impl<'a> Parsed<'a> {
         Ok(parsed)
     }
 
-    /// The value of `name`, if given.
+    /// The value of `name`, if given (the last one for a repeatable flag).
     pub(crate) fn get(&self, name: &str) -> Option<&'a str> {
         self.values
             .iter()
+            .rev()
             .find(|&&(n, _)| n == name)
             .map(|&(_, v)| v)
     }
 
     /// Whether the switch `name` was given.
     pub(crate) fn flag(&self, name: &str) -> bool {
-        self.flags.contains(&name)
+        self.switches.contains(&name)
+    }
+}
+
+impl Command {
+    /// The table's flag called `name`.
+    fn find(&'static self, name: &str) -> Option<&'static Flag> {
+        self.flags.iter().find(|flag| flag.name == name)
+    }
+
+    /// Parses `given` by the table (the rules in the module docs).
+    pub(crate) fn parse<'a>(&'static self, given: &[&'a str]) -> Result<Parsed<'a>, ArgError<'a>> {
+        let mut parsed = Parsed::default();
+        // Switches first: a switch is never another flag's value.
+        let mut rest = Vec::with_capacity(given.len());
+        for &word in given {
+            match self.find(word) {
+                Some(flag) if flag.value.is_none() => {
+                    if parsed.switches.contains(&flag.name) && !flag.repeatable {
+                        return Err(ArgError::Twice(flag.name));
+                    }
+                    parsed.switches.push(flag.name);
+                }
+                _ => rest.push(word),
+            }
+        }
+        let mut rest = rest.into_iter();
+        while let Some(word) = rest.next() {
+            let (name, inline_value) = match word.split_once('=') {
+                Some((name, value)) => (name, Some(value)),
+                None => (word, None),
+            };
+            let Some(flag) = self.find(name) else {
+                return Err(ArgError::Unknown(word));
+            };
+            if flag.value.is_none() {
+                return Err(ArgError::TakesNoValue(flag.name, word));
+            }
+            let Some(value) = inline_value.or_else(|| rest.next()) else {
+                return Err(ArgError::NeedsValue(flag));
+            };
+            if parsed.values.iter().any(|&(n, _)| n == flag.name) && !flag.repeatable {
+                return Err(ArgError::Twice(flag.name));
+            }
+            parsed.values.push((flag.name, value));
+        }
+        Ok(parsed)
+    }
+}
+
+/// The usage text of `commands` (one command, or the subcommands of one
+/// word: `tree encode` and `tree lookup`) run as `program`: every synopsis
+/// form, then `about`, then `options:` and every flag once with its help, in
+/// table order.
+pub(crate) fn usage_text(program: &str, commands: &[&Command], about: &str) -> String {
+    let mut text = String::new();
+    let mut first = true;
+    for command in commands {
+        for form in command.forms {
+            let lead = if first { "usage:" } else { "      " };
+            first = false;
+            let _ = writeln!(text, "{lead} {program} {} {form}", command.name);
+        }
+    }
+    for part in std::iter::once(about).chain(commands.iter().map(|c| c.about)) {
+        if !part.is_empty() {
+            let _ = writeln!(text, "{part}");
+        }
+    }
+    let mut listed: Vec<&Flag> = Vec::new();
+    for flag in commands.iter().flat_map(|c| c.flags) {
+        if !listed.iter().any(|shown| shown.name == flag.name) {
+            listed.push(flag);
+        }
+    }
+    let width = listed
+        .iter()
+        .map(|flag| flag.shown().len())
+        .max()
+        .unwrap_or(0)
+        .max(16)
+        + 2;
+    if !listed.is_empty() {
+        text.push_str("options:\n");
+    }
+    for flag in listed {
+        let _ = writeln!(text, "  {:<width$}{}", flag.shown(), flag.help);
+    }
+    text.pop();
+    text
+}
+
+/// Why a level range does not parse.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(crate) enum RangeError<'a> {
+    /// A part that is not a level (as written).
+    BadLevel(&'a str),
+    /// The range holds no level (`3..3`, `4..=3`, `0..0`).
+    Empty,
+}
+
+/// A level range, the one syntax of every `--levels`: `A..=B`, `A..B` (`B`
+/// excluded) or a single level `N`, each level a whole number (spaces
+/// around it allowed). Not empty; the caller checks the highest level.
+pub(crate) fn level_range(text: &str) -> Result<RangeInclusive<u32>, RangeError<'_>> {
+    fn level(s: &str) -> Result<u32, RangeError<'_>> {
+        s.trim().parse::<u32>().map_err(|_| RangeError::BadLevel(s))
+    }
+    let range = if let Some((a, b)) = text.split_once("..=") {
+        level(a)?..=level(b)?
+    } else if let Some((a, b)) = text.split_once("..") {
+        let end = level(b)?.checked_sub(1).ok_or(RangeError::Empty)?;
+        level(a)?..=end
+    } else {
+        let n = level(text)?;
+        n..=n
+    };
+    if range.is_empty() {
+        return Err(RangeError::Empty);
+    }
+    Ok(range)
+}
+
+/// A whole number (as `u64` parses it: digits, an optional `+`):
+/// `Ok(Some(n))`, `Ok(None)` when it is above `u64::MAX` (so above every
+/// level and index), `Err(())` when it is no whole number.
+pub(crate) fn whole_number(text: &str) -> Result<Option<u64>, ()> {
+    match text.parse::<u64>() {
+        Ok(number) => Ok(Some(number)),
+        Err(e) if *e.kind() == std::num::IntErrorKind::PosOverflow => Ok(None),
+        Err(_) => Err(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    static DEMO: Command = Command {
+        name: "demo",
+        forms: &["--level L [--json]"],
+        about: "  A demonstration.",
+        flags: &[
+            Flag::value("--level", "L", "the level"),
+            Flag::switch("--json", "JSON"),
+            Flag::value("--seed", "S", "a seed").repeatable(),
+        ],
+    };
+
+    #[test]
+    fn parses_by_the_table() {
+        let p = DEMO
+            .parse(&["--json", "--level=3", "--seed", "1", "--seed", "2"])
+            .unwrap();
+        assert_eq!(
+            (p.get("--level"), p.get("--seed"), p.flag("--json")),
+            (Some("3"), Some("2"), true)
+        );
+        // A switch is never a value.
+        assert_eq!(
+            DEMO.parse(&["--level", "--json"])
+                .unwrap_err()
+                .message("demo"),
+            "demo: --level needs a value"
+        );
+        assert_eq!(
+            DEMO.parse(&["--json", "--json"]).unwrap_err(),
+            ArgError::Twice("--json")
+        );
+        assert_eq!(
+            DEMO.parse(&["--level", "1", "--level=2"]).unwrap_err(),
+            ArgError::Twice("--level")
+        );
+        assert_eq!(
+            DEMO.parse(&["-x"]).unwrap_err().message("demo"),
+            "demo: unknown option \"-x\""
+        );
+        assert_eq!(
+            DEMO.parse(&["--json=1"]).unwrap_err().message("demo"),
+            "demo: unknown option \"--json=1\""
+        );
+        assert_eq!(
+            DEMO.parse(&["--level", "-1"]).unwrap().get("--level"),
+            Some("-1")
+        );
+    }
+
+    #[test]
+    fn renders_the_usage_from_the_table() {
+        assert_eq!(
+            usage_text("prog", &[&DEMO], ""),
+            "usage: prog demo --level L [--json]\n  A demonstration.\noptions:\n  --level L         the level\n  --json            JSON\n  --seed S          a seed"
+        );
+    }
+
+    #[test]
+    fn one_level_syntax() {
+        assert_eq!(level_range("2..=4"), Ok(2..=4));
+        assert_eq!(level_range("2..4"), Ok(2..=3));
+        assert_eq!(level_range("7"), Ok(7..=7));
+        assert_eq!(level_range("3..3"), Err(RangeError::Empty));
+        assert_eq!(level_range("0..0"), Err(RangeError::Empty));
+        assert_eq!(level_range("4..=3"), Err(RangeError::Empty));
+        assert_eq!(level_range("x..=3"), Err(RangeError::BadLevel("x")));
+        assert_eq!(whole_number("18446744073709551616"), Ok(None));
+        assert_eq!(whole_number("+3"), Ok(Some(3)));
+        assert_eq!(whole_number("3.0"), Err(()));
     }
 }

@@ -1,7 +1,7 @@
 //! `micromap-index check --vectors FILE --answers FILE [--levels A..=B]
 //! [--tags T,..] [--exclude-tags T,..] [--examples K] [--json]`: compares
 //! another implementation's answers with a vector file and prints the
-//! report (`micromap_index_lab::vectors::CheckReport`) to stdout.
+//! report (`micromap_index_conformance::vectors::CheckReport`) to stdout.
 //!
 //! The answers are read first (`--answers -` reads stdin), then the vector
 //! file is streamed case by case: memory for the answers and one case.
@@ -20,67 +20,80 @@
 //! * 3 — a file that cannot be read;
 //! * 141 — stdout closed by its reader (the table in `micromap-index help`).
 
-use crate::output::{print_then, report, Exit};
-use crate::usage_error;
-use micromap_index_lab::vectors::{
-    check_reader, is_known_tag, parse_answers, parse_vector_file, tag, Selection, VectorFile,
+use crate::args::{level_range, Command, Flag, Parsed};
+use crate::input::{open, read_bytes, shown_path};
+use crate::output::{self, print_then, Exit, Failure};
+use micromap_index_conformance::vectors::{
+    check_reader, is_known_tag, parse_answers, tag, Selection,
 };
-use std::collections::BTreeMap;
-use std::io::{self, BufReader, Read};
-use std::process::ExitCode;
 
 /// Examples per class when `--examples` is not given.
 const DEFAULT_EXAMPLES: usize = 5;
 
-pub(crate) fn run(options: &[&str]) -> ExitCode {
-    let json = options.contains(&"--json");
-    let options: Vec<&str> = options.iter().copied().filter(|o| *o != "--json").collect();
-    let options = match named_options(
-        "check",
-        &options,
-        &[
-            "--vectors",
-            "--answers",
-            "--examples",
-            "--levels",
-            "--tags",
+/// The flag table of `check`.
+pub(crate) static CHECK: Command = Command {
+    name: "check",
+    forms: &["--vectors FILE --answers FILE [--levels A..=B]
+         [--tags T,..] [--exclude-tags T,..] [--json] [--examples K]"],
+    about: "  Compares answer lines {\"id\": N, \"index\": I} (or {\"id\": N,
+  \"unsupported\": true}) from FILE, or - for stdin, with the vectors; reports
+  by mismatch class (out-of-range answers first), tag and level, then K
+  examples per class (default 5). --levels/--tags/--exclude-tags select the
+  cases checked (the rest count as skipped); --json prints one JSON object.
+  Exit 0 all match, 1 a mismatch or a missing/unknown id, 2 usage error,
+  malformed file or a selection with no case.",
+    flags: &[
+        Flag::value("--vectors", "FILE", "the vector file (- for stdin)"),
+        Flag::value("--answers", "FILE", "the answer lines (- for stdin)"),
+        Flag::value("--levels", "A..=B", "check only these levels (A..B, N)"),
+        Flag::value("--tags", "T,..", "check only cases with one of these tags"),
+        Flag::value(
             "--exclude-tags",
-        ],
-    ) {
-        Ok(options) => options,
-        Err(message) => return usage_error(&message),
-    };
-    let (Some(&vectors_path), Some(&answers_path)) =
+            "T,..",
+            "skip cases with one of these tags",
+        ),
+        Flag::switch("--json", "one JSON object instead of the text").repeatable(),
+        Flag::value("--examples", "K", "examples shown per class (default 5)"),
+    ],
+};
+
+pub(crate) fn run(options: &[&str]) -> Exit {
+    output::finish(check(options))
+}
+
+fn check(options: &[&str]) -> Result<Exit, Failure> {
+    let options = CHECK
+        .parse(options)
+        .map_err(|e| Failure::Usage(e.message("check")))?;
+    let json = options.flag("--json");
+    let (Some(vectors_path), Some(answers_path)) =
         (options.get("--vectors"), options.get("--answers"))
     else {
-        return usage_error("check needs --vectors FILE and --answers FILE");
+        return Err(Failure::Usage(
+            "check needs --vectors FILE and --answers FILE".into(),
+        ));
     };
     if vectors_path == "-" && answers_path == "-" {
-        return usage_error("check: --vectors and --answers cannot both be stdin");
+        return Err(Failure::Usage(
+            "check: --vectors and --answers cannot both be stdin".into(),
+        ));
     }
-    let examples = match options.get("--examples").map(|text| text.parse::<usize>()) {
+    let examples = match options.get("--examples").map(str::parse::<usize>) {
         None => DEFAULT_EXAMPLES,
         Some(Ok(examples)) => examples,
-        Some(Err(_)) => return usage_error("check: --examples needs a whole number"),
+        Some(Err(_)) => {
+            return Err(Failure::Usage(
+                "check: --examples needs a whole number".into(),
+            ))
+        }
     };
-    let selection = match selection(&options) {
-        Ok(selection) => selection,
-        Err(message) => return usage_error(&message),
-    };
-    let answers = match read_bytes(answers_path) {
-        Ok(bytes) => match parse_answers(&bytes) {
-            Ok(answers) => answers,
-            Err(e) => return cannot_check(&format!("{}: {e}", shown_path(answers_path))),
-        },
-        Err(message) => return unreadable(&message),
-    };
-    let report = match open(vectors_path) {
-        Ok(reader) => match check_reader(reader, &answers, selection) {
-            Ok(report) => report,
-            Err(e) => return cannot_check(&format!("{}: {e}", shown_path(vectors_path))),
-        },
-        Err(message) => return unreadable(&message),
-    };
+    let selection = selection(&options).map_err(Failure::Usage)?;
+    let answers = read_bytes(answers_path).map_err(Failure::Io)?;
+    let answers = parse_answers(&answers)
+        .map_err(|e| Failure::Malformed(format!("{}: {e}", shown_path(answers_path))))?;
+    let reader = open(vectors_path).map_err(Failure::Io)?;
+    let report = check_reader(reader, &answers, selection)
+        .map_err(|e| Failure::Malformed(format!("{}: {e}", shown_path(vectors_path))))?;
     let text = if json {
         format!("{}\n", report.to_json(examples))
     } else {
@@ -91,22 +104,20 @@ pub(crate) fn run(options: &[&str]) -> ExitCode {
     } else {
         Exit::Failed
     };
-    print_then(&text, verdict).into()
+    Ok(print_then(&text, verdict))
 }
 
-/// `--levels A..=B` (or `N`), `--tags T,..`, `--exclude-tags T,..`.
-fn selection(options: &BTreeMap<String, &str>) -> Result<Selection, String> {
+/// `--levels A..=B` (or `A..B`, `N`), `--tags T,..`, `--exclude-tags T,..`.
+fn selection(options: &Parsed<'_>) -> Result<Selection, String> {
     let mut selection = Selection::default();
     if let Some(text) = options.get("--levels") {
-        let bad = || format!("check: --levels needs A..=B or N with levels 0..=32, not {text:?}");
-        let (low, high) = match text.split_once("..=") {
-            Some((low, high)) => (low, high),
-            None => (*text, *text),
-        };
-        let parse = |t: &str| t.trim().parse::<u32>().ok().filter(|level| *level <= 32);
-        match (parse(low), parse(high)) {
-            (Some(low), Some(high)) if low <= high => selection.levels = Some(low..=high),
-            _ => return Err(bad()),
+        match level_range(text) {
+            Ok(levels) if *levels.end() <= 32 => selection.levels = Some(levels),
+            _ => {
+                return Err(format!(
+                    "check: --levels needs A..=B or N with levels 0..=32, not {text:?}"
+                ))
+            }
         }
     }
     for (option, target) in [
@@ -126,83 +137,4 @@ fn selection(options: &BTreeMap<String, &str>) -> Result<Selection, String> {
         }
     }
     Ok(selection)
-}
-
-/// The file (`-`: stdin) as a buffered reader, or a message naming it.
-fn open(path: &str) -> Result<Box<dyn Read>, String> {
-    if path == "-" {
-        return Ok(Box::new(BufReader::new(io::stdin())));
-    }
-    match std::fs::File::open(path) {
-        Ok(file) => Ok(Box::new(BufReader::new(file))),
-        Err(e) => Err(format!("cannot read {path}: {e}")),
-    }
-}
-
-/// A malformed file: exit 2, nothing checked.
-fn cannot_check(message: &str) -> ExitCode {
-    report(message);
-    Exit::Usage.into()
-}
-
-/// A file that cannot be read: exit 3.
-fn unreadable(message: &str) -> ExitCode {
-    report(message);
-    Exit::Io.into()
-}
-
-fn shown_path(path: &str) -> &str {
-    if path == "-" {
-        "stdin"
-    } else {
-        path
-    }
-}
-
-/// The file's bytes (`-`: stdin), or a message naming it.
-fn read_bytes(path: &str) -> Result<Vec<u8>, String> {
-    if path == "-" {
-        let mut bytes = Vec::new();
-        return io::stdin()
-            .read_to_end(&mut bytes)
-            .map(|_| bytes)
-            .map_err(|e| format!("reading stdin: {e}"));
-    }
-    std::fs::read(path).map_err(|e| format!("cannot read {path}: {e}"))
-}
-
-/// Reads and parses a vector file, or a message naming it.
-pub(crate) fn read_vectors(path: &str) -> Result<VectorFile, String> {
-    let bytes = read_bytes(path)?;
-    parse_vector_file(&bytes).map_err(|e| format!("{}: {e}", shown_path(path)))
-}
-
-/// `--name VALUE` or `--name=VALUE` options from `allowed`, each at most
-/// once, and nothing else.
-pub(crate) fn named_options<'a>(
-    command: &str,
-    options: &[&'a str],
-    allowed: &[&str],
-) -> Result<BTreeMap<String, &'a str>, String> {
-    let mut found = BTreeMap::new();
-    let mut rest = options;
-    while let Some((&option, after)) = rest.split_first() {
-        let (name, inline_value) = match option.split_once('=') {
-            Some((name, value)) => (name, Some(value)),
-            None => (option, None),
-        };
-        if !allowed.contains(&name) {
-            return Err(format!("{command}: unknown option {option:?}"));
-        }
-        let (value, after) = match (inline_value, after.split_first()) {
-            (Some(value), _) => (value, after),
-            (None, Some((&value, after))) => (value, after),
-            (None, None) => return Err(format!("{command}: {name} needs a value")),
-        };
-        if found.insert(name.to_owned(), value).is_some() {
-            return Err(format!("{command}: {name} given twice"));
-        }
-        rest = after;
-    }
-    Ok(found)
 }

@@ -6,32 +6,52 @@
 //! 2 for a bad command line, 3 if stdin cannot be read or stdout written,
 //! 141 if stdout is closed.
 
+use crate::args::{Command, Flag};
 use crate::input::{BoundedLines, Line, MAX_LINE_BYTES};
-use crate::output::{self, Exit, Stdout};
-use crate::usage;
-use micromap_index_lab::eval::{eval_line_bytes, Variant};
+use crate::output::{self, Exit, Failure, Stdout};
+use micromap_index_conformance::eval::{eval_line_bytes, Variant};
 use std::io;
+
+/// The flag table of `eval`.
+pub(crate) static EVAL: Command = Command {
+    name: "eval",
+    forms: &["--variant NAME"],
+    about: "  Evaluates JSON lines {\"u\": U, \"v\": V, \"level\": L} from stdin; writes one
+  line {\"index\": N} or {\"error\": \"...\"} per input line to stdout.
+  U and V: \"0x\" + 8 hex digits (binary32 bits), \"0x\" + 16 hex digits
+  (binary64 bits), or an exact decimal or rational (\"0.375\", \"-3/8\").
+  Limits (each an error line naming the limit): a value of at most 20000
+  characters, a decimal of at most 4096 digits with an exponent of at most
+  4096 in magnitude, a numerator or denominator of at most 8200 digits, an
+  input line of at most 1048576 bytes; L an integer in 0..=32 (0..=16 for
+  spec-f32, spec-f32-by-integers, spec-real).",
+    flags: &[Flag::value(
+        "--variant",
+        "NAME",
+        "the library function to evaluate (the list below)",
+    )],
+};
 
 pub(crate) fn run(options: &[&str]) -> Exit {
     match variant_option(options) {
         Ok(variant) => evaluate_stdin(variant),
-        Err(message) => usage(&message),
+        Err(failure) => failure.exit(),
     }
 }
 
 /// `--variant NAME` or `--variant=NAME`, and nothing else.
-fn variant_option(options: &[&str]) -> Result<Variant, String> {
-    let name = match options {
-        ["--variant", name] => *name,
-        [option] if option.starts_with("--variant=") => &option["--variant=".len()..],
-        _ => return Err("eval needs exactly --variant NAME".into()),
-    };
+fn variant_option(options: &[&str]) -> Result<Variant, Failure> {
+    let name = EVAL
+        .parse(options)
+        .ok()
+        .and_then(|parsed| parsed.get("--variant"))
+        .ok_or_else(|| Failure::Usage("eval needs exactly --variant NAME".into()))?;
     Variant::from_name(name).ok_or_else(|| {
         let names: Vec<&str> = Variant::ALL.map(Variant::name).to_vec();
-        format!(
+        Failure::Usage(format!(
             "unknown variant {name:?}; variants: {} (and their legacy names)",
             names.join(", ")
-        )
+        ))
     })
 }
 

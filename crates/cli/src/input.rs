@@ -1,13 +1,47 @@
-//! Reading input lines with a bounded buffer: a line longer than the cap is
-//! skipped (its bytes read and dropped as they come) and reported, so one
-//! 200 MB line costs a bounded amount of memory, not 200 MB.
+//! Reading input: files or stdin (`-`) with a message naming what failed
+//! ([`read_bytes`], [`open`]), and lines with a bounded buffer: a line
+//! longer than the cap is skipped (its bytes read and dropped as they come)
+//! and reported, so one 200 MB line costs a bounded amount of memory, not
+//! 200 MB. Also compiled into the lab's binary, by `#[path]`.
 
-use std::io::{self, BufRead};
+use std::io::{self, BufRead, BufReader, Read};
 
 /// The longest `eval` input line, in bytes (without the newline). A valid
 /// line is far shorter: two values of at most 20,000 characters
-/// (`micromap_index_lab::value::MAX_VALUE_LEN`) and a level.
+/// (`micromap_index_conformance::value::MAX_VALUE_LEN`) and a level.
 pub(crate) const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// The file (`-`: stdin) as a buffered reader, or a message naming it.
+pub(crate) fn open(path: &str) -> Result<Box<dyn Read>, String> {
+    if path == "-" {
+        return Ok(Box::new(BufReader::new(io::stdin())));
+    }
+    match std::fs::File::open(path) {
+        Ok(file) => Ok(Box::new(BufReader::new(file))),
+        Err(e) => Err(format!("cannot read {path}: {e}")),
+    }
+}
+
+/// The file's bytes (`-`: stdin), or a message naming it.
+pub(crate) fn read_bytes(path: &str) -> Result<Vec<u8>, String> {
+    if path == "-" {
+        let mut bytes = Vec::new();
+        return io::stdin()
+            .read_to_end(&mut bytes)
+            .map(|_| bytes)
+            .map_err(|e| format!("reading stdin: {e}"));
+    }
+    std::fs::read(path).map_err(|e| format!("cannot read {path}: {e}"))
+}
+
+/// `path` as messages name it: `stdin` for `-`.
+pub(crate) fn shown_path(path: &str) -> &str {
+    if path == "-" {
+        "stdin"
+    } else {
+        path
+    }
+}
 
 /// One input line.
 #[derive(Debug, PartialEq, Eq)]

@@ -9,57 +9,37 @@
 //! number or out of range, is exit 2 (usage error or malformed input; the
 //! message says what is wrong); exit 3 or 141 if stdout cannot be written.
 
-use crate::output::{self, Exit, Stdout};
-use crate::usage;
+use crate::args::{whole_number, Command, Flag};
+use crate::output::{self, Exit, Failure, Stdout};
 use micromap_index::inverse::{micro_triangle, MicroTriangle};
 use micromap_index::Level;
 use num_rational::BigRational;
 use serde::Serialize;
-use std::num::IntErrorKind;
+
+/// The flag table of `locate`.
+pub(crate) static LOCATE: Command = Command {
+    name: "locate",
+    forms: &["--level L --index I"],
+    about: "  Prints micro-triangle I's exact vertices at level L as one JSON line
+  {\"level\":L,\"index\":I,\"upright\":B,\"vertices\":[[\"p/q\",\"p/q\"],...]}.
+  L in 0..=32, I in 0..4^L; anything else is exit 2.",
+    flags: &[
+        Flag::value("--level", "L", "the subdivision level, 0..=32"),
+        Flag::value("--index", "I", "the micro-triangle's index, 0..4^L"),
+    ],
+};
 
 pub(crate) fn run(options: &[&str]) -> Exit {
-    let (level, index) = match level_and_index_options(options) {
-        Ok(texts) => texts,
-        Err(message) => return usage(&message),
+    let parsed = match LOCATE.parse(options) {
+        Ok(parsed) => parsed,
+        Err(error) => return Failure::Usage(error.message("locate")).exit(),
+    };
+    let (Some(level), Some(index)) = (parsed.get("--level"), parsed.get("--index")) else {
+        return Failure::Usage("locate needs --level L and --index I".into()).exit();
     };
     match locate(level, index) {
         Ok(triangle) => print_line(&triangle),
-        Err(message) => {
-            output::report(message);
-            Exit::Usage
-        }
-    }
-}
-
-/// The texts of `--level` and `--index` (each once, as `--name VALUE` or
-/// `--name=VALUE`, in any order), and nothing else.
-fn level_and_index_options<'a>(options: &[&'a str]) -> Result<(&'a str, &'a str), String> {
-    let mut level = None;
-    let mut index = None;
-    let mut rest = options;
-    while let Some((&option, after)) = rest.split_first() {
-        let (name, inline_value) = match option.split_once('=') {
-            Some((name, value)) => (name, Some(value)),
-            None => (option, None),
-        };
-        let slot = match name {
-            "--level" => &mut level,
-            "--index" => &mut index,
-            _ => return Err(format!("locate: unknown option {option:?}")),
-        };
-        let (value, after) = match (inline_value, after.split_first()) {
-            (Some(value), _) => (value, after),
-            (None, Some((&value, after))) => (value, after),
-            (None, None) => return Err(format!("locate: {name} needs a value")),
-        };
-        if slot.replace(value).is_some() {
-            return Err(format!("locate: {name} given twice"));
-        }
-        rest = after;
-    }
-    match (level, index) {
-        (Some(level), Some(index)) => Ok((level, index)),
-        _ => Err("locate needs --level L and --index I".into()),
+        Err(message) => Failure::Malformed(message).exit(),
     }
 }
 
@@ -71,11 +51,11 @@ fn locate(level_text: &str, index_text: &str) -> Result<MicroTriangle, String> {
             Level::MAX
         )
     };
-    let level = whole_number("--level", level_text)?
+    let level = number("--level", level_text)?
         .and_then(|level| u32::try_from(level).ok())
         .ok_or_else(too_high)?;
     let level = Level::new(level).map_err(|_| too_high())?;
-    match whole_number("--index", index_text)? {
+    match number("--index", index_text)? {
         Some(index) => micro_triangle(level, index).map_err(|error| error.to_string()),
         // Above u64::MAX, so at least 4^32: out of range at every level.
         None => Err(format!(
@@ -86,12 +66,8 @@ fn locate(level_text: &str, index_text: &str) -> Result<MicroTriangle, String> {
 }
 
 /// `Some(n)` for a whole number that fits a `u64`, `None` for a larger one.
-fn whole_number(option: &str, text: &str) -> Result<Option<u64>, String> {
-    match text.parse::<u64>() {
-        Ok(number) => Ok(Some(number)),
-        Err(e) if *e.kind() == IntErrorKind::PosOverflow => Ok(None),
-        Err(_) => Err(format!("{option} {text:?} is not a whole number")),
-    }
+fn number(option: &str, text: &str) -> Result<Option<u64>, String> {
+    whole_number(text).map_err(|()| format!("{option} {text:?} is not a whole number"))
 }
 
 /// The JSON line, fields in this order.

@@ -2,7 +2,7 @@
 //! for stdout and stderr that never panic.
 //!
 //! `println!` and `eprintln!` panic when the write fails ("failed printing to
-//! stdout", exit 101), which `micromap-index prove | head -3` or
+//! stdout", exit 101), which `micromap-lab prove | head -3` or
 //! `micromap-index help >/dev/full` trigger. Here a write to stdout that
 //! fails because the reader went away (`EPIPE`; Rust ignores `SIGPIPE`, so the
 //! write returns the error) ends the command quietly with [`Exit::BrokenPipe`];
@@ -10,6 +10,11 @@
 //! and ends it with [`Exit::Io`]. Messages to stderr are best effort: when
 //! stderr itself is closed or full there is nowhere left to report, so the
 //! error is dropped and the exit code alone tells.
+//!
+//! Every command returns an [`Exit`]; what ends one early is a [`Failure`],
+//! which says how it is reported and with which code. This file is also
+//! compiled into the lab's binary (`micromap-lab`), by `#[path]`; messages
+//! start with the running program's name, `crate::PROGRAM`.
 
 use std::fmt;
 use std::fmt::Write as _;
@@ -104,10 +109,56 @@ pub(crate) fn exit_code_table() -> String {
     text
 }
 
-/// Writes `micromap-index: MESSAGE` and a newline to stderr; best effort
-/// (see the module docs).
+/// What ended a command before it finished, by exit code.
+#[derive(Debug)]
+pub(crate) enum Failure {
+    /// Exit 2, the message followed by the command's usage: a command line
+    /// of the wrong shape.
+    Usage(String),
+    /// Exit 2: malformed input, a value out of range, a destination
+    /// refused; nothing was done.
+    Malformed(String),
+    /// Exit 1: the check failed, or an internal error was found.
+    Failed(String),
+    /// Exit 3: an input that cannot be read, an output that cannot be
+    /// written.
+    Io(String),
+    /// This exit, already reported (or quiet: a closed stdout).
+    Exit(Exit),
+}
+
+impl Failure {
+    /// Reports the failure on stderr and returns its exit.
+    #[must_use]
+    pub(crate) fn exit(self) -> Exit {
+        let (message, exit) = match self {
+            Failure::Usage(message) => return crate::usage(&message),
+            Failure::Malformed(message) => (message, Exit::Usage),
+            Failure::Failed(message) => (message, Exit::Failed),
+            Failure::Io(message) => (message, Exit::Io),
+            Failure::Exit(exit) => return exit,
+        };
+        report(message);
+        exit
+    }
+}
+
+impl From<Exit> for Failure {
+    fn from(exit: Exit) -> Self {
+        Failure::Exit(exit)
+    }
+}
+
+/// The exit of a command's outcome: its verdict, or its failure reported.
+#[must_use]
+pub(crate) fn finish(outcome: Result<Exit, Failure>) -> Exit {
+    outcome.unwrap_or_else(Failure::exit)
+}
+
+/// Writes `PROGRAM: MESSAGE` and a newline to stderr; best effort (see the
+/// module docs).
 pub(crate) fn report(message: impl fmt::Display) {
-    let _ = writeln!(io::stderr().lock(), "micromap-index: {message}");
+    let _ = writeln!(io::stderr().lock(), "{}: {message}", crate::PROGRAM);
 }
 
 /// Writes `text` to stderr as it is (no prefix, no newline); best effort.
@@ -157,6 +208,7 @@ impl Stdout {
 
     /// Stdout flushed after each line.
     #[must_use]
+    #[allow(dead_code)] // used by micromap-lab's `prove` and `vectors`
     pub(crate) fn line_by_line() -> Stdout {
         Stdout {
             flush_each_line: true,

@@ -1,25 +1,63 @@
 //! `micromap-index tree encode|lookup`: the paper's succinct tree from the
 //! command line (library: `micromap_index::succinct`).
 //!
-//! Exit codes: 0 success; 1 a value out of range (level above 16, index not
-//! below `4^level`); 2 a malformed command line or input (unknown option,
-//! bad format, states, tree bits or leaf data); 3 an internal error (the
-//! paper's Algorithm 3 and the level-order layout disagree: a bug, please
-//! report it).
+//! Exit codes: 0 success; 1 an internal error (the paper's Algorithm 3 and
+//! the level-order layout disagree: a bug, please report it); 2 a malformed
+//! command line or input (unknown option, bad format, states, tree bits or
+//! leaf data) or a value out of range (level above 16, index not below
+//! `4^level`); 3 standard input unreadable.
 
-use crate::output::{print_then, report, Exit};
+use crate::args::{whole_number, Command, Flag, Parsed};
+use crate::output::{self, print_then, Exit, Failure};
 use micromap_index::micromap::{Format, State};
 use micromap_index::succinct::{LevelOrderTree, PaperTree, TreeError, MAX_TREE_LEVEL};
 use micromap_index::Level;
-use micromap_index_lab::value::Value;
+use micromap_index_conformance::value::Value;
 use serde::Serialize;
 use std::io::{self, Read};
-use std::process::ExitCode;
 
-pub(crate) const USAGE: &str = "\
-usage: micromap-index tree encode --format 2|4 --level L [--states S]
-       micromap-index tree lookup --format 2|4 --level L --tree BITS --data STATES
-                                  (--index I | --u X --v Y)
+const FORMAT: Flag = Flag::value("--format", "2|4", "2-state or 4-state micromap");
+const LEVEL: Flag = Flag::value("--level", "L", "the subdivision level, 0..=16");
+
+/// The flag table of `tree encode`.
+pub(crate) static ENCODE: Command = Command {
+    name: "tree encode",
+    forms: &["--format 2|4 --level L [--states S]"],
+    about: "",
+    flags: &[
+        FORMAT,
+        LEVEL,
+        Flag::value(
+            "--states",
+            "S",
+            "the micromap's states (absent or -: stdin)",
+        ),
+    ],
+};
+
+/// The flag table of `tree lookup`.
+pub(crate) static LOOKUP: Command = Command {
+    name: "tree lookup",
+    forms: &["--format 2|4 --level L --tree BITS --data STATES
+                                  (--index I | --u X --v Y)"],
+    about: "",
+    flags: &[
+        FORMAT,
+        LEVEL,
+        Flag::value(
+            "--tree",
+            "BITS",
+            "the depth-first tree bits that encode printed",
+        ),
+        Flag::value("--data", "STATES", "the leaf states that encode printed"),
+        Flag::value("--index", "I", "the micro-triangle, 0..4^L"),
+        Flag::value("--u", "X", "or the binary32 hit's u"),
+        Flag::value("--v", "Y", "and v"),
+    ],
+};
+
+/// The prose of `tree`'s usage, after both synopses.
+pub(crate) const ABOUT: &str = "\
 encode: S is the micromap, 4^L characters 0..3 (0 transparent, 1 opaque,
         2 unknown-transparent, 3 unknown-opaque; a 2-state map only 0 and 1),
         one per micro-triangle in index order; from standard input when
@@ -38,99 +76,35 @@ levels: 0..=16. Exit 0 ok, 1 the two lookups disagree (a bug: please report
         it), 2 malformed command line, states, bits or data, or a value out
         of range, 3 standard input unreadable.";
 
-pub(crate) fn run(options: &[&str]) -> ExitCode {
+pub(crate) fn run(options: &[&str]) -> Exit {
     // `tree --help`, `tree encode --help` and `help tree` are handled by
     // main through `help::command_help("tree")`.
-    match options.split_first() {
-        Some((&"encode", rest)) => finish(encode(rest)),
-        Some((&"lookup", rest)) => finish(lookup(rest)),
-        _ => crate::usage_error("tree needs a subcommand: encode or lookup"),
-    }
-}
-
-/// What went wrong, by exit code (the table in `micromap-index help`).
-enum Failure {
-    /// Exit 2, with the usage.
-    Usage(String),
-    /// Exit 2: the states, bits, data or a value are malformed.
-    Malformed(String),
-    /// Exit 2: a value is out of range (a level, an index).
-    OutOfRange(String),
-    /// Exit 1: Algorithm 3 and the level-order lookup disagree (a bug).
-    Disagree(String),
-    /// Exit 3: standard input could not be read.
-    Io(String),
-}
-
-fn finish(outcome: Result<String, Failure>) -> ExitCode {
-    let exit = match outcome {
-        Ok(line) => print_then(&format!("{line}\n"), Exit::Success),
-        Err(Failure::Usage(message)) => crate::usage(&message),
-        Err(Failure::Malformed(message) | Failure::OutOfRange(message)) => {
-            report(message);
-            Exit::Usage
-        }
-        Err(Failure::Io(message)) => {
-            report(message);
-            Exit::Io
-        }
-        Err(Failure::Disagree(message)) => {
-            report(format_args!("internal error: {message}"));
-            Exit::Failed
-        }
+    let outcome = match options.split_first() {
+        Some((&"encode", rest)) => encode(rest),
+        Some((&"lookup", rest)) => lookup(rest),
+        _ => Err(Failure::Usage(
+            "tree needs a subcommand: encode or lookup".into(),
+        )),
     };
-    exit.into()
+    output::finish(outcome.map(|line| print_then(&format!("{line}\n"), Exit::Success)))
 }
 
-/// The values of `--name VALUE` / `--name=VALUE` options, each at most
-/// once, names from `known`.
-fn options<'a>(
-    command: &str,
-    given: &[&'a str],
-    known: &[&'static str],
-) -> Result<Vec<(&'static str, &'a str)>, Failure> {
-    let mut found: Vec<(&'static str, &'a str)> = Vec::new();
-    let mut rest = given;
-    while let Some((&option, after)) = rest.split_first() {
-        let (name, inline_value) = match option.split_once('=') {
-            Some((name, value)) => (name, Some(value)),
-            None => (option, None),
-        };
-        let Some(&name) = known.iter().find(|&&k| k == name) else {
-            return Err(Failure::Usage(format!(
-                "tree {command}: unknown option {option:?}"
-            )));
-        };
-        let (value, after) = match (inline_value, after.split_first()) {
-            (Some(value), _) => (value, after),
-            (None, Some((&value, after))) => (value, after),
-            (None, None) => {
-                return Err(Failure::Usage(format!(
-                    "tree {command}: {name} needs a value"
-                )))
-            }
-        };
-        if found.iter().any(|&(n, _)| n == name) {
-            return Err(Failure::Usage(format!(
-                "tree {command}: {name} given twice"
-            )));
-        }
-        found.push((name, value));
-        rest = after;
-    }
-    Ok(found)
+/// `given` parsed by `table`.
+fn options<'a>(table: &'static Command, given: &[&'a str]) -> Result<Parsed<'a>, Failure> {
+    table
+        .parse(given)
+        .map_err(|e| Failure::Usage(e.message(table.name)))
 }
 
-fn get<'a>(found: &[(&'static str, &'a str)], name: &str) -> Option<&'a str> {
-    found.iter().find(|&&(n, _)| n == name).map(|&(_, v)| v)
+fn required<'a>(table: &Command, found: &Parsed<'a>, name: &str) -> Result<&'a str, Failure> {
+    found
+        .get(name)
+        .ok_or_else(|| Failure::Usage(format!("{} needs {name}", table.name)))
 }
 
-fn required<'a>(
-    command: &str,
-    found: &[(&'static str, &'a str)],
-    name: &str,
-) -> Result<&'a str, Failure> {
-    get(found, name).ok_or_else(|| Failure::Usage(format!("tree {command} needs {name}")))
+/// An internal error: a bug (exit 1).
+fn internal(message: impl std::fmt::Display) -> Failure {
+    Failure::Failed(format!("internal error: {message}"))
 }
 
 fn parse_format(text: &str) -> Result<Format, Failure> {
@@ -143,17 +117,21 @@ fn parse_format(text: &str) -> Result<Format, Failure> {
     }
 }
 
+/// A level: digits only (no sign), at most [`MAX_TREE_LEVEL`].
 fn parse_level(text: &str) -> Result<Level, Failure> {
-    if text.is_empty() || !text.bytes().all(|b| b.is_ascii_digit()) {
-        return Err(Failure::Malformed(format!(
+    let number = if text.bytes().all(|b| b.is_ascii_digit()) {
+        whole_number(text).ok()
+    } else {
+        None
+    };
+    match number {
+        None => Err(Failure::Malformed(format!(
             "--level {text:?}: expected a whole number"
-        )));
-    }
-    match text.parse::<u32>() {
-        Ok(level) if level <= MAX_TREE_LEVEL => {
-            Level::new(level).map_err(|e| Failure::OutOfRange(e.to_string()))
+        ))),
+        Some(Some(level)) if level <= u64::from(MAX_TREE_LEVEL) => {
+            Level::new(level as u32).map_err(|e| Failure::Malformed(e.to_string()))
         }
-        _ => Err(Failure::OutOfRange(format!(
+        Some(_) => Err(Failure::Malformed(format!(
             "level {text} is too high: trees take levels 0..={MAX_TREE_LEVEL}"
         ))),
     }
@@ -189,10 +167,7 @@ fn state_chars(states: &[State]) -> String {
 
 #[allow(clippy::needless_pass_by_value)] // used as `map_err(tree_error)`
 fn tree_error(error: TreeError) -> Failure {
-    match error {
-        TreeError::LevelTooHigh { .. } => Failure::OutOfRange(error.to_string()),
-        _ => Failure::Malformed(error.to_string()),
-    }
+    Failure::Malformed(error.to_string())
 }
 
 #[derive(Serialize)]
@@ -211,11 +186,11 @@ struct Encoded {
 }
 
 fn encode(given: &[&str]) -> Result<String, Failure> {
-    let found = options("encode", given, &["--format", "--level", "--states"])?;
-    let format = parse_format(required("encode", &found, "--format")?)?;
-    let level = parse_level(required("encode", &found, "--level")?)?;
+    let found = options(&ENCODE, given)?;
+    let format = parse_format(required(&ENCODE, &found, "--format")?)?;
+    let level = parse_level(required(&ENCODE, &found, "--level")?)?;
     let stdin_text;
-    let text = match get(&found, "--states") {
+    let text = match found.get("--states") {
         Some(text) if text != "-" => text,
         _ => {
             let mut buffer = String::new();
@@ -249,20 +224,14 @@ fn encode(given: &[&str]) -> Result<String, Failure> {
         level_order_internal_bits: fast.internal_bits(),
         level_order_directory_bits: fast.directory_bits(),
     };
-    serde_json::to_string(&encoded).map_err(|e| Failure::Disagree(e.to_string()))
+    serde_json::to_string(&encoded).map_err(internal)
 }
 
 fn lookup(given: &[&str]) -> Result<String, Failure> {
-    let found = options(
-        "lookup",
-        given,
-        &[
-            "--format", "--level", "--tree", "--data", "--index", "--u", "--v",
-        ],
-    )?;
-    let format = parse_format(required("lookup", &found, "--format")?)?;
-    let level = parse_level(required("lookup", &found, "--level")?)?;
-    let bits_text = required("lookup", &found, "--tree")?;
+    let found = options(&LOOKUP, given)?;
+    let format = parse_format(required(&LOOKUP, &found, "--format")?)?;
+    let level = parse_level(required(&LOOKUP, &found, "--level")?)?;
+    let bits_text = required(&LOOKUP, &found, "--tree")?;
     let bits = bits_text
         .bytes()
         .enumerate()
@@ -275,18 +244,14 @@ fn lookup(given: &[&str]) -> Result<String, Failure> {
             ))),
         })
         .collect::<Result<Vec<bool>, Failure>>()?;
-    let leaves = parse_states("--data", required("lookup", &found, "--data")?, format)?;
-    let index = match (
-        get(&found, "--index"),
-        get(&found, "--u"),
-        get(&found, "--v"),
-    ) {
+    let leaves = parse_states("--data", required(&LOOKUP, &found, "--data")?, format)?;
+    let index = match (found.get("--index"), found.get("--u"), found.get("--v")) {
         (Some(index), None, None) => {
             let count = 1u64 << (2 * level.get());
             match index.parse::<u64>() {
                 Ok(i) if i < count => i,
                 _ if !index.is_empty() && index.bytes().all(|b| b.is_ascii_digit()) => {
-                    return Err(Failure::OutOfRange(format!(
+                    return Err(Failure::Malformed(format!(
                         "index {index} is out of range for level {level}: valid indices are 0..={}",
                         count - 1
                     )))
@@ -306,7 +271,7 @@ fn lookup(given: &[&str]) -> Result<String, Failure> {
             };
             let (u, v) = (coordinate("--u", u)?, coordinate("--v", v)?);
             let level = micromap_index::SpecLevel::try_from(level)
-                .map_err(|e| Failure::OutOfRange(e.to_string()))?;
+                .map_err(|e| Failure::Malformed(e.to_string()))?;
             u64::from(micromap_index::spec::index_f32(u, v, level))
         }
         _ => {
@@ -321,7 +286,7 @@ fn lookup(given: &[&str]) -> Result<String, Failure> {
         (Some(by_paper), Some(by_level_order)) if by_paper == by_level_order => {
             Ok(format!("{{\"state\":{}}}", by_paper.bits()))
         }
-        (by_paper, by_level_order) => Err(Failure::Disagree(format!(
+        (by_paper, by_level_order) => Err(internal(format_args!(
             "index {index}: Algorithm 3 reads {by_paper:?}, the level-order layout {by_level_order:?}"
         ))),
     }

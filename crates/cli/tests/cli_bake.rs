@@ -2,18 +2,13 @@
 //! the library's reader, the verifier's verdicts, exit codes and the
 //! all-or-nothing output, on the committed Crytek Sponza assets.
 
+mod common;
+
+use common::run;
 use micromap_index::micromap::{read_buffers, BufferBytes, IndexWidth, MicromapIndex, State};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 const ASSETS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/crytek-sponza");
-
-fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_micromap-index"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("micromap-bake-{}-{name}", std::process::id()));

@@ -3,36 +3,20 @@
 //! `check`; capped with `--max-level 12` it passes with the levels above
 //! counted as unsupported. Skipped, saying so, where no `cc` runs.
 
-use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+mod common;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use common::root;
+use std::io::Write;
+use std::path::Path;
+use std::process::{Command, Stdio};
 
 /// `micromap-index check` on the spec-f32 vectors with `answers` on stdin:
 /// exit code and stdout.
 fn check(answers: &[u8]) -> (Option<i32>, String) {
-    let vectors = root().join("reference/vectors/spec-f32.json");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_micromap-index"))
-        .args([
-            "check",
-            "--vectors",
-            vectors.to_str().unwrap(),
-            "--answers",
-            "-",
-        ])
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .spawn()
-        .unwrap();
-    child.stdin.take().unwrap().write_all(answers).unwrap();
-    let output = child.wait_with_output().unwrap();
-    (
-        output.status.code(),
-        String::from_utf8_lossy(&output.stdout).into_owned(),
-    )
+    let vectors = common::committed("spec-f32.json");
+    let output =
+        common::run_with_stdin(&["check", "--vectors", &vectors, "--answers", "-"], answers);
+    (output.status.code(), common::text(&output.stdout))
 }
 
 #[test]

@@ -1,28 +1,10 @@
-//! Input checks of `eval` and `prove` on the built binary: the line cap, the
-//! size limits and level messages, and the usage errors for a check of
-//! nothing (`prove --sample 0`, an empty level range).
+//! Input checks of `eval` on the built binary: the line cap, the size
+//! limits and level messages. (`prove`'s checks of nothing are in
+//! `crates/lab/tests/lab_output.rs`.)
 
-use std::io::Write;
-use std::process::{Command, Output, Stdio};
+mod common;
 
-fn run(args: &[&str], stdin: &[u8]) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_micromap-index"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
-    let mut input = child.stdin.take().unwrap();
-    let bytes = stdin.to_vec();
-    // Written from a thread: the child answers while it reads.
-    let writer = std::thread::spawn(move || {
-        let _ = input.write_all(&bytes);
-    });
-    let output = child.wait_with_output().unwrap();
-    writer.join().unwrap();
-    output
-}
+use common::run_with_stdin as run;
 
 fn eval(variant: &str, stdin: &[u8]) -> Vec<String> {
     let output = run(&["eval", "--variant", variant], stdin);
@@ -102,35 +84,4 @@ fn limits_and_levels_are_named() {
     for (line, start) in lines.iter().zip(expected_starts) {
         assert!(line.starts_with(start), "{line} should start with {start}");
     }
-}
-
-/// Issue 9: `prove --sample 0` reported success after checking nothing.
-#[test]
-fn a_check_of_nothing_is_a_usage_error() {
-    for (args, message) in [
-        (
-            &["prove", "--levels", "1", "--sample", "0"][..],
-            "--sample 0 checks nothing",
-        ),
-        (
-            &["prove", "--levels", "3..3"][..],
-            "empty --levels \"3..3\"",
-        ),
-        (
-            &["prove", "--levels", "0..0"][..],
-            "empty --levels \"0..0\"",
-        ),
-        (
-            &["prove", "--levels", "4..=3"][..],
-            "empty --levels \"4..=3\"",
-        ),
-    ] {
-        let output = run(args, b"");
-        assert_eq!(output.status.code(), Some(2), "{args:?}");
-        assert!(output.stdout.is_empty(), "{args:?}");
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        assert!(stderr.contains(message), "{args:?}: {stderr}");
-    }
-    let output = run(&["prove", "--levels", "1", "--sample", "1"], b"");
-    assert_eq!(output.status.code(), Some(0));
 }

@@ -4,14 +4,12 @@
 use micromap_index::inverse::micro_triangle;
 use micromap_index::Level;
 use num_rational::BigRational;
-use std::process::{Command, Output};
+use std::process::Output;
+
+mod common;
 
 fn locate(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_micromap-index"))
-        .arg("locate")
-        .args(args)
-        .output()
-        .expect("the binary runs")
+    common::run(&[&["locate"], args].concat())
 }
 
 fn stdout(output: &Output) -> String {

@@ -4,23 +4,13 @@
 use micromap_index::micromap::{Format, State};
 use micromap_index::succinct::{LevelOrderTree, PaperTree};
 use micromap_index::{spec, Level};
-use micromap_index_lab::rng::SplitMix64;
-use std::io::Write;
-use std::process::{Command, Output, Stdio};
+use micromap_index_test_support::SplitMix64;
+use std::process::Output;
+
+mod common;
 
 fn tree(args: &[&str], stdin: Option<&str>) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_micromap-index"))
-        .arg("tree")
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
-    let mut input = child.stdin.take().unwrap();
-    input.write_all(stdin.unwrap_or("").as_bytes()).unwrap();
-    drop(input);
-    child.wait_with_output().unwrap()
+    common::run_with_stdin(&[&["tree"], args].concat(), stdin.unwrap_or("").as_bytes())
 }
 
 fn stderr(output: &Output) -> String {
@@ -147,7 +137,7 @@ fn lookup_reads_the_encoded_map() {
     ] {
         let level = Level::new(4).unwrap();
         let value = |t: &str| {
-            micromap_index_lab::value::Value::parse(t)
+            micromap_index_conformance::value::Value::parse(t)
                 .unwrap()
                 .to_f32()
                 .unwrap()
@@ -277,10 +267,7 @@ fn every_command_has_help() {
         &["tree", "encode", "--help"],
         &["tree", "lookup", "-h"],
     ] {
-        let output = Command::new(env!("CARGO_BIN_EXE_micromap-index"))
-            .args(args)
-            .output()
-            .unwrap();
+        let output = common::run(args);
         assert_eq!(output.status.code(), Some(0), "{args:?}");
         let out = String::from_utf8(output.stdout).unwrap();
         assert!(out.contains("tree lookup --format 2|4"), "{args:?}: {out}");

@@ -1,73 +1,50 @@
-//! `micromap-index vectors` and `micromap-index check`: the built binary's
-//! files, reports and exit codes (0 all match, 1 mismatch / missing /
-//! unknown id, 2 usage error or unreadable / malformed file).
+//! `micromap-index check`: the built binary's reports and exit codes (0 all
+//! match, 1 mismatch / missing / unknown id, 2 usage error or malformed
+//! file, 3 unreadable file). (`micromap-lab vectors`:
+//! `crates/lab/tests/lab_vectors_out.rs`.)
 
+mod common;
+
+use common::{committed, text};
+use micromap_index_conformance::eval::Variant;
+use micromap_index_conformance::value::Value;
+use micromap_index_conformance::vectors::{parse_vector_file, Answer, Answers};
 use std::fmt::Write as _;
-use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::path::PathBuf;
+use std::process::Output;
 
 fn run(args: &[&str], stdin: Option<&[u8]>) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_micromap-index"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
-    if let Some(bytes) = stdin {
-        child.stdin.take().unwrap().write_all(bytes).unwrap();
-    }
-    drop(child.stdin.take());
-    child.wait_with_output().unwrap()
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
-
-fn committed(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .join("reference/vectors")
-        .join(name)
-        .to_string_lossy()
-        .into_owned()
+    common::run_with_stdin(args, stdin.unwrap_or_default())
 }
 
 /// A fresh directory under cargo's per-test scratch space.
 fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cli_vectors_{name}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch(&format!("cli_vectors_{name}"))
 }
 
-/// `vectors --answers-from NAME --vectors FILE`, which must succeed.
-fn answers_from(source: &str, vectors: &str) -> Vec<u8> {
-    let output = run(
-        &["vectors", "--answers-from", source, "--vectors", vectors],
-        None,
-    );
-    assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
-    output.stdout
-}
-
-#[test]
-fn vectors_writes_the_committed_files() {
-    let dir = scratch("out");
-    let out = dir.join("sets");
-    let output = run(&["vectors", "--out", out.to_str().unwrap()], None);
-    assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
-    for name in ["spec-f32.json", "spec-exact.json", "uv2index-exact.json"] {
-        let written = std::fs::read(out.join(name)).unwrap();
-        let committed = std::fs::read(committed(name)).unwrap();
-        assert!(
-            written == committed,
-            "{name} differs from reference/vectors/"
-        );
-        assert!(text(&output.stdout).contains(name));
+/// The answer lines of `variant` to every case of the vector file
+/// `vectors`, computed here by the conformance crate's engine (what
+/// `micromap-lab vectors --answers-from VARIANT` prints).
+fn answers_from(variant: &str, vectors: &str) -> Vec<u8> {
+    let file = parse_vector_file(&std::fs::read(vectors).unwrap()).unwrap();
+    let variant = Variant::from_name(variant).unwrap();
+    let mut answers = Answers::default();
+    for case in &file.cases {
+        let index = Value::parse(&case.u)
+            .and_then(|u| Ok((u, Value::parse(&case.v)?)))
+            .map_err(|e| e.to_string())
+            .and_then(|(u, v)| {
+                variant
+                    .evaluate(&u, &v, u64::from(case.level))
+                    .map_err(|e| e.to_string())
+            });
+        let answer = match index {
+            Ok(index) => Answer::Index(index),
+            Err(message) => Answer::Refused(message),
+        };
+        answers.by_id.insert(case.id, answer);
     }
+    answers.to_json_lines().into_bytes()
 }
 
 #[test]
@@ -254,18 +231,6 @@ fn malformed_files_exit_2_and_unreadable_ones_3() {
 #[test]
 fn usage_errors_exit_2() {
     for args in [
-        vec!["vectors"],
-        vec!["vectors", "--out"],
-        vec!["vectors", "--out", "a", "--out", "b"],
-        vec!["vectors", "--out", "a", "--answers-from", "spec-f32"],
-        vec![
-            "vectors",
-            "--answers-from",
-            "no-such-variant",
-            "--vectors",
-            "x",
-        ],
-        vec!["vectors", "--bogus", "1"],
         vec!["check"],
         vec!["check", "--vectors", "x"],
         vec![

@@ -1,5 +1,5 @@
 //! Criterion benchmark of the exhaustive check: one whole level, so the time
-//! per face (`time / face_count`) is what `micromap-index prove` pays.
+//! per face (`time / face_count`) is what `micromap-lab prove` pays.
 //!
 //! `cargo bench --bench prove`; the machine's load skews it, note `uptime`.
 

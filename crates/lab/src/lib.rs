@@ -3,8 +3,10 @@
 //!
 //! * [`prove`]: the face-by-face proof that the walk equals the reference
 //!   on every face of a level's lattice ([`lattice`]).
-//! * [`vectors`]: the conformance vectors, their generator and checker.
-//! * [`eval`] and [`value`]: the engine and value syntax of the CLI's `eval`.
+//! * [`vectors`]: the conformance vectors' generator, and the format,
+//!   reader and checker of `micromap-index-conformance` re-exported.
+//! * [`eval`] and [`value`]: the engine and value syntax of the CLI's `eval`
+//!   (`micromap-index-conformance`'s, re-exported for the lab's users).
 //! * [`fuzzing`] (feature `fuzzing`): the bodies of the fuzz targets.
 //! * [`rng`]: the deterministic generator every sampled check uses.
 #![forbid(unsafe_code)]
@@ -13,12 +15,12 @@
 // fuzz target or a test reports it.
 #![allow(clippy::missing_panics_doc)]
 
-pub mod eval;
+pub use micromap_index_conformance::eval;
 #[cfg(feature = "fuzzing")]
 pub mod fuzzing;
 pub mod lattice;
 pub mod prove;
 pub mod prove_all_levels;
 pub mod rng;
-pub mod value;
+pub use micromap_index_conformance::value;
 pub mod vectors;

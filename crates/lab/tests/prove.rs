@@ -1,6 +1,6 @@
 //! The exhaustive proof (`micromap_index_lab::prove`) checked against slower,
 //! independent computations, and the proof itself for levels 0..=10.
-//! Higher levels are a command (`micromap-index prove`), not a test.
+//! Higher levels are a command (`micromap-lab prove`), not a test.
 
 mod common;
 

@@ -4,7 +4,7 @@
 //! reference), the tags are true, and `check` and the readers behave.
 //!
 //! Regenerate the files after a deliberate change with
-//! `cargo run --release -- vectors --out reference/vectors`.
+//! `cargo run --release -p micromap-index-lab --bin micromap-lab -- vectors --out reference/vectors`.
 
 use micromap_index::{spec, uv2index, Level, SpecLevel};
 use micromap_index_c_reference::spec_index;
@@ -18,7 +18,7 @@ use num_rational::BigRational;
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 
-const REGENERATE: &str = "cargo run --release -- vectors --out reference/vectors";
+const REGENERATE: &str = "cargo run --release -p micromap-index-lab --bin micromap-lab -- vectors --out reference/vectors";
 
 /// The committed files must stay reviewable.
 const MAX_TOTAL_BYTES: u64 = 5_000_000;

@@ -6,7 +6,7 @@
 //! constant on every face of it (vertex, open edge, open micro-triangle;
 //! see [`crate::lattice`]). One point per face therefore decides all real
 //! points. `docs/verification.md` spells the argument out and records the
-//! results; `micromap-index prove` runs it.
+//! results; `micromap-lab prove` runs it.
 //!
 //! # How every face is reached in a few nanoseconds
 //!

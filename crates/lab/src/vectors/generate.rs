@@ -1,8 +1,7 @@
 //! The generator: the candidate points of every class and level, the
 //! derived tags, and each set's cases ([`generate_sets`]).
 
-use super::classify::{place_of, Place};
-use super::format::{exact_of_f32, f32_text, rational_text};
+use super::{exact_of_f32, f32_text, place_of, rational_text, Place};
 use super::{tag, Case, VectorFile, VectorSet};
 use super::{
     ALL_FACES_MAX_LEVEL, FORMAT, LEVELS, RANDOM_ANCHORS_PER_LEVEL, RANDOM_POINTS_PER_LEVEL, SEED,
@@ -17,69 +16,68 @@ use num_rational::BigRational;
 use num_traits::One;
 use std::collections::{BTreeMap, BTreeSet};
 
-impl VectorSet {
-    /// The case for one candidate point, or `None` if the set leaves it out.
-    fn case_for(self, point: &Candidate) -> Option<Case> {
-        let level = Level::new(point.level).ok()?;
-        let tags = point.tags.iter().map(|t| (*t).to_string()).collect();
-        let in_exact_sets =
-            point.u.is_finite() && point.v.is_finite() && !point.tags.contains(&tag::SIGNED_ZERO);
-        match self {
-            VectorSet::SpecF32 => Some(Case {
-                id: 0,
-                u: f32_text(point.u),
-                v: f32_text(point.v),
-                level: point.level,
-                index: u64::from(spec::reference_bits_f32(point.u, point.v, point.level)),
-                tags,
-                u_decimal: Some(format!("{:?}", point.u)),
-                v_decimal: Some(format!("{:?}", point.v)),
-            }),
-            VectorSet::SpecExact if in_exact_sets => {
-                let (u, v) = match &point.exact {
-                    Some(exact) => exact.clone(),
-                    None => (exact_of_f32(point.u)?, exact_of_f32(point.v)?),
-                };
-                let index = spec::index_real(&u, &v, SpecLevel::try_from(level).ok()?);
-                Some(exact_case(&u, &v, point.level, u64::from(index), tags))
+/// The case of `set` for one candidate point, or `None` if the set leaves
+/// it out.
+fn case_for(set: VectorSet, point: &Candidate) -> Option<Case> {
+    let level = Level::new(point.level).ok()?;
+    let tags = point.tags.iter().map(|t| (*t).to_string()).collect();
+    let in_exact_sets =
+        point.u.is_finite() && point.v.is_finite() && !point.tags.contains(&tag::SIGNED_ZERO);
+    match set {
+        VectorSet::SpecF32 => Some(Case {
+            id: 0,
+            u: f32_text(point.u),
+            v: f32_text(point.v),
+            level: point.level,
+            index: u64::from(spec::reference_bits_f32(point.u, point.v, point.level)),
+            tags,
+            u_decimal: Some(format!("{:?}", point.u)),
+            v_decimal: Some(format!("{:?}", point.v)),
+        }),
+        VectorSet::SpecExact if in_exact_sets => {
+            let (u, v) = match &point.exact {
+                Some(exact) => exact.clone(),
+                None => (exact_of_f32(point.u)?, exact_of_f32(point.v)?),
+            };
+            let index = spec::index_real(&u, &v, SpecLevel::try_from(level).ok()?);
+            Some(exact_case(&u, &v, point.level, u64::from(index), tags))
+        }
+        VectorSet::Uv2indexExact if in_exact_sets && !point.tags.contains(&tag::CLAMP) => {
+            let (u, v) = (exact_of_f32(point.u)?, exact_of_f32(point.v)?);
+            let index = uv2index::index_real(&u, &v, level).ok()?;
+            Some(exact_case(&u, &v, point.level, index, tags))
+        }
+        _ => None,
+    }
+}
+
+/// The file of `set` built from the candidates: duplicates (same level and
+/// coordinates) merged with their tags, ids assigned in order.
+fn build(set: VectorSet, candidates: &[Candidate]) -> VectorFile {
+    let mut cases: Vec<Case> = Vec::new();
+    let mut position: BTreeMap<(u32, String, String), usize> = BTreeMap::new();
+    for case in candidates.iter().filter_map(|c| case_for(set, c)) {
+        let key = (case.level, case.u.clone(), case.v.clone());
+        if let Some(&at) = position.get(&key) {
+            for t in case.tags {
+                if !cases[at].tags.contains(&t) {
+                    cases[at].tags.push(t);
+                }
             }
-            VectorSet::Uv2indexExact if in_exact_sets && !point.tags.contains(&tag::CLAMP) => {
-                let (u, v) = (exact_of_f32(point.u)?, exact_of_f32(point.v)?);
-                let index = uv2index::index_real(&u, &v, level).ok()?;
-                Some(exact_case(&u, &v, point.level, index, tags))
-            }
-            _ => None,
+        } else {
+            position.insert(key, cases.len());
+            cases.push(case);
         }
     }
-
-    /// The set's file built from the candidates: duplicates (same level and
-    /// coordinates) merged with their tags, ids assigned in order.
-    fn build(self, candidates: &[Candidate]) -> VectorFile {
-        let mut cases: Vec<Case> = Vec::new();
-        let mut position: BTreeMap<(u32, String, String), usize> = BTreeMap::new();
-        for case in candidates.iter().filter_map(|c| self.case_for(c)) {
-            let key = (case.level, case.u.clone(), case.v.clone());
-            if let Some(&at) = position.get(&key) {
-                for t in case.tags {
-                    if !cases[at].tags.contains(&t) {
-                        cases[at].tags.push(t);
-                    }
-                }
-            } else {
-                position.insert(key, cases.len());
-                cases.push(case);
-            }
-        }
-        for (id, case) in cases.iter_mut().enumerate() {
-            case.id = id as u64;
-        }
-        VectorFile {
-            format: FORMAT.to_owned(),
-            version: VERSION,
-            function: self.function().to_owned(),
-            description: self.description().to_owned(),
-            cases,
-        }
+    for (id, case) in cases.iter_mut().enumerate() {
+        case.id = id as u64;
+    }
+    VectorFile {
+        format: FORMAT.to_owned(),
+        version: VERSION,
+        function: set.function().to_owned(),
+        description: set.description().to_owned(),
+        cases,
     }
 }
 
@@ -111,7 +109,7 @@ pub fn generate_sets() -> Vec<VectorFile> {
     let candidates = candidates();
     VectorSet::ALL
         .iter()
-        .map(|set| set.build(&candidates))
+        .map(|&set| build(set, &candidates))
         .collect()
 }
 
@@ -232,8 +230,8 @@ pub fn sampled_anchors(level: u32) -> Vec<(u64, u64)> {
 /// in that direction stay put.
 fn ulp_step(x: f32, direction: i32) -> f32 {
     match direction {
-        1 => crate::value::next_up_f32(x),
-        -1 => crate::value::next_down_f32(x),
+        1 => micromap_index_conformance::value::next_up_f32(x),
+        -1 => micromap_index_conformance::value::next_down_f32(x),
         _ => x,
     }
 }

@@ -1,29 +1,11 @@
-//! Conformance vectors: deterministic test cases for other implementations
-//! of the mapping (GPU drivers, shaders, emulation layers, ports), a reader
-//! for the files and for another implementation's answers, and the check
-//! that compares them.
+//! The conformance vectors of `micromap-index-conformance` (re-exported
+//! here whole), and what only the lab does with them: generate the sets
+//! ([`generate_sets`], from the lattice and the lab's PRNG) and answer them
+//! with this crate's own functions ([`AnswerSource`], [`compute_answers`]).
 //!
-//! # The sets
-//!
-//! [`generate_sets`] builds one [`VectorFile`] per [`VectorSet`]:
-//!
-//! * `spec-f32` — the Vulkan reference in binary32 ([`spec::index_f32`](micromap_index::spec::index_f32)):
-//!   what a GPU must return. Coordinates are binary32 bit patterns
-//!   (`"0x3e000000"`), including NaN, ±inf, -0, subnormals and points outside
-//!   the triangle.
-//! * `spec-exact` — the reference's steps over the reals
-//!   ([`spec::index_real`](micromap_index::spec::index_real)). Coordinates are exact rationals `"p/q"`: the
-//!   finite points of `spec-f32` (so the two sets disagree exactly on the
-//!   cases tagged `rounding-window`) and the exact centroids.
-//! * `uv2index-exact` — the paper's walk over the reals
-//!   ([`uv2index::index_real`](micromap_index::uv2index::index_real)), only on points of the closed triangle (the
-//!   walk rejects the others, so the clamping classes are left out). Every
-//!   coordinate is also exactly a binary32 value, so float implementations of
-//!   the walk can be run on it without rounding their input.
-//!
-//! Every set covers every level `0..=16`: all lattice faces up to level
-//! [`ALL_FACES_MAX_LEVEL`], sampled cells above. Each case carries tags
-//! naming its classes (see [`tag`]); `docs/vectors.md` has the schema.
+//! [`generate_sets`] builds one [`VectorFile`] per [`VectorSet`]: every set
+//! covers every level `0..=16`, all lattice faces up to level
+//! [`ALL_FACES_MAX_LEVEL`], sampled cells above.
 //!
 //! ```
 //! use micromap_index_lab::vectors::{check, compute_answers, generate_sets, AnswerSource};
@@ -41,32 +23,14 @@
 //! assert!(report.mismatches.iter().all(|m| m.tags.iter().any(|t| t == "clamp" || t == "rounding-window")));
 //! ```
 
-mod answers;
-mod check;
-mod classify;
-mod format;
+pub use micromap_index_conformance::vectors::*;
+
 mod generate;
-mod read;
-mod report;
-pub mod tag;
+mod sources;
 
-pub use answers::{compute_answers, Answer, AnswerSource, Answers};
-pub use check::{
-    check, check_reader, check_selected, is_known_tag, CheckReport, Checker, Mismatch, Selection,
-    Tally, MAX_LISTED_IDS,
-};
-pub use classify::{classify, micro_triangle_contains, place_of, MismatchClass, Place};
-pub use format::{Case, VectorFile, VectorSet};
 pub use generate::{generate_sets, sampled_anchors};
-pub use read::{parse_answers, parse_vector_file, read_vector_file, VectorError, VectorHeader};
-pub use report::exact_form;
+pub use sources::{compute_answers, AnswerSource};
 
-/// The `format` field of every vector file.
-pub const FORMAT: &str = "micromap-index-vectors";
-/// The `version` field this crate writes and reads.
-pub const VERSION: u64 = 1;
-/// The levels every set covers.
-pub const LEVELS: std::ops::RangeInclusive<u32> = 0..=16;
 /// Up to this level every face of the lattice is in the sets; above it, the
 /// faces of [`sampled_anchors`] cells.
 pub const ALL_FACES_MAX_LEVEL: u32 = 3;

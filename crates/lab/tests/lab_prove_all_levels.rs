@@ -1,14 +1,12 @@
-//! `micromap-index prove --all-levels`: exit 0 when the product search
+//! `micromap-lab prove --all-levels`: exit 0 when the product search
 //! proves the walk for every level, 1 with a confirmed face for version 1,
 //! 2 on a usage error.
 
-use std::process::Command;
+#[path = "../../cli/tests/common/mod.rs"]
+mod cli;
 
 fn command(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_micromap-index"))
-        .args(args)
-        .output()
-        .unwrap()
+    cli::run(args)
 }
 
 #[test]

@@ -69,7 +69,7 @@ impl Selection {
     /// Whether the selection covers `case`.
     ///
     /// ```
-    /// use micromap_index_lab::vectors::{Case, Selection};
+    /// use micromap_index_conformance::vectors::{Case, Selection};
     /// let case = Case { id: 0, u: "1/4".into(), v: "1/4".into(), level: 13, index: 0,
     ///     tags: vec!["vertex".into(), "nan".into()], u_decimal: None, v_decimal: None };
     /// assert!(Selection::default().selects(&case));
@@ -275,7 +275,7 @@ impl<'a> Checker<'a> {
 /// Compares `answers` with the expected indices of every case of `vectors`.
 ///
 /// ```
-/// use micromap_index_lab::vectors::{check, parse_answers, parse_vector_file, MismatchClass};
+/// use micromap_index_conformance::vectors::{check, parse_answers, parse_vector_file, MismatchClass};
 /// let vectors = parse_vector_file(br#"{"format": "micromap-index-vectors", "version": 1,
 ///   "function": "spec-f32", "cases": [
 ///     {"id": 0, "u": "0x3e000000", "v": "0x3dffffff", "level": 2, "index": 1, "tags": ["rounding-window"]},
@@ -314,7 +314,7 @@ pub fn check_selected(
 /// is a file of which `selection` covers no case (nothing was checked).
 ///
 /// ```
-/// use micromap_index_lab::vectors::{check_reader, parse_answers, Selection};
+/// use micromap_index_conformance::vectors::{check_reader, parse_answers, Selection};
 /// let file = br#"{"format": "micromap-index-vectors", "version": 1, "function": "spec-f32", "cases": [
 ///     {"id": 0, "u": "0x3e800000", "v": "0x3e800000", "level": 2, "index": 5, "tags": ["vertex"]},
 ///     {"id": 1, "u": "0x3e800000", "v": "0x3e800000", "level": 13, "index": 21845, "tags": ["vertex"]}]}"#;

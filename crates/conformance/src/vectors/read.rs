@@ -92,7 +92,7 @@ pub struct VectorHeader {
 /// already have seen the cases before it.
 ///
 /// ```
-/// use micromap_index_lab::vectors::read_vector_file;
+/// use micromap_index_conformance::vectors::read_vector_file;
 /// let text = r#"{"format": "micromap-index-vectors", "version": 1, "function": "spec-f32",
 ///   "cases": [{"id": 7, "u": "0x3e800000", "v": "0x3e800000", "level": 2, "index": 5, "tags": ["vertex"]}]}"#;
 /// let mut indices = vec![];
@@ -125,7 +125,7 @@ pub fn read_vector_file<R: Read, F: FnMut(Case)>(
 /// the cases collected. Never panics, whatever the bytes.
 ///
 /// ```
-/// use micromap_index_lab::vectors::{parse_vector_file, VectorError};
+/// use micromap_index_conformance::vectors::{parse_vector_file, VectorError};
 /// let text = r#"{"format": "micromap-index-vectors", "version": 1, "function": "spec-f32",
 ///   "cases": [{"id": 7, "u": "0x3e800000", "v": "0x3e800000", "level": 2, "index": 5, "tags": ["vertex"]}]}"#;
 /// let file = parse_vector_file(text.as_bytes()).unwrap();
@@ -355,7 +355,7 @@ struct AnswerLine {
 /// panics, whatever the bytes.
 ///
 /// ```
-/// use micromap_index_lab::vectors::{parse_answers, Answer, VectorError};
+/// use micromap_index_conformance::vectors::{parse_answers, Answer, VectorError};
 /// let answers = parse_answers(b"{\"id\": 1, \"index\": 5, \"ms\": 0.1}\n\n{\"id\": 2, \"index\": 0}\n").unwrap();
 /// assert_eq!(answers.by_id[&1], Answer::Index(5));
 /// assert_eq!(

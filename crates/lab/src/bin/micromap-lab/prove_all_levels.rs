@@ -1,8 +1,10 @@
-//! `micromap-index prove --all-levels [--version1] [--json]`: the walk
-//! against the reference at every level at once, by exploring the product
-//! of two digit transducers (`micromap_index::prove_all_levels`).
+//! `micromap-lab prove --all-levels [--version1] [--json] [--list]`: the
+//! walk against the reference at every level at once, by exploring the
+//! product of two digit transducers (`micromap_index_lab::prove_all_levels`).
 
+use crate::args::{ArgError, Command, Flag};
 use crate::output::{print_then, report as report_error, Exit};
+use crate::prove::{JSON, VERSION1};
 use crate::usage;
 use micromap_index_lab::prove::WalkVersion;
 use micromap_index_lab::prove_all_levels::{prove_all_levels, AllLevelsReport, Verdict};
@@ -10,23 +12,43 @@ use serde::Serialize;
 use std::fmt::Write as _;
 use std::time::Instant;
 
+/// The flag table of `prove --all-levels`: switches only, each may be
+/// repeated.
+pub(crate) static ALL_LEVELS: Command = Command {
+    name: "prove",
+    forms: &["--all-levels [--version1] [--json] [--list]"],
+    about: "  --all-levels proves the walk equal to the reference at every level at once
+  by exploring the finite product of two digit transducers (milliseconds);
+  exit 0 proved, 1 not; with --version1 it must fail and prints a face; --list
+  prints every product state and transition (docs/verification.md section 10).",
+    flags: &[
+        Flag::switch(
+            "--all-levels",
+            "every level at once (the transducer product)",
+        )
+        .repeatable(),
+        VERSION1,
+        JSON,
+        Flag::switch("--list", "every product state and transition").repeatable(),
+    ],
+};
+
 pub(crate) fn run(options: &[&str]) -> Exit {
-    let mut version = WalkVersion::Version2;
-    let mut json = false;
-    let mut list = false;
-    for &option in options {
-        match option {
-            "--all-levels" => {}
-            "--version1" => version = WalkVersion::Version1,
-            "--json" => json = true,
-            "--list" => list = true,
-            other => {
-                return usage(&format!(
-                    "prove --all-levels: unknown option {other:?} (only --version1, --json, --list)"
-                ))
-            }
+    let parsed = match ALL_LEVELS.parse(options) {
+        Ok(parsed) => parsed,
+        Err(ArgError::Unknown(word) | ArgError::TakesNoValue(_, word)) => {
+            return usage(&format!(
+                "prove --all-levels: unknown option {word:?} (only --version1, --json, --list)"
+            ))
         }
-    }
+        Err(other) => return usage(&other.message("prove --all-levels")),
+    };
+    let version = if parsed.flag("--version1") {
+        WalkVersion::Version1
+    } else {
+        WalkVersion::Version2
+    };
+    let (json, list) = (parsed.flag("--json"), parsed.flag("--list"));
     let started = Instant::now();
     let report = match prove_all_levels(version) {
         Ok(report) => report,

@@ -1,10 +1,10 @@
-//! `micromap-index vectors`: writes the conformance vector files, or prints
+//! `micromap-lab vectors`: writes the conformance vector files, or prints
 //! one of this crate's functions' answers to a vector file (to demonstrate
 //! `check`).
 //!
 //! * `vectors --out DIR [--force]` writes `spec-f32.json`, `spec-exact.json`
 //!   and `uv2index-exact.json` into `DIR` (created if needed), all or nothing
-//!   (see [`crate::write_all_or_nothing`]), then prints one line per file
+//!   (see `write_all_or_nothing`), then prints one line per file
 //!   (cases, bytes). Exit 0; 2 if `DIR` is empty or not a directory, or a
 //!   vector file is already there (or something else under its name) and
 //!   `--force` is not given; 3 if a file cannot be written (nothing is then
@@ -17,35 +17,57 @@
 //!
 //! A command line of the wrong shape is a usage error (exit 2).
 
+use crate::args::{Command, Flag};
+use crate::input::{read_bytes, shown_path};
 use crate::output::{self, Exit, Stdout};
 use crate::usage;
 use crate::write_all_or_nothing::{check_destination, write_files};
-use micromap_index_lab::vectors::{compute_answers, generate_sets, AnswerSource};
+use micromap_index_lab::vectors::{
+    compute_answers, generate_sets, parse_vector_file, AnswerSource, VectorFile,
+};
 use std::fs::File;
 use std::io;
 use std::path::Path;
 
+/// The flag table of `vectors`.
+pub(crate) static VECTORS: Command = Command {
+    name: "vectors",
+    forms: &["--out DIR [--force]", "--answers-from NAME --vectors FILE"],
+    about: "  --out DIR writes the conformance vector files spec-f32.json,
+  spec-exact.json and uv2index-exact.json into DIR (created if needed), all
+  or nothing: each goes to a temporary file in DIR, is synced, and the three
+  are renamed into place only when all are written. An existing vector file
+  is refused (exit 2, nothing written) unless --force is given.
+  --answers-from NAME --vectors FILE prints {\"id\": N, \"index\": I} lines for
+  FILE's cases computed by NAME (a variant, or uv2index-version1-exact /
+  uv2index-version1-f32).",
+    flags: &[
+        Flag::value("--out", "DIR", "write the vector files into DIR"),
+        Flag::switch("--force", "replace existing vector files"),
+        Flag::value(
+            "--answers-from",
+            "NAME",
+            "the function whose answers to print",
+        ),
+        Flag::value(
+            "--vectors",
+            "FILE",
+            "the vector file to answer (- for stdin)",
+        ),
+    ],
+};
+
 pub(crate) fn run(options: &[&str]) -> Exit {
-    // `--force` is the one flag without a value.
-    let force = options.contains(&"--force");
-    if options.iter().filter(|&&o| o == "--force").count() > 1 {
-        return usage("vectors: --force given twice");
-    }
-    let options: Vec<&str> = options
-        .iter()
-        .copied()
-        .filter(|&o| o != "--force")
-        .collect();
-    let options = match crate::check_command::named_options(
-        "vectors",
-        &options,
-        &["--out", "--answers-from", "--vectors"],
-    ) {
+    let options = match VECTORS.parse(options) {
         Ok(options) => options,
-        Err(message) => return usage(&message),
+        Err(error) => return usage(&error.message("vectors")),
     };
-    let get = |name: &str| options.get(name).copied();
-    match (get("--out"), get("--answers-from"), get("--vectors")) {
+    let force = options.flag("--force");
+    match (
+        options.get("--out"),
+        options.get("--answers-from"),
+        options.get("--vectors"),
+    ) {
         (Some(dir), None, None) => write_sets(Path::new(dir), force),
         (None, Some(name), Some(file)) if !force => match AnswerSource::from_name(name) {
             Some(source) => print_answers(source, file),
@@ -56,6 +78,12 @@ pub(crate) fn run(options: &[&str]) -> Exit {
         },
         _ => usage("vectors needs --out DIR [--force], or --answers-from NAME --vectors FILE"),
     }
+}
+
+/// Reads and parses a vector file, or a message naming it.
+fn read_vectors(path: &str) -> Result<VectorFile, String> {
+    let bytes = read_bytes(path)?;
+    parse_vector_file(&bytes).map_err(|e| format!("{}: {e}", shown_path(path)))
 }
 
 fn source_names() -> String {
@@ -118,7 +146,7 @@ fn print_answers(source: AnswerSource, file: &str) -> Exit {
             return Exit::Io;
         }
     }
-    let vectors = match crate::check_command::read_vectors(file) {
+    let vectors = match read_vectors(file) {
         Ok(vectors) => vectors,
         Err(message) => {
             output::report(message);

@@ -34,7 +34,7 @@ pub enum Place {
 /// Where `(u, v)` lies at `level`, exactly.
 ///
 /// ```
-/// use micromap_index_lab::vectors::{place_of, Place};
+/// use micromap_index_conformance::vectors::{place_of, Place};
 /// use micromap_index::Level;
 /// use num_rational::BigRational;
 /// let r = |p: i64, q: i64| BigRational::new(p.into(), q.into());
@@ -75,7 +75,7 @@ pub fn place_of(u: &BigRational, v: &BigRational, level: Level) -> Place {
 /// exactly; `None` if `index >= 4^level`.
 ///
 /// ```
-/// use micromap_index_lab::vectors::micro_triangle_contains;
+/// use micromap_index_conformance::vectors::micro_triangle_contains;
 /// use micromap_index::Level;
 /// use num_rational::BigRational;
 /// let r = |p: i64, q: i64| BigRational::new(p.into(), q.into());
@@ -223,7 +223,7 @@ impl fmt::Display for MismatchClass {
 /// writes them; a `u` or `v` that does not parse is classed by the rest.
 ///
 /// ```
-/// use micromap_index_lab::vectors::{classify, Answer, MismatchClass};
+/// use micromap_index_conformance::vectors::{classify, Answer, MismatchClass};
 /// // (1/4, 1/4) at level 1 is on the edge between triangles 0 and 1.
 /// let class = |got| classify("spec-exact", "1/4", "1/4", 1, 1, &Answer::Index(got));
 /// assert_eq!(class(0), MismatchClass::TieBreakEdge);

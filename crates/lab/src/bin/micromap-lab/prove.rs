@@ -1,10 +1,11 @@
-//! `micromap-index prove --levels A..=B`: the walk against the reference on
+//! `micromap-lab prove --levels A..=B`: the walk against the reference on
 //! every face of each level (or on random faces with `--sample N`).
 //!
 //! Exit 0 equal on every face, 1 a mismatch, 2 usage error (an empty level
 //! range or `--sample 0` included: a check of nothing is not a success),
 //! 130 interrupted, 3 or 141 if stdout cannot be written.
 
+use crate::args::{level_range, ArgError, Command, Flag, RangeError};
 use crate::output::{self, Exit, Stdout};
 use crate::usage;
 use micromap_index::Level;
@@ -19,6 +20,56 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+/// `--version1`, in both forms of `prove`.
+pub(crate) const VERSION1: Flag =
+    Flag::switch("--version1", "the talk's first walk (which fails)").repeatable();
+/// `--json`, in both forms of `prove`.
+pub(crate) const JSON: Flag =
+    Flag::switch("--json", "JSON lines instead of the table").repeatable();
+
+/// The flag table of `prove --levels`. Every flag may be repeated (the last
+/// counts).
+pub(crate) static PROVE: Command = Command {
+    name: "prove",
+    forms: &["--levels A..=B [OPTIONS]"],
+    about: "  Compares the walk with the reference on every face of each level's lattice
+  (a proof for all real points); per level: faces checked, mismatches,
+  seconds. A..B excludes B; a single level N is N..=N; an empty range is a
+  usage error. Exit 0 equal, 1 mismatch, 130 interrupted.",
+    flags: &[
+        Flag::value(
+            "--levels",
+            "A..=B",
+            "the levels (A..B excludes B; N is N..=N)",
+        )
+        .wants("A..=B")
+        .repeatable(),
+        Flag::switch(
+            "--spec-wide",
+            "the 64-bit reference (levels to 32; default 32-bit, to 16)",
+        )
+        .repeatable(),
+        VERSION1,
+        Flag::value(
+            "--sample",
+            "N",
+            "N >= 1 random faces per level, walked step by step",
+        )
+        .wants("a number of faces")
+        .repeatable(),
+        Flag::value("--seed", "S", "the sample's seed (default 1)")
+            .wants("a number")
+            .repeatable(),
+        JSON,
+        Flag::value("--threads", "T", "worker threads (default: all cores)")
+            .wants("a number")
+            .repeatable(),
+        Flag::value("--examples", "K", "mismatches shown per level")
+            .wants("a number")
+            .repeatable(),
+    ],
+};
+
 struct Options {
     levels: RangeInclusive<u32>,
     settings: Settings,
@@ -29,7 +80,7 @@ struct Options {
 
 pub(crate) fn run(options: &[&str]) -> Exit {
     if options.contains(&"--all-levels") {
-        return crate::prove_all_levels_command::run(options);
+        return crate::prove_all_levels::run(options);
     }
     match parse(options) {
         Ok(options) => {
@@ -42,38 +93,27 @@ pub(crate) fn run(options: &[&str]) -> Exit {
 }
 
 fn parse(args: &[&str]) -> Result<Options, String> {
-    let mut levels = None;
+    let parsed = PROVE.parse(args).map_err(|e| match e {
+        ArgError::TakesNoValue(name, _) => format!("{name} takes no value"),
+        other => other.describe(),
+    })?;
     let mut settings = Settings::default();
-    let mut sample = None;
-    let mut seed = None;
-    let mut json = false;
-    let mut rest = args.iter().copied();
-    while let Some(arg) = rest.next() {
-        // `--name value` or `--name=value`.
-        let (name, inline_value) = match arg.split_once('=') {
-            Some((name, value)) if name.starts_with("--") => (name, Some(value)),
-            _ => (arg, None),
-        };
-        let mut value = |what: &str| {
-            inline_value
-                .or_else(|| rest.next())
-                .ok_or_else(|| format!("{name} needs {what}"))
-        };
-        match name {
-            "--levels" => levels = Some(parse_levels(value("A..=B")?)?),
-            "--sample" => sample = Some(parse_count(value("a number of faces")?)?),
-            "--seed" => seed = Some(parse_count(value("a number")?)?),
-            "--threads" => settings.threads = parse_small(value("a number")?, "--threads")?,
-            "--examples" => settings.examples = parse_small(value("a number")?, "--examples")?,
-            "--spec-wide" | "--version1" | "--json" if inline_value.is_some() => {
-                return Err(format!("{name} takes no value"))
-            }
-            "--spec-wide" => settings.reference = Reference::SpecWide,
-            "--version1" => settings.walk = WalkVersion::Version1,
-            "--json" => json = true,
-            _ => return Err(format!("unknown option {arg:?}")),
-        }
+    let levels = parsed.get("--levels").map(parse_levels).transpose()?;
+    let sample = parsed.get("--sample").map(parse_count).transpose()?;
+    let seed = parsed.get("--seed").map(parse_count).transpose()?;
+    if let Some(threads) = parsed.get("--threads") {
+        settings.threads = parse_small(threads, "--threads")?;
     }
+    if let Some(examples) = parsed.get("--examples") {
+        settings.examples = parse_small(examples, "--examples")?;
+    }
+    if parsed.flag("--spec-wide") {
+        settings.reference = Reference::SpecWide;
+    }
+    if parsed.flag("--version1") {
+        settings.walk = WalkVersion::Version1;
+    }
+    let json = parsed.flag("--json");
     let levels = levels.ok_or("--levels A..=B is required")?;
     let max = settings.reference.max_level();
     if *levels.end() > max {
@@ -105,25 +145,10 @@ fn parse(args: &[&str]) -> Result<Options, String> {
 
 /// `A..=B`, `A..B` (B excluded) or a single level `N`.
 fn parse_levels(text: &str) -> Result<RangeInclusive<u32>, String> {
-    let level = |s: &str| {
-        s.parse::<u32>()
-            .map_err(|_| format!("bad level {s:?} in --levels {text:?}"))
-    };
-    let range = if let Some((a, b)) = text.split_once("..=") {
-        level(a)?..=level(b)?
-    } else if let Some((a, b)) = text.split_once("..") {
-        let end = level(b)?
-            .checked_sub(1)
-            .ok_or_else(|| format!("empty --levels {text:?}"))?;
-        level(a)?..=end
-    } else {
-        let n = level(text)?;
-        n..=n
-    };
-    if range.is_empty() {
-        return Err(format!("empty --levels {text:?}"));
-    }
-    Ok(range)
+    level_range(text).map_err(|e| match e {
+        RangeError::BadLevel(level) => format!("bad level {level:?} in --levels {text:?}"),
+        RangeError::Empty => format!("empty --levels {text:?}"),
+    })
 }
 
 /// A count: digits with optional `_` separators, or `MeK` for `M * 10^K`

@@ -1,30 +1,25 @@
-//! `vectors --out DIR` writes all three files or none, refuses an empty or
-//! non-directory path and existing vector files (unless `--force`), and
-//! leaves no temporary behind.
+//! `micromap-lab vectors --out DIR` writes all three files or none, refuses
+//! an empty or non-directory path and existing vector files (unless
+//! `--force`), and leaves no temporary behind.
+
+#[path = "../../cli/tests/common/mod.rs"]
+mod cli;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::Output;
 
 const NAMES: [&str; 3] = ["spec-exact.json", "spec-f32.json", "uv2index-exact.json"];
 
 fn vectors(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_micromap-index"))
-        .arg("vectors")
-        .args(args)
-        .stdin(Stdio::null())
-        .output()
-        .expect("the binary runs")
+    cli::run(&[&["vectors"], args].concat())
 }
 
 fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
+    cli::text(&output.stderr)
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cli_vectors_out_{name}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    cli::scratch(&format!("cli_vectors_out_{name}"))
 }
 
 fn listing(dir: &Path) -> Vec<String> {
@@ -37,12 +32,7 @@ fn listing(dir: &Path) -> Vec<String> {
 }
 
 fn committed(name: &str) -> Vec<u8> {
-    std::fs::read(
-        Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../reference/vectors")
-            .join(name),
-    )
-    .unwrap()
+    std::fs::read(cli::committed(name)).unwrap()
 }
 
 /// Issue 9: `mkdir -p DIR/spec-exact.json; vectors --out DIR` wrote one file
@@ -143,5 +133,37 @@ fn writes_into_a_new_directory() {
     assert_eq!(summary.lines().count(), 3);
     for name in NAMES {
         assert!(summary.contains(name), "{summary}");
+    }
+}
+
+#[test]
+fn vectors_writes_the_committed_files() {
+    let out = scratch("out").join("sets");
+    let output = vectors(&["--out", out.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    for name in ["spec-f32.json", "spec-exact.json", "uv2index-exact.json"] {
+        let written = std::fs::read(out.join(name)).unwrap();
+        let committed = committed(name);
+        assert!(
+            written == committed,
+            "{name} differs from reference/vectors/"
+        );
+        assert!(cli::text(&output.stdout).contains(name));
+    }
+}
+
+#[test]
+fn usage_errors_exit_2() {
+    for args in [
+        vec![],
+        vec!["--out"],
+        vec!["--out", "a", "--out", "b"],
+        vec!["--out", "a", "--answers-from", "spec-f32"],
+        vec!["--answers-from", "no-such-variant", "--vectors", "x"],
+        vec!["--bogus", "1"],
+    ] {
+        let output = vectors(&args);
+        assert_eq!(output.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&output).contains("usage:"), "{args:?}");
     }
 }

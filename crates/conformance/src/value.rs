@@ -31,7 +31,7 @@
 //! every variant (see `docs/cli.md` for measured times).
 //!
 //! ```
-//! use micromap_index_lab::value::Value;
+//! use micromap_index_conformance::value::Value;
 //! assert_eq!(Value::parse("0x3f000000").unwrap().to_f32(), Ok(0.5));
 //! assert_eq!(Value::parse("3/8").unwrap().to_f64(), Ok(0.375));
 //! assert!(Value::parse("0.1").unwrap().to_f32().is_err()); // not a binary32 value
@@ -374,7 +374,7 @@ fn pow2(e: i64) -> f64 {
 /// 1.81. Test inputs ("one ulp past a lattice line") are built with it.
 ///
 /// ```
-/// use micromap_index_lab::value::next_up_f32;
+/// use micromap_index_conformance::value::next_up_f32;
 /// assert_eq!(next_up_f32(1.0), 1.0 + f32::EPSILON);
 /// assert_eq!(next_up_f32(-0.0), f32::from_bits(1));
 /// assert_eq!(next_up_f32(-f32::from_bits(1)).to_bits(), (-0.0f32).to_bits());
@@ -398,7 +398,7 @@ pub fn next_up_f32(x: f32) -> f32 {
 /// The next binary32 value toward -inf (IEEE 754 `nextDown`), `-next_up(-x)`.
 ///
 /// ```
-/// use micromap_index_lab::value::next_down_f32;
+/// use micromap_index_conformance::value::next_down_f32;
 /// assert_eq!(next_down_f32(1.0), 1.0 - f32::EPSILON / 2.0);
 /// assert_eq!(next_down_f32(0.0), -f32::from_bits(1));
 /// assert_eq!(next_down_f32(f32::NEG_INFINITY), f32::NEG_INFINITY);

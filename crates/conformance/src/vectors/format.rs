@@ -47,7 +47,7 @@ pub struct Case {
     pub v_decimal: Option<String>,
 }
 
-/// The three sets [`generate_sets`](super::generate_sets) writes.
+/// The three sets the lab's generator writes (`reference/vectors/`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum VectorSet {
     /// [`spec::index_f32`](micromap_index::spec::index_f32) on binary32 bit patterns.
@@ -90,7 +90,7 @@ impl VectorSet {
     /// The file name the set is written to: `FUNCTION.json`.
     ///
     /// ```
-    /// use micromap_index_lab::vectors::VectorSet;
+    /// use micromap_index_conformance::vectors::VectorSet;
     /// assert_eq!(VectorSet::SpecF32.file_name(), "spec-f32.json");
     /// ```
     #[must_use]
@@ -120,16 +120,20 @@ impl VectorSet {
 }
 
 /// `"0x"` and the 8 hex digits of the bits.
-pub(super) fn f32_text(x: f32) -> String {
+#[must_use]
+pub fn f32_text(x: f32) -> String {
     format!("0x{:08x}", x.to_bits())
 }
 
 /// Always `p/q`, also for integers (`0/1`), so readers need one form only.
-pub(super) fn rational_text(r: &BigRational) -> String {
+#[must_use]
+pub fn rational_text(r: &BigRational) -> String {
     format!("{}/{}", r.numer(), r.denom())
 }
 
-pub(super) fn exact_of_f32(x: f32) -> Option<BigRational> {
+/// `x` as an exact rational; `None` for NaN and the infinities.
+#[must_use]
+pub fn exact_of_f32(x: f32) -> Option<BigRational> {
     BigRational::from_float(f64::from(x))
 }
 
@@ -139,7 +143,7 @@ impl VectorFile {
     /// are per case and line-based readers work. Ends with a newline.
     ///
     /// ```
-    /// use micromap_index_lab::vectors::{parse_vector_file, Case, VectorFile, FORMAT, VERSION};
+    /// use micromap_index_conformance::vectors::{parse_vector_file, Case, VectorFile, FORMAT, VERSION};
     /// let case = Case {
     ///     id: 0, u: "0x3e800000".into(), v: "0x3e800000".into(), level: 2, index: 5,
     ///     tags: vec!["vertex".into()], u_decimal: Some("0.25".into()), v_decimal: None,

@@ -3,7 +3,7 @@
 //! is tested, fuzzed and reusable.
 //!
 //! ```
-//! use micromap_index_lab::eval::{eval_line, Variant};
+//! use micromap_index_conformance::eval::{eval_line, Variant};
 //! let out = eval_line(Variant::SpecF32, r#"{"u": "0x3e800000", "v": "0.25", "level": 1}"#);
 //! assert_eq!(out, r#"{"index":1}"#);
 //! let out = eval_line(Variant::WalkReal, r#"{"u": "2/3", "v": "1/2", "level": 3}"#);
@@ -104,7 +104,7 @@ impl Variant {
     /// The variant with that CLI name, or that legacy name.
     ///
     /// ```
-    /// use micromap_index_lab::eval::Variant;
+    /// use micromap_index_conformance::eval::Variant;
     /// assert_eq!(Variant::from_name("spec-real"), Some(Variant::SpecReal));
     /// assert_eq!(Variant::from_name("spec-exact"), Some(Variant::SpecReal));
     /// assert_eq!(Variant::from_name("spec"), None);
@@ -129,8 +129,8 @@ impl Variant {
     /// The index of `(u, v)` at `level` under this variant.
     ///
     /// ```
-    /// use micromap_index_lab::eval::Variant;
-    /// use micromap_index_lab::value::Value;
+    /// use micromap_index_conformance::eval::Variant;
+    /// use micromap_index_conformance::value::Value;
     /// let half = Value::parse("1/2").unwrap();
     /// let zero = Value::parse("0").unwrap();
     /// assert_eq!(Variant::SpecReal.evaluate(&half, &zero, 1), Ok(2));

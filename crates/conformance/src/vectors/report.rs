@@ -146,7 +146,7 @@ impl CheckReport {
     /// `examples` (up to `examples_per_class` per class).
     ///
     /// ```
-    /// use micromap_index_lab::vectors::{check, parse_answers, parse_vector_file};
+    /// use micromap_index_conformance::vectors::{check, parse_answers, parse_vector_file};
     /// let vectors = parse_vector_file(br#"{"format": "micromap-index-vectors", "version": 1,
     ///   "function": "spec-exact", "cases": [
     ///     {"id": 0, "u": "1/4", "v": "1/4", "level": 1, "index": 1, "tags": ["shared-edge"]}]}"#).unwrap();
@@ -312,7 +312,7 @@ impl fmt::Display for CheckReport {
 /// `0x7fc00000 (NaN)`, `0.375 (3/8)`; `p/q` text as is.
 ///
 /// ```
-/// use micromap_index_lab::vectors::exact_form;
+/// use micromap_index_conformance::vectors::exact_form;
 /// assert_eq!(exact_form("0x3e000000"), "0x3e000000 (1/8)");
 /// assert_eq!(exact_form("0xff800000"), "0xff800000 (-inf)");
 /// assert_eq!(exact_form("0x80000000"), "0x80000000 (-0)");

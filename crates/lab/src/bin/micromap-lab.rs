@@ -1,0 +1,124 @@
+//! `micromap-lab`: the lab's commands, which generate rather than check and
+//! so need the lab (`micromap-index-lab`): `prove` (the face-by-face proof,
+//! `--all-levels` the transducer product) and `vectors` (`--out`: write the
+//! conformance vector files; `--answers-from`: the lab's functions' answers
+//! to a vector file). Flags, outputs and exit codes are those these
+//! commands had in `micromap-index`; messages on stderr start with
+//! `micromap-lab:`.
+//!
+//! The flag tables, the output layer and the exit codes are the user CLI's
+//! (`crates/cli/src/{args,output,input,write_all_or_nothing}.rs`, compiled
+//! in here by `#[path]`), so both binaries parse, render usage and fail the
+//! same way: the table in `micromap-lab help` and `docs/cli.md`.
+
+#[path = "../../../cli/src/args.rs"]
+#[allow(dead_code)] // the parts the user CLI alone uses
+mod args;
+#[path = "../../../cli/src/input.rs"]
+#[allow(dead_code)]
+mod input;
+#[path = "../../../cli/src/output.rs"]
+#[allow(dead_code)]
+mod output;
+#[path = "micromap-lab/prove.rs"]
+mod prove;
+#[path = "micromap-lab/prove_all_levels.rs"]
+mod prove_all_levels;
+#[path = "micromap-lab/vectors.rs"]
+mod vectors;
+#[path = "../../../cli/src/write_all_or_nothing.rs"]
+mod write_all_or_nothing;
+
+use args::{usage_text, Command};
+use output::{exit_code_table, Exit};
+use std::process::ExitCode;
+use std::sync::OnceLock;
+
+/// The program's name, which every message on stderr starts with.
+pub(crate) const PROGRAM: &str = "micromap-lab";
+
+/// The commands and their tables, in the order `help` lists them.
+static COMMANDS: [(&str, &[&Command]); 2] = [
+    ("prove", &[&prove::PROVE, &prove_all_levels::ALL_LEVELS]),
+    ("vectors", &[&vectors::VECTORS]),
+];
+
+/// The command being run, for the usage text after a usage error.
+static COMMAND: OnceLock<&'static str> = OnceLock::new();
+
+fn main() -> ExitCode {
+    let mut args = Vec::new();
+    for arg in std::env::args_os().skip(1) {
+        match arg.into_string() {
+            Ok(arg) => args.push(arg),
+            Err(arg) => return usage(&format!("argument {arg:?} is not UTF-8")).into(),
+        }
+    }
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let Some((&command, options)) = args.split_first() else {
+        return usage("expected a command").into();
+    };
+    if let Some((name, _)) = COMMANDS.iter().find(|(name, _)| *name == command) {
+        let _ = COMMAND.set(name);
+        if options
+            .iter()
+            .any(|&option| option == "--help" || option == "-h")
+        {
+            return print_help(&usage_of(command).unwrap_or_default()).into();
+        }
+    }
+    let exit = match (command, options) {
+        ("prove", options) => prove::run(options),
+        ("vectors", options) => vectors::run(options),
+        ("help" | "--help" | "-h", []) => print_help(&full_help()),
+        ("help", [topic]) => match usage_of(topic) {
+            Some(text) => print_help(&text),
+            None => usage(&format!("help: unknown command {topic:?}")),
+        },
+        ("help", _) => usage("help takes at most one command"),
+        _ => usage(&format!("unknown command {command:?}")),
+    };
+    exit.into()
+}
+
+/// The usage text of `command`, if it is one.
+fn usage_of(command: &str) -> Option<String> {
+    COMMANDS
+        .iter()
+        .find(|(name, _)| *name == command)
+        .map(|(_, tables)| usage_text(PROGRAM, tables, ""))
+}
+
+/// `help`: everything.
+fn full_help() -> String {
+    let mut text = format!(
+        "usage: {PROGRAM} COMMAND [OPTIONS]
+       {PROGRAM} COMMAND --help      one command's usage
+       {PROGRAM} help [COMMAND]"
+    );
+    for (name, _) in &COMMANDS {
+        text.push_str("\n\n");
+        text.push_str(&usage_of(name).unwrap_or_default());
+    }
+    text.push_str("\n\n");
+    text.push_str(&exit_code_table());
+    text
+}
+
+fn print_help(text: &str) -> Exit {
+    output::print_then(&format!("{text}\n"), Exit::Success)
+}
+
+/// Reports `message` and the usage (of the command being run, or of all) on
+/// stderr; exit code 2.
+pub(crate) fn usage(message: &str) -> Exit {
+    let usage = match COMMAND.get() {
+        Some(command) => format!(
+            "{}\nrun `{PROGRAM} help` for every command and the exit codes",
+            usage_of(command).unwrap_or_default()
+        ),
+        None => full_help(),
+    };
+    output::report(format_args!("{message}\n{usage}"));
+    Exit::Usage
+}
