@@ -22,22 +22,9 @@
 //! This file is also compiled into the lab's binary (`micromap-lab`), by
 //! `#[path]`, so both binaries share one parser and one usage layout.
 //!
-//! Giving a command a table (what `bake` and `verify-bake` still lack: they
-//! call the old [`Parsed::new`] and keep their usage texts apart):
-//!
-//! 1. write `pub(crate) static BAKE: Command = Command { name: "bake",
-//!    forms: &[...], about: "...", flags: &[Flag::value("--gltf", "ASSET",
-//!    "..."), ..., Flag::switch("--force", "...")] }` next to the command;
-//! 2. parse with `BAKE.parse(options).map_err(|e|
-//!    Failure::Usage(e.message("bake")))?` instead of `Parsed::new`; the
-//!    `Parsed` it returns has the same `get` and `flag`;
-//! 3. in `help::COMMANDS`, replace `Usage::Text(BAKE_USAGE)` with
-//!    `Usage::Tables(&[&BAKE], "")` and delete the text;
-//! 4. add the command to `tests/cli_docs.rs` and its rendered usage
-//!    (`micromap-index help bake`) to `docs/cli.md`.
-//!
-//! The one behaviour that changes: `Parsed::new` takes a switch as a value
-//! (`--out --force` sets `--out` to `--force`); a table never does.
+//! Every command of both binaries has its table; `tests/cli_docs.rs` and
+//! `crates/lab/tests/lab_docs.rs` check that `docs/cli.md` shows each
+//! rendered usage verbatim.
 
 use std::fmt::Write as _;
 use std::ops::RangeInclusive;
@@ -161,52 +148,6 @@ pub(crate) struct Parsed<'a> {
 }
 
 impl<'a> Parsed<'a> {
-    /// The old parser of `bake` and `verify-bake`, kept until their tables
-    /// are written (see [`Command::parse`] for the one every other command
-    /// uses): `valued` options take a value, `flags` do not; a switch may be
-    /// taken as a value (`--out --force` sets `--out` to `--force`). The
-    /// error is a usage message naming the command.
-    pub(crate) fn new(
-        command: &str,
-        given: &[&'a str],
-        valued: &[&'static str],
-        flags: &[&'static str],
-    ) -> Result<Parsed<'a>, String> {
-        let mut parsed = Parsed::default();
-        let mut rest = given;
-        while let Some((&option, after)) = rest.split_first() {
-            rest = after;
-            if let Some(&flag) = flags.iter().find(|&&f| f == option) {
-                if parsed.switches.contains(&flag) {
-                    return Err(format!("{command}: {flag} given twice"));
-                }
-                parsed.switches.push(flag);
-                continue;
-            }
-            let (name, inline_value) = match option.split_once('=') {
-                Some((name, value)) => (name, Some(value)),
-                None => (option, None),
-            };
-            let Some(&name) = valued.iter().find(|&&k| k == name) else {
-                return Err(format!("{command}: unknown option {option:?}"));
-            };
-            let value = if let Some(value) = inline_value {
-                value
-            } else {
-                let Some((&value, after)) = rest.split_first() else {
-                    return Err(format!("{command}: {name} needs a value"));
-                };
-                rest = after;
-                value
-            };
-            if parsed.values.iter().any(|&(n, _)| n == name) {
-                return Err(format!("{command}: {name} given twice"));
-            }
-            parsed.values.push((name, value));
-        }
-        Ok(parsed)
-    }
-
     /// The value of `name`, if given (the last one for a repeatable flag).
     pub(crate) fn get(&self, name: &str) -> Option<&'a str> {
         self.values

@@ -4,8 +4,8 @@
 //! verifier on any baker's buffers. This file parses the options, reads
 //! the inputs and serialises the results; `preview.rs` draws the picture.
 
-use crate::args::Parsed;
-use crate::output::{print_then, report, Exit};
+use crate::args::{Command, Flag, Parsed};
+use crate::output::{print_then, Exit, Failure};
 use crate::write_all_or_nothing::{check_destination, write_files};
 use micromap_index::bake::mesh::{
     bake_meshes, LevelRule, Material, Mesh, MeshBakeError, MeshOptions, MeshTriangles,
@@ -25,60 +25,148 @@ use serde::Serialize;
 use std::fmt::Write as _;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 use std::time::Instant;
 
-pub(crate) const BAKE_USAGE: &str = "\
-usage: micromap-index bake (--gltf ASSET.gltf|.glb | --texture T.png --triangles TRIS.json)
-                           --out DIR [options]
-Bakes opacity micromaps exactly: a micro-triangle is opaque (transparent) only
-if every point of it, closed, reads only opaque (transparent) texels under the
-sampler; otherwise unknown (docs/bake.md). Writes into DIR, all or nothing:
-  micromap-data.bin       the packed micromaps (Vulkan/DXR/glTF layout)
-  micromap-triangles.bin  8-byte records {u32 offset, u16 level, u16 format}
-  micromap-indices.bin    one index per input triangle (special indices
-                          -1..-4 as negative values), little endian
-  micromap-usage.bin      12-byte usage counts {u32 count, u32 level, u32 format}
-  summary.json            states, known fraction, micromaps, sizes, time
-  preview.png             the texture with every micro-triangle coloured by
-                          state (green opaque, blue transparent, yellow
-                          unknown-opaque, red unknown-transparent)
-options:
-  --level L|auto          fixed level 0..=12, or the paper's eq. 1 per
-                          triangle (default auto)
-  --max-level L           cap for auto (default 12)
-  --budget BYTES          auto: lower the highest levels until the data fits
-  --format 2|4            micromap format (default 4)
-  --unknown-as fallback|opaque|transparent
-                          2-state: what unknowns become (default fallback:
-                          the texel under the micro-triangle's centroid)
-  --filter nearest|linear (default nearest; glTF: the sampler's magFilter)
-  --address MODE          both axes: repeat, mirrored-repeat, clamp-to-edge,
-                          clamp-to-border, mirror-clamp-to-edge (default
-                          repeat; glTF: the sampler's wrapS/wrapT)
-  --address-u MODE, --address-v MODE   one axis
-  --border ALPHA          clamp-to-border alpha (default 0)
-  --cutoff C              alpha cutoff (default 0.5; glTF: alphaCutoff);
-                          opaque when alpha >= C (glTF MASK)
-  --opaque-above          opaque when alpha > C (the OMM SDK's rule)
-  --index-width 16|32     micromap-indices.bin width (default 32)
-  --force                 replace existing files in DIR
-  --no-preview            skip preview.png
-  --quiet                 no progress on stderr
-Exit 0 baked; 2 bad options or malformed input (nothing written); 3 unreadable
-input or unwritable DIR (nothing written).";
+/// The sampler and cutoff flags `bake` and `verify-bake` share.
+macro_rules! sampler_flags {
+    () => {
+        [
+            Flag::value(
+                "--filter",
+                "F",
+                "nearest or linear (default nearest; glTF: the sampler's magFilter)",
+            ),
+            Flag::value(
+                "--address",
+                "MODE",
+                "both axes: repeat (default; glTF: wrapS/wrapT), mirrored-repeat,
+                         clamp-to-edge, clamp-to-border or mirror-clamp-to-edge",
+            ),
+            Flag::value("--address-u", "MODE", "the u axis only"),
+            Flag::value("--address-v", "MODE", "the v axis only"),
+            Flag::value("--border", "ALPHA", "clamp-to-border alpha (default 0)"),
+            Flag::value(
+                "--cutoff",
+                "C",
+                "alpha cutoff (default 0.5; glTF: alphaCutoff); opaque when alpha >= C",
+            ),
+            Flag::switch(
+                "--opaque-above",
+                "opaque when alpha > C (the OMM SDK's rule)",
+            ),
+        ]
+    };
+}
 
-pub(crate) const VERIFY_USAGE: &str = "\
-usage: micromap-index verify-bake --texture T.png --triangles TRIS.json --micromaps DIR
-                                  [sampler and cutoff options as bake] [--index-width 16|32]
-                                  [--json] [--max-report N]
-Checks any baker's micromaps (DIR/micromap-data.bin, micromap-triangles.bin,
-micromap-indices.bin in bake's layout) against the texture: every micro-triangle
-with a known state whose closed area can read a texel of the other class under
-the sampler model is reported with an exact witness point (texel coordinates as
-n/2^k), the texel and its alpha. Unknown states are never wrong.
-Exit 0 sound; 1 contradictions found; 2 bad options or malformed buffers;
-3 unreadable input.";
+/// The flag table of `bake`.
+pub(crate) static BAKE: Command = Command {
+    name: "bake",
+    forms: &[
+        "(--gltf ASSET.gltf|.glb | --texture T.png --triangles TRIS.json)
+                           --out DIR [options]",
+    ],
+    about: "  Bakes opacity micromaps exactly: a micro-triangle is opaque (transparent)
+  only if every point of it, closed, reads only opaque (transparent) texels
+  under the sampler; otherwise unknown (docs/bake.md). Writes into DIR, all
+  or nothing:
+    micromap-data.bin       the packed micromaps (Vulkan/DXR/glTF layout)
+    micromap-triangles.bin  8-byte records {u32 offset, u16 level, u16 format}
+    micromap-indices.bin    one index per input triangle (special indices
+                            -1..-4 as negative values), little endian
+    micromap-usage.bin      12-byte usage counts {u32 count, u32 level, u32 format}
+    summary.json            states, known fraction, micromaps, sizes, time
+    preview.png             the texture with every micro-triangle coloured by
+                            state (green opaque, blue transparent, yellow
+                            unknown-opaque, red unknown-transparent)
+  Exit 0 baked; 2 bad options or malformed input (nothing written); 3
+  unreadable input or unwritable DIR (nothing written).",
+    flags: &{
+        const SAMPLER: [Flag; 7] = sampler_flags!();
+        [
+            Flag::value(
+                "--gltf",
+                "ASSET",
+                "a glTF 2.0 asset (.gltf or .glb): its MASK primitives",
+            ),
+            Flag::value("--texture", "T.png", "an alpha texture (PNG or JPEG)"),
+            Flag::value("--triangles", "TRIS.json", "UV triangles over --texture"),
+            Flag::value("--out", "DIR", "the output directory"),
+            Flag::value(
+                "--level",
+                "L|auto",
+                "fixed level 0..=12, or the paper's eq. 1 per triangle (default auto)",
+            ),
+            Flag::value("--max-level", "L", "cap for auto (default 12)"),
+            Flag::value(
+                "--budget",
+                "BYTES",
+                "auto: lower the highest levels until the data fits",
+            ),
+            Flag::value("--format", "2|4", "micromap format (default 4)"),
+            Flag::value(
+                "--unknown-as",
+                "U",
+                "2-state: what unknowns become: fallback (default: the texel under
+                         the micro-triangle's centroid), opaque or transparent",
+            ),
+            SAMPLER[0],
+            SAMPLER[1],
+            SAMPLER[2],
+            SAMPLER[3],
+            SAMPLER[4],
+            SAMPLER[5],
+            SAMPLER[6],
+            Flag::value(
+                "--index-width",
+                "16|32",
+                "micromap-indices.bin width (default 32)",
+            ),
+            Flag::switch("--force", "replace existing files in DIR"),
+            Flag::switch("--no-preview", "skip preview.png"),
+            Flag::switch("--quiet", "no progress on stderr"),
+        ]
+    },
+};
+
+/// The flag table of `verify-bake`.
+pub(crate) static VERIFY_BAKE: Command = Command {
+    name: "verify-bake",
+    forms: &["--texture T.png --triangles TRIS.json --micromaps DIR [options]"],
+    about: "  Checks any baker's micromaps (DIR/micromap-data.bin, micromap-triangles.bin,
+  micromap-indices.bin in bake's layout) against the texture: every
+  micro-triangle with a known state whose closed area can read a texel of
+  the other class under the sampler model is reported with an exact witness
+  point (texel coordinates as n/2^k), the texel and its alpha. Unknown
+  states are never wrong.
+  Exit 0 sound; 1 contradictions found; 2 bad options or malformed buffers;
+  3 unreadable input.",
+    flags: &{
+        const SAMPLER: [Flag; 7] = sampler_flags!();
+        [
+            Flag::value("--texture", "T.png", "the alpha texture (PNG or JPEG)"),
+            Flag::value(
+                "--triangles",
+                "TRIS.json",
+                "the UV triangles the micromaps are for",
+            ),
+            Flag::value("--micromaps", "DIR", "the buffers, in bake's layout"),
+            SAMPLER[0],
+            SAMPLER[1],
+            SAMPLER[2],
+            SAMPLER[3],
+            SAMPLER[4],
+            SAMPLER[5],
+            SAMPLER[6],
+            Flag::value(
+                "--index-width",
+                "16|32",
+                "micromap-indices.bin width (default 32)",
+            ),
+            Flag::switch("--json", "the report as JSON"),
+            Flag::value("--max-report", "N", "contradictions listed (default 20)"),
+        ]
+    },
+};
 
 /// Output file names, in the order written.
 const OUTPUTS: [&str; 6] = [
@@ -90,28 +178,10 @@ const OUTPUTS: [&str; 6] = [
     "preview.png",
 ];
 
-/// A failure, by exit code.
-enum Failure {
-    /// Exit 2 with the usage text.
-    Usage(String),
-    /// Exit 2: malformed input or a value out of range.
-    Malformed(String),
-    /// Exit 3: unreadable input or unwritable output.
-    Io(String),
-}
-
-fn finish(outcome: Result<(String, Exit), Failure>) -> ExitCode {
+fn finish(outcome: Result<(String, Exit), Failure>) -> Exit {
     match outcome {
-        Ok((text, exit)) => print_then(&text, exit).into(),
-        Err(Failure::Usage(message)) => crate::usage(&message).into(),
-        Err(Failure::Malformed(message)) => {
-            report(message);
-            Exit::Usage.into()
-        }
-        Err(Failure::Io(message)) => {
-            report(message);
-            Exit::Io.into()
-        }
+        Ok((text, exit)) => print_then(&text, exit),
+        Err(failure) => failure.exit(),
     }
 }
 
@@ -187,15 +257,6 @@ struct SamplerOptions {
     cutoff: Option<f32>,
     comparison: Comparison,
 }
-
-const SAMPLER_VALUED: [&str; 6] = [
-    "--filter",
-    "--address",
-    "--address-u",
-    "--address-v",
-    "--border",
-    "--cutoff",
-];
 
 fn sampler_options(p: &Parsed<'_>) -> Result<SamplerOptions, Failure> {
     let filter = match p.get("--filter") {
@@ -414,31 +475,14 @@ impl From<micromap_index::bake::mesh::StatusCounts> for StatusCounts {
     }
 }
 
-pub(crate) fn run_bake(options: &[&str]) -> ExitCode {
+pub(crate) fn run_bake(options: &[&str]) -> Exit {
     finish(bake(options))
 }
 
 fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
-    let mut valued = vec![
-        "--gltf",
-        "--texture",
-        "--triangles",
-        "--out",
-        "--level",
-        "--max-level",
-        "--budget",
-        "--format",
-        "--unknown-as",
-        "--index-width",
-    ];
-    valued.extend(SAMPLER_VALUED);
-    let p = Parsed::new(
-        "bake",
-        options,
-        &valued,
-        &["--opaque-above", "--force", "--no-preview", "--quiet"],
-    )
-    .map_err(Failure::Usage)?;
+    let p = BAKE
+        .parse(options)
+        .map_err(|error| Failure::Usage(error.message("bake")))?;
     let out = PathBuf::from(
         p.get("--out")
             .ok_or_else(|| Failure::Usage("bake needs --out DIR".into()))?,
@@ -632,7 +676,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     Ok((summary_json, Exit::Success))
 }
 
-pub(crate) fn run_verify(options: &[&str]) -> ExitCode {
+pub(crate) fn run_verify(options: &[&str]) -> Exit {
     finish(verify(options))
 }
 
@@ -662,21 +706,9 @@ struct VerifyJson {
 }
 
 fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
-    let mut valued = vec![
-        "--texture",
-        "--triangles",
-        "--micromaps",
-        "--index-width",
-        "--max-report",
-    ];
-    valued.extend(SAMPLER_VALUED);
-    let p = Parsed::new(
-        "verify-bake",
-        options,
-        &valued,
-        &["--opaque-above", "--json"],
-    )
-    .map_err(Failure::Usage)?;
+    let p = VERIFY_BAKE
+        .parse(options)
+        .map_err(|error| Failure::Usage(error.message("verify-bake")))?;
     let dir = PathBuf::from(
         p.get("--micromaps")
             .ok_or_else(|| Failure::Usage("verify-bake needs --micromaps DIR".into()))?,

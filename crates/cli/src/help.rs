@@ -14,9 +14,6 @@ pub(crate) enum Usage {
     /// Rendered from the tables (one, or the subcommands of one word), with
     /// prose common to them.
     Tables(&'static [&'static Command], &'static str),
-    /// A text kept apart from its parser (`bake`, `verify-bake`, until their
-    /// tables are written).
-    Text(&'static str),
 }
 
 /// The commands and their usage, in the order `help` lists them.
@@ -34,10 +31,10 @@ pub(crate) static COMMANDS: [(&str, Usage); 6] = [
             crate::tree_command::ABOUT,
         ),
     ),
-    ("bake", Usage::Text(crate::bake_command::BAKE_USAGE)),
+    ("bake", Usage::Tables(&[&crate::bake_command::BAKE], "")),
     (
         "verify-bake",
-        Usage::Text(crate::bake_command::VERIFY_USAGE),
+        Usage::Tables(&[&crate::bake_command::VERIFY_BAKE], ""),
     ),
 ];
 
@@ -52,7 +49,6 @@ pub(crate) fn usage_of(command: &str) -> Option<String> {
         .find(|(name, _)| *name == command)
         .map(|(_, usage)| match usage {
             Usage::Tables(tables, about) => usage_text(PROGRAM, tables, about),
-            Usage::Text(text) => (*text).to_owned(),
         })
 }
 

@@ -75,8 +75,8 @@ fn main() -> ExitCode {
         ("locate", options) => locate_command::run(options).into(),
         ("check", options) => check_command::run(options).into(),
         ("tree", options) => tree_command::run(options).into(),
-        ("bake", options) => bake_command::run_bake(options),
-        ("verify-bake", options) => bake_command::run_verify(options),
+        ("bake", options) => bake_command::run_bake(options).into(),
+        ("verify-bake", options) => bake_command::run_verify(options).into(),
         (moved, _) if help::MOVED.contains(&moved) => {
             output::report(help::moved_note(moved));
             Exit::Usage.into()
