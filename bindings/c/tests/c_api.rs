@@ -56,9 +56,22 @@ fn build(sources: &[PathBuf], out: &Path, extra: &[&str]) -> Result<(), String> 
         .arg(format!("-I{HERE}/include"))
         .args(sources)
         .arg(static_lib())
-        .args(["-lpthread", "-ldl", "-lm"])
+        // `rustc --print native-static-libs` on Linux (docs/c.md).
+        .args([
+            "-lgcc_s",
+            "-lutil",
+            "-lrt",
+            "-lpthread",
+            "-lm",
+            "-ldl",
+            "-lc",
+        ])
         .arg("-o")
         .arg(out);
+    compile(command)
+}
+
+fn compile(mut command: Command) -> Result<(), String> {
     let output = command
         .output()
         .map_err(|e| format!("cannot run {}: {e}", cc()))?;
@@ -103,6 +116,77 @@ fn run(exe: &Path, args: &[&Path]) -> String {
         String::from_utf8_lossy(&output.stderr)
     );
     stdout
+}
+
+#[test]
+fn the_c_api_test_passes_linked_with_the_shared_library() {
+    let dir = tmp("shared");
+    let lib_dir = static_lib().parent().unwrap().to_path_buf();
+    assert!(lib_dir.join("libmicromap_index_capi.so").is_file());
+    let exe = dir.join("api_test_shared");
+    let mut command = Command::new(cc());
+    command
+        .args(C_FLAGS)
+        .arg(format!("-I{HERE}/include"))
+        .arg(format!("{HERE}/tests/api_test.c"))
+        .arg(format!("-L{}", lib_dir.display()))
+        .arg(format!("-Wl,-rpath,{}", lib_dir.display()))
+        .args(["-lmicromap_index_capi", "-lm", "-o"])
+        .arg(&exe);
+    compile(command).unwrap();
+    let stdout = run(&exe, &[]);
+    assert!(stdout.contains("\nok "), "{stdout}");
+}
+
+#[test]
+fn the_pkg_config_file_links_the_static_library() {
+    if Command::new("pkg-config")
+        .arg("--version")
+        .output()
+        .is_err()
+    {
+        println!("skipped: pkg-config is not installed");
+        return;
+    }
+    // An installed prefix: the archive alone (so -l finds it), the header
+    // and the .pc file from its template.
+    let prefix = tmp("pkg-config");
+    for sub in ["lib/pkgconfig", "include"] {
+        std::fs::create_dir_all(prefix.join(sub)).unwrap();
+    }
+    std::fs::copy(static_lib(), prefix.join("lib/libmicromap_index_capi.a")).unwrap();
+    std::fs::copy(
+        format!("{HERE}/include/micromap_index.h"),
+        prefix.join("include/micromap_index.h"),
+    )
+    .unwrap();
+    let pc = std::fs::read_to_string(format!("{HERE}/micromap_index.pc.in"))
+        .unwrap()
+        .replace("@PREFIX@", prefix.to_str().unwrap())
+        .replace("@VERSION@", env!("CARGO_PKG_VERSION"));
+    std::fs::write(prefix.join("lib/pkgconfig/micromap_index.pc"), pc).unwrap();
+    let flags = Command::new("pkg-config")
+        .env("PKG_CONFIG_PATH", prefix.join("lib/pkgconfig"))
+        .args(["--static", "--cflags", "--libs", "micromap_index"])
+        .output()
+        .unwrap();
+    assert!(
+        flags.status.success(),
+        "{}",
+        String::from_utf8_lossy(&flags.stderr)
+    );
+    let flags = String::from_utf8(flags.stdout).unwrap();
+    let exe = prefix.join("api_test_pkg_config");
+    let mut command = Command::new(cc());
+    command
+        .args(C_FLAGS)
+        .arg(format!("{HERE}/tests/api_test.c"))
+        .args(flags.split_whitespace())
+        .arg("-o")
+        .arg(&exe);
+    compile(command).unwrap();
+    let stdout = run(&exe, &[]);
+    assert!(stdout.contains("\nok "), "{stdout}");
 }
 
 #[test]
