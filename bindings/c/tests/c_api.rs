@@ -9,7 +9,7 @@
 //! - `examples/bake_grid.c` bakes the committed thorn texture and
 //!   `grid.tris.json` (handed over as raw files: C has no PNG decoder) and
 //!   writes the same bytes as `micromap-index bake` (the CLI binary, built
-//!   by cargo with the test profile).
+//!   by cargo with the test profile in a target directory of its own).
 
 use micromap_index_assets::{decode_alpha_image, read_triangles_json, AlphaTexels, Limits};
 use micromap_index_capi::*;
@@ -300,11 +300,12 @@ fn prepare_inputs(dir: &Path) -> (PathBuf, PathBuf, PathBuf, PathBuf) {
 }
 
 /// `micromap-index bake` from the CLI crate, built (or found up to date)
-/// by cargo with the profile this test runs under.
+/// by cargo with the test profile in a target directory of its own: the
+/// workspace's `target/debug/micromap-index` is the binary the CLI's own
+/// tests run, and a build here with other features must not replace it.
 fn cli_bake(texture: &Path, triangles: &Path, level: &str, out: &Path) {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let exe = std::env::current_exe().unwrap();
-    let target = exe.ancestors().nth(3).unwrap().to_path_buf();
+    let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("capi-cli-target");
     let status = Command::new(&cargo)
         .current_dir(ROOT)
         .args(["run", "-q", "--profile", "test", "-p", "micromap-index-cli"])
