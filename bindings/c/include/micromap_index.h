@@ -1,0 +1,579 @@
+/*
+ * micromap_index.h: the C API of micromap-index (opacity micromaps: the
+ * Vulkan micro-triangle index, its inverse, an exact alpha-texture baker
+ * into API buffers, a verifier of any baker's buffers, the buffer
+ * validator and the succinct tree).
+ *
+ * C99 and C++ compatible. Every function is a thin wrapper over the Rust
+ * library (bindings/c, crate micromap-index-capi); no algorithm is written
+ * twice. Hand-written; bindings/c/tests/header.rs fails when a Rust
+ * signature, struct or constant differs from this file.
+ *
+ * Conventions (docs/c.md):
+ * - Every function returns an mmi_result: MMI_OK or an MMI_ERROR_* code;
+ *   mmi_last_error_message() then says why (per thread).
+ * - Every entry point is total: NULL pointers, wrong lengths, enum values
+ *   naming no case and levels out of range return their codes. A Rust
+ *   panic never crosses the boundary (MMI_ERROR_PANIC).
+ * - Enums are uint32_t fields checked on entry (the MMI_* constants).
+ * - Handles (mmi_bake_result, mmi_tree) belong to the caller and are freed
+ *   with their *_free function; memory lent by a handle's accessors stays
+ *   valid until then. Caller buffers are filled "size first": pass
+ *   out == NULL to learn the length, then call again.
+ * - A handle may be read from several threads at once; inputs must not
+ *   change during a call; outputs must not overlap inputs.
+ *
+ * SPDX-License-Identifier: MIT OR Apache-2.0
+ */
+#ifndef MICROMAP_INDEX_H
+#define MICROMAP_INDEX_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* The version of the library this header describes; mmi_version() returns
+ * MICROMAP_INDEX_VERSION of the linked library. */
+#define MICROMAP_INDEX_VERSION_MAJOR 0
+#define MICROMAP_INDEX_VERSION_MINOR 1
+#define MICROMAP_INDEX_VERSION_PATCH 0
+#define MICROMAP_INDEX_VERSION                                                  \
+    (MICROMAP_INDEX_VERSION_MAJOR * 10000 + MICROMAP_INDEX_VERSION_MINOR * 100 \
+     + MICROMAP_INDEX_VERSION_PATCH)
+#define MICROMAP_INDEX_VERSION_STRING "0.1.0"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------ */
+/* Results and errors                                                  */
+/* ------------------------------------------------------------------ */
+
+/** A status code: MMI_OK or one of the MMI_ERROR_* codes. */
+typedef int32_t mmi_result;
+
+/** Success. */
+#define MMI_OK 0
+/** A pointer that must not be NULL was NULL. */
+#define MMI_ERROR_NULL_POINTER 1
+/** A subdivision level outside the range the function takes. */
+#define MMI_ERROR_INVALID_LEVEL 2
+/** A uint32_t enum value that names no case. */
+#define MMI_ERROR_INVALID_ENUM 3
+/** Lengths that disagree or are not a whole number of items, or a pointer
+ * not aligned for its type. */
+#define MMI_ERROR_LENGTH 4
+/** The caller's output buffer is too short; the required length was
+ * written to *len. */
+#define MMI_ERROR_BUFFER_TOO_SMALL 5
+/** A value out of range: an index past the end, a NaN cutoff, an empty
+ * texture, a stride below 8 bytes, an index width the buffers cannot use. */
+#define MMI_ERROR_INVALID_ARGUMENT 6
+/** Bytes refused by the buffer validator or the tree reader. */
+#define MMI_ERROR_MALFORMED 7
+/** The bake failed in the library (the message says why). */
+#define MMI_ERROR_BAKE 8
+/** A combination this version does not support. */
+#define MMI_ERROR_UNSUPPORTED 9
+/** A Rust panic was caught at the boundary (a bug: please report it). */
+#define MMI_ERROR_PANIC 10
+
+/** The message of the last failed call on this thread ("" after a call
+ * that succeeded). Valid until the next mmi_ call on this thread; never
+ * NULL. */
+const char *mmi_last_error_message(void);
+
+/** The linked library's version, major * 10000 + minor * 100 + patch. */
+uint32_t mmi_version(void);
+
+/** The linked library's version as a static string, e.g. "0.1.0". */
+const char *mmi_version_string(void);
+
+/* ------------------------------------------------------------------ */
+/* Constants                                                           */
+/* ------------------------------------------------------------------ */
+
+/** mmi_texture.format: 8-bit unorm texels (alpha = c / 255). */
+#define MMI_TEXEL_U8 0
+/** 16-bit unorm texels (alpha = c / 65535), native endian. */
+#define MMI_TEXEL_U16 1
+/** float texels, as they are (NaN is transparent). */
+#define MMI_TEXEL_F32 2
+
+/** mmi_sampler.filter: nearest. */
+#define MMI_FILTER_NEAREST 0
+/** Bilinear. */
+#define MMI_FILTER_LINEAR 1
+
+/** mmi_sampler.address_u / address_v (Vulkan's sampler address modes). */
+#define MMI_ADDRESS_REPEAT 0
+/** Mirrored repeat. */
+#define MMI_ADDRESS_MIRRORED_REPEAT 1
+/** Clamp to edge. */
+#define MMI_ADDRESS_CLAMP_TO_EDGE 2
+/** Clamp to border (mmi_sampler.border_alpha). */
+#define MMI_ADDRESS_CLAMP_TO_BORDER 3
+/** Mirror clamp to edge. */
+#define MMI_ADDRESS_MIRROR_CLAMP_TO_EDGE 4
+
+/** mmi_material.comparison: opaque when alpha >= cutoff (glTF MASK). */
+#define MMI_OPAQUE_AT_LEAST 0
+/** Opaque when alpha > cutoff (the OMM SDK's rule). */
+#define MMI_OPAQUE_ABOVE 1
+
+/** Micromap formats (the Vulkan/DXR values): 2-state. */
+#define MMI_FORMAT_2_STATE 1
+/** 4-state. */
+#define MMI_FORMAT_4_STATE 2
+
+/** mmi_bake_options.unknown, 2-state only: unknowns become the state they
+ * fall back to (what "force 2-state" does). */
+#define MMI_UNKNOWN_FALLBACK 0
+/** Unknowns become opaque. */
+#define MMI_UNKNOWN_OPAQUE 1
+/** Unknowns become transparent. */
+#define MMI_UNKNOWN_TRANSPARENT 2
+
+/** mmi_bake_options.level: each triangle's useful level (edges of at most
+ * one texel, the paper's eq. 1), capped at max_level. */
+#define MMI_LEVEL_AUTO 0xFFFFFFFFu
+
+/** mmi_bake_result_indices: every geometry, concatenated. */
+#define MMI_ALL_GEOMETRIES SIZE_MAX
+
+/** Tree layouts: the paper's depth-first tree. */
+#define MMI_TREE_PAPER 0
+/** The level-order tree with a rank directory (O(level) lookups). */
+#define MMI_TREE_LEVEL_ORDER 1
+
+/** Micro-triangle states (the API values). */
+#define MMI_STATE_TRANSPARENT 0
+/** Opaque. */
+#define MMI_STATE_OPAQUE 1
+/** Unknown, transparent when any-hit is skipped. */
+#define MMI_STATE_UNKNOWN_TRANSPARENT 2
+/** Unknown, opaque when any-hit is skipped. */
+#define MMI_STATE_UNKNOWN_OPAQUE 3
+
+/* ------------------------------------------------------------------ */
+/* The index function and its inverse                                  */
+/* ------------------------------------------------------------------ */
+
+/** The micro-triangle index of the point (u, v) at level 0..=16, as the
+ * Vulkan reference computes it in binary32, for every float pair (NaN and
+ * points outside the triangle included). MMI_ERROR_INVALID_LEVEL above 16,
+ * MMI_ERROR_NULL_POINTER for a NULL out. */
+mmi_result mmi_index_f32(float u, float v, uint32_t level, uint32_t *out);
+
+/** out[i] = mmi_index_f32(us[i], vs[i], level) for i < count, by the
+ * library's SIMD batch kernels. With count == 0 the pointers may be NULL.
+ * Misaligned arrays are MMI_ERROR_LENGTH. On an error nothing is written. */
+mmi_result mmi_index_f32_batch(const float *us, const float *vs, size_t count, uint32_t level,
+                               uint32_t *out);
+
+/** The reference widened to 64-bit words: levels 0..=32; equal to
+ * mmi_index_f32 for levels 0..=16. */
+mmi_result mmi_wide_index_f32(float u, float v, uint32_t level, uint64_t *out);
+
+/** out[i] = mmi_wide_index_f32(us[i], vs[i], level), by the batch kernels. */
+mmi_result mmi_wide_index_f32_batch(const float *us, const float *vs, size_t count,
+                                    uint32_t level, uint64_t *out);
+
+/** One micro-triangle, exactly. */
+typedef struct mmi_micro_triangle {
+    /** The subdivision level. */
+    uint32_t level;
+    /** 1 if it has the base triangle's orientation, 0 if upside down. */
+    uint32_t upright;
+    /** Its index on the space-filling curve. */
+    uint64_t index;
+    /** u0, v0, u1, v1, u2, v2 as numerators over 2^level, in the walk's
+     * local vertex order. */
+    uint64_t vertices[6];
+} mmi_micro_triangle;
+
+/** The micro-triangle with `index` at `level` (0..=32): its exact
+ * vertices. MMI_ERROR_INVALID_LEVEL above 32, MMI_ERROR_INVALID_ARGUMENT
+ * for an index >= 4^level. */
+mmi_result mmi_inverse_micro_triangle(uint32_t level, uint64_t index, mmi_micro_triangle *out);
+
+/* ------------------------------------------------------------------ */
+/* Baking                                                              */
+/* ------------------------------------------------------------------ */
+
+/** An alpha texture in the caller's memory. */
+typedef struct mmi_texture {
+    /** Row 0 (the image's top row, v = 0) first. */
+    const void *texels;
+    /** Texels per row, at least 1. */
+    uint32_t width;
+    /** Rows, at least 1. */
+    uint32_t height;
+    /** Bytes from one row to the next (at least a row); 0: tightly packed.
+     * Rows are copied only when the pitch is not the row's size or the
+     * texels are misaligned. */
+    size_t row_pitch;
+    /** MMI_TEXEL_U8, MMI_TEXEL_U16 or MMI_TEXEL_F32. */
+    uint32_t format;
+} mmi_texture;
+
+/** How the runtime samples the texture. */
+typedef struct mmi_sampler {
+    /** MMI_FILTER_NEAREST or MMI_FILTER_LINEAR. */
+    uint32_t filter;
+    /** MMI_ADDRESS_* along u. */
+    uint32_t address_u;
+    /** MMI_ADDRESS_* along v. */
+    uint32_t address_v;
+    /** The alpha read outside the texture under clamp-to-border. */
+    float border_alpha;
+} mmi_sampler;
+
+/** How a texture is alpha-tested. */
+typedef struct mmi_material {
+    /** The sampler. */
+    mmi_sampler sampler;
+    /** The alpha cutoff (not NaN). */
+    float cutoff;
+    /** MMI_OPAQUE_AT_LEAST or MMI_OPAQUE_ABOVE. */
+    uint32_t comparison;
+    /** Multiplies every texel's alpha before the cutoff (glTF's
+     * baseColorFactor[3]); 1 for none. */
+    float alpha_factor;
+} mmi_material;
+
+/** One mesh: a texture, its material and triangles in UV space. */
+typedef struct mmi_mesh {
+    /** The alpha texture. */
+    mmi_texture texture;
+    /** Sampler, cutoff and alpha factor. */
+    mmi_material material;
+    /** Vertex i's (u, v) are the two floats at byte i * uv_stride
+     * (4-byte aligned). */
+    const float *uvs;
+    /** The number of vertices at uvs. */
+    size_t vertex_count;
+    /** Bytes from one vertex to the next: a multiple of 4, at least 8;
+     * 0 means 8 (tight pairs). */
+    size_t uv_stride;
+    /** Three vertex indices per triangle, or NULL: vertices 3t, 3t+1, 3t+2
+     * form triangle t (vertex_count a multiple of 3). */
+    const uint32_t *indices;
+    /** The number of indices, a multiple of 3 (ignored without indices). */
+    size_t index_count;
+} mmi_mesh;
+
+/** How mmi_bake bakes; start from mmi_bake_options_default. */
+typedef struct mmi_bake_options {
+    /** A fixed level 0..=16 for every triangle, or MMI_LEVEL_AUTO. */
+    uint32_t level;
+    /** With MMI_LEVEL_AUTO: the highest level chosen, 0..=16. */
+    uint32_t max_level;
+    /** MMI_FORMAT_2_STATE or MMI_FORMAT_4_STATE. */
+    uint32_t format;
+    /** 2-state: what unknowns become (MMI_UNKNOWN_*). */
+    uint32_t unknown;
+    /** Non-zero: at most budget_bytes of micromap data for all meshes
+     * together (the highest levels are lowered first). */
+    uint32_t use_budget;
+    /** Block tests a micro-triangle may use (0: the library's default). */
+    uint32_t block_budget;
+    /** The byte budget, with use_budget. */
+    uint64_t budget_bytes;
+} mmi_bake_options;
+
+/** What mmi_bake found over all meshes. */
+typedef struct mmi_bake_stats {
+    /** Triangles baked. */
+    uint64_t triangles;
+    /** Entries of levels used (the highest level used plus one). */
+    uint32_t level_count;
+    /** Padding, 0. */
+    uint32_t reserved;
+    /** Triangles per chosen level. */
+    uint64_t levels[17];
+    /** Micro-triangles per state (MMI_STATE_*), before a 2-state format
+     * resolves the unknowns. */
+    uint64_t counts[4];
+    /** Triangles baked exactly. */
+    uint64_t status_exact;
+    /** Triangles with a coordinate that is not finite. */
+    uint64_t status_not_finite;
+    /** Triangles off the exact grid. */
+    uint64_t status_out_of_exact_range;
+    /** Triangles where the block budget ran out. */
+    uint64_t status_budget_exceeded;
+    /** Known micro-triangles over all micro-triangles. */
+    double known_fraction;
+    /** The known fraction weighted by texel area. */
+    double known_area_fraction;
+    /** Distinct micromaps after deduplication. */
+    uint64_t micromaps;
+    /** Triangles given a special index. */
+    uint64_t special_index_triangles;
+    /** Bytes of packed micromap data. */
+    uint64_t bytes_flat;
+    /** Bytes as the paper's succinct trees. */
+    uint64_t bytes_paper_tree;
+    /** Bytes as level-order trees. */
+    uint64_t bytes_level_order_tree;
+} mmi_bake_stats;
+
+/** A finished bake (opaque): free with mmi_bake_result_free. */
+typedef struct mmi_bake_result mmi_bake_result;
+
+/** The defaults: MMI_LEVEL_AUTO up to 12, 4-state, fallback for unknowns,
+ * no byte budget, the library's block budget (micromap-index bake's
+ * defaults). */
+mmi_result mmi_bake_options_default(mmi_bake_options *options);
+
+/** The default material: nearest, repeat on both axes, border alpha 0,
+ * opaque when alpha >= 0.5 (glTF's default), alpha factor 1. */
+mmi_result mmi_material_default(mmi_material *material);
+
+/** Bakes mesh_count meshes exactly (one geometry per mesh, micromaps
+ * deduplicated across all) into a new handle written to *result (NULL on
+ * an error). The same inputs give the same bytes as `micromap-index bake`.
+ * Errors: MMI_ERROR_NULL_POINTER, _INVALID_LEVEL, _INVALID_ENUM, _LENGTH
+ * (a pitch below a row, a vertex or index count not a multiple of 3),
+ * _INVALID_ARGUMENT (empty texture, NaN cutoff or border, bad stride),
+ * _BAKE (an index naming no vertex, the library's refusals). */
+mmi_result mmi_bake(const mmi_mesh *meshes, size_t mesh_count, const mmi_bake_options *options,
+                    mmi_bake_result **result);
+
+/** The packed micromap data (micromap-data.bin): *data and *len receive
+ * memory owned by the handle, valid until mmi_bake_result_free. */
+mmi_result mmi_bake_result_data(const mmi_bake_result *result, const uint8_t **data,
+                                size_t *len);
+
+/** The 8-byte triangle records {u32 data offset, u16 level, u16 format},
+ * little endian (micromap-triangles.bin), owned by the handle. */
+mmi_result mmi_bake_result_triangle_records(const mmi_bake_result *result, const uint8_t **data,
+                                            size_t *len);
+
+/** The 12-byte usage counts {u32 count, u32 level, u32 format}, little
+ * endian (micromap-usage.bin), owned by the handle. */
+mmi_result mmi_bake_result_usage_counts(const mmi_bake_result *result, const uint8_t **data,
+                                        size_t *len);
+
+/** The number of geometries (one per baked mesh). */
+mmi_result mmi_bake_result_geometry_count(const mmi_bake_result *result, size_t *count);
+
+/** The per-triangle index buffer of `geometry` (or of all, concatenated,
+ * with MMI_ALL_GEOMETRIES: micromap-indices.bin) at width_bits 8, 16 or
+ * 32, little endian, special indices -1..-4 as two's complement. *len
+ * receives the size in bytes; with out == NULL that is all; a capacity
+ * below it is MMI_ERROR_BUFFER_TOO_SMALL. An index too large for the
+ * width, or a geometry past the last, is MMI_ERROR_INVALID_ARGUMENT; a
+ * width other than 8, 16, 32 is MMI_ERROR_INVALID_ENUM. */
+mmi_result mmi_bake_result_indices(const mmi_bake_result *result, size_t geometry,
+                                   uint32_t width_bits, uint8_t *out, size_t capacity,
+                                   size_t *len);
+
+/** The bake's statistics. */
+mmi_result mmi_bake_result_stats(const mmi_bake_result *result, mmi_bake_stats *stats);
+
+/** Frees a handle from mmi_bake and everything its accessors lent; NULL
+ * is ignored. */
+void mmi_bake_result_free(mmi_bake_result *result);
+
+/* ------------------------------------------------------------------ */
+/* Validating and verifying buffers                                    */
+/* ------------------------------------------------------------------ */
+
+/** Micromap buffers in the caller's memory (API layouts, little endian). */
+typedef struct mmi_buffers_view {
+    /** The packed micromap data. */
+    const uint8_t *data;
+    /** Its length in bytes. */
+    size_t data_len;
+    /** The 8-byte triangle records. */
+    const uint8_t *records;
+    /** Their length in bytes (a multiple of 8). */
+    size_t records_len;
+    /** The 12-byte usage counts, or NULL: not checked. */
+    const uint8_t *usage_counts;
+    /** Their length in bytes. */
+    size_t usage_counts_len;
+    /** One geometry's per-triangle index buffer, or NULL: none. */
+    const uint8_t *indices;
+    /** Its length in bytes. */
+    size_t indices_len;
+    /** The index width in bits: 8, 16 or 32 (ignored without indices). */
+    uint32_t index_width_bits;
+} mmi_buffers_view;
+
+/** Options of mmi_validate_buffers; start from mmi_read_options_default. */
+typedef struct mmi_read_options {
+    /** Non-zero: records may share or overlap data while their blocks total
+     * at most max_decoded_bytes; zero: blocks must be disjoint (glTF). */
+    uint32_t allow_overlap;
+    /** The highest level accepted (at most 16; 12 for DXR). */
+    uint32_t max_level;
+    /** Added to every regular index (Vulkan's baseTriangle). */
+    uint32_t base_triangle;
+    /** Padding, 0. */
+    uint32_t reserved;
+    /** With allow_overlap: the limit on the records' block sizes. */
+    uint64_t max_decoded_bytes;
+} mmi_read_options;
+
+/** What mmi_validate_buffers read. */
+typedef struct mmi_buffers_info {
+    /** Triangle records. */
+    uint64_t records;
+    /** Indices in the index buffer (0 without one). */
+    uint64_t indices;
+    /** Indices that are special (-1..-4). */
+    uint64_t special_indices;
+} mmi_buffers_info;
+
+/** What mmi_verify found over all triangles. */
+typedef struct mmi_verify_report {
+    /** Triangles in the mesh. */
+    uint64_t triangles;
+    /** Triangles checked (finite coordinates on the exact grid). */
+    uint64_t triangles_checked;
+    /** Known micro-triangles checked. */
+    uint64_t known;
+    /** Unknown micro-triangles (never wrong). */
+    uint64_t unknown;
+    /** Known micro-triangles the block budget could not decide. */
+    uint64_t undecided;
+    /** Micro-triangles whose known state the texture contradicts (0: sound). */
+    uint64_t contradictions;
+    /** Contradictions written to the caller's array. */
+    uint64_t witnesses_written;
+} mmi_verify_report;
+
+/** A micro-triangle whose known state the texture contradicts, with an
+ * exact witness point. */
+typedef struct mmi_contradiction {
+    /** The triangle. */
+    uint64_t triangle;
+    /** The micro-triangle (0 for a special index). */
+    uint64_t micro_triangle;
+    /** The state the buffers give it (MMI_STATE_*). */
+    uint32_t state;
+    /** 1 if the witness fields hold a point, 0 if the exact point search
+     * gave up (the block search alone proved the contradiction). */
+    uint32_t has_witness;
+    /** The witness's horizontal texel coordinate x / 2^witness_shift_x, x
+     * a 128-bit two's complement number: its high 64 bits. */
+    int64_t witness_x_hi;
+    /** The low 64 bits of x. */
+    uint64_t witness_x_lo;
+    /** The vertical texel coordinate y / 2^witness_shift_y: high 64 bits. */
+    int64_t witness_y_hi;
+    /** The low 64 bits of y. */
+    uint64_t witness_y_lo;
+    /** The exponent of x's denominator. */
+    uint32_t witness_shift_x;
+    /** The exponent of y's denominator. */
+    uint32_t witness_shift_y;
+    /** The witness in texture coordinates, rounded to double. */
+    double witness_u;
+    /** The witness's v. */
+    double witness_v;
+    /** 1 if texel_x, texel_y name the texel of the other class, 0 if it is
+     * the border colour. */
+    uint32_t has_texel;
+    /** The texel's column (after wrapping). */
+    uint32_t texel_x;
+    /** The texel's row. */
+    uint32_t texel_y;
+    /** Padding, 0. */
+    uint32_t reserved;
+    /** The texel's alpha (or the border alpha). */
+    double texel_alpha;
+} mmi_contradiction;
+
+/** The validator's defaults: disjoint blocks, levels up to 16, base
+ * triangle 0. */
+mmi_result mmi_read_options_default(mmi_read_options *options);
+
+/** Checks untrusted micromap buffers as the APIs require (record layout,
+ * formats and levels, blocks in bounds and disjoint unless allowed, usage
+ * counts matching the records, indices naming records or special):
+ * MMI_OK, or MMI_ERROR_MALFORMED with the first problem as the message.
+ * options may be NULL (the defaults); info may be NULL. */
+mmi_result mmi_validate_buffers(const mmi_buffers_view *buffers, const mmi_read_options *options,
+                                mmi_buffers_info *info);
+
+/** Checks any baker's buffers (data, records and one index per triangle of
+ * mesh) against mesh's texture, sampler and cutoff, as `micromap-index
+ * verify-bake` does: every known micro-triangle whose closed area can read
+ * a texel of the other class is a contradiction. Records may share data.
+ * The first witness_capacity contradictions are written to witnesses (NULL
+ * allowed with capacity 0); report counts them all. MMI_OK whether or not
+ * contradictions were found; MMI_ERROR_MALFORMED for buffers the validator
+ * refuses; MMI_ERROR_LENGTH when the index count is not the triangle
+ * count; MMI_ERROR_UNSUPPORTED for an alpha factor other than 1. */
+mmi_result mmi_verify(const mmi_mesh *mesh, const mmi_buffers_view *buffers,
+                      mmi_verify_report *report, mmi_contradiction *witnesses,
+                      size_t witness_capacity);
+
+/* ------------------------------------------------------------------ */
+/* The succinct tree                                                   */
+/* ------------------------------------------------------------------ */
+
+/** A succinct tree over one micromap (opaque): free with mmi_tree_free. */
+typedef struct mmi_tree mmi_tree;
+
+/** What mmi_tree_info_get reports. */
+typedef struct mmi_tree_info {
+    /** MMI_TREE_PAPER or MMI_TREE_LEVEL_ORDER. */
+    uint32_t layout;
+    /** The subdivision level. */
+    uint32_t level;
+    /** MMI_FORMAT_2_STATE or MMI_FORMAT_4_STATE. */
+    uint32_t format;
+    /** Padding, 0. */
+    uint32_t reserved;
+    /** The size in bits (tree bits, leaf states, rank directory). */
+    uint64_t total_bits;
+    /** Leaf states stored. */
+    uint64_t leaf_count;
+} mmi_tree_info;
+
+/** Encodes a flat micromap of `level` (0..=16), given as state_count ==
+ * 4^level states (MMI_STATE_*, one byte each), into a tree of `layout` and
+ * `format`. A 2-state format refuses unknown states
+ * (MMI_ERROR_INVALID_ARGUMENT); a wrong count is MMI_ERROR_LENGTH; a state
+ * above 3 is MMI_ERROR_INVALID_ENUM. *tree receives the handle (NULL on an
+ * error). */
+mmi_result mmi_tree_encode(uint32_t layout, uint32_t level, uint32_t format,
+                           const uint8_t *states, size_t state_count, mmi_tree **tree);
+
+/** Reads a tree from the bytes mmi_tree_to_bytes writes (either layout):
+ * any other input is MMI_ERROR_MALFORMED, never a crash. */
+mmi_result mmi_tree_from_bytes(const uint8_t *bytes, size_t len, mmi_tree **tree);
+
+/** The state of micro-triangle `index`; MMI_ERROR_INVALID_ARGUMENT for an
+ * index >= 4^level. */
+mmi_result mmi_tree_get(const mmi_tree *tree, uint64_t index, uint8_t *state);
+
+/** The state a ray hit at barycentrics (u, v) reads: the Vulkan reference
+ * index in binary32, then the lookup (every float pair). */
+mmi_result mmi_tree_get_f32(const mmi_tree *tree, float u, float v, uint8_t *state);
+
+/** The tree's bytes (format version 1): *len receives the size; with
+ * out == NULL that is all; a smaller capacity is
+ * MMI_ERROR_BUFFER_TOO_SMALL. */
+mmi_result mmi_tree_to_bytes(const mmi_tree *tree, uint8_t *out, size_t capacity, size_t *len);
+
+/** Every micro-triangle's state (4^level bytes, MMI_STATE_*), size first
+ * as mmi_tree_to_bytes. */
+mmi_result mmi_tree_decode(const mmi_tree *tree, uint8_t *states, size_t capacity, size_t *len);
+
+/** The tree's layout, level, format and sizes. */
+mmi_result mmi_tree_info_get(const mmi_tree *tree, mmi_tree_info *info);
+
+/** Frees a tree; NULL is ignored. */
+void mmi_tree_free(mmi_tree *tree);
+
+#ifdef __cplusplus
+} /* extern "C" */
+#endif
+
+#endif /* MICROMAP_INDEX_H */

@@ -1,0 +1,736 @@
+//! Baking meshes into API buffers owned by a handle
+//! (`bake::mesh::bake_meshes`).
+
+use crate::constants::{
+    MMI_ALL_GEOMETRIES, MMI_LEVEL_AUTO, MMI_OPAQUE_ABOVE, MMI_OPAQUE_AT_LEAST, MMI_TEXEL_F32,
+    MMI_TEXEL_U16, MMI_TEXEL_U8,
+};
+use crate::ffi::{
+    copy_out, guard, lend, mmi_result, null, reference, slice, write, Error, Result,
+    MMI_ERROR_BAKE, MMI_ERROR_INVALID_ARGUMENT, MMI_ERROR_INVALID_ENUM, MMI_ERROR_INVALID_LEVEL,
+    MMI_ERROR_LENGTH,
+};
+use micromap_index::bake::mesh::{
+    bake_meshes, LevelRule, Material, Mesh, MeshBake, MeshOptions, MeshTriangles,
+};
+use micromap_index::bake::{
+    AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Sampler, Texel,
+    Unorm16Texture, Unorm8Texture, UvTriangle, DEFAULT_BLOCK_BUDGET,
+};
+use micromap_index::micromap::{usage_counts_to_le_bytes, Format, IndexWidth, UnknownPolicy};
+use micromap_index::Level;
+use std::borrow::Cow;
+
+/// An alpha texture in the caller's memory.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct mmi_texture {
+    /// Row 0 (the image's top row, `v = 0`) first.
+    pub texels: *const core::ffi::c_void,
+    /// Texels per row, at least 1.
+    pub width: u32,
+    /// Rows, at least 1.
+    pub height: u32,
+    /// Bytes from one row to the next (at least `width` texels); 0 means
+    /// tightly packed.
+    pub row_pitch: usize,
+    /// `MMI_TEXEL_U8`, `MMI_TEXEL_U16` (native endian) or `MMI_TEXEL_F32`.
+    pub format: u32,
+}
+
+/// How the runtime samples the texture.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct mmi_sampler {
+    /// `MMI_FILTER_NEAREST` or `MMI_FILTER_LINEAR`.
+    pub filter: u32,
+    /// `MMI_ADDRESS_*` along u.
+    pub address_u: u32,
+    /// `MMI_ADDRESS_*` along v.
+    pub address_v: u32,
+    /// The alpha read outside the texture under clamp-to-border.
+    pub border_alpha: f32,
+}
+
+/// How a texture is alpha-tested.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct mmi_material {
+    /// The sampler.
+    pub sampler: mmi_sampler,
+    /// The alpha cutoff (not NaN).
+    pub cutoff: f32,
+    /// `MMI_OPAQUE_AT_LEAST` (`alpha >= cutoff`) or `MMI_OPAQUE_ABOVE`.
+    pub comparison: u32,
+    /// Multiplies every texel's alpha before the cutoff (glTF's
+    /// `baseColorFactor[3]`; 1 for none).
+    pub alpha_factor: f32,
+}
+
+/// One mesh: a texture, its material, and triangles in UV space.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct mmi_mesh {
+    /// The alpha texture.
+    pub texture: mmi_texture,
+    /// Sampler, cutoff and alpha factor.
+    pub material: mmi_material,
+    /// Vertex `i`'s `(u, v)` are the two floats at byte
+    /// `i * uv_stride` (4-byte aligned).
+    pub uvs: *const f32,
+    /// The number of vertices at `uvs`.
+    pub vertex_count: usize,
+    /// Bytes from one vertex to the next: a multiple of 4, at least 8; 0
+    /// means 8 (tightly packed pairs).
+    pub uv_stride: usize,
+    /// Three vertex indices per triangle, or NULL: then vertices `3t`,
+    /// `3t + 1`, `3t + 2` are triangle `t`.
+    pub indices: *const u32,
+    /// The number of indices (a multiple of 3); ignored when `indices` is
+    /// NULL.
+    pub index_count: usize,
+}
+
+/// How `mmi_bake` bakes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct mmi_bake_options {
+    /// A fixed level 0..=16 for every triangle, or `MMI_LEVEL_AUTO`.
+    pub level: u32,
+    /// With `MMI_LEVEL_AUTO`: the highest level chosen, 0..=16.
+    pub max_level: u32,
+    /// `MMI_FORMAT_2_STATE` or `MMI_FORMAT_4_STATE`.
+    pub format: u32,
+    /// 2-state: what unknowns become (`MMI_UNKNOWN_*`).
+    pub unknown: u32,
+    /// Non-zero: at most `budget_bytes` of micromap data for all meshes
+    /// together (the highest levels are lowered first).
+    pub use_budget: u32,
+    /// Block tests a micro-triangle may use (0 means the library's default).
+    pub block_budget: u32,
+    /// The byte budget, with `use_budget`.
+    pub budget_bytes: u64,
+}
+
+/// What `mmi_bake` found, over all meshes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct mmi_bake_stats {
+    /// Triangles baked.
+    pub triangles: u64,
+    /// Entries of `levels` used (the highest level used plus one).
+    pub level_count: u32,
+    /// Padding, 0.
+    pub reserved: u32,
+    /// Triangles per chosen level.
+    pub levels: [u64; 17],
+    /// Micro-triangles per state (`MMI_STATE_*`), before a 2-state format
+    /// resolves the unknowns.
+    pub counts: [u64; 4],
+    /// Triangles baked exactly.
+    pub status_exact: u64,
+    /// Triangles with a coordinate that is not finite.
+    pub status_not_finite: u64,
+    /// Triangles off the exact grid.
+    pub status_out_of_exact_range: u64,
+    /// Triangles where the block budget ran out.
+    pub status_budget_exceeded: u64,
+    /// Known micro-triangles over all micro-triangles.
+    pub known_fraction: f64,
+    /// The known fraction weighted by texel area.
+    pub known_area_fraction: f64,
+    /// Distinct micromaps after deduplication.
+    pub micromaps: u64,
+    /// Triangles given a special index.
+    pub special_index_triangles: u64,
+    /// Bytes of packed micromap data.
+    pub bytes_flat: u64,
+    /// Bytes as the paper's succinct trees.
+    pub bytes_paper_tree: u64,
+    /// Bytes as level-order trees.
+    pub bytes_level_order_tree: u64,
+}
+
+/// A finished bake: the buffers, their serialised forms and the report.
+/// Opaque to C; freed by `mmi_bake_result_free`.
+pub struct mmi_bake_result {
+    bake: MeshBake,
+    records: Vec<u8>,
+    usage: Vec<u8>,
+}
+
+/// The texels as a slice of `T`: borrowed when tightly packed and aligned,
+/// else copied row by row.
+trait FromBytes: Texel + Clone {
+    fn from_ne(bytes: &[u8]) -> Self;
+}
+
+impl FromBytes for u8 {
+    fn from_ne(bytes: &[u8]) -> Self {
+        bytes[0]
+    }
+}
+
+impl FromBytes for u16 {
+    fn from_ne(bytes: &[u8]) -> Self {
+        u16::from_ne_bytes([bytes[0], bytes[1]])
+    }
+}
+
+impl FromBytes for f32 {
+    fn from_ne(bytes: &[u8]) -> Self {
+        f32::from_ne_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])
+    }
+}
+
+/// # Safety
+/// `t.texels` must be NULL or point to `row_pitch * (height - 1) + width *
+/// size_of::<T>()` readable bytes, unchanged during the call.
+unsafe fn texels<'a, T: FromBytes>(t: &mmi_texture) -> Result<Cow<'a, [T]>> {
+    let size = size_of::<T>();
+    let (width, height) = (t.width as usize, t.height as usize);
+    if width == 0 || height == 0 {
+        return Err(Error::new(
+            MMI_ERROR_INVALID_ARGUMENT,
+            "the texture has no texels",
+        ));
+    }
+    let row = width
+        .checked_mul(size)
+        .ok_or_else(|| Error::new(MMI_ERROR_LENGTH, "the texture's row does not fit in memory"))?;
+    let pitch = if t.row_pitch == 0 { row } else { t.row_pitch };
+    if pitch < row {
+        return Err(Error::new(
+            MMI_ERROR_LENGTH,
+            format!("row pitch {pitch} is below the row's {row} bytes"),
+        ));
+    }
+    let total = pitch
+        .checked_mul(height - 1)
+        .and_then(|b| b.checked_add(row))
+        .ok_or_else(|| Error::new(MMI_ERROR_LENGTH, "the texture does not fit in memory"))?;
+    let ptr = t.texels.cast::<u8>();
+    if pitch == row && ptr.cast::<T>().is_aligned() {
+        // SAFETY: tightly packed and aligned: `width * height` texels of
+        // `T` (every bit pattern is a valid u8, u16 or f32), the caller's
+        // promise about the memory.
+        return Ok(Cow::Borrowed(unsafe {
+            slice(ptr.cast::<T>(), width * height, "texture.texels")
+        }?));
+    }
+    // SAFETY: the caller promises `total` readable bytes.
+    let bytes = unsafe { slice(ptr, total, "texture.texels") }?;
+    let mut out = Vec::with_capacity(width * height);
+    for y in 0..height {
+        let start = y * pitch;
+        out.extend(bytes[start..start + row].chunks_exact(size).map(T::from_ne));
+    }
+    Ok(Cow::Owned(out))
+}
+
+/// A texture's texels, owned or borrowed, by format.
+pub(crate) enum Texels<'a> {
+    U8(Cow<'a, [u8]>),
+    U16(Cow<'a, [u16]>),
+    F32(Cow<'a, [f32]>),
+}
+
+impl<'a> Texels<'a> {
+    /// # Safety
+    /// As `texels`.
+    pub(crate) unsafe fn new(t: &mmi_texture) -> Result<Texels<'a>> {
+        // SAFETY: forwarded from the caller.
+        unsafe {
+            Ok(match t.format {
+                MMI_TEXEL_U8 => Texels::U8(texels(t)?),
+                MMI_TEXEL_U16 => Texels::U16(texels(t)?),
+                MMI_TEXEL_F32 => Texels::F32(texels(t)?),
+                other => {
+                    return Err(Error::new(
+                        MMI_ERROR_INVALID_ENUM,
+                        format!("texel format {other}: expected MMI_TEXEL_U8, _U16 or _F32"),
+                    ))
+                }
+            })
+        }
+    }
+
+    /// The library's view of the texels.
+    pub(crate) fn texture(&self, width: u32, height: u32) -> Result<Box<dyn AlphaTexture + '_>> {
+        let refused = |e: micromap_index::bake::TextureError| {
+            Error::new(MMI_ERROR_INVALID_ARGUMENT, e.to_string())
+        };
+        Ok(match self {
+            Texels::U8(t) => Box::new(Unorm8Texture::new(width, height, t).map_err(refused)?),
+            Texels::U16(t) => Box::new(Unorm16Texture::new(width, height, t).map_err(refused)?),
+            Texels::F32(t) => Box::new(F32Texture::new(width, height, t).map_err(refused)?),
+        })
+    }
+}
+
+fn enum_error(what: &str, value: u32, expected: &str) -> Error {
+    Error::new(
+        MMI_ERROR_INVALID_ENUM,
+        format!("{what} {value}: expected {expected}"),
+    )
+}
+
+fn address(value: u32, what: &str) -> Result<AddressMode> {
+    AddressMode::ALL
+        .get(value as usize)
+        .copied()
+        .ok_or_else(|| enum_error(what, value, "an MMI_ADDRESS_* value (0..=4)"))
+}
+
+pub(crate) fn sampler(s: &mmi_sampler) -> Result<Sampler> {
+    Ok(Sampler {
+        filter: match s.filter {
+            0 => Filter::Nearest,
+            1 => Filter::Linear,
+            other => return Err(enum_error("filter", other, "MMI_FILTER_NEAREST or _LINEAR")),
+        },
+        address_u: address(s.address_u, "address_u")?,
+        address_v: address(s.address_v, "address_v")?,
+        border_alpha: s.border_alpha,
+    })
+}
+
+pub(crate) fn cutoff(m: &mmi_material) -> Result<Cutoff> {
+    let comparison = match m.comparison {
+        MMI_OPAQUE_AT_LEAST => Comparison::AtLeast,
+        MMI_OPAQUE_ABOVE => Comparison::Above,
+        other => {
+            return Err(enum_error(
+                "comparison",
+                other,
+                "MMI_OPAQUE_AT_LEAST or MMI_OPAQUE_ABOVE",
+            ))
+        }
+    };
+    Cutoff::new(m.cutoff, comparison)
+        .map_err(|e| Error::new(MMI_ERROR_INVALID_ARGUMENT, e.to_string()))
+}
+
+pub(crate) fn format(value: u32) -> Result<Format> {
+    u16::try_from(value)
+        .ok()
+        .and_then(Format::from_raw)
+        .ok_or_else(|| enum_error("format", value, "MMI_FORMAT_2_STATE or _4_STATE"))
+}
+
+fn bake_level(value: u32, what: &str) -> Result<Level> {
+    if value > 16 {
+        return Err(Error::new(
+            MMI_ERROR_INVALID_LEVEL,
+            format!("{what} {value}: expected a level 0..=16 (or MMI_LEVEL_AUTO)"),
+        ));
+    }
+    Level::new(value).map_err(|e| Error::new(MMI_ERROR_INVALID_LEVEL, e.to_string()))
+}
+
+fn options(o: &mmi_bake_options) -> Result<MeshOptions> {
+    Ok(MeshOptions {
+        levels: if o.level == MMI_LEVEL_AUTO {
+            LevelRule::Useful {
+                max: bake_level(o.max_level, "max_level")?,
+            }
+        } else {
+            LevelRule::Fixed(bake_level(o.level, "level")?)
+        },
+        format: format(o.format)?,
+        unknown: match o.unknown {
+            0 => UnknownPolicy::Fallback,
+            1 => UnknownPolicy::Opaque,
+            2 => UnknownPolicy::Transparent,
+            other => {
+                return Err(enum_error(
+                    "unknown",
+                    other,
+                    "an MMI_UNKNOWN_* value (0..=2)",
+                ))
+            }
+        },
+        budget_bytes: (o.use_budget != 0).then_some(o.budget_bytes),
+        block_budget: if o.block_budget == 0 {
+            DEFAULT_BLOCK_BUDGET
+        } else {
+            o.block_budget
+        },
+    })
+}
+
+/// A mesh's triangles as the library takes them.
+pub(crate) enum Triangles<'a> {
+    /// Gathered from consecutive vertices.
+    Uv(Vec<UvTriangle>),
+    /// Indexed, handed to the library as they are.
+    Indexed {
+        indices: &'a [u32],
+        uvs: &'a [f32],
+        stride: usize,
+    },
+}
+
+impl<'a> Triangles<'a> {
+    /// # Safety
+    /// `m.uvs` must point to `vertex_count` vertices of `uv_stride` bytes
+    /// (the last one at least 8), `m.indices` to `index_count` `uint32_t`.
+    pub(crate) unsafe fn new(m: &mmi_mesh) -> Result<Triangles<'a>> {
+        let stride_bytes = if m.uv_stride == 0 { 8 } else { m.uv_stride };
+        if stride_bytes < 8 || stride_bytes % 4 != 0 {
+            return Err(Error::new(
+                MMI_ERROR_INVALID_ARGUMENT,
+                format!("uv_stride {stride_bytes}: expected a multiple of 4, at least 8"),
+            ));
+        }
+        let stride = stride_bytes / 4;
+        let floats = match m.vertex_count {
+            0 => 0,
+            n => (n - 1)
+                .checked_mul(stride)
+                .and_then(|f| f.checked_add(2))
+                .ok_or_else(|| Error::new(MMI_ERROR_LENGTH, "the UVs do not fit in memory"))?,
+        };
+        // SAFETY: the caller's promise about `uvs`.
+        let uvs = unsafe { slice(m.uvs, floats, "uvs") }?;
+        if m.indices.is_null() {
+            if m.vertex_count % 3 != 0 {
+                return Err(Error::new(
+                    MMI_ERROR_LENGTH,
+                    format!(
+                        "{} vertices without indices: expected a multiple of 3",
+                        m.vertex_count
+                    ),
+                ));
+            }
+            let vertex = |i: usize| [uvs[i * stride], uvs[i * stride + 1]];
+            let triangles = (0..m.vertex_count / 3)
+                .map(|t| [vertex(3 * t), vertex(3 * t + 1), vertex(3 * t + 2)])
+                .collect();
+            return Ok(Triangles::Uv(triangles));
+        }
+        if m.index_count % 3 != 0 {
+            return Err(Error::new(
+                MMI_ERROR_LENGTH,
+                format!("{} indices: expected a multiple of 3", m.index_count),
+            ));
+        }
+        // SAFETY: the caller's promise about `indices`.
+        let indices = unsafe { slice(m.indices, m.index_count, "indices") }?;
+        Ok(Triangles::Indexed {
+            indices,
+            uvs,
+            stride,
+        })
+    }
+
+    pub(crate) fn mesh_triangles(&self) -> MeshTriangles<'_> {
+        match self {
+            Triangles::Uv(t) => MeshTriangles::Uv(t),
+            Triangles::Indexed {
+                indices,
+                uvs,
+                stride,
+            } => MeshTriangles::Indexed {
+                indices,
+                uvs,
+                stride: *stride,
+            },
+        }
+    }
+}
+
+/// The defaults: level `MMI_LEVEL_AUTO` up to 12, 4-state, fallback for
+/// unknowns, no byte budget, the library's block budget (the CLI's
+/// `micromap-index bake` defaults).
+///
+/// # Safety
+/// `options` must be NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn mmi_bake_options_default(options: *mut mmi_bake_options) -> mmi_result {
+    guard(|| {
+        let value = mmi_bake_options {
+            level: MMI_LEVEL_AUTO,
+            max_level: 12,
+            format: 2,
+            unknown: 0,
+            use_budget: 0,
+            block_budget: DEFAULT_BLOCK_BUDGET,
+            budget_bytes: 0,
+        };
+        // SAFETY: the caller's promise about `options`.
+        unsafe { write(options, value, "options") }
+    })
+}
+
+/// The default material: nearest filtering, repeat on both axes, border
+/// alpha 0, opaque when `alpha >= 0.5` (glTF's default), factor 1.
+///
+/// # Safety
+/// `material` must be NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn mmi_material_default(material: *mut mmi_material) -> mmi_result {
+    guard(|| {
+        let value = mmi_material {
+            sampler: mmi_sampler::default(),
+            cutoff: 0.5,
+            comparison: MMI_OPAQUE_AT_LEAST,
+            alpha_factor: 1.0,
+        };
+        // SAFETY: the caller's promise about `material`.
+        unsafe { write(material, value, "material") }
+    })
+}
+
+/// Bakes `mesh_count` meshes exactly (`bake::mesh::bake_meshes`: one
+/// geometry per mesh, micromaps deduplicated across all) into a new
+/// handle written to `*result`; free it with `mmi_bake_result_free`. The
+/// same inputs give the same bytes as `micromap-index bake`. On an error
+/// `*result` is set to NULL.
+///
+/// # Safety
+/// `meshes` must point to `mesh_count` meshes whose pointers satisfy
+/// `mmi_mesh`'s description; `options` must be readable; `result`
+/// writable.
+#[no_mangle]
+pub unsafe extern "C" fn mmi_bake(
+    meshes: *const mmi_mesh,
+    mesh_count: usize,
+    options: *const mmi_bake_options,
+    result: *mut *mut mmi_bake_result,
+) -> mmi_result {
+    guard(|| {
+        // SAFETY: the caller's promise about `result`.
+        unsafe { write(result, core::ptr::null_mut(), "result") }?;
+        // SAFETY: the caller's promises about `meshes` and `options`.
+        let (meshes, options) = unsafe {
+            (
+                slice(meshes, mesh_count, "meshes")?,
+                reference(options, "options")?,
+            )
+        };
+        let options = self::options(options)?;
+        let mut texels = Vec::with_capacity(meshes.len());
+        let mut triangles = Vec::with_capacity(meshes.len());
+        let mut materials = Vec::with_capacity(meshes.len());
+        for m in meshes {
+            // SAFETY: the caller's promise about each mesh's pointers.
+            unsafe {
+                texels.push(Texels::new(&m.texture)?);
+                triangles.push(Triangles::new(m)?);
+            }
+            materials.push(Material {
+                sampler: sampler(&m.material.sampler)?,
+                cutoff: cutoff(&m.material)?,
+                alpha_factor: m.material.alpha_factor,
+            });
+        }
+        let textures = texels
+            .iter()
+            .zip(meshes)
+            .map(|(t, m)| t.texture(m.texture.width, m.texture.height))
+            .collect::<Result<Vec<_>>>()?;
+        let library_meshes: Vec<Mesh<'_>> = (0..meshes.len())
+            .map(|i| Mesh {
+                triangles: triangles[i].mesh_triangles(),
+                texture: &*textures[i],
+                material: materials[i],
+            })
+            .collect();
+        let bake = bake_meshes(&library_meshes, &options, &mut |_, _| {})
+            .map_err(|e| Error::new(MMI_ERROR_BAKE, e.to_string()))?;
+        let handle = Box::new(mmi_bake_result {
+            records: bake.buffers.records_le_bytes(),
+            usage: usage_counts_to_le_bytes(bake.buffers.usage_counts()),
+            bake,
+        });
+        // SAFETY: checked writable above.
+        unsafe { write(result, Box::into_raw(handle), "result") }
+    })
+}
+
+/// # Safety
+/// `result` must be NULL or a live handle from `mmi_bake`.
+unsafe fn handle<'a>(result: *const mmi_bake_result) -> Result<&'a mmi_bake_result> {
+    if result.is_null() {
+        return Err(null("result"));
+    }
+    // SAFETY: a live handle from `mmi_bake` (the caller's promise).
+    Ok(unsafe { &*result })
+}
+
+/// The packed micromap data (the Vulkan/DXR/glTF layout,
+/// `micromap-data.bin`): `*data` and `*len` receive memory owned by the
+/// handle, valid until `mmi_bake_result_free`.
+///
+/// # Safety
+/// `result` must be NULL or a live handle; `data` and `len` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn mmi_bake_result_data(
+    result: *const mmi_bake_result,
+    data: *mut *const u8,
+    len: *mut usize,
+) -> mmi_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        unsafe { lend(handle(result)?.bake.buffers.data(), data, len) }
+    })
+}
+
+/// The 8-byte triangle records `{u32 data offset, u16 level, u16 format}`,
+/// little endian (`micromap-triangles.bin`), owned by the handle.
+///
+/// # Safety
+/// As `mmi_bake_result_data`.
+#[no_mangle]
+pub unsafe extern "C" fn mmi_bake_result_triangle_records(
+    result: *const mmi_bake_result,
+    data: *mut *const u8,
+    len: *mut usize,
+) -> mmi_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        unsafe { lend(&handle(result)?.records, data, len) }
+    })
+}
+
+/// The 12-byte usage counts `{u32 count, u32 level, u32 format}`, little
+/// endian (`micromap-usage.bin`), owned by the handle.
+///
+/// # Safety
+/// As `mmi_bake_result_data`.
+#[no_mangle]
+pub unsafe extern "C" fn mmi_bake_result_usage_counts(
+    result: *const mmi_bake_result,
+    data: *mut *const u8,
+    len: *mut usize,
+) -> mmi_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        unsafe { lend(&handle(result)?.usage, data, len) }
+    })
+}
+
+/// The number of geometries (one per baked mesh).
+///
+/// # Safety
+/// `result` must be NULL or a live handle; `count` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn mmi_bake_result_geometry_count(
+    result: *const mmi_bake_result,
+    count: *mut usize,
+) -> mmi_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        unsafe {
+            write(
+                count,
+                handle(result)?.bake.buffers.geometry_count(),
+                "count",
+            )
+        }
+    })
+}
+
+/// The per-triangle index buffer of `geometry` (or of every geometry,
+/// concatenated, with `MMI_ALL_GEOMETRIES`, as `micromap-indices.bin`) at
+/// `width_bits` 8, 16 or 32 (special indices -1..-4 as two's complement),
+/// little endian, copied into the caller's buffer: `*len` receives the size
+/// in bytes; with `out == NULL` that is all (a size query); a `capacity`
+/// below it is `MMI_ERROR_BUFFER_TOO_SMALL`. An index too large for the
+/// width is `MMI_ERROR_INVALID_ARGUMENT`; a geometry past the last one too.
+///
+/// # Safety
+/// `result` must be NULL or a live handle; `out` NULL or `capacity`
+/// writable bytes; `len` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn mmi_bake_result_indices(
+    result: *const mmi_bake_result,
+    geometry: usize,
+    width_bits: u32,
+    out: *mut u8,
+    capacity: usize,
+    len: *mut usize,
+) -> mmi_result {
+    guard(|| {
+        // SAFETY: the caller's promise about `result`.
+        let buffers = &unsafe { handle(result) }?.bake.buffers;
+        let width = match width_bits {
+            8 => IndexWidth::U8,
+            16 => IndexWidth::U16,
+            32 => IndexWidth::U32,
+            other => return Err(enum_error("width_bits", other, "8, 16 or 32")),
+        };
+        let geometries = if geometry == MMI_ALL_GEOMETRIES {
+            0..buffers.geometry_count()
+        } else {
+            geometry..geometry + 1
+        };
+        let mut bytes = Vec::new();
+        for g in geometries {
+            bytes.extend(
+                buffers
+                    .index_bytes(g, width)
+                    .map_err(|e| Error::new(MMI_ERROR_INVALID_ARGUMENT, e.to_string()))?,
+            );
+        }
+        // SAFETY: the caller's promises about `out` and `len`.
+        unsafe { copy_out(&bytes, out, capacity, len, "the index buffer") }
+    })
+}
+
+/// The bake's statistics (`bake::mesh::BakeReport`).
+///
+/// # Safety
+/// `result` must be NULL or a live handle; `stats` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn mmi_bake_result_stats(
+    result: *const mmi_bake_result,
+    stats: *mut mmi_bake_stats,
+) -> mmi_result {
+    guard(|| {
+        // SAFETY: the caller's promise about `result`.
+        let r = &unsafe { handle(result) }?.bake.report;
+        let mut levels = [0u64; 17];
+        for (to, from) in levels.iter_mut().zip(&r.levels) {
+            *to = *from;
+        }
+        let value = mmi_bake_stats {
+            triangles: r.triangles as u64,
+            level_count: r.levels.len().min(17) as u32,
+            reserved: 0,
+            levels,
+            counts: r.counts,
+            status_exact: r.status.exact as u64,
+            status_not_finite: r.status.not_finite as u64,
+            status_out_of_exact_range: r.status.out_of_exact_range as u64,
+            status_budget_exceeded: r.status.budget_exceeded as u64,
+            known_fraction: r.known_fraction,
+            known_area_fraction: r.known_area_fraction,
+            micromaps: r.micromaps as u64,
+            special_index_triangles: r.special_index_triangles as u64,
+            bytes_flat: r.bytes_flat as u64,
+            bytes_paper_tree: r.bytes_paper_tree,
+            bytes_level_order_tree: r.bytes_level_order_tree,
+        };
+        // SAFETY: the caller's promise about `stats`.
+        unsafe { write(stats, value, "stats") }
+    })
+}
+
+/// Frees a handle from `mmi_bake` and everything its accessors lent; NULL
+/// is ignored.
+///
+/// # Safety
+/// `result` must be NULL or a live handle from `mmi_bake`, not used again.
+#[no_mangle]
+pub unsafe extern "C" fn mmi_bake_result_free(result: *mut mmi_bake_result) {
+    if result.is_null() {
+        return;
+    }
+    let _ = std::panic::catch_unwind(|| {
+        // SAFETY: a live handle from `Box::into_raw` in `mmi_bake`,
+        // freed once (the caller's promise).
+        drop(unsafe { Box::from_raw(result) });
+    });
+}
