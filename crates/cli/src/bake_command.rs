@@ -124,6 +124,8 @@ struct Job {
     sampler: Sampler,
     cutoff: Cutoff,
     triangles: Vec<UvTriangle>,
+    /// glTF's `COLOR_0` alpha per triangle (`None` for `--texture`).
+    vertex_alpha: Option<Vec<[f32; 3]>>,
 }
 
 struct Input {
@@ -283,6 +285,7 @@ fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
                     },
                     cutoff: cutoff_of(s.cutoff.unwrap_or(prim.cutoff.alpha()))?,
                     triangles: prim.triangles.clone(),
+                    vertex_alpha: prim.vertex_alpha.clone(),
                 });
             }
             if jobs.is_empty() {
@@ -315,6 +318,7 @@ fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
                     },
                     cutoff: cutoff_of(s.cutoff.unwrap_or(0.5))?,
                     triangles,
+                    vertex_alpha: None,
                 }],
                 warnings: Vec::new(),
             })
@@ -506,6 +510,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
                 cutoff: job.cutoff,
                 alpha_factor: job.factor,
             },
+            vertex_alpha: job.vertex_alpha.as_deref(),
         })
         .collect();
     let options = MeshOptions {
