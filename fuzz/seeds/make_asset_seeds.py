@@ -258,6 +258,39 @@ def gltf_seeds():
     doc["images"] = [{"bufferView": 5, "mimeType": "image/png"}]
     doc["buffers"][0]["byteLength"] = len(data)
     write("gltf_asset", "quad.glb", glb(doc, data))
+    # Materials as a renderer reads them: COLOR_0 alpha (normalized bytes,
+    # and floats), KHR_texture_transform (exact scale and offset, texCoord
+    # override), an RGB image without alpha in a data: URI.
+    doc, data = gltf_doc(None)
+    colours = bytes([255, 255, 255, 51, 255, 255, 255, 102, 255, 255, 255, 204, 255, 255, 255, 255])
+    float_colours = floats([1, 1, 1, 0.25, 1, 1, 1, 0.5, 1, 1, 1, 0.75, 1, 1, 1, 1])
+    offset = len(data)
+    data = data + colours + float_colours
+    doc["buffers"][0]["byteLength"] = len(data)
+    doc["buffers"][0]["uri"] = data_uri(data)
+    doc["bufferViews"] += [
+        {"buffer": 0, "byteOffset": offset, "byteLength": 16},
+        {"buffer": 0, "byteOffset": offset + 16, "byteLength": 64},
+    ]
+    doc["accessors"] += [
+        {"bufferView": 5, "componentType": 5121, "normalized": True, "count": 4, "type": "VEC4"},
+        {"bufferView": 6, "componentType": 5126, "count": 4, "type": "VEC4"},
+    ]
+    rgb = png(1, 1, 2, 8, [bytes([0, 0, 0])])
+    doc["images"].append({"uri": "data:image/png;base64," + base64.b64encode(rgb).decode()})
+    doc["textures"].append({"source": 1})
+    doc["extensionsUsed"].append("KHR_texture_transform")
+    doc["extensionsRequired"] = ["KHR_texture_transform"]
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+        "KHR_texture_transform": {"offset": [0.25, 0], "scale": [0.5, 0.5], "texCoord": 0}}
+    doc["materials"].append({"alphaMode": "MASK", "pbrMetallicRoughness": {"baseColorTexture": {"index": 2}}})
+    prims = doc["meshes"][0]["primitives"]
+    prims[0]["attributes"]["COLOR_0"] = 4
+    prims[1]["attributes"]["COLOR_0"] = 5
+    # Not the sparse accessor (its views do not match the data's layout).
+    del prims[2]
+    prims.append({"attributes": {"TEXCOORD_0": 0}, "indices": 1, "material": 3})
+    write("gltf_asset", "materials.gltf", json.dumps(doc, indent=1).encode())
     write("gltf_asset", "minimal.gltf",
           b'{"asset": {"version": "2.0"}, "meshes": [{"primitives": [{"attributes": {}}]}]}')
 

@@ -26,6 +26,7 @@
 //!     triangles: MeshTriangles::Indexed { indices: &indices, uvs: &uvs, stride: 2 },
 //!     texture: &texture,
 //!     material: Material::default(),
+//!     vertex_alpha: None,
 //! };
 //! let baked = bake_mesh(&mesh, &MeshOptions::default()).unwrap();
 //! assert_eq!(baked.report.triangles, 2);
@@ -36,16 +37,20 @@
 //! assert!(baked.report.known_fraction > 0.5 && baked.report.known_fraction < 1.0);
 //! ```
 
+use super::baker::BakedOpacity;
 use super::baker::{BakeError, BakedTriangle, Baker, TriangleStatus, UvTriangle};
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
 use super::{levels_within_budget, useful_level, DEFAULT_BLOCK_BUDGET};
 use crate::micromap::{
-    BufferError, BuildOptions, Format, MicromapBuffers, MicromapBuffersBuilder, MicromapIndex,
-    UnknownPolicy,
+    BufferError, BuildOptions, Format, Micromap, MicromapBuffers, MicromapBuffersBuilder,
+    MicromapIndex, State, UnknownPolicy,
 };
 use crate::succinct::{LevelOrderTree, PaperTree};
 use crate::Level;
 use alloc::borrow::Cow;
+use alloc::collections::BTreeMap;
+use alloc::format;
+use alloc::string::String;
 use alloc::vec;
 use alloc::vec::Vec;
 use core::fmt;
@@ -139,9 +144,13 @@ pub struct Material {
     /// The alpha test.
     pub cutoff: Cutoff,
     /// Multiplies every texel's alpha before the cutoff (glTF's
-    /// `pbrMetallicRoughness.baseColorFactor[3]`): the baker reads
-    /// `alpha * alpha_factor`, one `f64` product, and at `1.0` the texel's
-    /// alpha as it is.
+    /// `pbrMetallicRoughness.baseColorFactor[3]`), as a GPU does: the
+    /// texel's alpha as binary32 (`c / 255` rounded once, for 8-bit
+    /// texels) times the factor, one binary32 product, compared with the
+    /// cutoff; at `1.0` the texel's alpha as it is. Under linear filtering
+    /// the filtered alpha lies between its texels' alphas, and the rounded
+    /// product is monotone in it, so classifying each texel this way stays
+    /// sound.
     pub alpha_factor: f32,
 }
 
@@ -157,7 +166,7 @@ impl Default for Material {
 }
 
 /// A mesh to bake: its triangles, the texture they are alpha-tested
-/// against, and its material.
+/// against, its material, and optionally a vertex alpha (glTF's `COLOR_0`).
 #[derive(Clone, Copy)]
 pub struct Mesh<'a> {
     /// The triangles in UV space.
@@ -166,6 +175,13 @@ pub struct Mesh<'a> {
     pub texture: &'a dyn AlphaTexture,
     /// Sampler, cutoff and alpha factor.
     pub material: Material,
+    /// The alpha of each triangle's three vertices (glTF's `COLOR_0`
+    /// alpha), in the order of the triangles, one entry per triangle;
+    /// `None`: alpha 1. The renderer multiplies the sampled alpha by the
+    /// alpha factor and by the vertex alpha interpolated at the hit (see
+    /// [`bake_meshes`] for how that is baked soundly). Each value must be
+    /// in `[0, 1]`.
+    pub vertex_alpha: Option<&'a [[f32; 3]]>,
 }
 
 /// The level each triangle is baked at.
@@ -313,6 +329,15 @@ pub enum MeshBakeError {
         /// The vertices there are.
         vertices: usize,
     },
+    /// Mesh `mesh` has a vertex alpha list whose length is not its number
+    /// of triangles, or a vertex alpha outside `[0, 1]` (NaN included), or
+    /// vertex alpha with an alpha factor that is negative or not finite.
+    VertexAlpha {
+        /// The mesh, by position.
+        mesh: usize,
+        /// What is wrong.
+        message: String,
+    },
     /// A triangle could not be baked (level above 16, allocation).
     Bake(BakeError),
     /// The buffers could not be built.
@@ -340,6 +365,9 @@ impl fmt::Display for MeshBakeError {
                 f,
                 "mesh {mesh}: triangle {triangle} has index {index}, past the {vertices} vertices"
             ),
+            MeshBakeError::VertexAlpha { mesh, message } => {
+                write!(f, "mesh {mesh}: vertex alpha: {message}")
+            }
             MeshBakeError::Bake(e) => e.fmt(f),
             MeshBakeError::Buffers(e) => e.fmt(f),
         }
@@ -348,10 +376,12 @@ impl fmt::Display for MeshBakeError {
 
 impl core::error::Error for MeshBakeError {}
 
-/// A texture whose every alpha is multiplied by `factor`.
+/// A texture whose every alpha is multiplied by `factor` as a GPU does:
+/// the texel's alpha rounded to binary32, times `factor`, one binary32
+/// product (exact in `f64`).
 struct FactorTexture<'a> {
     inner: &'a dyn AlphaTexture,
-    factor: f64,
+    factor: f32,
 }
 
 impl AlphaTexture for FactorTexture<'_> {
@@ -362,8 +392,181 @@ impl AlphaTexture for FactorTexture<'_> {
         self.inner.height()
     }
     fn alpha(&self, x: u32, y: u32) -> f64 {
-        self.inner.alpha(x, y) * self.factor
+        // `as f32` rounds once to nearest (for `c / 255` and `c / 65535`,
+        // correctly: see `texel_f32`).
+        f64::from(texel_f32(self.inner.alpha(x, y)) * self.factor)
     }
+}
+
+/// A texel's alpha as the binary32 value a GPU reads. The `f64` quotient
+/// `c / 255` (or `c / 65535`) rounds to the same binary32 value as the
+/// exact quotient: double rounding could differ only if the `f64` value
+/// were a binary32 midpoint, whose bits past the 25th are zero, while the
+/// binary expansion of `c / (2^k - 1)`, `0 < c < 2^k - 1`, repeats the
+/// `k`-bit pattern of `c` forever.
+fn texel_f32(alpha: f64) -> f32 {
+    alpha as f32
+}
+
+/// Relative widening that covers a GPU's binary32 rounding of
+/// `texel * factor * vertex` (two products, at most `(1 + 2^-24)^2 - 1`
+/// relative), and of the vertex alpha's interpolation (at most about
+/// `6 * 2^-24` of the largest vertex alpha, see `docs/bake.md`), with room
+/// for the `f64` arithmetic of the bounds.
+const VERTEX_MARGIN: f64 = 1.0 / (1u64 << 20) as f64;
+
+/// Absolute widening for products in binary32's subnormal range (each
+/// rounding there errs by at most `2^-150`).
+const TINY: f64 = 1.0 / (1u64 << 62) as f64 / (1u64 << 62) as f64 / (1u64 << 16) as f64;
+
+/// Vertex alphas are grouped on this grid (bounds rounded outwards), so
+/// that a mesh needs few texel classifications.
+const VERTEX_GRID: f64 = 1024.0;
+
+/// A texture whose alpha is a bound on `texel * factor * v` for every `v`
+/// in `[low, high]`, as a GPU computes it: the lower bound (`upper:
+/// false`), to find what is opaque for sure, or the upper (`upper: true`),
+/// to find what is transparent for sure.
+struct VertexBoundTexture<'a> {
+    inner: &'a dyn AlphaTexture,
+    factor: f64,
+    low: f64,
+    high: f64,
+    upper: bool,
+}
+
+impl AlphaTexture for VertexBoundTexture<'_> {
+    fn width(&self) -> u32 {
+        self.inner.width()
+    }
+    fn height(&self) -> u32 {
+        self.inner.height()
+    }
+    fn alpha(&self, x: u32, y: u32) -> f64 {
+        let t = f64::from(texel_f32(self.inner.alpha(x, y))) * self.factor;
+        // NaN stays NaN: it passes no cutoff, on the GPU either.
+        let (a, b) = (t * self.low, t * self.high);
+        let (min, max) = if a <= b { (a, b) } else { (b, a) };
+        let abs = |x: f64| f64::from_bits(x.to_bits() & !(1 << 63));
+        if self.upper {
+            max + abs(max) * VERTEX_MARGIN + TINY
+        } else {
+            min - abs(min) * VERTEX_MARGIN - TINY
+        }
+    }
+}
+
+/// The range `[low, high]` a GPU's interpolated vertex alpha can take over
+/// a triangle with vertex alphas `v`, widened by the interpolation's
+/// rounding and rounded outwards to [`VERTEX_GRID`]; as bits, to group by.
+fn vertex_range(v: [f32; 3]) -> (u64, u64) {
+    let min = f64::from(v[0].min(v[1]).min(v[2]));
+    let max = f64::from(v[0].max(v[1]).max(v[2]));
+    // Floor and ceiling without `std`: the values are small (alphas in
+    // [0, 1], times the grid), so the casts are exact.
+    let scaled_low = (min - max * VERTEX_MARGIN) * VERTEX_GRID;
+    let scaled_high = (max + max * VERTEX_MARGIN) * VERTEX_GRID;
+    let floor = |x: f64| {
+        let t = x as i64 as f64;
+        if t > x {
+            t - 1.0
+        } else {
+            t
+        }
+    };
+    let ceil = |x: f64| {
+        let t = x as i64 as f64;
+        if t < x {
+            t + 1.0
+        } else {
+            t
+        }
+    };
+    let low = floor(scaled_low) / VERTEX_GRID;
+    let high = ceil(scaled_high) / VERTEX_GRID;
+    (low.max(0.0).to_bits(), high.to_bits())
+}
+
+/// Combines the bake against the lower bound (`low`: its opaque states
+/// hold) and against the upper (`high`: its transparent states hold) into
+/// one triangle of `format`.
+fn combine(
+    low: BakedTriangle,
+    high: &BakedTriangle,
+    level: Level,
+    format: Format,
+    two_state: UnknownPolicy,
+) -> Result<BakedTriangle, MeshBakeError> {
+    // A special index comes from the coordinates alone: both agree.
+    if let BakedOpacity::Special(_) = low.opacity {
+        return Ok(low);
+    }
+    let mut map = Micromap::new(level, format).map_err(|e| MeshBakeError::Bake(e.into()))?;
+    let mut counts = [0u64; 4];
+    for i in 0..level.micro_triangle_count() as u64 {
+        let (a, b) = (
+            low.opacity.state(i).unwrap_or(State::UnknownOpaque),
+            high.opacity.state(i).unwrap_or(State::UnknownOpaque),
+        );
+        let state = if a == State::Opaque {
+            State::Opaque
+        } else if b == State::Transparent {
+            State::Transparent
+        } else if matches!(b, State::Opaque | State::UnknownOpaque) {
+            State::UnknownOpaque
+        } else {
+            State::UnknownTransparent
+        };
+        counts[state.bits() as usize] += 1;
+        let stored = match format {
+            Format::FourState => state,
+            Format::TwoState => two_state.resolve(state),
+        };
+        map.set(i, stored)
+            .map_err(|e| MeshBakeError::Bake(e.into()))?;
+    }
+    let status = if high.status == TriangleStatus::BudgetExceeded {
+        TriangleStatus::BudgetExceeded
+    } else {
+        low.status
+    };
+    Ok(BakedTriangle {
+        opacity: BakedOpacity::Map(map),
+        status,
+        counts,
+    })
+}
+
+/// Checks a mesh's vertex alphas.
+fn check_vertex_alpha<'a>(
+    m: usize,
+    mesh: &Mesh<'a>,
+    triangles: usize,
+) -> Result<Option<&'a [[f32; 3]]>, MeshBakeError> {
+    let Some(alphas) = mesh.vertex_alpha else {
+        return Ok(None);
+    };
+    let error = |message: String| MeshBakeError::VertexAlpha { mesh: m, message };
+    if alphas.len() != triangles {
+        return Err(error(format!(
+            "{} entries for {triangles} triangles",
+            alphas.len()
+        )));
+    }
+    let factor = mesh.material.alpha_factor;
+    if !(factor.is_finite() && factor >= 0.0) {
+        return Err(error(format!(
+            "the alpha factor {factor} is negative or not finite"
+        )));
+    }
+    for (t, v) in alphas.iter().enumerate() {
+        if let Some(bad) = v.iter().find(|a| !(0.0..=1.0).contains(*a)) {
+            return Err(error(format!(
+                "triangle {t} has vertex alpha {bad}, outside [0, 1]"
+            )));
+        }
+    }
+    Ok(Some(alphas))
 }
 
 /// Twice the triangle's area in texels squared (for the area-weighted
@@ -408,7 +611,7 @@ pub fn bake_mesh(mesh: &Mesh<'_>, options: &MeshOptions) -> Result<MeshBake, Mes
 /// let opaque = [255u8; 4];
 /// let texture = Unorm8Texture::new(2, 2, &opaque).unwrap();
 /// let triangle = [[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]];
-/// let mesh = Mesh { triangles: MeshTriangles::Uv(&triangle), texture: &texture, material: Material::default() };
+/// let mesh = Mesh { triangles: MeshTriangles::Uv(&triangle), texture: &texture, material: Material::default(), vertex_alpha: None };
 /// let options = MeshOptions { levels: LevelRule::Fixed(Level::new(3).unwrap()), format: Format::TwoState, ..MeshOptions::default() };
 /// let mut calls = 0;
 /// let baked = bake_meshes(&[mesh, mesh], &options, &mut |_, _| calls += 1).unwrap();
@@ -465,22 +668,58 @@ pub fn bake_meshes(
         meshes.iter().zip(&triangles).zip(&levels).enumerate()
     {
         let material = &mesh.material;
+        let vertex_alpha = check_vertex_alpha(m, mesh, triangles.len())?;
+        let texture_error = |error| MeshBakeError::Texture { mesh: m, error };
         let baker = if material.alpha_factor == 1.0 {
             Baker::new(mesh.texture, material.sampler, material.cutoff)
         } else {
             let texture = FactorTexture {
                 inner: mesh.texture,
-                factor: f64::from(material.alpha_factor),
+                factor: material.alpha_factor,
             };
             Baker::new(&texture, material.sampler, material.cutoff)
         }
-        .map_err(|error| MeshBakeError::Texture { mesh: m, error })?
+        .map_err(texture_error)?
         .with_block_budget(options.block_budget);
+        // With vertex alpha: two bakers per distinct vertex range (lower
+        // and upper bound), built once each.
+        let mut bound_bakers: BTreeMap<(u64, u64), (Baker, Baker)> = BTreeMap::new();
         let mut baked = Vec::with_capacity(triangles.len());
-        for (uv, &level) in triangles.iter().zip(mesh_levels) {
-            let b = baker
-                .bake(uv, level, options.format, options.unknown)
-                .map_err(MeshBakeError::Bake)?;
+        for (t, (uv, &level)) in triangles.iter().zip(mesh_levels).enumerate() {
+            let b = match vertex_alpha {
+                None => baker
+                    .bake(uv, level, options.format, options.unknown)
+                    .map_err(MeshBakeError::Bake)?,
+                Some(alphas) => {
+                    let key = vertex_range(alphas[t]);
+                    if let alloc::collections::btree_map::Entry::Vacant(slot) =
+                        bound_bakers.entry(key)
+                    {
+                        let bound = |upper| -> Result<Baker, MeshBakeError> {
+                            let texture = VertexBoundTexture {
+                                inner: mesh.texture,
+                                factor: f64::from(material.alpha_factor),
+                                low: f64::from_bits(key.0),
+                                high: f64::from_bits(key.1),
+                                upper,
+                            };
+                            Ok(Baker::new(&texture, material.sampler, material.cutoff)
+                                .map_err(texture_error)?
+                                .with_block_budget(options.block_budget))
+                        };
+                        slot.insert((bound(false)?, bound(true)?));
+                    }
+                    let (low, high) = &bound_bakers[&key];
+                    let four = Format::FourState;
+                    let a = low
+                        .bake(uv, level, four, options.unknown)
+                        .map_err(MeshBakeError::Bake)?;
+                    let b = high
+                        .bake(uv, level, four, options.unknown)
+                        .map_err(MeshBakeError::Bake)?;
+                    combine(a, &b, level, options.format, options.unknown)?
+                }
+            };
             for (sum, count) in counts.iter_mut().zip(b.counts) {
                 *sum += count;
             }
@@ -578,6 +817,7 @@ mod tests {
             triangles,
             texture: &texture,
             material: Material::default(),
+            vertex_alpha: None,
         };
         let options = MeshOptions::default();
         let a = bake_mesh(
@@ -635,6 +875,7 @@ mod tests {
                     alpha_factor,
                     ..Material::default()
                 },
+                vertex_alpha: None,
             };
             bake_mesh(&mesh, &MeshOptions::default()).unwrap().report
         };
@@ -642,5 +883,58 @@ mod tests {
         // texels: level 2, 16 micro-triangles.
         assert_eq!(bake(1.0).counts, [0, 16, 0, 0]);
         assert_eq!(bake(0.5).counts, [16, 0, 0, 0]);
+    }
+
+    #[test]
+    fn vertex_ranges_cover_the_interpolation_error() {
+        let (low, high) = vertex_range([1.0, 1.0, 1.0]);
+        let (low, high) = (f64::from_bits(low), f64::from_bits(high));
+        let u = 1.0 / (1u64 << 24) as f64;
+        assert!(low <= 1.0 - 8.0 * u && high >= 1.0 + 8.0 * u);
+        assert!(low >= 1.0 - 1.0 / 512.0 && high <= 1.0 + 1.0 / 512.0);
+        let (low, high) = vertex_range([0.0, 0.25, 0.5]);
+        assert_eq!(f64::from_bits(low), 0.0);
+        assert!(f64::from_bits(high) >= 0.5 * (1.0 + 8.0 * u));
+    }
+
+    /// Vertex alpha 1 on a texture far from the cutoff bakes as without
+    /// it, in both formats (the two bounds agree, and the combination
+    /// keeps the known states and resolves unknowns as the baker does).
+    #[test]
+    fn vertex_alpha_one_far_from_the_cutoff_changes_nothing() {
+        let texels: Vec<u8> = (0..64).map(|i| if (i % 8) < 3 { 255 } else { 0 }).collect();
+        let texture = Unorm8Texture::new(8, 8, &texels).unwrap();
+        let triangles = [
+            [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]],
+            [[0.1, 0.0], [1.0, 0.3], [0.0, 1.0]],
+        ];
+        let ones = [[1.0f32; 3]; 2];
+        for format in [Format::FourState, Format::TwoState] {
+            let options = MeshOptions {
+                levels: LevelRule::Fixed(Level::new(4).unwrap()),
+                format,
+                ..MeshOptions::default()
+            };
+            let bake = |vertex_alpha| {
+                let mesh = Mesh {
+                    triangles: MeshTriangles::Uv(&triangles),
+                    texture: &texture,
+                    material: Material::default(),
+                    vertex_alpha,
+                };
+                bake_mesh(&mesh, &options).unwrap()
+            };
+            let (a, b) = (bake(None), bake(Some(&ones)));
+            assert_eq!(a.report.counts, b.report.counts);
+            for (x, y) in a.triangles[0].iter().zip(&b.triangles[0]) {
+                let (BakedOpacity::Map(x), BakedOpacity::Map(y)) = (&x.opacity, &y.opacity) else {
+                    panic!("expected maps");
+                };
+                assert_eq!(
+                    x.states().collect::<Vec<_>>(),
+                    y.states().collect::<Vec<_>>()
+                );
+            }
+        }
     }
 }

@@ -24,6 +24,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             triangles: MeshTriangles::Uv(&p.triangles),
             texture: &textures[p.image],
             material: p.material(),
+            vertex_alpha: p.vertex_alpha.as_deref(),
         })
         .collect();
     let baked = bake_meshes(&meshes, &MeshOptions::default(), &mut |_, _| {})?;

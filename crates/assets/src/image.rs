@@ -1,4 +1,5 @@
-//! [`decode_alpha_image`]: the alpha (or grey) channel of a PNG or JPEG.
+//! [`decode_alpha_image`] and [`decode_image_alpha`]: the alpha channel of
+//! a PNG or JPEG, and what stands for it when the image has none.
 
 use super::{check_limit, AlphaImage, AlphaTexels, AssetError, Limits};
 use std::fmt;
@@ -44,8 +45,36 @@ impl fmt::Display for ImageFormat {
     }
 }
 
+/// What an image without an alpha channel stands for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MissingAlpha {
+    /// Its grey value is the alpha: for a standalone alpha mask (a grey or
+    /// black-and-white picture given as `--texture`), where the user names
+    /// the image as the mask.
+    Luminance,
+    /// Alpha 1 everywhere: how glTF reads a base-colour image without an
+    /// alpha channel (glTF 2.0, `pbrMetallicRoughness.baseColorTexture`: the
+    /// fourth component, if present, is the alpha coverage; otherwise the
+    /// coverage is 1).
+    One,
+}
+
+/// Where the alpha of a decoded image came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum AlphaSource {
+    /// The image's own alpha channel (RGBA, grey + alpha, PNG `tRNS`).
+    Channel,
+    /// The image has no alpha channel; its grey value (or luma) was read
+    /// as alpha ([`MissingAlpha::Luminance`]).
+    Luminance,
+    /// The image has no alpha channel; alpha is 1 everywhere
+    /// ([`MissingAlpha::One`]).
+    One,
+}
+
 /// Decodes a PNG or JPEG (told apart by signature, not by name) into one
-/// channel:
+/// channel: [`decode_image_alpha`] with [`MissingAlpha::Luminance`] (the
+/// rule for a standalone alpha mask), without the [`AlphaSource`]:
 ///
 /// * the **alpha** channel if the image has one: RGBA, grey + alpha, and
 ///   PNG `tRNS` transparency (expanded: a palette entry's alpha, or 0 for
@@ -55,6 +84,8 @@ impl fmt::Display for ImageFormat {
 ///   (Rec. 709 weights on the stored, gamma-encoded values), computed
 ///   exactly in integers as `(2126 R + 7152 G + 722 B + 5000) / 10000`, so
 ///   halves round up.
+///
+/// glTF base-colour images are read with [`MissingAlpha::One`] instead.
 ///
 /// 8-bit samples (and PNG's 1, 2 and 4-bit grey and palettes, scaled to 8
 /// bits) give [`AlphaTexels::Unorm8`]; 16-bit samples (PNG, 16-bit lossless
@@ -77,9 +108,31 @@ impl fmt::Display for ImageFormat {
 /// assert!(decode_alpha_image(b"GIF89a", &Limits::default()).is_err());
 /// ```
 pub fn decode_alpha_image(bytes: &[u8], limits: &Limits) -> Result<AlphaImage, AssetError> {
+    decode_image_alpha(bytes, limits, MissingAlpha::Luminance).map(|(image, _)| image)
+}
+
+/// Decodes a PNG or JPEG as [`decode_alpha_image`] does, except that an
+/// image without an alpha channel (grey, RGB, every JPEG) is read as
+/// `missing` says; returns where the alpha came from.
+///
+/// ```
+/// use micromap_index_assets::{decode_image_alpha, AlphaSource, AlphaTexels, Limits, MissingAlpha};
+/// // A 1 x 1 grey PNG of value 0x80: no alpha channel.
+/// let png = b"\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR\0\0\0\x01\0\0\0\x01\x08\0\0\0\0\x3a\x7e\x9b\x55\
+///     \0\0\0\x0aIDAT\x78\x9c\x63\x68\0\0\0\x82\0\x81\x77\xcd\x72\xb6\0\0\0\0IEND\xae\x42\x60\x82";
+/// let (image, source) = decode_image_alpha(png, &Limits::default(), MissingAlpha::One).unwrap();
+/// assert_eq!((image.texels, source), (AlphaTexels::Unorm8(vec![255]), AlphaSource::One));
+/// let (image, source) = decode_image_alpha(png, &Limits::default(), MissingAlpha::Luminance).unwrap();
+/// assert_eq!((image.texels, source), (AlphaTexels::Unorm8(vec![0x80]), AlphaSource::Luminance));
+/// ```
+pub fn decode_image_alpha(
+    bytes: &[u8],
+    limits: &Limits,
+    missing: MissingAlpha,
+) -> Result<(AlphaImage, AlphaSource), AssetError> {
     match ImageFormat::detect(bytes) {
-        Some(ImageFormat::Png) => decode_png(bytes, limits),
-        Some(ImageFormat::Jpeg) => decode_jpeg(bytes, limits),
+        Some(ImageFormat::Png) => decode_png(bytes, limits, missing),
+        Some(ImageFormat::Jpeg) => decode_jpeg(bytes, limits, missing),
         None => Err(AssetError::UnknownImageFormat {
             start: bytes.iter().copied().take(8).collect(),
         }),
@@ -156,7 +209,25 @@ fn check_png_palette(bytes: &[u8]) -> Result<(), AssetError> {
     Ok(())
 }
 
-fn decode_png(bytes: &[u8], limits: &Limits) -> Result<AlphaImage, AssetError> {
+/// The result for an image without an alpha channel under
+/// [`MissingAlpha::One`]: every texel 255.
+fn all_opaque(width: u32, height: u32) -> (AlphaImage, AlphaSource) {
+    let pixels = (width as usize) * (height as usize);
+    (
+        AlphaImage {
+            width,
+            height,
+            texels: AlphaTexels::Unorm8(vec![255; pixels]),
+        },
+        AlphaSource::One,
+    )
+}
+
+fn decode_png(
+    bytes: &[u8],
+    limits: &Limits,
+    missing: MissingAlpha,
+) -> Result<(AlphaImage, AlphaSource), AssetError> {
     const FORMAT: ImageFormat = ImageFormat::Png;
     check_png_palette(bytes)?;
     let mut decoder = png::Decoder::new_with_limits(
@@ -196,7 +267,7 @@ fn decode_png(bytes: &[u8], limits: &Limits) -> Result<AlphaImage, AssetError> {
     }
     let pixels = (width as usize) * (height as usize);
     let (samples, alpha) = match info.color_type {
-        png::ColorType::Grayscale => (1, Some(0)),
+        png::ColorType::Grayscale => (1, None),
         png::ColorType::GrayscaleAlpha => (2, Some(1)),
         png::ColorType::Rgb => (3, None),
         png::ColorType::Rgba => (4, Some(3)),
@@ -217,6 +288,14 @@ fn decode_png(bytes: &[u8], limits: &Limits) -> Result<AlphaImage, AssetError> {
             })
         }
     };
+    if alpha.is_none() && missing == MissingAlpha::One {
+        return Ok(all_opaque(width, height));
+    }
+    let source = if alpha.is_some() {
+        AlphaSource::Channel
+    } else {
+        AlphaSource::Luminance
+    };
     let pixel_bytes = samples * depth_bytes;
     let row_bytes = width as usize * pixel_bytes;
     if info.line_size < row_bytes || buffer.len() < info.line_size * (height as usize) {
@@ -236,6 +315,7 @@ fn decode_png(bytes: &[u8], limits: &Limits) -> Result<AlphaImage, AssetError> {
         let mut texels = Vec::with_capacity(pixels);
         texels.extend(pixel_iter.map(|p| match alpha {
             Some(a) => p[a],
+            None if samples == 1 => p[0],
             None => luma(p[0].into(), p[1].into(), p[2].into()) as u8,
         }));
         AlphaTexels::Unorm8(texels)
@@ -244,16 +324,20 @@ fn decode_png(bytes: &[u8], limits: &Limits) -> Result<AlphaImage, AssetError> {
         let mut texels = Vec::with_capacity(pixels);
         texels.extend(pixel_iter.map(|p| match alpha {
             Some(a) => sample(p, a) as u16,
+            None if samples == 1 => sample(p, 0) as u16,
             // The luma of 16-bit samples is at most 65535.
             None => luma(sample(p, 0), sample(p, 1), sample(p, 2)) as u16,
         }));
         AlphaTexels::Unorm16(texels)
     };
-    Ok(AlphaImage {
-        width,
-        height,
-        texels,
-    })
+    Ok((
+        AlphaImage {
+            width,
+            height,
+            texels,
+        },
+        source,
+    ))
 }
 
 fn jpeg_error(error: &jpeg_decoder::Error) -> AssetError {
@@ -263,7 +347,11 @@ fn jpeg_error(error: &jpeg_decoder::Error) -> AssetError {
     }
 }
 
-fn decode_jpeg(bytes: &[u8], limits: &Limits) -> Result<AlphaImage, AssetError> {
+fn decode_jpeg(
+    bytes: &[u8],
+    limits: &Limits,
+    missing: MissingAlpha,
+) -> Result<(AlphaImage, AlphaSource), AssetError> {
     const FORMAT: ImageFormat = ImageFormat::Jpeg;
     let mut decoder = jpeg_decoder::Decoder::new(bytes);
     decoder.set_max_decoding_buffer_size(usize_limit(limits.max_bytes));
@@ -288,6 +376,10 @@ fn decode_jpeg(bytes: &[u8], limits: &Limits) -> Result<AlphaImage, AssetError> 
         return Err(cmyk());
     }
     let data = decoder.decode().map_err(|e| jpeg_error(&e))?;
+    // JPEG has no alpha channel.
+    if missing == MissingAlpha::One {
+        return Ok(all_opaque(width, height));
+    }
     let pixels = (width as usize) * (height as usize);
     if data.len() != pixels * pixel_bytes {
         return Err(AssetError::Image {
@@ -313,9 +405,12 @@ fn decode_jpeg(bytes: &[u8], limits: &Limits) -> Result<AlphaImage, AssetError> 
         ),
         jpeg_decoder::PixelFormat::CMYK32 => return Err(cmyk()),
     };
-    Ok(AlphaImage {
-        width,
-        height,
-        texels,
-    })
+    Ok((
+        AlphaImage {
+            width,
+            height,
+            texels,
+        },
+        AlphaSource::Luminance,
+    ))
 }

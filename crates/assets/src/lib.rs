@@ -11,7 +11,9 @@
 //! `docs/fuzzing.md`). Errors are typed ([`AssetError`]) and print as one
 //! line naming the file or field at fault.
 //!
-//! * [`decode_alpha_image`]: the alpha (or grey) channel of a PNG or JPEG.
+//! * [`decode_alpha_image`]: the alpha (or grey) channel of a PNG or JPEG;
+//!   [`decode_image_alpha`] with glTF's rule for an image without alpha
+//!   (alpha 1, [`MissingAlpha::One`]).
 //! * [`read_triangles_json`]: `{"triangles": [[[u0, v0], [u1, v1], [u2, v2]], ...]}`,
 //!   each number rounded once from its decimal text to binary32.
 //! * [`read_gltf_file`] and [`read_gltf_bytes`]: every triangle primitive of
@@ -47,7 +49,9 @@ mod cards;
 mod tests;
 
 pub use self::gltf::{read_gltf_bytes, read_gltf_file, GltfAsset, GltfImageInfo, MaskPrimitive};
-pub use self::image::{decode_alpha_image, ImageFormat};
+pub use self::image::{
+    decode_alpha_image, decode_image_alpha, AlphaSource, ImageFormat, MissingAlpha,
+};
 pub use self::tris_json::read_triangles_json;
 
 use micromap_index::bake::{

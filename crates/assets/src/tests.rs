@@ -818,7 +818,12 @@ fn gltf_materials_samplers_and_warnings() {
         p
     };
     let mut colored = with(Some(1), None);
-    colored["attributes"]["COLOR_0"] = json!(0);
+    // COLOR_0 without a buffer view: zeros, alpha 0.
+    push(
+        &mut json["accessors"],
+        json!({"componentType": 5126, "count": 4, "type": "VEC4"}),
+    );
+    colored["attributes"]["COLOR_0"] = json!(2);
     json["meshes"][0]["primitives"] = json!([
         with(Some(0), Some(4)),
         colored,
@@ -892,8 +897,8 @@ fn gltf_materials_samplers_and_warnings() {
             "meshes[0].primitives[5]: mode 5 (TRIANGLE_STRIP) is not TRIANGLES (4), skipped",
             "skipped 2 primitives whose material is not alphaMode MASK (1 OPAQUE, 1 BLEND)",
             "materials[3] is alphaMode MASK without pbrMetallicRoughness.baseColorTexture: 1 primitive skipped",
-            "1 primitive has COLOR_0, whose alpha is not applied: meshes[0].primitives[1]",
-            "materials[0].pbrMetallicRoughness.baseColorTexture has KHR_texture_transform, which is not applied to the UVs",
+            "1 primitive has COLOR_0 alpha, multiplied in with bounds per triangle (texels near the cutoff may bake unknown): meshes[0].primitives[1]",
+            "materials[0].pbrMetallicRoughness.baseColorTexture has KHR_texture_transform: applied to the UVs (exactly)",
         ]
     );
 }

@@ -194,6 +194,8 @@ struct Job {
     sampler: Sampler,
     cutoff: Cutoff,
     triangles: Vec<UvTriangle>,
+    /// glTF's `COLOR_0` alpha per triangle (`None` for `--texture`).
+    vertex_alpha: Option<Vec<[f32; 3]>>,
 }
 
 struct Input {
@@ -344,6 +346,7 @@ fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
                     },
                     cutoff: cutoff_of(s.cutoff.unwrap_or(prim.cutoff.alpha()))?,
                     triangles: prim.triangles.clone(),
+                    vertex_alpha: prim.vertex_alpha.clone(),
                 });
             }
             if jobs.is_empty() {
@@ -376,6 +379,7 @@ fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
                     },
                     cutoff: cutoff_of(s.cutoff.unwrap_or(0.5))?,
                     triangles,
+                    vertex_alpha: None,
                 }],
                 warnings: Vec::new(),
             })
@@ -550,6 +554,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
                 cutoff: job.cutoff,
                 alpha_factor: job.factor,
             },
+            vertex_alpha: job.vertex_alpha.as_deref(),
         })
         .collect();
     let options = MeshOptions {

@@ -385,6 +385,56 @@ impl<'a> Reader<'a, '_> {
         Ok(uvs)
     }
 
+    /// The alpha of each vertex of `COLOR_0` accessor `index`: `None` for
+    /// `VEC3` (alpha 1); for `VEC4`, `FLOAT` in `[0, 1]`, or normalized
+    /// `UNSIGNED_BYTE` (`c / 255`) or `UNSIGNED_SHORT` (`c / 65535`), each
+    /// one binary32 division, as glTF allows.
+    pub(super) fn vertex_alphas(
+        &mut self,
+        index: usize,
+        what: &str,
+    ) -> Result<Option<Vec<f32>>, AssetError> {
+        let accessor = self.root.element("accessors", index, what)?;
+        match accessor.str("type")? {
+            "VEC3" => return Ok(None),
+            "VEC4" => {}
+            other => {
+                return Err(accessor.error(
+                    "type",
+                    format!("{other:?}, expected \"VEC3\" or \"VEC4\" for {what}"),
+                ))
+            }
+        }
+        let (accessor, layout) = self.layout(index, what, "VEC4", 4)?;
+        let convert: fn(&[u8]) -> f32 = match (layout.component_type, layout.normalized) {
+            (5126, false) => |c| f32::from_le_bytes([c[12], c[13], c[14], c[15]]),
+            (5121, true) => |c| f32::from(c[3]) / 255.0,
+            (5123, true) => |c| f32::from(u16::from_le_bytes([c[6], c[7]])) / 65535.0,
+            (other, normalized) => {
+                return Err(accessor.error(
+                    "componentType",
+                    format!(
+                        "{other} ({}{}) is not a vertex colour type (FLOAT, or normalized UNSIGNED_BYTE or UNSIGNED_SHORT)",
+                        if normalized { "normalized " } else { "" },
+                        component_name(other)
+                    ),
+                ))
+            }
+        };
+        let alphas = self.elements(&accessor, &layout, convert)?;
+        if let Some((i, bad)) = alphas
+            .iter()
+            .enumerate()
+            .find(|(_, a)| !(0.0..=1.0).contains(*a))
+        {
+            return Err(AssetError::gltf(
+                &layout.path,
+                format!("element {i} has alpha {bad}, outside [0, 1]"),
+            ));
+        }
+        Ok(Some(alphas))
+    }
+
     /// The vertex indices of accessor `index`.
     pub(super) fn indices(&mut self, index: usize, what: &str) -> Result<Vec<u32>, AssetError> {
         let (accessor, layout) = self.layout(index, what, "SCALAR", 1)?;
@@ -400,6 +450,44 @@ impl<'a> Reader<'a, '_> {
             ));
         }
         self.elements(&accessor, &layout, read_unsigned)
+    }
+
+    /// The vertex alphas of each triangle of a primitive, through its
+    /// indices (checked by [`triangles`](Self::triangles) for the UVs; here
+    /// against the colours).
+    pub(super) fn triangle_alphas(
+        &mut self,
+        path: &str,
+        alphas: &[f32],
+        indices: Option<&[u32]>,
+        count: usize,
+    ) -> Result<Vec<[f32; 3]>, AssetError> {
+        self.budget.take(
+            || format!("{path} ({count} triangles' vertex alphas)"),
+            bytes_of(count as u64, 12),
+        )?;
+        let mut triangles = Vec::with_capacity(count);
+        for t in 0..count {
+            let mut triangle = [0f32; 3];
+            for (k, corner) in triangle.iter_mut().enumerate() {
+                let position = 3 * t + k;
+                let vertex = match indices {
+                    Some(indices) => indices[position] as usize,
+                    None => position,
+                };
+                *corner = *alphas.get(vertex).ok_or_else(|| {
+                    AssetError::gltf(
+                        format!("{path}.attributes.COLOR_0"),
+                        format!(
+                            "vertex {vertex} (corner {position}) is past the {} colours",
+                            alphas.len()
+                        ),
+                    )
+                })?;
+            }
+            triangles.push(triangle);
+        }
+        Ok(triangles)
     }
 
     /// The triangles of a primitive: its UVs through its indices.

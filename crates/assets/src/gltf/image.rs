@@ -3,7 +3,7 @@
 
 use super::uri::uri_label;
 use super::{GltfImageInfo, Reader};
-use crate::{decode_alpha_image, AssetError, Limits};
+use crate::{decode_image_alpha, AlphaSource, AssetError, Limits, MissingAlpha};
 use std::borrow::Cow;
 
 impl Reader<'_, '_> {
@@ -33,9 +33,16 @@ impl Reader<'_, '_> {
             (Some(_), Some(_)) => return Err(image.error("uri", "given together with bufferView")),
             (None, None) => return Err(image.error("uri", "missing, and no bufferView either")),
         };
-        let decoded = decode_alpha_image(&bytes, &limits).map_err(|e| e.within(&label));
+        // glTF: an image without an alpha channel has alpha 1.
+        let decoded =
+            decode_image_alpha(&bytes, &limits, MissingAlpha::One).map_err(|e| e.within(&label));
         drop(bytes);
-        let decoded = decoded?;
+        let (decoded, alpha) = decoded?;
+        if alpha == AlphaSource::One {
+            self.warn(format!(
+                "{label} has no alpha channel: its alpha is 1 (glTF), so every texel is opaque"
+            ));
+        }
         let texel_bytes = decoded.texels.byte_len();
         self.budget.take(|| label.clone(), texel_bytes)?;
         let info = GltfImageInfo {
@@ -50,6 +57,7 @@ impl Reader<'_, '_> {
             buffer_view: view,
             mime_type: image.opt_str("mimeType")?.map(str::to_string),
             name: image.opt_str("name")?.map(str::to_string),
+            alpha,
         };
         let position = self.asset.images.len();
         self.asset.images.push(decoded);

@@ -24,10 +24,6 @@ impl<'a> Obj<'a> {
         AssetError::gltf(self.field(key), message)
     }
 
-    pub(super) fn has(&self, key: &str) -> bool {
-        self.map.contains_key(key)
-    }
-
     pub(super) fn opt_u64(&self, key: &str) -> Result<Option<u64>, AssetError> {
         match self.map.get(key) {
             None => Ok(None),

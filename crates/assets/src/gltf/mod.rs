@@ -26,6 +26,7 @@ mod image;
 mod json;
 mod material;
 mod sampler;
+mod transform;
 mod uri;
 
 pub(crate) use self::sampler::GltfSampler;
@@ -65,19 +66,30 @@ pub struct MaskPrimitive {
     /// one glTF defines (`minFilter` too, which magnification-free baking
     /// does not use).
     pub sampler: Sampler,
-    /// `baseColorTexture.texCoord`: the triangles are `TEXCOORD_<tex_coord>`.
+    /// `baseColorTexture.texCoord` (or the `texCoord` of its
+    /// `KHR_texture_transform`, which overrides it): the triangles are
+    /// `TEXCOORD_<tex_coord>`.
     pub tex_coord: u32,
-    /// The UVs of each triangle, in order, with the indices applied (or
+    /// The UVs of each triangle, in order, with the indices applied and the
+    /// texture's `KHR_texture_transform` (if any) applied exactly (or
     /// vertices `3i, 3i + 1, 3i + 2` without indices). Integer UVs
     /// (`KHR_mesh_quantization`) are converted as glTF says: normalized
     /// `c / 255`, `c / 65535`, `max(c / 127, -1)`, `max(c / 32767, -1)`,
     /// each one binary32 division; others as the integer's value.
     pub triangles: Vec<[[f32; 2]; 3]>,
+    /// The `COLOR_0` alpha of each triangle's vertices (as
+    /// [`triangles`](Self::triangles), one entry per triangle), which
+    /// multiplies the texture's alpha; `None` without `COLOR_0` or with a
+    /// `VEC3` one (alpha 1). `FLOAT` values as stored (each in `[0, 1]`),
+    /// normalized `c / 255` and `c / 65535`, each one binary32 division.
+    pub vertex_alpha: Option<Vec<[f32; 3]>>,
 }
 
 impl MaskPrimitive {
     /// Its material as [`bake::mesh`](micromap_index::bake::mesh) takes it:
-    /// sampler, cutoff and alpha factor.
+    /// sampler, cutoff and alpha factor (the vertex alpha is
+    /// [`vertex_alpha`](Self::vertex_alpha), for
+    /// [`Mesh::vertex_alpha`](micromap_index::bake::mesh::Mesh::vertex_alpha)).
     ///
     /// ```
     /// use micromap_index_assets::{read_gltf_file, Limits};
@@ -112,6 +124,10 @@ pub struct GltfImageInfo {
     pub mime_type: Option<String>,
     /// `images[index].name`, if given.
     pub name: Option<String>,
+    /// Where its alpha came from: its alpha channel, or
+    /// [`AlphaSource::One`](crate::AlphaSource::One) for an image without
+    /// one (glTF: alpha 1; never its grey value).
+    pub alpha: crate::AlphaSource,
 }
 
 /// What [`read_gltf_file`] and [`read_gltf_bytes`] read from a glTF.
@@ -121,15 +137,18 @@ pub struct GltfAsset {
     /// their `primitives`.
     pub primitives: Vec<MaskPrimitive>,
     /// The images the primitives use, each decoded once
-    /// ([`decode_alpha_image`](crate::decode_alpha_image)), in order of first use.
+    /// ([`decode_image_alpha`](crate::decode_image_alpha) with
+    /// [`MissingAlpha::One`](crate::MissingAlpha::One): an image without an
+    /// alpha channel is opaque, as glTF says), in order of first use.
     pub images: Vec<AlphaImage>,
     /// For each of [`GltfAsset::images`], where it came from.
     pub image_info: Vec<GltfImageInfo>,
     /// What was skipped or is not applied, one line each: primitives that
     /// are not triangles, materials that are not `MASK` (counted), `MASK`
-    /// materials without a base colour texture, `COLOR_0` (its alpha is not
-    /// multiplied in), `KHR_texture_transform` (not applied to the UVs),
-    /// oddities of the GLB container.
+    /// materials without a base colour texture, base-colour images without
+    /// an alpha channel (read as alpha 1), `COLOR_0` alpha (multiplied in),
+    /// `KHR_texture_transform` (applied to the UVs), oddities of the GLB
+    /// container.
     pub warnings: Vec<String>,
 }
 
@@ -217,12 +236,26 @@ fn read_file(path: &Path, max_bytes: u64) -> Result<Vec<u8>, AssetError> {
 ///   indices, vertices are taken in order; a count that is not a multiple
 ///   of 3 drops the last one or two with a warning;
 /// * the texture's `source` image (from a `uri` or a `bufferView`) is
-///   decoded once by [`decode_alpha_image`](crate::decode_alpha_image); its sampler is read.
+///   decoded once by [`decode_image_alpha`](crate::decode_image_alpha): its
+///   alpha channel, or alpha 1 everywhere if it has none (glTF 2.0: without
+///   a fourth component the alpha coverage is 1; a note in `warnings` says
+///   so); its sampler is read.
 ///
 /// Buffers are loaded only when a needed buffer view is in them; the GLB
-/// `BIN` chunk is buffer 0 when that has no `uri`. A required extension
-/// other than `KHR_mesh_quantization`, `KHR_texture_transform` (its
-/// transform is not applied: warning), `KHR_materials_*` (except
+/// `BIN` chunk is buffer 0 when that has no `uri`.
+///
+/// `COLOR_0` (`VEC4`: `FLOAT` in `[0, 1]`, normalized `UNSIGNED_BYTE` or
+/// `UNSIGNED_SHORT`) gives [`MaskPrimitive::vertex_alpha`]; a `VEC3` one
+/// has alpha 1. `KHR_texture_transform` on the base-colour texture
+/// (`offset`, `rotation`, `scale`, and `texCoord`, which overrides the
+/// texture info's) is applied to the UVs as the extension defines it
+/// (`translation * rotation * scale`), each number rounded once from its
+/// text to binary32, when the result is exact: a rotation other than 0, or
+/// a vertex whose `scale * uv + offset` is not a binary32 pair, is an error
+/// (never a bake of coordinates the renderer does not sample).
+///
+/// A required extension
+/// other than `KHR_mesh_quantization`, `KHR_texture_transform`, `KHR_materials_*` (except
 /// `KHR_materials_pbrSpecularGlossiness`), `KHR_lights_punctual` and
 /// `KHR_mesh_gpu_instancing` is an error. Accessor alignment is not checked.
 ///
@@ -327,7 +360,9 @@ struct Reader<'a, 'r> {
     asset: GltfAsset,
 }
 
-/// Extensions a glTF may require that do not change the mask.
+/// Extensions a glTF may require that the reader models
+/// (`KHR_mesh_quantization`, `KHR_texture_transform`) or that do not change
+/// the mask.
 fn supported_required(name: &str) -> bool {
     matches!(
         name,
@@ -448,16 +483,13 @@ impl Reader<'_, '_> {
                     continue;
                 };
                 let texture_index = texture_info.usize("index")?;
-                let tex_coord = texture_info.opt_u32("texCoord")?.unwrap_or(0);
-                if let Some(extensions) = texture_info.opt_obj("extensions")? {
-                    if extensions.has("KHR_texture_transform") {
-                        transformed.insert(material_index);
-                    }
-                }
+                let transform = self.texture_transform(material_index, &texture_info)?;
+                // The extension's texCoord overrides the texture info's.
+                let tex_coord = match transform.and_then(|t| t.tex_coord) {
+                    Some(n) => n,
+                    None => texture_info.opt_u32("texCoord")?.unwrap_or(0),
+                };
                 let attributes = primitive.obj("attributes")?;
-                if attributes.has("COLOR_0") {
-                    colored.push(primitive.path.clone());
-                }
                 let (cutoff, alpha_factor) = self.material_numbers(material_index, &material)?;
                 let uv_key = format!("TEXCOORD_{tex_coord}");
                 let uv_accessor = attributes.opt_usize(&uv_key)?.ok_or_else(|| {
@@ -474,7 +506,50 @@ impl Reader<'_, '_> {
                     Some(accessor) => Some(self.indices(accessor, &primitive.field("indices"))?),
                     None => None,
                 };
-                let triangles = self.triangles(&primitive.path, &uvs, indices.as_deref())?;
+                let mut triangles = self.triangles(&primitive.path, &uvs, indices.as_deref())?;
+                if let Some(transform) = transform {
+                    let ext = format!("{}.extensions.KHR_texture_transform", texture_info.path);
+                    if transform.rotation != 0.0 {
+                        return Err(AssetError::gltf(
+                            format!("{ext}.rotation"),
+                            format!(
+                                "{}: a rotation other than 0 cannot be baked exactly (its sine and cosine are not binary32 values), refused",
+                                transform.rotation
+                            ),
+                        ));
+                    }
+                    for (t, triangle) in triangles.iter_mut().enumerate() {
+                        for corner in triangle.iter_mut() {
+                            *corner = transform.apply(*corner).ok_or_else(|| {
+                                AssetError::gltf(
+                                    &ext,
+                                    format!(
+                                        "offset {:?} and scale {:?} map {uv_key} ({}, {}) of triangle {t} of {} to a point that is not a pair of binary32 values: the transformed coordinates cannot be baked exactly, refused",
+                                        transform.offset, transform.scale, corner[0], corner[1], primitive.path
+                                    ),
+                                )
+                            })?;
+                        }
+                    }
+                    transformed.insert(material_index);
+                }
+                let vertex_alpha = match attributes.opt_usize("COLOR_0")? {
+                    None => None,
+                    Some(accessor) => {
+                        match self.vertex_alphas(accessor, &attributes.field("COLOR_0"))? {
+                            None => None,
+                            Some(alphas) => {
+                                colored.push(primitive.path.clone());
+                                Some(self.triangle_alphas(
+                                    &primitive.path,
+                                    &alphas,
+                                    indices.as_deref(),
+                                    triangles.len(),
+                                )?)
+                            }
+                        }
+                    }
+                };
                 let texture =
                     self.root
                         .element("textures", texture_index, &texture_info.field("index"))?;
@@ -501,6 +576,7 @@ impl Reader<'_, '_> {
                     sampler,
                     tex_coord,
                     triangles,
+                    vertex_alpha,
                 });
             }
         }
@@ -519,7 +595,7 @@ impl Reader<'_, '_> {
         }
         if !colored.is_empty() {
             self.warn(format!(
-                "{} primitive{} ha{} COLOR_0, whose alpha is not applied: {}",
+                "{} primitive{} ha{} COLOR_0 alpha, multiplied in with bounds per triangle (texels near the cutoff may bake unknown): {}",
                 colored.len(),
                 if colored.len() == 1 { "" } else { "s" },
                 if colored.len() == 1 { "s" } else { "ve" },
@@ -528,7 +604,7 @@ impl Reader<'_, '_> {
         }
         for material in transformed {
             self.warn(format!(
-                "materials[{material}].pbrMetallicRoughness.baseColorTexture has KHR_texture_transform, which is not applied to the UVs"
+                "materials[{material}].pbrMetallicRoughness.baseColorTexture has KHR_texture_transform: applied to the UVs (exactly)"
             ));
         }
         Ok(())

@@ -2,9 +2,13 @@
 //! `gltf_asset` (the readers of [`micromap_index_assets`]), replayed on stable by
 //! `crates/lab/tests/fuzz_corpus.rs`.
 
+use micromap_index::bake::mesh::{
+    bake_mesh, LevelRule, Mesh, MeshBakeError, MeshOptions, MeshTriangles,
+};
+use micromap_index::Level;
 use micromap_index_assets::{
-    decode_alpha_image, read_gltf_bytes, read_triangles_json, AlphaTexels, AssetError, GltfAsset,
-    Limits,
+    decode_alpha_image, read_gltf_bytes, read_triangles_json, AlphaSource, AlphaTexels, AssetError,
+    GltfAsset, Limits, MaskPrimitive,
 };
 
 /// The limits of the asset targets: 2^16 pixels and 16 MiB, so that no
@@ -180,6 +184,18 @@ fn check_asset(asset: &GltfAsset) {
         );
         assert!(primitive.cutoff.alpha() >= 0.0);
         held += 24 * primitive.triangles.len() as u64;
+        if let Some(alphas) = &primitive.vertex_alpha {
+            assert_eq!(alphas.len(), primitive.triangles.len());
+            assert!(alphas.iter().flatten().all(|a| (0.0..=1.0).contains(a)));
+            held += 12 * alphas.len() as u64;
+        }
+        bake_primitive(asset, primitive);
+    }
+    for (image, info) in asset.images.iter().zip(&asset.image_info) {
+        // glTF: an image without alpha is opaque.
+        if info.alpha == AlphaSource::One {
+            assert!((0..image.texels.len()).all(|i| image.texels.get(i) == Some(1.0)));
+        }
     }
     assert!(
         held <= FUZZ_LIMITS.max_bytes,
@@ -187,6 +203,33 @@ fn check_asset(asset: &GltfAsset) {
     );
     for warning in &asset.warnings {
         assert!(!warning.contains('\n'), "warning {warning:?}");
+    }
+}
+
+/// Bakes the first few triangles of `primitive` at level 1 with its
+/// material and vertex alpha: what the reader accepts, the bake takes.
+fn bake_primitive(asset: &GltfAsset, primitive: &MaskPrimitive) {
+    let texture = asset.images[primitive.image]
+        .texture()
+        .expect("the reader's images are views");
+    let n = primitive.triangles.len().min(8);
+    let mesh = Mesh {
+        triangles: MeshTriangles::Uv(&primitive.triangles[..n]),
+        texture: &texture,
+        material: primitive.material(),
+        vertex_alpha: primitive.vertex_alpha.as_ref().map(|a| &a[..n]),
+    };
+    let options = MeshOptions {
+        levels: LevelRule::Fixed(Level::new(1).expect("level 1")),
+        ..MeshOptions::default()
+    };
+    match bake_mesh(&mesh, &options) {
+        Ok(baked) => assert_eq!(baked.report.triangles, n),
+        // A factor the vertex-alpha bake does not take (negative, say).
+        Err(MeshBakeError::VertexAlpha { .. }) => {
+            assert!(!(primitive.alpha_factor >= 0.0 && primitive.alpha_factor.is_finite()));
+        }
+        Err(error) => panic!("bake of an accepted primitive failed: {error}"),
     }
 }
 

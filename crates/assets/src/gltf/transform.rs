@@ -1,0 +1,145 @@
+//! `KHR_texture_transform` on the base-colour texture: read from its
+//! decimal text (one rounding to binary32, as the renderer's uniforms), and
+//! applied to the UVs where the result is exact in binary32.
+
+use super::json::{short, Obj};
+use super::Reader;
+use crate::{json_number_f32, AssetError};
+use serde_json::value::RawValue;
+use std::collections::HashMap;
+
+/// A texture transform: `uv' = offset + R(rotation) (scale * uv)` (the
+/// extension's `translation * rotation * scale`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Transform {
+    pub(super) offset: [f32; 2],
+    pub(super) rotation: f32,
+    pub(super) scale: [f32; 2],
+    /// `texCoord` of the extension, which overrides the texture info's.
+    pub(super) tex_coord: Option<u32>,
+}
+
+/// The member `path` of a raw JSON value, following objects.
+fn raw_at<'a>(raw: &'a RawValue, path: &[&str]) -> Option<&'a RawValue> {
+    let mut at = raw;
+    for key in path {
+        let map: HashMap<&str, &RawValue> = serde_json::from_str(at.get()).ok()?;
+        at = map.get(key)?;
+    }
+    Some(at)
+}
+
+/// The binary32 sum `a + b` if it is exact (no rounding), as `f64`.
+fn exact_sum(a: f64, b: f64) -> Option<f32> {
+    let s = a + b;
+    // Knuth's two-sum: the rounding error of `a + b`, exactly.
+    let bb = s - a;
+    let error = (a - (s - bb)) + (b - bb);
+    let narrow = s as f32;
+    (error == 0.0 && f64::from(narrow) == s && s.is_finite()).then_some(narrow)
+}
+
+impl Transform {
+    /// Applies the transform to one UV if the exact result is a binary32
+    /// pair; `None` otherwise. Rotation must be 0 (its sine and cosine are
+    /// not exact), which the reader checks.
+    pub(super) fn apply(&self, [u, v]: [f32; 2]) -> Option<[f32; 2]> {
+        // A product of two binary32 values is exact in f64 (48 bits).
+        let su = f64::from(self.scale[0]) * f64::from(u);
+        let sv = f64::from(self.scale[1]) * f64::from(v);
+        Some([
+            exact_sum(su, f64::from(self.offset[0]))?,
+            exact_sum(sv, f64::from(self.offset[1]))?,
+        ])
+    }
+}
+
+impl<'a> Reader<'a, '_> {
+    /// The `KHR_texture_transform` of material `index`'s
+    /// `baseColorTexture` (`info`), if it has one.
+    pub(super) fn texture_transform(
+        &self,
+        index: usize,
+        info: &Obj<'a>,
+    ) -> Result<Option<Transform>, AssetError> {
+        let Some(extensions) = info.opt_obj("extensions")? else {
+            return Ok(None);
+        };
+        let Some(ext) = extensions.opt_obj("KHR_texture_transform")? else {
+            return Ok(None);
+        };
+        let raw = self.raw_materials.get(index).and_then(|raw| {
+            raw_at(
+                raw,
+                &[
+                    "pbrMetallicRoughness",
+                    "baseColorTexture",
+                    "extensions",
+                    "KHR_texture_transform",
+                ],
+            )
+        });
+        let number = |text: Option<&RawValue>, what: &str, value: &serde_json::Value| {
+            text.and_then(|t| json_number_f32(t.get()))
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| {
+                    ext.error(what, format!("{}, expected a finite number", short(value)))
+                })
+        };
+        let pair = |key: &str, default: [f32; 2]| -> Result<[f32; 2], AssetError> {
+            let Some(value) = ext.map.get(key) else {
+                return Ok(default);
+            };
+            let texts: Option<Vec<&RawValue>> = raw
+                .and_then(|raw| raw_at(raw, &[key]))
+                .and_then(|r| serde_json::from_str(r.get()).ok());
+            match texts.as_deref() {
+                Some([a, b]) => Ok([number(Some(a), key, value)?, number(Some(b), key, value)?]),
+                _ => Err(ext.error(
+                    key,
+                    format!("{}, expected an array of 2 numbers", short(value)),
+                )),
+            }
+        };
+        let offset = pair("offset", [0.0, 0.0])?;
+        let scale = pair("scale", [1.0, 1.0])?;
+        let rotation = match ext.map.get("rotation") {
+            None => 0.0,
+            Some(value) => number(
+                raw.and_then(|raw| raw_at(raw, &["rotation"])),
+                "rotation",
+                value,
+            )?,
+        };
+        Ok(Some(Transform {
+            offset,
+            rotation,
+            scale,
+            tex_coord: ext.opt_u32("texCoord")?,
+        }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exact_sums_only() {
+        assert_eq!(exact_sum(0.5, 0.25), Some(0.75));
+        // 2^-30 is below half an ulp of 1: the sum rounds.
+        assert_eq!(exact_sum(1.0, (2f64).powi(-30)), None);
+        // Exact in f64 but not in binary32.
+        assert_eq!(exact_sum(1.0, (2f64).powi(-40) * 1e3), None);
+        assert_eq!(exact_sum(1e300, 1e300), None);
+        let t = Transform {
+            offset: [0.25, -1.0],
+            rotation: 0.0,
+            scale: [0.5, 2.0],
+            tex_coord: None,
+        };
+        assert_eq!(t.apply([0.5, 0.75]), Some([0.5, 0.5]));
+        // 0.1f32 / 2 + 0.25 needs more than 24 bits.
+        assert_eq!(t.apply([0.1, 0.0]), None);
+    }
+}
