@@ -535,6 +535,9 @@ pub unsafe extern "C" fn mmi_bake(
                 triangles: triangles[i].mesh_triangles(),
                 texture: &*textures[i],
                 material: materials[i],
+                // The C API has no per-vertex alpha yet: alpha 1 (glTF
+                // without COLOR_0).
+                vertex_alpha: None,
             })
             .collect();
         let bake = bake_meshes(&library_meshes, &options, &mut |_, _| {})
