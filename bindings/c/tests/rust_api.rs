@@ -111,6 +111,7 @@ fn texel_formats_and_pitches_give_the_librarys_bytes() {
             triangles: MeshTriangles::Uv(&triangles),
             texture: &texture,
             material: Material::default(),
+            vertex_alpha: None,
         },
         &MeshOptions {
             levels: LevelRule::Fixed(Level::new(5).unwrap()),
@@ -224,6 +225,7 @@ fn options_reach_the_library() {
                 .unwrap(),
                 alpha_factor: 0.75,
             },
+            vertex_alpha: None,
         },
         &MeshOptions {
             levels: LevelRule::Useful {
