@@ -6,7 +6,7 @@
 
 use crate::args::Parsed;
 use crate::output::{print_then, report, Exit};
-use crate::write_all_or_nothing::{check_destination, write_files};
+use crate::write_all_or_nothing::{install_interrupt_handler, Destination, Refusal};
 use micromap_index::bake::mesh::{
     bake_meshes, LevelRule, Material, Mesh, MeshBakeError, MeshOptions, MeshTriangles,
 };
@@ -65,8 +65,15 @@ options:
   --force                 replace existing files in DIR
   --no-preview            skip preview.png
   --quiet                 no progress on stderr
-Exit 0 baked; 2 bad options or malformed input (nothing written); 3 unreadable
-input or unwritable DIR (nothing written).";
+DIR is locked (DIR/.micromap-index.lock) from the check to the last rename:
+a second bake into the same DIR is refused (exit 3) and never mixes its files
+with the first one's. Ctrl-C removes the temporaries, backups, lock and any
+directory the bake created, and leaves DIR as it was (exit 130).
+Exit 0 baked; 2 bad options, malformed input, or existing outputs without
+--force (nothing written); 3 unreadable input, unwritable DIR or DIR in use
+by another bake (nothing written), or stdout unwritable after DIR was written
+(DIR complete); 130 interrupted (nothing written); 141 stdout closed (DIR
+complete).";
 
 pub(crate) const VERIFY_USAGE: &str = "\
 usage: micromap-index verify-bake --texture T.png --triangles TRIS.json --micromaps DIR
@@ -482,7 +489,18 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     let width = index_width(&p)?;
     let s = sampler_options(&p)?;
     let preview = !p.flag("--no-preview");
-    check_destination(&out, &OUTPUTS, p.flag("--force")).map_err(Failure::Malformed)?;
+    if let Err(message) = install_interrupt_handler() {
+        report(format_args!(
+            "bake: {message}; Ctrl-C may leave temporaries"
+        ));
+    }
+    // Held (locked) until the files are written or the bake fails; dropping
+    // it removes the lock and the directories it created.
+    let destination =
+        Destination::claim(&out, &OUTPUTS, p.flag("--force")).map_err(|refusal| match refusal {
+            Refusal::Refused(message) => Failure::Malformed(message),
+            Refusal::Io(message) => Failure::Io(message),
+        })?;
     let input = read_input(&p, &s)?;
 
     // The textures as the baker reads them, and one mesh per job.
@@ -628,7 +646,10 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         .map_err(Failure::Io)?;
         files.push(("preview.png".to_string(), png));
     }
-    write_files(&out, &files).map_err(Failure::Io)?;
+    // Without a preview, a stale preview.png (--force) is removed with the
+    // same all-or-nothing commit.
+    let stale: &[&str] = if preview { &[] } else { &["preview.png"] };
+    destination.write(&files, stale).map_err(Failure::Io)?;
     Ok((summary_json, Exit::Success))
 }
 

@@ -1,0 +1,371 @@
+//! `bake` and `verify-bake` under hostile use (issue 26): concurrent bakes
+//! into one directory, Ctrl-C, stale outputs, failed bakes, closed or full
+//! stdout, oversized inputs, incomplete or garbage layouts, bounded reports.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+const ASSETS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/crytek-sponza");
+const BIN: &str = env!("CARGO_BIN_EXE_micromap-index");
+
+fn run(args: &[&str]) -> Output {
+    Command::new(BIN)
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "micromap-bake-hostile-{}-{name}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn texture() -> String {
+    format!("{ASSETS}/chain.png")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    names.sort();
+    names
+}
+
+/// Two triangle files whose bakes differ in every output.
+fn two_inputs(dir: &Path) -> [PathBuf; 2] {
+    let a = dir.join("a.json");
+    let b = dir.join("b.json");
+    std::fs::write(
+        &a,
+        r#"{"triangles": [[[0, 0], [1, 0], [0, 0.25]], [[0.1, 0.3], [0.9, 0.35], [0.5, 0.9]]]}"#,
+    )
+    .unwrap();
+    std::fs::write(
+        &b,
+        r#"{"triangles": [[[0, 0], [0.5, 0], [0, 0.5]], [[0.2, 0.2], [0.7, 0.3], [0.4, 0.8]], [[0, 0], [1, 1], [0, 1]]]}"#,
+    )
+    .unwrap();
+    [a, b]
+}
+
+fn bake_args<'a>(tris: &'a Path, out: &'a Path, extra: &[&'a str]) -> Vec<String> {
+    let mut args: Vec<String> = [
+        "bake",
+        "--texture",
+        &texture(),
+        "--triangles",
+        tris.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--level",
+        "4",
+        "--quiet",
+    ]
+    .iter()
+    .map(|s| (*s).to_owned())
+    .collect();
+    args.extend(extra.iter().map(|s| (*s).to_owned()));
+    args
+}
+
+/// The outputs of a bake with the timings taken out of the summary.
+fn outputs(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    listing(dir)
+        .into_iter()
+        .map(|name| {
+            let bytes = std::fs::read(dir.join(&name)).unwrap();
+            if name == "summary.json" {
+                let mut summary: serde_json::Value = serde_json::from_slice(&bytes).unwrap();
+                let map = summary.as_object_mut().unwrap();
+                for key in [
+                    "bake_seconds",
+                    "micro_triangles_per_second",
+                    "preview_seconds",
+                ] {
+                    map.remove(key);
+                }
+                (name, summary.to_string().into_bytes())
+            } else {
+                (name, bytes)
+            }
+        })
+        .collect()
+}
+
+/// Two bakes of different inputs started together into one `--out`, many
+/// times: exactly one succeeds, the other is refused (exit 3 while the
+/// first holds the directory, exit 2 once it has finished), and the
+/// directory always holds one bake's complete output, never a mix. Before
+/// the lock, both often exited 0 and the directory could mix the two.
+#[test]
+fn concurrent_bakes_into_one_directory_never_mix() {
+    let dir = scratch("concurrent");
+    let inputs = two_inputs(&dir);
+    let references: Vec<_> = inputs
+        .iter()
+        .enumerate()
+        .map(|(i, tris)| {
+            let out = dir.join(format!("reference-{i}"));
+            let done = Command::new(BIN)
+                .args(bake_args(tris, &out, &[]))
+                .output()
+                .unwrap();
+            assert_eq!(done.status.code(), Some(0), "{}", stderr(&done));
+            outputs(&out)
+        })
+        .collect();
+    assert_ne!(references[0], references[1]);
+    let mut locked = 0;
+    for round in 0..40 {
+        let out = dir.join(format!("race-{round}"));
+        let children: Vec<_> = inputs
+            .iter()
+            .map(|tris| {
+                Command::new(BIN)
+                    .args(bake_args(tris, &out, &[]))
+                    .stdout(Stdio::null())
+                    .stderr(Stdio::piped())
+                    .spawn()
+                    .unwrap()
+            })
+            .collect();
+        let results: Vec<Output> = children
+            .into_iter()
+            .map(|c| c.wait_with_output().unwrap())
+            .collect();
+        let codes: Vec<Option<i32>> = results.iter().map(|r| r.status.code()).collect();
+        let winners: Vec<usize> = (0..2).filter(|&i| codes[i] == Some(0)).collect();
+        assert_eq!(
+            winners.len(),
+            1,
+            "round {round}: exit codes {codes:?}: {} / {}",
+            stderr(&results[0]),
+            stderr(&results[1])
+        );
+        let loser = &results[1 - winners[0]];
+        match loser.status.code() {
+            Some(3) => {
+                locked += 1;
+                assert!(
+                    stderr(loser).contains("is in use by another bake"),
+                    "{}",
+                    stderr(loser)
+                );
+            }
+            Some(2) => assert!(
+                stderr(loser).contains("exists; nothing written"),
+                "{}",
+                stderr(loser)
+            ),
+            other => panic!(
+                "round {round}: the second bake exited {other:?}: {}",
+                stderr(loser)
+            ),
+        }
+        assert_eq!(
+            outputs(&out),
+            references[winners[0]],
+            "round {round}: a mix"
+        );
+    }
+    eprintln!("{locked} of 40 rounds refused by the lock");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A lock left by a bake that is still running (or was killed) is named in
+/// the refusal, exit 3, and left alone; nothing is written.
+#[test]
+fn a_held_lock_is_refused_with_exit_3_and_left_in_place() {
+    let dir = scratch("held");
+    let [tris, _] = two_inputs(&dir);
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join(".micromap-index.lock"), "12345\n").unwrap();
+    let result = run(&bake_args(&tris, &out, &[])
+        .iter()
+        .map(String::as_str)
+        .collect::<Vec<_>>());
+    assert_eq!(result.status.code(), Some(3), "{}", stderr(&result));
+    let message = stderr(&result);
+    assert!(
+        message.contains(".micromap-index.lock, held by process 12345"),
+        "{message}"
+    );
+    assert_eq!(listing(&out), [".micromap-index.lock"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn run_strings(args: &[String]) -> Output {
+    Command::new(BIN).args(args).output().unwrap()
+}
+
+/// `--force --no-preview` over an earlier bake with a preview removes the
+/// stale `preview.png`, so every file in the directory is from one bake.
+#[test]
+fn force_without_preview_removes_a_stale_preview() {
+    let dir = scratch("stale-preview");
+    let [a, b] = two_inputs(&dir);
+    let out = dir.join("out");
+    let first = run_strings(&bake_args(&a, &out, &[]));
+    assert_eq!(first.status.code(), Some(0), "{}", stderr(&first));
+    assert!(out.join("preview.png").exists());
+    let second = run_strings(&bake_args(&b, &out, &["--force", "--no-preview"]));
+    assert_eq!(second.status.code(), Some(0), "{}", stderr(&second));
+    assert_eq!(
+        listing(&out),
+        [
+            "micromap-data.bin",
+            "micromap-indices.bin",
+            "micromap-triangles.bin",
+            "micromap-usage.bin",
+            "summary.json"
+        ]
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A bake that fails after its directory was created removes the
+/// directories it created (and only those).
+#[test]
+fn a_failed_bake_removes_the_directories_it_created() {
+    let dir = scratch("failed");
+    let bad = dir.join("bad.json");
+    std::fs::write(&bad, r#"{"triangles": [[[0, 0], [1, 0]]]}"#).unwrap();
+    let out = dir.join("new").join("deeper");
+    let result = run_strings(&bake_args(&bad, &out, &[]));
+    assert_eq!(result.status.code(), Some(2), "{}", stderr(&result));
+    assert!(
+        !dir.join("new").exists(),
+        "the created directories are left"
+    );
+    // An existing (empty) directory stays.
+    let existing = dir.join("existing");
+    std::fs::create_dir(&existing).unwrap();
+    let result = run_strings(&bake_args(&bad, &existing, &[]));
+    assert_eq!(result.status.code(), Some(2));
+    assert!(existing.is_dir());
+    assert!(listing(&existing).is_empty());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn is_backup(name: &str) -> bool {
+    Path::new(name).extension().is_some_and(|e| e == "old")
+}
+
+fn is_temporary(name: &str) -> bool {
+    Path::new(name).extension().is_some_and(|e| e == "tmp")
+}
+
+/// Ctrl-C at the worst moment (temporaries written, backups of the old
+/// files made, nothing renamed yet; the test hook holds the bake there):
+/// exit 130, and the directory holds exactly the old files with their old
+/// contents: no temporary, no backup, no lock.
+#[test]
+fn ctrl_c_removes_temporaries_backups_and_the_lock() {
+    let dir = scratch("sigint");
+    let [a, b] = two_inputs(&dir);
+    let out = dir.join("out");
+    let first = run_strings(&bake_args(&a, &out, &[]));
+    assert_eq!(first.status.code(), Some(0), "{}", stderr(&first));
+    let before: Vec<(String, Vec<u8>)> = listing(&out)
+        .into_iter()
+        .map(|n| {
+            let bytes = std::fs::read(out.join(&n)).unwrap();
+            (n, bytes)
+        })
+        .collect();
+    let child = Command::new(BIN)
+        .args(bake_args(&b, &out, &["--force"]))
+        .env("MICROMAP_INDEX_TEST_STALL_MS", "20000")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let started = Instant::now();
+    loop {
+        let names = listing(&out);
+        if names.iter().filter(|n| is_backup(n)).count() == 6 {
+            assert!(names.iter().any(|n| is_temporary(n)), "{names:?}");
+            break;
+        }
+        assert!(started.elapsed() < Duration::from_secs(15), "{names:?}");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let result = child.wait_with_output().unwrap();
+    assert_eq!(result.status.code(), Some(130), "{}", stderr(&result));
+    assert!(stderr(&result).contains("interrupted; nothing written"));
+    let after: Vec<(String, Vec<u8>)> = listing(&out)
+        .into_iter()
+        .map(|n| {
+            let bytes = std::fs::read(out.join(&n)).unwrap();
+            (n, bytes)
+        })
+        .collect();
+    assert_eq!(after, before);
+    // Interrupted into a new directory: the directory goes too.
+    let fresh = dir.join("fresh");
+    let child = Command::new(BIN)
+        .args(bake_args(&b, &fresh, &[]))
+        .env("MICROMAP_INDEX_TEST_STALL_MS", "20000")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let started = Instant::now();
+    while !fresh.exists() || !listing(&fresh).iter().any(|n| is_temporary(n)) {
+        assert!(started.elapsed() < Duration::from_secs(15));
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    std::thread::sleep(Duration::from_millis(100));
+    Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    let result = child.wait_with_output().unwrap();
+    assert_eq!(result.status.code(), Some(130));
+    assert!(!fresh.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Stdout that cannot be written after the files were (`>/dev/full`):
+/// exit 3 as the help says ("stdout unwritable after DIR was written"), and
+/// the directory is complete.
+#[test]
+fn a_full_stdout_after_the_files_exits_3_with_the_files_complete() {
+    let dir = scratch("full");
+    let [a, _] = two_inputs(&dir);
+    let out = dir.join("out");
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .unwrap();
+    let result = Command::new(BIN)
+        .args(bake_args(&a, &out, &[]))
+        .stdout(full)
+        .output()
+        .unwrap();
+    assert_eq!(result.status.code(), Some(3), "{}", stderr(&result));
+    assert!(stderr(&result).contains("writing stdout"));
+    assert_eq!(listing(&out).len(), 6);
+    let help = run(&["bake", "--help"]);
+    assert!(String::from_utf8_lossy(&help.stdout)
+        .contains("stdout unwritable after DIR was written\n(DIR complete)"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
