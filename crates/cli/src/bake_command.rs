@@ -78,14 +78,20 @@ complete).";
 pub(crate) const VERIFY_USAGE: &str = "\
 usage: micromap-index verify-bake --texture T.png --triangles TRIS.json --micromaps DIR
                                   [sampler and cutoff options as bake] [--index-width 16|32]
-                                  [--json] [--max-report N]
+                                  [--json] [--max-report N] [--no-usage] [--lenient-layout]
 Checks any baker's micromaps (DIR/micromap-data.bin, micromap-triangles.bin,
 micromap-indices.bin in bake's layout) against the texture: every micro-triangle
 with a known state whose closed area can read a texel of the other class under
 the sampler model is reported with an exact witness point (texel coordinates as
 n/2^k), the texel and its alpha. Unknown states are never wrong.
-Exit 0 sound; 1 contradictions found; 2 bad options or malformed buffers;
-3 unreadable input.";
+The layout is checked first, as micromap::read_buffers does: the usage counts
+(DIR/micromap-usage.bin, required unless --no-usage) against the records, no
+two blocks overlapping and no data after the last block (--lenient-layout
+accepts both). Each buffer file is read up to a limit named in its error
+(data 5 GiB, records and indices 1 GiB, usage counts 1 MiB; --texture and
+--triangles 1 GiB).
+Exit 0 sound; 1 contradictions found; 2 bad options or malformed buffers
+(a layout error, a file over its limit); 3 unreadable input.";
 
 /// Output file names, in the order written.
 const OUTPUTS: [&str; 6] = [
@@ -256,8 +262,46 @@ fn sampler_options(p: &Parsed<'_>) -> Result<SamplerOptions, Failure> {
     })
 }
 
-fn read_file(path: &Path) -> Result<Vec<u8>, Failure> {
-    std::fs::read(path).map_err(|e| Failure::Io(format!("cannot read {}: {e}", path.display())))
+/// The most bytes `--texture` and `--triangles` may hold (the 1 GiB the glTF
+/// reader allows a whole asset).
+const INPUT_FILE_LIMIT: u64 = 1 << 30;
+/// The most bytes `micromap-data.bin` may hold: every block lies below a
+/// 32-bit offset plus one level-16 4-state block (1 GiB).
+const DATA_FILE_LIMIT: u64 = (1 << 32) + (1 << 30);
+/// The most bytes `micromap-triangles.bin` and `micromap-indices.bin` may
+/// hold (2^27 records or 2^28 32-bit indices).
+const RECORD_FILE_LIMIT: u64 = 1 << 30;
+/// The most bytes `micromap-usage.bin` may hold (87,381 entries; 34 are
+/// enough for every level and format).
+const USAGE_FILE_LIMIT: u64 = 1 << 20;
+
+/// `path`'s bytes, refused past `limit` bytes (read at most `limit + 1`, so
+/// `/dev/zero` or an endless pipe cannot exhaust memory): exit 2 with a
+/// message naming the limit; unreadable: exit 3.
+fn read_file(path: &Path, limit: u64, what: &str) -> Result<Vec<u8>, Failure> {
+    use std::io::Read as _;
+    let io = |e: std::io::Error| Failure::Io(format!("cannot read {}: {e}", path.display()));
+    let file = std::fs::File::open(path).map_err(io)?;
+    let too_large = || {
+        Failure::Malformed(format!(
+            "{}: over the limit of {limit} bytes for {what}",
+            path.display()
+        ))
+    };
+    // A regular file's size is known at once; a pipe or a device is read
+    // up to the limit.
+    if file
+        .metadata()
+        .is_ok_and(|m| m.is_file() && m.len() > limit)
+    {
+        return Err(too_large());
+    }
+    let mut bytes = Vec::new();
+    file.take(limit + 1).read_to_end(&mut bytes).map_err(io)?;
+    if bytes.len() as u64 > limit {
+        return Err(too_large());
+    }
+    Ok(bytes)
 }
 
 fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
@@ -304,10 +348,17 @@ fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
             })
         }
         (None, Some(texture), Some(triangles)) => {
-            let image = decode_alpha_image(&read_file(Path::new(texture))?, &limits)
-                .map_err(|e| Failure::Malformed(format!("{texture}: {e}")))?;
-            let triangles = read_triangles_json(&read_file(Path::new(triangles))?)
-                .map_err(|e| Failure::Malformed(format!("{triangles}: {e}")))?;
+            let image = decode_alpha_image(
+                &read_file(Path::new(texture), INPUT_FILE_LIMIT, "a --texture file")?,
+                &limits,
+            )
+            .map_err(|e| Failure::Malformed(format!("{texture}: {e}")))?;
+            let triangles = read_triangles_json(&read_file(
+                Path::new(triangles),
+                INPUT_FILE_LIMIT,
+                "a --triangles file",
+            )?)
+            .map_err(|e| Failure::Malformed(format!("{triangles}: {e}")))?;
             Ok(Input {
                 images: vec![image],
                 jobs: vec![Job {
@@ -679,6 +730,10 @@ struct VerifyJson {
     undecided: u64,
     contradictions: u64,
     first_contradictions: Vec<ContradictionJson>,
+    /// Whether `micromap-usage.bin` was checked (not with `--no-usage`).
+    usage_counts_checked: bool,
+    /// Data after the last block (only accepted with `--lenient-layout`).
+    trailing_data_bytes: u64,
     sound: bool,
 }
 
@@ -695,7 +750,7 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
         "verify-bake",
         options,
         &valued,
-        &["--opaque-above", "--json"],
+        &["--opaque-above", "--json", "--no-usage", "--lenient-layout"],
     )
     .map_err(Failure::Usage)?;
     let dir = PathBuf::from(
@@ -716,24 +771,70 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
     let s = sampler_options(&p)?;
     let input = read_input(&p, &s)?;
     let job = &input.jobs[0];
-    let data = read_file(&dir.join("micromap-data.bin"))?;
-    let records = read_file(&dir.join("micromap-triangles.bin"))?;
-    let index_bytes = read_file(&dir.join("micromap-indices.bin"))?;
+    let data = read_file(
+        &dir.join("micromap-data.bin"),
+        DATA_FILE_LIMIT,
+        "micromap data",
+    )?;
+    let records = read_file(
+        &dir.join("micromap-triangles.bin"),
+        RECORD_FILE_LIMIT,
+        "triangle records",
+    )?;
+    let index_bytes = read_file(
+        &dir.join("micromap-indices.bin"),
+        RECORD_FILE_LIMIT,
+        "indices",
+    )?;
+    let lenient = p.flag("--lenient-layout");
+    let usage_path = dir.join("micromap-usage.bin");
+    let usage = if p.flag("--no-usage") {
+        None
+    } else if usage_path.exists() {
+        Some(read_file(&usage_path, USAGE_FILE_LIMIT, "usage counts")?)
+    } else {
+        return Err(Failure::Malformed(format!(
+            "{} is missing: the usage counts are checked against the records \
+             (--no-usage skips the check, for bakers that write none)",
+            usage_path.display()
+        )));
+    };
     let read = read_buffers(
         &BufferBytes {
             records: &records,
             data: &data,
-            usage_counts: None,
+            usage_counts: usage.as_deref(),
             indices: Some((&index_bytes, width)),
         },
         &ReadOptions {
-            overlap: micromap_index::micromap::Overlap::Allow {
-                max_decoded_bytes: 1 << 32,
+            overlap: if lenient {
+                micromap_index::micromap::Overlap::Allow {
+                    max_decoded_bytes: DATA_FILE_LIMIT,
+                }
+            } else {
+                micromap_index::micromap::Overlap::Forbid
             },
             ..ReadOptions::default()
         },
     )
     .map_err(|e| Failure::Malformed(format!("{}: {e}", dir.display())))?;
+    // Data past the last block: no record reaches it (read_buffers checks
+    // that every block lies inside the data, not that the data ends there).
+    let used_end = read
+        .records
+        .iter()
+        .zip(&read.micromaps)
+        .map(|(r, m)| u64::from(r.data_offset) + m.as_bytes().len() as u64)
+        .max()
+        .unwrap_or(0);
+    let trailing_data_bytes = data.len() as u64 - used_end.min(data.len() as u64);
+    if trailing_data_bytes > 0 && !lenient {
+        return Err(Failure::Malformed(format!(
+            "{}: {trailing_data_bytes} bytes of micromap-data.bin after the last block \
+             (byte {used_end}) belong to no record (--lenient-layout accepts them)",
+            dir.display()
+        )));
+    }
     let indices = read.indices.unwrap_or_default();
     if indices.len() != job.triangles.len() {
         return Err(Failure::Malformed(format!(
@@ -759,6 +860,8 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
         undecided: 0,
         contradictions: 0,
         first_contradictions: Vec::new(),
+        usage_counts_checked: usage.is_some(),
+        trailing_data_bytes,
         sound: true,
     };
     for (t, (uv, index)) in job.triangles.iter().zip(&indices).enumerate() {

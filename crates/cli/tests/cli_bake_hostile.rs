@@ -369,3 +369,134 @@ fn a_full_stdout_after_the_files_exits_3_with_the_files_complete() {
         .contains("stdout unwritable after DIR was written\n(DIR complete)"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+fn verify_args(tris: &Path, micromaps: &Path, extra: &[&str]) -> Vec<String> {
+    let mut args: Vec<String> = [
+        "verify-bake",
+        "--texture",
+        &texture(),
+        "--triangles",
+        tris.to_str().unwrap(),
+        "--micromaps",
+        micromaps.to_str().unwrap(),
+        "--json",
+    ]
+    .iter()
+    .map(|s| (*s).to_owned())
+    .collect();
+    args.extend(extra.iter().map(|s| (*s).to_owned()));
+    args
+}
+
+/// A copy of `from`'s three buffers and usage counts in `to`, with `edit`
+/// applied to (data, records, usage).
+fn tampered(
+    from: &Path,
+    to: &Path,
+    edit: impl FnOnce(&mut Vec<u8>, &mut Vec<u8>, &mut Option<Vec<u8>>),
+) {
+    let _ = std::fs::remove_dir_all(to);
+    std::fs::create_dir_all(to).unwrap();
+    let mut data = std::fs::read(from.join("micromap-data.bin")).unwrap();
+    let mut records = std::fs::read(from.join("micromap-triangles.bin")).unwrap();
+    let mut usage = Some(std::fs::read(from.join("micromap-usage.bin")).unwrap());
+    edit(&mut data, &mut records, &mut usage);
+    std::fs::write(to.join("micromap-data.bin"), data).unwrap();
+    std::fs::write(to.join("micromap-triangles.bin"), records).unwrap();
+    std::fs::copy(
+        from.join("micromap-indices.bin"),
+        to.join("micromap-indices.bin"),
+    )
+    .unwrap();
+    if let Some(usage) = usage {
+        std::fs::write(to.join("micromap-usage.bin"), usage).unwrap();
+    }
+}
+
+/// `verify-bake` checks the whole layout: a missing, garbage or lying
+/// `micromap-usage.bin`, overlapping blocks and data after the last block
+/// are exit 2 naming the fault (they were all "sound" before); the two
+/// escape hatches (`--no-usage`, `--lenient-layout`) say what they skipped.
+#[test]
+fn verify_bake_checks_the_whole_layout() {
+    let dir = scratch("layout");
+    let [_, tris] = two_inputs(&dir);
+    let good = dir.join("good");
+    let baked = run_strings(&bake_args(&tris, &good, &["--no-preview"]));
+    assert_eq!(baked.status.code(), Some(0), "{}", stderr(&baked));
+    let sound = run_strings(&verify_args(&tris, &good, &[]));
+    assert_eq!(sound.status.code(), Some(0), "{}", stderr(&sound));
+    let report: serde_json::Value = serde_json::from_slice(&sound.stdout).unwrap();
+    assert_eq!(report["usage_counts_checked"], true);
+    assert_eq!(report["trailing_data_bytes"], 0);
+    let records = std::fs::read(good.join("micromap-triangles.bin")).unwrap();
+    assert!(records.len() >= 16, "the test needs two records");
+    let bad = dir.join("bad");
+    let refused = |extra: &[&str], needle: &str| {
+        let out = run_strings(&verify_args(&tris, &bad, extra));
+        assert_eq!(out.status.code(), Some(2), "{needle}: {}", stderr(&out));
+        assert!(stderr(&out).contains(needle), "{needle}: {}", stderr(&out));
+    };
+    let accepted = |extra: &[&str]| -> serde_json::Value {
+        let out = run_strings(&verify_args(&tris, &bad, extra));
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    // Missing usage counts.
+    tampered(&good, &bad, |_, _, usage| *usage = None);
+    refused(&[], "micromap-usage.bin is missing");
+    assert_eq!(accepted(&["--no-usage"])["usage_counts_checked"], false);
+    // Garbage usage counts: not a whole entry, and a count that lies.
+    tampered(&good, &bad, |_, _, usage| {
+        *usage = Some(b"garbage".to_vec());
+    });
+    refused(&[], "usage");
+    tampered(&good, &bad, |_, _, usage| {
+        let usage = usage.as_mut().unwrap();
+        usage[0] = usage[0].wrapping_add(1);
+    });
+    refused(&[], "usage counts declare");
+    // Trailing data.
+    tampered(&good, &bad, |data, _, _| data.extend_from_slice(&[0; 5]));
+    refused(&[], "5 bytes of micromap-data.bin after the last block");
+    assert_eq!(accepted(&["--lenient-layout"])["trailing_data_bytes"], 5);
+    // Record 1's block moved onto record 0's (same level and format: the
+    // bake used one level).
+    tampered(&good, &bad, |_, records, _| {
+        let first: [u8; 4] = records[0..4].try_into().unwrap();
+        records[8..12].copy_from_slice(&first);
+    });
+    refused(&[], "overlapping data");
+    // An endless usage file (a device) stops at its limit.
+    tampered(&good, &bad, |_, _, usage| *usage = None);
+    std::os::unix::fs::symlink("/dev/zero", bad.join("micromap-usage.bin")).unwrap();
+    refused(&[], "over the limit of 1048576 bytes for usage counts");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `--texture` and `--triangles` files past 1 GiB are refused from their
+/// size (a sparse file: nothing is read), and an endless stream stops at
+/// the limit; the message names the limit.
+#[test]
+fn oversized_texture_and_triangles_are_refused_by_a_named_limit() {
+    let dir = scratch("oversized");
+    let [tris, _] = two_inputs(&dir);
+    let huge = dir.join("huge");
+    std::fs::File::create(&huge)
+        .unwrap()
+        .set_len((1 << 30) + 1)
+        .unwrap();
+    let out = dir.join("out");
+    let mut args = bake_args(&tris, &out, &[]);
+    args[2] = huge.to_str().unwrap().to_owned();
+    let result = run_strings(&args);
+    assert_eq!(result.status.code(), Some(2), "{}", stderr(&result));
+    assert!(stderr(&result).contains("over the limit of 1073741824 bytes for a --texture file"));
+    let mut args = bake_args(&huge, &out, &[]);
+    args[2] = texture();
+    let result = run_strings(&args);
+    assert_eq!(result.status.code(), Some(2), "{}", stderr(&result));
+    assert!(stderr(&result).contains("over the limit of 1073741824 bytes for a --triangles file"));
+    assert!(!out.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
