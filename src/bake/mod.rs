@@ -89,7 +89,7 @@ mod texture;
 
 pub use baker::{
     BakeError, BakedOpacity, BakedTriangle, Baker, Contradiction, TexelPoint, TriangleStatus,
-    UvTriangle, Verification, DEFAULT_BLOCK_BUDGET,
+    UvTriangle, Verification, VerifyCounts, DEFAULT_BLOCK_BUDGET,
 };
 pub use texture::{
     AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Sampler, SliceTexture,

@@ -78,19 +78,24 @@ complete).";
 pub(crate) const VERIFY_USAGE: &str = "\
 usage: micromap-index verify-bake --texture T.png --triangles TRIS.json --micromaps DIR
                                   [sampler and cutoff options as bake] [--index-width 16|32]
-                                  [--json] [--max-report N] [--no-usage] [--lenient-layout]
+                                  [--json] [--max-report N] [--max-checks N]
+                                  [--no-usage] [--lenient-layout]
 Checks any baker's micromaps (DIR/micromap-data.bin, micromap-triangles.bin,
 micromap-indices.bin in bake's layout) against the texture: every micro-triangle
 with a known state whose closed area can read a texel of the other class under
 the sampler model is reported with an exact witness point (texel coordinates as
 n/2^k), the texel and its alpha. Unknown states are never wrong.
+Every contradiction is counted; only the first --max-report N (default 20)
+are kept and printed, so memory stays bounded. --max-checks N stops checking
+after N known micro-triangles (default: no cap); the rest are reported as not
+checked and the verdict is INCOMPLETE (exit 1), never sound.
 The layout is checked first, as micromap::read_buffers does: the usage counts
 (DIR/micromap-usage.bin, required unless --no-usage) against the records, no
 two blocks overlapping and no data after the last block (--lenient-layout
 accepts both). Each buffer file is read up to a limit named in its error
 (data 5 GiB, records and indices 1 GiB, usage counts 1 MiB; --texture and
 --triangles 1 GiB).
-Exit 0 sound; 1 contradictions found; 2 bad options or malformed buffers
+Exit 0 sound; 1 contradictions found or INCOMPLETE; 2 bad options or malformed buffers
 (a layout error, a file over its limit); 3 unreadable input.";
 
 /// Output file names, in the order written.
@@ -728,6 +733,10 @@ struct VerifyJson {
     unknown_micro_triangles: u64,
     unknown_fraction: f64,
     undecided: u64,
+    /// Known micro-triangles past `--max-checks`: not checked.
+    unchecked_micro_triangles: u64,
+    /// Every known micro-triangle was checked (no `--max-checks` cut).
+    complete: bool,
     contradictions: u64,
     first_contradictions: Vec<ContradictionJson>,
     /// Whether `micromap-usage.bin` was checked (not with `--no-usage`).
@@ -744,6 +753,7 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
         "--micromaps",
         "--index-width",
         "--max-report",
+        "--max-checks",
     ];
     valued.extend(SAMPLER_VALUED);
     let p = Parsed::new(
@@ -767,6 +777,12 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
         .unwrap_or("20")
         .parse()
         .map_err(|_| Failure::Malformed("--max-report: expected a count".into()))?;
+    let max_checks = match p.get("--max-checks") {
+        None => u64::MAX,
+        Some(text) => text
+            .parse()
+            .map_err(|_| Failure::Malformed(format!("--max-checks {text:?}: expected a count")))?,
+    };
     let width = index_width(&p)?;
     let s = sampler_options(&p)?;
     let input = read_input(&p, &s)?;
@@ -858,6 +874,8 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
         unknown_micro_triangles: 0,
         unknown_fraction: 0.0,
         undecided: 0,
+        unchecked_micro_triangles: 0,
+        complete: true,
         contradictions: 0,
         first_contradictions: Vec::new(),
         usage_counts_checked: usage.is_some(),
@@ -869,17 +887,15 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
             MicromapIndex::Record(r) => TriangleOpacity::Micromap(&read.micromaps[r as usize]),
             MicromapIndex::Special(state) => TriangleOpacity::Special(state),
         };
-        let v = baker.verify(uv, &opacity);
-        out.triangles_checked += usize::from(v.checked);
-        out.known_micro_triangles += v.known;
-        out.unknown_micro_triangles += v.unknown;
-        out.undecided += v.undecided;
-        out.contradictions += v.contradictions.len() as u64;
-        for c in v.contradictions {
-            if out.first_contradictions.len() >= max_report {
-                break;
+        // Only the first --max-report contradictions are kept (the rest are
+        // counted), so memory stays bounded however wrong the maps are.
+        let first = &mut out.first_contradictions;
+        let remaining = max_checks.saturating_sub(out.known_micro_triangles);
+        let v = baker.verify_each(uv, &opacity, remaining, |c| {
+            if first.len() >= max_report {
+                return;
             }
-            out.first_contradictions.push(ContradictionJson {
+            first.push(ContradictionJson {
                 triangle: t,
                 micro_triangle: c.micro_triangle,
                 state: c.state.to_string(),
@@ -896,11 +912,18 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
                     None => f64::from(job.sampler.border_alpha),
                 },
             });
-        }
+        });
+        out.triangles_checked += usize::from(v.checked);
+        out.known_micro_triangles += v.known;
+        out.unchecked_micro_triangles += v.unchecked;
+        out.unknown_micro_triangles += v.unknown;
+        out.undecided += v.undecided;
+        out.contradictions += v.contradictions;
     }
     let micro = out.known_micro_triangles + out.unknown_micro_triangles;
     out.unknown_fraction = out.unknown_micro_triangles as f64 / micro.max(1) as f64;
-    out.sound = out.contradictions == 0;
+    out.complete = out.unchecked_micro_triangles == 0;
+    out.sound = out.contradictions == 0 && out.complete;
     let exit = if out.sound {
         Exit::Success
     } else {
@@ -911,7 +934,13 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
     } else {
         let mut text = format!(
             "{}: {} triangles ({} checked), {} known and {} unknown micro-triangles (unknown fraction {:.4}), {} undecided\n",
-            if out.sound { "sound" } else { "NOT SOUND" },
+            if out.sound {
+                "sound"
+            } else if out.contradictions == 0 {
+                "INCOMPLETE"
+            } else {
+                "NOT SOUND"
+            },
             out.triangles,
             out.triangles_checked,
             out.known_micro_triangles,
@@ -919,6 +948,13 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
             out.unknown_fraction,
             out.undecided
         );
+        if !out.complete {
+            let _ = writeln!(
+                text,
+                "not checked: {} known micro-triangles past --max-checks",
+                out.unchecked_micro_triangles
+            );
+        }
         let _ = writeln!(text, "contradictions: {}", out.contradictions);
         for c in &out.first_contradictions {
             let witness = match &c.witness_texel_space {

@@ -500,3 +500,64 @@ fn oversized_texture_and_triangles_are_refused_by_a_named_limit() {
     assert!(!out.exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// On meshoptimizer's committed thorn level-4 output (1,329 contradictions
+/// under nearest filtering): `--max-report 3` keeps 3 and still counts all;
+/// `--max-checks 100` checks 100 known micro-triangles, reports the rest as
+/// not checked, and the verdict is INCOMPLETE with exit 1, never sound.
+#[test]
+fn verify_bake_keeps_the_first_n_counts_all_and_reports_its_work_cap() {
+    let micromaps = format!(
+        "{}/../other-bakers/out/meshopt-cpp/sponza_thorn-L4-f4",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let args = |extra: &[&str]| {
+        let mut args = vec![
+            "verify-bake".to_owned(),
+            "--texture".to_owned(),
+            format!("{ASSETS}/sponza_thorn.png"),
+            "--triangles".to_owned(),
+            format!("{ASSETS}/grid.tris.json"),
+            "--micromaps".to_owned(),
+            micromaps.clone(),
+            "--filter".to_owned(),
+            "nearest".to_owned(),
+            "--address".to_owned(),
+            "clamp-to-edge".to_owned(),
+            "--no-usage".to_owned(),
+        ];
+        args.extend(extra.iter().map(|s| (*s).to_owned()));
+        run_strings(&args)
+    };
+    let out = args(&["--json", "--max-report", "3"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(report["contradictions"], 1329);
+    assert_eq!(report["first_contradictions"].as_array().unwrap().len(), 3);
+    assert_eq!(report["complete"], true);
+    let out = args(&["--json", "--max-checks", "100"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(report["known_micro_triangles"], 100);
+    assert_eq!(report["unchecked_micro_triangles"], 21326 - 100);
+    assert_eq!(report["complete"], false);
+    assert_eq!(report["sound"], false);
+    // A cap on a sound bake: INCOMPLETE, not sound.
+    let dir = scratch("max-checks");
+    let [a, _] = two_inputs(&dir);
+    let good = dir.join("good");
+    let baked = run_strings(&bake_args(&a, &good, &["--no-preview"]));
+    assert_eq!(baked.status.code(), Some(0), "{}", stderr(&baked));
+    // The text report (without --json).
+    let mut text_args = verify_args(&a, &good, &["--max-checks", "10"]);
+    text_args.retain(|arg| arg != "--json");
+    let out = run_strings(&text_args);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.starts_with("INCOMPLETE: "), "{text}");
+    assert!(
+        text.contains("known micro-triangles past --max-checks"),
+        "{text}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
