@@ -1,7 +1,7 @@
 //! The baker and verifier under hostile sizes (issue 26): bounded-memory
 //! verification, fallible allocation, level choice at the limits.
 
-use micromap_index::bake::{Baker, Cutoff, Sampler, Unorm8Texture};
+use micromap_index::bake::{AlphaTexture, Baker, Cutoff, Sampler, TextureError, Unorm8Texture};
 use micromap_index::micromap::{Format, Micromap, State, TriangleOpacity};
 use micromap_index::Level;
 
@@ -51,4 +51,64 @@ fn verify_each_counts_everything_keeps_what_the_caller_keeps_and_reports_its_cap
     assert_eq!((capped.known, capped.unchecked), (100, 924));
     assert!(capped.contradictions <= counts.contradictions);
     assert!(capped.checked);
+}
+
+/// A texture of any size whose texels are all one alpha (nothing stored).
+struct Uniform {
+    width: u32,
+    height: u32,
+}
+
+impl AlphaTexture for Uniform {
+    fn width(&self) -> u32 {
+        self.width
+    }
+    fn height(&self) -> u32 {
+        self.height
+    }
+    fn alpha(&self, _: u32, _: u32) -> f64 {
+        1.0
+    }
+}
+
+/// Textures that pass the size check (`w h < 2^32`) but whose tables do not
+/// fit the caller's limit are a typed error naming the bytes, at once (no
+/// texel is read, nothing is allocated): 65535 x 65535 needs 21.5 GB,
+/// 2^31 x 1 10.7 GB. At the limit exactly, a small texture is accepted;
+/// one byte less is refused.
+#[test]
+fn baker_tables_past_the_limit_are_an_error_not_an_abort() {
+    let limit = 1 << 30;
+    for (width, height) in [(65535, 65535), (1 << 31, 1), (1, 1 << 31)] {
+        let texture = Uniform { width, height };
+        let bytes = u64::from(width) * u64::from(height)
+            + 4 * (u64::from(width) + 1) * (u64::from(height) + 1);
+        match Baker::new_within(&texture, Sampler::default(), Cutoff::default(), limit) {
+            Err(TextureError::AllocationFailed { bytes: b, limit: l }) => {
+                assert_eq!((b, l), (bytes, limit));
+            }
+            other => panic!("{width}x{height}: {other:?}"),
+        }
+        let message = TextureError::AllocationFailed { bytes, limit }.to_string();
+        assert!(message.contains("over the limit of 1073741824 bytes"), "{message}");
+    }
+    let small = Uniform {
+        width: 30,
+        height: 20,
+    };
+    let exact = 30 * 20 + 4 * 31 * 21;
+    assert!(Baker::new_within(&small, Sampler::default(), Cutoff::default(), exact).is_ok());
+    assert!(matches!(
+        Baker::new_within(&small, Sampler::default(), Cutoff::default(), exact - 1),
+        Err(TextureError::AllocationFailed { .. })
+    ));
+    // 2^32 texels is still the size check's error, before any limit.
+    let too_large = Uniform {
+        width: 1 << 16,
+        height: 1 << 16,
+    };
+    assert!(matches!(
+        Baker::new_within(&too_large, Sampler::default(), Cutoff::default(), u64::MAX),
+        Err(TextureError::TooLarge { .. })
+    ));
 }

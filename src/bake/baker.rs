@@ -329,8 +329,21 @@ impl Baker {
         sampler: Sampler,
         cutoff: Cutoff,
     ) -> Result<Baker, TextureError> {
+        Self::new_within(texture, sampler, cutoff, u64::MAX)
+    }
+
+    /// [`new`](Self::new) with the tables held to `max_bytes` (`w h +
+    /// 4 (w + 1) (h + 1)` bytes): over it, or refused by the allocator,
+    /// the answer is [`TextureError::AllocationFailed`], never an abort
+    /// (`new` gives the same error when the allocator refuses).
+    pub fn new_within(
+        texture: &(impl AlphaTexture + ?Sized),
+        sampler: Sampler,
+        cutoff: Cutoff,
+        max_bytes: u64,
+    ) -> Result<Baker, TextureError> {
         Ok(Baker {
-            classes: TexelClasses::new(texture, sampler, cutoff)?,
+            classes: TexelClasses::new_within(texture, sampler, cutoff, max_bytes)?,
             budget: DEFAULT_BLOCK_BUDGET,
         })
     }
