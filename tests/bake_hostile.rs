@@ -90,7 +90,10 @@ fn baker_tables_past_the_limit_are_an_error_not_an_abort() {
             other => panic!("{width}x{height}: {other:?}"),
         }
         let message = TextureError::AllocationFailed { bytes, limit }.to_string();
-        assert!(message.contains("over the limit of 1073741824 bytes"), "{message}");
+        assert!(
+            message.contains("over the limit of 1073741824 bytes"),
+            "{message}"
+        );
     }
     let small = Uniform {
         width: 30,

@@ -67,8 +67,9 @@ pub(crate) fn run(options: &[&str]) -> ExitCode {
         Ok(selection) => selection,
         Err(message) => return usage_error(&message),
     };
-    let answers = match read_bytes(answers_path) {
-        Ok(bytes) => match parse_answers(&bytes) {
+    let answers = match read_answers(answers_path) {
+        Ok(Err(message)) => return cannot_check(&message),
+        Ok(Ok(bytes)) => match parse_answers(&bytes) {
             Ok(answers) => answers,
             Err(e) => return cannot_check(&format!("{}: {e}", shown_path(answers_path))),
         },
@@ -169,6 +170,33 @@ fn read_bytes(path: &str) -> Result<Vec<u8>, String> {
             .map_err(|e| format!("reading stdin: {e}"));
     }
     std::fs::read(path).map_err(|e| format!("cannot read {path}: {e}"))
+}
+
+/// The most bytes `--answers` may hold (the 1 GiB the bake inputs allow:
+/// answers to every published vector take a few megabytes).
+const MAX_ANSWERS_BYTES: u64 = 1 << 30;
+
+/// The answers file's bytes (`-`: stdin), read up to [`MAX_ANSWERS_BYTES`]
+/// (an endless pipe stops there): `Err` unreadable (exit 3), `Ok(Err)` over
+/// the limit (exit 2, the message names it).
+fn read_answers(path: &str) -> Result<Result<Vec<u8>, String>, String> {
+    let reader: Box<dyn Read> = if path == "-" {
+        Box::new(io::stdin())
+    } else {
+        Box::new(std::fs::File::open(path).map_err(|e| format!("cannot read {path}: {e}"))?)
+    };
+    let mut bytes = Vec::new();
+    reader
+        .take(MAX_ANSWERS_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("reading {}: {e}", shown_path(path)))?;
+    if bytes.len() as u64 > MAX_ANSWERS_BYTES {
+        return Ok(Err(format!(
+            "{}: over the limit of {MAX_ANSWERS_BYTES} bytes for --answers",
+            shown_path(path)
+        )));
+    }
+    Ok(Ok(bytes))
 }
 
 /// Reads and parses a vector file, or a message naming it.

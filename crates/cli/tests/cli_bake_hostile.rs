@@ -561,3 +561,57 @@ fn verify_bake_keeps_the_first_n_counts_all_and_reports_its_work_cap() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `tree encode` on an endless stdin stops at its limit (4^L characters and
+/// 4096 bytes of whitespace) with exit 2 naming it.
+#[test]
+fn tree_encode_reads_stdin_up_to_a_named_limit() {
+    use std::io::Write as _;
+    let mut child = Command::new(BIN)
+        .args(["tree", "encode", "--format", "4", "--level", "2"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    let feeder = std::thread::spawn(move || {
+        let chunk = [b'0'; 4096];
+        // Endless until the command stops reading (then the write fails).
+        for _ in 0..100_000 {
+            if stdin.write_all(&chunk).is_err() {
+                return true;
+            }
+        }
+        false
+    });
+    let result = child.wait_with_output().unwrap();
+    assert_eq!(result.status.code(), Some(2), "{}", stderr(&result));
+    assert!(
+        stderr(&result).contains("over the limit of 4112 bytes for a level-2 state string"),
+        "{}",
+        stderr(&result)
+    );
+    assert!(feeder.join().unwrap(), "the whole stream was read");
+}
+
+/// `check --answers /dev/zero` stops at the 1 GiB limit with exit 2 naming
+/// it (it read until memory ran out before).
+#[test]
+fn check_answers_are_read_up_to_a_named_limit() {
+    let vectors = format!("{}/../../vectors", env!("CARGO_MANIFEST_DIR"));
+    let vectors = std::fs::read_dir(&vectors)
+        .ok()
+        .and_then(|mut d| d.next())
+        .map_or_else(
+            || "/dev/null".to_owned(),
+            |e| e.unwrap().path().to_str().unwrap().to_owned(),
+        );
+    let result = run(&["check", "--vectors", &vectors, "--answers", "/dev/zero"]);
+    assert_eq!(result.status.code(), Some(2), "{}", stderr(&result));
+    assert!(
+        stderr(&result).contains("/dev/zero: over the limit of 1073741824 bytes for --answers"),
+        "{}",
+        stderr(&result)
+    );
+}
