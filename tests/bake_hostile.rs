@@ -1,7 +1,10 @@
 //! The baker and verifier under hostile sizes (issue 26): bounded-memory
 //! verification, fallible allocation, level choice at the limits.
 
-use micromap_index::bake::{AlphaTexture, Baker, Cutoff, Sampler, TextureError, Unorm8Texture};
+use micromap_index::bake::{
+    levels_within_budget, useful_level, AlphaTexture, Baker, Cutoff, Sampler, TextureError,
+    Unorm8Texture,
+};
 use micromap_index::micromap::{Format, Micromap, State, TriangleOpacity};
 use micromap_index::Level;
 
@@ -114,4 +117,27 @@ fn baker_tables_past_the_limit_are_an_error_not_an_abort() {
         Baker::new_within(&too_large, Sampler::default(), Cutoff::default(), u64::MAX),
         Err(TextureError::TooLarge { .. })
     ));
+}
+
+/// Levels at the top of `Level`'s range: `levels_within_budget` neither
+/// overflows (it panicked in debug builds and answered level 32 for a
+/// 100-byte budget in release) nor answers above 16, and `useful_level`
+/// never answers above the 16 the baker bakes.
+#[test]
+fn level_choice_stays_within_what_the_baker_bakes() {
+    let l = |n| Level::new(n).unwrap();
+    for top in [16, 17, 31, 32] {
+        let wanted = vec![l(top); 1000];
+        // Even level 0 (1 byte each) does not fit 100 bytes: all level 0.
+        let levels = levels_within_budget(&wanted, Format::FourState, 100);
+        assert!(levels.iter().all(|&x| x == l(0)), "{top}: {:?}", levels[0]);
+        // 1000 level-2 maps (8 bytes each) fit 8000 bytes; level 3 does not.
+        let levels = levels_within_budget(&wanted, Format::FourState, 8000);
+        assert_eq!(levels[0], l(2), "{top}");
+        let levels = levels_within_budget(&wanted, Format::FourState, u64::MAX);
+        assert_eq!(levels[0], l(16), "{top}");
+    }
+    let huge = [[0.0, 0.0], [1.0e9, 0.0], [0.0, 1.0e9]];
+    assert_eq!(useful_level(&huge, (65535, 65535), l(32)), l(16));
+    assert_eq!(useful_level(&huge, (65535, 65535), l(12)), l(12));
 }
