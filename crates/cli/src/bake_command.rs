@@ -62,6 +62,9 @@ options:
                           opaque when alpha >= C (glTF MASK)
   --opaque-above          opaque when alpha > C (the OMM SDK's rule)
   --index-width 16|32     micromap-indices.bin width (default 32)
+  --max-bytes N           refuse (exit 2) before baking when the output may
+                          exceed N bytes (default 1073741824; the estimate
+                          counts every map before deduplication)
   --force                 replace existing files in DIR
   --no-preview            skip preview.png
   --quiet                 no progress on stderr
@@ -477,6 +480,38 @@ impl From<micromap_index::bake::mesh::StatusCounts> for StatusCounts {
     }
 }
 
+/// The default limit on bake's estimated output (`--max-bytes`): 1 GiB, 256
+/// level-12 4-state maps.
+const DEFAULT_MAX_OUTPUT_BYTES: u64 = 1 << 30;
+
+/// An upper bound on the bytes bake writes (data before deduplication,
+/// records, indices, usage counts), from the levels `bake_meshes` chooses.
+fn output_estimate(
+    input: &Input,
+    fixed_level: Option<Level>,
+    max_level: Level,
+    budget: Option<u64>,
+    format: Format,
+    width: IndexWidth,
+) -> u64 {
+    let mut levels = Vec::new();
+    for job in &input.jobs {
+        let image = &input.images[job.image];
+        let size = (image.width, image.height);
+        levels.extend(job.triangles.iter().map(|uv| {
+            fixed_level.unwrap_or_else(|| micromap_index::bake::useful_level(uv, size, max_level))
+        }));
+    }
+    if let Some(budget) = budget {
+        levels = micromap_index::bake::levels_within_budget(&levels, format, budget);
+    }
+    let per_triangle = 8 + width.bytes() as u64;
+    levels.iter().fold(34 * 12, |sum: u64, &level| {
+        sum.saturating_add(micromap_index::micromap::Micromap::byte_len(level, format) as u64)
+            .saturating_add(per_triangle)
+    })
+}
+
 pub(crate) fn run_bake(options: &[&str]) -> ExitCode {
     finish(bake(options))
 }
@@ -493,6 +528,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         "--format",
         "--unknown-as",
         "--index-width",
+        "--max-bytes",
     ];
     valued.extend(SAMPLER_VALUED);
     let p = Parsed::new(
@@ -542,6 +578,15 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
             "--budget chooses levels: it goes with --level auto".into(),
         ));
     }
+    let max_bytes = p
+        .get("--max-bytes")
+        .map(|t| {
+            t.parse::<u64>().map_err(|_| {
+                Failure::Malformed(format!("--max-bytes {t:?}: expected a byte count"))
+            })
+        })
+        .transpose()?
+        .unwrap_or(DEFAULT_MAX_OUTPUT_BYTES);
     let width = index_width(&p)?;
     let s = sampler_options(&p)?;
     let preview = !p.flag("--no-preview");
@@ -582,6 +627,17 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
             },
         })
         .collect();
+    // The output's size before deduplication (an upper bound: maps that
+    // dedup or become special indices only shrink it), from the same levels
+    // bake_meshes chooses, checked before any micro-triangle is baked.
+    let estimate = output_estimate(&input, fixed_level, max_level, budget, format, width);
+    if estimate > max_bytes {
+        return Err(Failure::Malformed(format!(
+            "the output may take up to {estimate} bytes (before deduplication), over the \
+             limit of {max_bytes} bytes; nothing written (--max-bytes raises the limit, \
+             --budget or a lower --level/--max-level shrinks the output)"
+        )));
+    }
     let options = MeshOptions {
         levels: match fixed_level {
             Some(level) => LevelRule::Fixed(level),

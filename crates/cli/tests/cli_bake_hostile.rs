@@ -615,3 +615,44 @@ fn check_answers_are_read_up_to_a_named_limit() {
         stderr(&result)
     );
 }
+
+/// The output-size estimate is checked before baking: 300 triangles at
+/// level 12 (4 MiB each, 1.2 GiB) are refused by the default 1 GiB limit at
+/// once; `--max-bytes` sets the limit, exactly at the estimate (data before
+/// deduplication, 8-byte records, indices and 34 usage entries).
+#[test]
+fn an_output_over_the_size_limit_is_refused_before_baking() {
+    let dir = scratch("max-bytes");
+    let many = dir.join("many.json");
+    let triangle = "[[0, 0], [1, 0], [0, 1]]";
+    std::fs::write(
+        &many,
+        format!("{{\"triangles\": [{}]}}", vec![triangle; 300].join(", ")),
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let mut args = bake_args(&many, &out, &[]);
+    let at = args.iter().position(|a| a == "--level").unwrap();
+    args[at + 1] = "12".to_owned();
+    let started = Instant::now();
+    let result = run_strings(&args);
+    assert_eq!(result.status.code(), Some(2), "{}", stderr(&result));
+    assert!(started.elapsed() < Duration::from_secs(20));
+    let estimate = 34 * 12 + 300 * ((1u64 << 22) + 12);
+    assert!(
+        stderr(&result).contains(&format!(
+            "the output may take up to {estimate} bytes (before deduplication), over the limit of 1073741824 bytes"
+        )),
+        "{}",
+        stderr(&result)
+    );
+    assert!(!out.exists());
+    // Two level-4 triangles: 2 x (64 + 12) + 408 = 560 bytes.
+    let [a, _] = two_inputs(&dir);
+    let refused = run_strings(&bake_args(&a, &out, &["--max-bytes", "559"]));
+    assert_eq!(refused.status.code(), Some(2), "{}", stderr(&refused));
+    assert!(stderr(&refused).contains("up to 560 bytes"));
+    let baked = run_strings(&bake_args(&a, &out, &["--max-bytes", "560"]));
+    assert_eq!(baked.status.code(), Some(0), "{}", stderr(&baked));
+    let _ = std::fs::remove_dir_all(&dir);
+}
