@@ -42,7 +42,10 @@ sampler; otherwise unknown (docs/bake.md). Writes into DIR, all or nothing:
   summary.json            states, known fraction, micromaps, sizes, time
   preview.png             the texture with every micro-triangle coloured by
                           state (green opaque, blue transparent, yellow
-                          unknown-opaque, red unknown-transparent)
+                          unknown-opaque, red unknown-transparent), wrapped
+                          with the job's address modes; each distinct
+                          triangle once, at most 2^27 pixels of
+                          micro-triangles (summary.json counts the rest)
 options:
   --level L|auto          fixed level 0..=12, or the paper's eq. 1 per
                           triangle (default auto)
@@ -457,6 +460,12 @@ struct Summary {
     index_width_bits: usize,
     bake_seconds: f64,
     micro_triangles_per_second: f64,
+    /// Drawing preview.png (0 with --no-preview).
+    preview_seconds: f64,
+    /// Micro-triangles drawn in preview.png.
+    preview_micro_triangles: u64,
+    /// Not drawn: repeated triangles, or past the preview's pixel budget.
+    preview_micro_triangles_skipped: u64,
     jobs: Vec<JobSummary>,
     warnings: Vec<String>,
 }
@@ -706,6 +715,33 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
             summary
         })
         .collect();
+    // The preview before the summary, which times it.
+    let preview_started = Instant::now();
+    let drawn = if preview {
+        if show_progress {
+            crate::output::to_stderr("drawing preview.png\n");
+        }
+        Some(
+            crate::preview::render(
+                &input.images,
+                input.jobs.iter().zip(&baked.triangles).map(|(job, baked)| {
+                    (
+                        job.image,
+                        job.sampler,
+                        job.triangles.as_slice(),
+                        baked.as_slice(),
+                    )
+                }),
+            )
+            .map_err(Failure::Io)?,
+        )
+    } else {
+        None
+    };
+    let preview_seconds = preview_started.elapsed().as_secs_f64();
+    let preview_skipped = drawn.as_ref().map_or(0, |d| d.skipped);
+    let preview_drawn = drawn.as_ref().map_or(0, |d| d.micro_triangles);
+    let preview_png = drawn.map(|d| d.png);
     let counts = StateCounts::from(report.counts);
     let micro = counts.total();
     let summary = Summary {
@@ -724,6 +760,9 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         index_width_bits: width.bytes() * 8,
         bake_seconds,
         micro_triangles_per_second: micro as f64 / bake_seconds.max(1e-9),
+        preview_seconds,
+        preview_micro_triangles: preview_drawn,
+        preview_micro_triangles_skipped: preview_skipped,
         jobs,
         warnings: input.warnings.clone(),
     };
@@ -746,16 +785,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
             summary_json.clone().into_bytes(),
         ),
     ];
-    if preview {
-        let png = crate::preview::render(
-            &input.images,
-            input
-                .jobs
-                .iter()
-                .zip(&baked.triangles)
-                .map(|(job, baked)| (job.image, job.triangles.as_slice(), baked.as_slice())),
-        )
-        .map_err(Failure::Io)?;
+    if let Some(png) = preview_png {
         files.push(("preview.png".to_string(), png));
     }
     // Without a preview, a stale preview.png (--force) is removed with the

@@ -656,3 +656,50 @@ fn an_output_over_the_size_limit_is_refused_before_baking() {
     assert_eq!(baked.status.code(), Some(0), "{}", stderr(&baked));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The preview draws each distinct triangle once and at most its pixel
+/// budget of micro-triangles; the rest are counted in `summary.json`, with
+/// the time it took (`preview_seconds`).
+#[test]
+fn the_preview_is_bounded_counted_and_timed() {
+    let dir = scratch("preview");
+    let same = dir.join("same.json");
+    let triangle = "[[0, 0], [1, 0], [0, 1]]";
+    std::fs::write(
+        &same,
+        format!("{{\"triangles\": [{}]}}", vec![triangle; 2000].join(", ")),
+    )
+    .unwrap();
+    let out = dir.join("same");
+    let mut args = bake_args(&same, &out, &[]);
+    let at = args.iter().position(|a| a == "--level").unwrap();
+    args[at + 1] = "3".to_owned();
+    let result = run_strings(&args);
+    assert_eq!(result.status.code(), Some(0), "{}", stderr(&result));
+    let summary: serde_json::Value = serde_json::from_slice(&result.stdout).unwrap();
+    assert_eq!(summary["preview_micro_triangles"], 64);
+    assert_eq!(summary["preview_micro_triangles_skipped"], 1999 * 64);
+    assert!(summary["preview_seconds"].as_f64().unwrap() >= 0.0);
+    // 1000 distinct whole-texture triangles at level 0: more pixels than the
+    // budget (2^27), so some are not drawn, and counted.
+    let many = dir.join("many.json");
+    let triangles: Vec<String> = (0..1000)
+        .map(|i| format!("[[0, 0], [1, {}], [0, 1]]", f64::from(i) / 1000.0))
+        .collect();
+    std::fs::write(
+        &many,
+        format!("{{\"triangles\": [{}]}}", triangles.join(", ")),
+    )
+    .unwrap();
+    let out = dir.join("many");
+    let mut args = bake_args(&many, &out, &[]);
+    args[at + 1] = "0".to_owned();
+    let result = run_strings(&args);
+    assert_eq!(result.status.code(), Some(0), "{}", stderr(&result));
+    let summary: serde_json::Value = serde_json::from_slice(&result.stdout).unwrap();
+    let drawn = summary["preview_micro_triangles"].as_u64().unwrap();
+    let skipped = summary["preview_micro_triangles_skipped"].as_u64().unwrap();
+    assert_eq!(drawn + skipped, 1000);
+    assert!(skipped > 0 && drawn > 0, "{drawn} drawn, {skipped} skipped");
+    let _ = std::fs::remove_dir_all(&dir);
+}
