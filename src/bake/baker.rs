@@ -202,6 +202,28 @@ pub struct Verification {
     pub checked: bool,
 }
 
+/// What [`Baker::verify_each`] counted for one triangle (the contradictions
+/// themselves went to its callback).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub struct VerifyCounts {
+    /// Known micro-triangles whose state the texture contradicts (every
+    /// one, also those the callback did not keep).
+    pub contradictions: u64,
+    /// Known micro-triangles checked.
+    pub known: u64,
+    /// Known micro-triangles past the caller's cap: not checked.
+    pub unchecked: u64,
+    /// Unknown micro-triangles (nothing to check).
+    pub unknown: u64,
+    /// Known micro-triangles the block budget could not decide (neither
+    /// confirmed nor contradicted).
+    pub undecided: u64,
+    /// `false` when the coordinates are not finite or off the exact grid:
+    /// then nothing was checked.
+    pub checked: bool,
+}
+
 /// A texture under a sampler and a cutoff, ready to bake and verify
 /// micromaps exactly (see the [module docs](super) for the model).
 ///
@@ -307,8 +329,21 @@ impl Baker {
         sampler: Sampler,
         cutoff: Cutoff,
     ) -> Result<Baker, TextureError> {
+        Self::new_within(texture, sampler, cutoff, u64::MAX)
+    }
+
+    /// [`new`](Self::new) with the tables held to `max_bytes` (`w h +
+    /// 4 (w + 1) (h + 1)` bytes): over it, or refused by the allocator,
+    /// the answer is [`TextureError::AllocationFailed`], never an abort
+    /// (`new` gives the same error when the allocator refuses).
+    pub fn new_within(
+        texture: &(impl AlphaTexture + ?Sized),
+        sampler: Sampler,
+        cutoff: Cutoff,
+        max_bytes: u64,
+    ) -> Result<Baker, TextureError> {
         Ok(Baker {
-            classes: TexelClasses::new(texture, sampler, cutoff)?,
+            classes: TexelClasses::new_within(texture, sampler, cutoff, max_bytes)?,
             budget: DEFAULT_BLOCK_BUDGET,
         })
     }
@@ -581,8 +616,37 @@ impl Baker {
     /// level-0 map) whose closed area can read a texel of the other class
     /// under this baker's sampler model is a [`Contradiction`], with an
     /// exact witness point. Unknown states are never contradicted.
+    ///
+    /// This form keeps every contradiction: its memory grows with their
+    /// number (about 40 bytes each; a wrong level-16 map can have 2^32).
+    /// [`verify_each`](Self::verify_each) hands each one to a callback
+    /// instead and caps the work.
     #[must_use]
     pub fn verify(&self, uv: &UvTriangle, opacity: &TriangleOpacity<'_>) -> Verification {
+        let mut contradictions = Vec::new();
+        let counts = self.verify_each(uv, opacity, u64::MAX, |c| contradictions.push(c));
+        Verification {
+            contradictions,
+            known: counts.known,
+            unknown: counts.unknown,
+            undecided: counts.undecided,
+            checked: counts.checked,
+        }
+    }
+
+    /// [`verify`](Self::verify) in bounded memory: each contradiction is
+    /// passed to `visit` as it is found (keep the first few, count the rest)
+    /// and only counts are returned. At most `max_known` known
+    /// micro-triangles are checked; the known ones past that cap are
+    /// counted in [`VerifyCounts::unchecked`], never silently dropped (a
+    /// caller must not call a triangle with `unchecked > 0` sound).
+    pub fn verify_each(
+        &self,
+        uv: &UvTriangle,
+        opacity: &TriangleOpacity<'_>,
+        max_known: u64,
+        mut visit: impl FnMut(Contradiction),
+    ) -> VerifyCounts {
         let level = match opacity {
             TriangleOpacity::Micromap(map) => map.level(),
             TriangleOpacity::Special(_) => Level(0),
@@ -591,7 +655,7 @@ impl Baker {
             TriangleOpacity::Micromap(map) => map.get(index).unwrap_or(State::UnknownOpaque),
             TriangleOpacity::Special(state) => *state,
         };
-        let mut report = Verification::default();
+        let mut report = VerifyCounts::default();
         let Ok((fx, fy)) = self.frames(uv, level) else {
             return report;
         };
@@ -602,6 +666,10 @@ impl Baker {
             let state = state_of(t.index());
             if !state.is_known() {
                 report.unknown += 1;
+                continue;
+            }
+            if report.known >= max_known {
+                report.unchecked += 1;
                 continue;
             }
             report.known += 1;
@@ -635,7 +703,8 @@ impl Baker {
                             self.classes.wrap(tx, ty)
                         },
                     );
-                    report.contradictions.push(Contradiction {
+                    report.contradictions += 1;
+                    visit(Contradiction {
                         micro_triangle: t.index(),
                         state,
                         witness: witness.map(|(x, y, extra)| TexelPoint {

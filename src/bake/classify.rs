@@ -213,10 +213,29 @@ pub(crate) struct Search {
 }
 
 impl TexelClasses {
+    #[cfg(test)]
     pub(crate) fn new(
         texture: &(impl AlphaTexture + ?Sized),
         sampler: Sampler,
         cutoff: Cutoff,
+    ) -> Result<TexelClasses, TextureError> {
+        Self::new_within(texture, sampler, cutoff, u64::MAX)
+    }
+
+    /// The bytes the tables of a `width x height` texture take: `w h` class
+    /// bytes and `4 (w + 1) (h + 1)` bytes of prefix sums (saturated).
+    pub(crate) fn table_bytes(width: u32, height: u32) -> u64 {
+        let (w, h) = (u64::from(width), u64::from(height));
+        (w * h).saturating_add((w + 1) * (h + 1) * 4)
+    }
+
+    /// The tables, allocated fallibly (`try_reserve_exact`) and only if
+    /// they fit `max_bytes`.
+    pub(crate) fn new_within(
+        texture: &(impl AlphaTexture + ?Sized),
+        sampler: Sampler,
+        cutoff: Cutoff,
+        max_bytes: u64,
     ) -> Result<TexelClasses, TextureError> {
         let (width, height) = (texture.width(), texture.height());
         if width == 0 || height == 0 {
@@ -228,16 +247,40 @@ impl TexelClasses {
         if sampler.border_alpha.is_nan() {
             return Err(TextureError::NanThreshold);
         }
+        let bytes = Self::table_bytes(width, height);
+        let failed = TextureError::AllocationFailed {
+            bytes,
+            limit: max_bytes,
+        };
+        if bytes > max_bytes {
+            return Err(failed);
+        }
+        // Sizes in `usize` (checked: a 32-bit target cannot hold a 2^31
+        // texture's tables), reserved fallibly: never a capacity-overflow
+        // panic or an allocation abort.
         let stride = width as usize + 1;
+        let texels = usize::try_from(u64::from(width) * u64::from(height));
+        let sums_len = usize::try_from((u64::from(width) + 1) * (u64::from(height) + 1));
+        let (Ok(texels), Ok(sums_len)) = (texels, sums_len) else {
+            return Err(failed);
+        };
         // Both tables are appended row by row, never zero-filled first
         // (this pass is a large part of a bake of few micro-triangles).
-        let mut opaque = Vec::with_capacity(width as usize * height as usize);
+        let mut opaque: Vec<u8> = Vec::new();
+        opaque
+            .try_reserve_exact(texels)
+            .map_err(|_| failed.clone())?;
+        let mut prefix: Vec<u32> = Vec::new();
+        prefix
+            .try_reserve_exact(sums_len)
+            .map_err(|_| failed.clone())?;
+        let mut sums: Vec<u32> = Vec::new();
+        sums.try_reserve_exact(stride).map_err(|_| failed)?;
+        sums.resize(stride, 0);
         for y in 0..height {
             opaque.extend((0..width).map(|x| u8::from(texture.is_opaque(x, y, &cutoff))));
         }
-        let mut prefix = Vec::with_capacity(stride * (height as usize + 1));
-        // The row of sums being built, from the one above, in place.
-        let mut sums = alloc::vec![0u32; stride];
+        // `sums`: the row of sums being built, from the one above, in place.
         prefix.extend_from_slice(&sums);
         for row in opaque.chunks_exact(width as usize) {
             let mut run = 0u32;

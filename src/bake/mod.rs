@@ -89,7 +89,7 @@ mod texture;
 
 pub use baker::{
     BakeError, BakedOpacity, BakedTriangle, Baker, Contradiction, TexelPoint, TriangleStatus,
-    UvTriangle, Verification, DEFAULT_BLOCK_BUDGET,
+    UvTriangle, Verification, VerifyCounts, DEFAULT_BLOCK_BUDGET,
 };
 pub use texture::{
     AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Sampler, SliceTexture,
@@ -102,7 +102,9 @@ use alloc::vec::Vec;
 
 /// The paper's highest useful level (eq. 1): the smallest `n` with every UV
 /// edge, measured in texels (`(du W, dv H)`), at most `2^n` long, capped at
-/// `max`. A triangle with a non-finite coordinate gets level 0.
+/// `max` and at [`Micromap::MAX_LEVEL`] (16, the highest level a micromap
+/// has and the baker bakes). A triangle with a non-finite coordinate gets
+/// level 0.
 ///
 /// ```
 /// use micromap_index::bake::useful_level;
@@ -129,9 +131,10 @@ pub fn useful_level(uv: &UvTriangle, (width, height): (u32, u32), max: Level) ->
         }
         longest = longest.max(squared);
     }
+    let max = max.get().min(Micromap::MAX_LEVEL);
     let mut level = 0;
     let mut span = 1f64;
-    while span < longest && level < max.get() {
+    while span < longest && level < max {
         level += 1;
         span *= 4.0;
     }
@@ -141,7 +144,9 @@ pub fn useful_level(uv: &UvTriangle, (width, height): (u32, u32), max: Level) ->
 /// Levels for many triangles that fit `budget_bytes` of micromap data: each
 /// triangle's `wanted` level, capped by one level for all, the highest cap
 /// whose total [`Micromap::byte_len`] fits. If even level 0 does not fit,
-/// every triangle gets level 0.
+/// every triangle gets level 0. Wanted levels above
+/// [`Micromap::MAX_LEVEL`] (16) are taken as 16; the total saturates, so
+/// no level or count overflows it.
 ///
 /// ```
 /// use micromap_index::bake::levels_within_budget;
@@ -156,12 +161,17 @@ pub fn useful_level(uv: &UvTriangle, (width, height): (u32, u32), max: Level) ->
 #[must_use]
 pub fn levels_within_budget(wanted: &[Level], format: Format, budget_bytes: u64) -> Vec<Level> {
     let total = |cap: u32| -> u64 {
-        wanted
-            .iter()
-            .map(|l| Micromap::byte_len(Level(l.get().min(cap) as u8), format) as u64)
-            .sum()
+        wanted.iter().fold(0u64, |sum, l| {
+            let bytes = Micromap::byte_len(Level(l.get().min(cap) as u8), format) as u64;
+            sum.saturating_add(bytes)
+        })
     };
-    let mut cap = wanted.iter().map(|l| l.get()).max().unwrap_or(0);
+    let mut cap = wanted
+        .iter()
+        .map(|l| l.get())
+        .max()
+        .unwrap_or(0)
+        .min(Micromap::MAX_LEVEL);
     while cap > 0 && total(cap) > budget_bytes {
         cap -= 1;
     }

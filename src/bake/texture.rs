@@ -51,6 +51,17 @@ pub enum TextureError {
     },
     /// The cutoff or the border alpha is NaN.
     NanThreshold,
+    /// The baker's tables (`w h` class bytes and `4 (w + 1) (h + 1)` bytes
+    /// of prefix sums) could not be allocated: over the caller's limit
+    /// ([`Baker::new_within`](super::Baker::new_within)), past the address
+    /// space, or refused by the allocator. Never an abort.
+    AllocationFailed {
+        /// The bytes the tables need (saturated at `u64::MAX`).
+        bytes: u64,
+        /// The limit they were held to (`u64::MAX`: none but the
+        /// allocator's).
+        limit: u64,
+    },
 }
 
 impl fmt::Display for TextureError {
@@ -64,6 +75,16 @@ impl fmt::Display for TextureError {
                 write!(f, "a {width}x{height} texture has 2^32 texels or more")
             }
             TextureError::NanThreshold => f.write_str("the cutoff or the border alpha is NaN"),
+            TextureError::AllocationFailed { bytes, limit } => {
+                if *limit == u64::MAX {
+                    write!(f, "cannot allocate the baker's {bytes}-byte texel tables")
+                } else {
+                    write!(
+                        f,
+                        "the baker's texel tables need {bytes} bytes, over the limit of {limit} bytes"
+                    )
+                }
+            }
         }
     }
 }

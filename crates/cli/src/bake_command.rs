@@ -5,8 +5,8 @@
 //! the inputs and serialises the results; `preview.rs` draws the picture.
 
 use crate::args::{Command, Flag, Parsed};
-use crate::output::{print_then, Exit, Failure};
-use crate::write_all_or_nothing::{check_destination, write_files};
+use crate::output::{print_then, report, Exit, Failure};
+use crate::write_all_or_nothing::{install_interrupt_handler, Destination, Refusal};
 use micromap_index::bake::mesh::{
     bake_meshes, LevelRule, Material, Mesh, MeshBakeError, MeshOptions, MeshTriangles,
 };
@@ -77,9 +77,20 @@ pub(crate) static BAKE: Command = Command {
     summary.json            states, known fraction, micromaps, sizes, time
     preview.png             the texture with every micro-triangle coloured by
                             state (green opaque, blue transparent, yellow
-                            unknown-opaque, red unknown-transparent)
-  Exit 0 baked; 2 bad options or malformed input (nothing written); 3
-  unreadable input or unwritable DIR (nothing written).",
+                            unknown-opaque, red unknown-transparent), wrapped
+                            with the job's address modes; each distinct
+                            triangle once, at most 2^27 pixels of
+                            micro-triangles (summary.json counts the rest)
+  DIR is locked (DIR/.micromap-index.lock) from the check to the last
+  rename: a second bake into the same DIR is refused (exit 3) and never
+  mixes its files with the first one's. Ctrl-C removes the temporaries,
+  backups, lock and any directory the bake created, and leaves DIR as it
+  was (exit 130).
+  Exit 0 baked; 2 bad options, malformed input, or existing outputs without
+  --force (nothing written); 3 unreadable input, unwritable DIR or DIR in
+  use by another bake (nothing written), or stdout unwritable after DIR was
+  written (DIR complete); 130 interrupted (nothing written); 141 stdout
+  closed (DIR complete).",
     flags: &{
         const SAMPLER: [Flag; 7] = sampler_flags!();
         [
@@ -121,6 +132,12 @@ pub(crate) static BAKE: Command = Command {
                 "16|32",
                 "micromap-indices.bin width (default 32)",
             ),
+            Flag::value(
+                "--max-bytes",
+                "N",
+                "refuse (exit 2) before baking when the output may exceed N bytes
+                         (default 1073741824; the estimate counts every map before dedup)",
+            ),
             Flag::switch("--force", "replace existing files in DIR"),
             Flag::switch("--no-preview", "skip preview.png"),
             Flag::switch("--quiet", "no progress on stderr"),
@@ -138,8 +155,20 @@ pub(crate) static VERIFY_BAKE: Command = Command {
   the other class under the sampler model is reported with an exact witness
   point (texel coordinates as n/2^k), the texel and its alpha. Unknown
   states are never wrong.
-  Exit 0 sound; 1 contradictions found; 2 bad options or malformed buffers;
-  3 unreadable input.",
+  Every contradiction is counted; only the first --max-report N (default
+  20) are kept and printed, so memory stays bounded. --max-checks N stops
+  checking after N known micro-triangles (default: no cap); the rest are
+  reported as not checked and the verdict is INCOMPLETE (exit 1), never
+  sound.
+  The layout is checked first, as micromap::read_buffers does: the usage
+  counts (DIR/micromap-usage.bin, required unless --no-usage) against the
+  records, no two blocks overlapping and no data after the last block
+  (--lenient-layout accepts both). Each buffer file is read up to a limit
+  named in its error (data 5 GiB, records and indices 1 GiB, usage counts
+  1 MiB; --texture and --triangles 1 GiB).
+  Exit 0 sound; 1 contradictions found or INCOMPLETE; 2 bad options or
+  malformed buffers (a layout error, a file over its limit); 3 unreadable
+  input.",
     flags: &{
         const SAMPLER: [Flag; 7] = sampler_flags!();
         [
@@ -163,7 +192,24 @@ pub(crate) static VERIFY_BAKE: Command = Command {
                 "micromap-indices.bin width (default 32)",
             ),
             Flag::switch("--json", "the report as JSON"),
-            Flag::value("--max-report", "N", "contradictions listed (default 20)"),
+            Flag::value(
+                "--max-report",
+                "N",
+                "contradictions kept and listed (default 20)",
+            ),
+            Flag::value(
+                "--max-checks",
+                "N",
+                "known micro-triangles checked at most (default: all)",
+            ),
+            Flag::switch(
+                "--no-usage",
+                "no micromap-usage.bin to check (other bakers' outputs)",
+            ),
+            Flag::switch(
+                "--lenient-layout",
+                "accept overlapping blocks and trailing data",
+            ),
         ]
     },
 };
@@ -312,8 +358,46 @@ fn sampler_options(p: &Parsed<'_>) -> Result<SamplerOptions, Failure> {
     })
 }
 
-fn read_file(path: &Path) -> Result<Vec<u8>, Failure> {
-    std::fs::read(path).map_err(|e| Failure::Io(format!("cannot read {}: {e}", path.display())))
+/// The most bytes `--texture` and `--triangles` may hold (the 1 GiB the glTF
+/// reader allows a whole asset).
+const INPUT_FILE_LIMIT: u64 = 1 << 30;
+/// The most bytes `micromap-data.bin` may hold: every block lies below a
+/// 32-bit offset plus one level-16 4-state block (1 GiB).
+const DATA_FILE_LIMIT: u64 = (1 << 32) + (1 << 30);
+/// The most bytes `micromap-triangles.bin` and `micromap-indices.bin` may
+/// hold (2^27 records or 2^28 32-bit indices).
+const RECORD_FILE_LIMIT: u64 = 1 << 30;
+/// The most bytes `micromap-usage.bin` may hold (87,381 entries; 34 are
+/// enough for every level and format).
+const USAGE_FILE_LIMIT: u64 = 1 << 20;
+
+/// `path`'s bytes, refused past `limit` bytes (read at most `limit + 1`, so
+/// `/dev/zero` or an endless pipe cannot exhaust memory): exit 2 with a
+/// message naming the limit; unreadable: exit 3.
+fn read_file(path: &Path, limit: u64, what: &str) -> Result<Vec<u8>, Failure> {
+    use std::io::Read as _;
+    let io = |e: std::io::Error| Failure::Io(format!("cannot read {}: {e}", path.display()));
+    let file = std::fs::File::open(path).map_err(io)?;
+    let too_large = || {
+        Failure::Malformed(format!(
+            "{}: over the limit of {limit} bytes for {what}",
+            path.display()
+        ))
+    };
+    // A regular file's size is known at once; a pipe or a device is read
+    // up to the limit.
+    if file
+        .metadata()
+        .is_ok_and(|m| m.is_file() && m.len() > limit)
+    {
+        return Err(too_large());
+    }
+    let mut bytes = Vec::new();
+    file.take(limit + 1).read_to_end(&mut bytes).map_err(io)?;
+    if bytes.len() as u64 > limit {
+        return Err(too_large());
+    }
+    Ok(bytes)
 }
 
 fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
@@ -361,10 +445,17 @@ fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
             })
         }
         (None, Some(texture), Some(triangles)) => {
-            let image = decode_alpha_image(&read_file(Path::new(texture))?, &limits)
-                .map_err(|e| Failure::Malformed(format!("{texture}: {e}")))?;
-            let triangles = read_triangles_json(&read_file(Path::new(triangles))?)
-                .map_err(|e| Failure::Malformed(format!("{triangles}: {e}")))?;
+            let image = decode_alpha_image(
+                &read_file(Path::new(texture), INPUT_FILE_LIMIT, "a --texture file")?,
+                &limits,
+            )
+            .map_err(|e| Failure::Malformed(format!("{texture}: {e}")))?;
+            let triangles = read_triangles_json(&read_file(
+                Path::new(triangles),
+                INPUT_FILE_LIMIT,
+                "a --triangles file",
+            )?)
+            .map_err(|e| Failure::Malformed(format!("{triangles}: {e}")))?;
             Ok(Input {
                 images: vec![image],
                 jobs: vec![Job {
@@ -456,6 +547,12 @@ struct Summary {
     index_width_bits: usize,
     bake_seconds: f64,
     micro_triangles_per_second: f64,
+    /// Drawing preview.png (0 with --no-preview).
+    preview_seconds: f64,
+    /// Micro-triangles drawn in preview.png.
+    preview_micro_triangles: u64,
+    /// Not drawn: repeated triangles, or past the preview's pixel budget.
+    preview_micro_triangles_skipped: u64,
     jobs: Vec<JobSummary>,
     warnings: Vec<String>,
 }
@@ -477,6 +574,38 @@ impl From<micromap_index::bake::mesh::StatusCounts> for StatusCounts {
             budget_exceeded: s.budget_exceeded,
         }
     }
+}
+
+/// The default limit on bake's estimated output (`--max-bytes`): 1 GiB, 256
+/// level-12 4-state maps.
+const DEFAULT_MAX_OUTPUT_BYTES: u64 = 1 << 30;
+
+/// An upper bound on the bytes bake writes (data before deduplication,
+/// records, indices, usage counts), from the levels `bake_meshes` chooses.
+fn output_estimate(
+    input: &Input,
+    fixed_level: Option<Level>,
+    max_level: Level,
+    budget: Option<u64>,
+    format: Format,
+    width: IndexWidth,
+) -> u64 {
+    let mut levels = Vec::new();
+    for job in &input.jobs {
+        let image = &input.images[job.image];
+        let size = (image.width, image.height);
+        levels.extend(job.triangles.iter().map(|uv| {
+            fixed_level.unwrap_or_else(|| micromap_index::bake::useful_level(uv, size, max_level))
+        }));
+    }
+    if let Some(budget) = budget {
+        levels = micromap_index::bake::levels_within_budget(&levels, format, budget);
+    }
+    let per_triangle = 8 + width.bytes() as u64;
+    levels.iter().fold(34 * 12, |sum: u64, &level| {
+        sum.saturating_add(micromap_index::micromap::Micromap::byte_len(level, format) as u64)
+            .saturating_add(per_triangle)
+    })
 }
 
 pub(crate) fn run_bake(options: &[&str]) -> Exit {
@@ -527,10 +656,30 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
             "--budget chooses levels: it goes with --level auto".into(),
         ));
     }
+    let max_bytes = p
+        .get("--max-bytes")
+        .map(|t| {
+            t.parse::<u64>().map_err(|_| {
+                Failure::Malformed(format!("--max-bytes {t:?}: expected a byte count"))
+            })
+        })
+        .transpose()?
+        .unwrap_or(DEFAULT_MAX_OUTPUT_BYTES);
     let width = index_width(&p)?;
     let s = sampler_options(&p)?;
     let preview = !p.flag("--no-preview");
-    check_destination(&out, &OUTPUTS, p.flag("--force")).map_err(Failure::Malformed)?;
+    if let Err(message) = install_interrupt_handler() {
+        report(format_args!(
+            "bake: {message}; Ctrl-C may leave temporaries"
+        ));
+    }
+    // Held (locked) until the files are written or the bake fails; dropping
+    // it removes the lock and the directories it created.
+    let destination =
+        Destination::claim(&out, &OUTPUTS, p.flag("--force")).map_err(|refusal| match refusal {
+            Refusal::Refused(message) => Failure::Malformed(message),
+            Refusal::Io(message) => Failure::Io(message),
+        })?;
     let input = read_input(&p, &s)?;
 
     // The textures as the baker reads them, and one mesh per job.
@@ -557,6 +706,17 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
             vertex_alpha: job.vertex_alpha.as_deref(),
         })
         .collect();
+    // The output's size before deduplication (an upper bound: maps that
+    // dedup or become special indices only shrink it), from the same levels
+    // bake_meshes chooses, checked before any micro-triangle is baked.
+    let estimate = output_estimate(&input, fixed_level, max_level, budget, format, width);
+    if estimate > max_bytes {
+        return Err(Failure::Malformed(format!(
+            "the output may take up to {estimate} bytes (before deduplication), over the \
+             limit of {max_bytes} bytes; nothing written (--max-bytes raises the limit, \
+             --budget or a lower --level/--max-level shrinks the output)"
+        )));
+    }
     let options = MeshOptions {
         levels: match fixed_level {
             Some(level) => LevelRule::Fixed(level),
@@ -625,6 +785,33 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
             summary
         })
         .collect();
+    // The preview before the summary, which times it.
+    let preview_started = Instant::now();
+    let drawn = if preview {
+        if show_progress {
+            crate::output::to_stderr("drawing preview.png\n");
+        }
+        Some(
+            crate::preview::render(
+                &input.images,
+                input.jobs.iter().zip(&baked.triangles).map(|(job, baked)| {
+                    (
+                        job.image,
+                        job.sampler,
+                        job.triangles.as_slice(),
+                        baked.as_slice(),
+                    )
+                }),
+            )
+            .map_err(Failure::Io)?,
+        )
+    } else {
+        None
+    };
+    let preview_seconds = preview_started.elapsed().as_secs_f64();
+    let preview_skipped = drawn.as_ref().map_or(0, |d| d.skipped);
+    let preview_drawn = drawn.as_ref().map_or(0, |d| d.micro_triangles);
+    let preview_png = drawn.map(|d| d.png);
     let counts = StateCounts::from(report.counts);
     let micro = counts.total();
     let summary = Summary {
@@ -643,6 +830,9 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         index_width_bits: width.bytes() * 8,
         bake_seconds,
         micro_triangles_per_second: micro as f64 / bake_seconds.max(1e-9),
+        preview_seconds,
+        preview_micro_triangles: preview_drawn,
+        preview_micro_triangles_skipped: preview_skipped,
         jobs,
         warnings: input.warnings.clone(),
     };
@@ -665,19 +855,13 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
             summary_json.clone().into_bytes(),
         ),
     ];
-    if preview {
-        let png = crate::preview::render(
-            &input.images,
-            input
-                .jobs
-                .iter()
-                .zip(&baked.triangles)
-                .map(|(job, baked)| (job.image, job.triangles.as_slice(), baked.as_slice())),
-        )
-        .map_err(Failure::Io)?;
+    if let Some(png) = preview_png {
         files.push(("preview.png".to_string(), png));
     }
-    write_files(&out, &files).map_err(Failure::Io)?;
+    // Without a preview, a stale preview.png (--force) is removed with the
+    // same all-or-nothing commit.
+    let stale: &[&str] = if preview { &[] } else { &["preview.png"] };
+    destination.write(&files, stale).map_err(Failure::Io)?;
     Ok((summary_json, Exit::Success))
 }
 
@@ -705,8 +889,16 @@ struct VerifyJson {
     unknown_micro_triangles: u64,
     unknown_fraction: f64,
     undecided: u64,
+    /// Known micro-triangles past `--max-checks`: not checked.
+    unchecked_micro_triangles: u64,
+    /// Every known micro-triangle was checked (no `--max-checks` cut).
+    complete: bool,
     contradictions: u64,
     first_contradictions: Vec<ContradictionJson>,
+    /// Whether `micromap-usage.bin` was checked (not with `--no-usage`).
+    usage_counts_checked: bool,
+    /// Data after the last block (only accepted with `--lenient-layout`).
+    trailing_data_bytes: u64,
     sound: bool,
 }
 
@@ -728,28 +920,80 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
         .unwrap_or("20")
         .parse()
         .map_err(|_| Failure::Malformed("--max-report: expected a count".into()))?;
+    let max_checks = match p.get("--max-checks") {
+        None => u64::MAX,
+        Some(text) => text
+            .parse()
+            .map_err(|_| Failure::Malformed(format!("--max-checks {text:?}: expected a count")))?,
+    };
     let width = index_width(&p)?;
     let s = sampler_options(&p)?;
     let input = read_input(&p, &s)?;
     let job = &input.jobs[0];
-    let data = read_file(&dir.join("micromap-data.bin"))?;
-    let records = read_file(&dir.join("micromap-triangles.bin"))?;
-    let index_bytes = read_file(&dir.join("micromap-indices.bin"))?;
+    let data = read_file(
+        &dir.join("micromap-data.bin"),
+        DATA_FILE_LIMIT,
+        "micromap data",
+    )?;
+    let records = read_file(
+        &dir.join("micromap-triangles.bin"),
+        RECORD_FILE_LIMIT,
+        "triangle records",
+    )?;
+    let index_bytes = read_file(
+        &dir.join("micromap-indices.bin"),
+        RECORD_FILE_LIMIT,
+        "indices",
+    )?;
+    let lenient = p.flag("--lenient-layout");
+    let usage_path = dir.join("micromap-usage.bin");
+    let usage = if p.flag("--no-usage") {
+        None
+    } else if usage_path.exists() {
+        Some(read_file(&usage_path, USAGE_FILE_LIMIT, "usage counts")?)
+    } else {
+        return Err(Failure::Malformed(format!(
+            "{} is missing: the usage counts are checked against the records \
+             (--no-usage skips the check, for bakers that write none)",
+            usage_path.display()
+        )));
+    };
     let read = read_buffers(
         &BufferBytes {
             records: &records,
             data: &data,
-            usage_counts: None,
+            usage_counts: usage.as_deref(),
             indices: Some((&index_bytes, width)),
         },
         &ReadOptions {
-            overlap: micromap_index::micromap::Overlap::Allow {
-                max_decoded_bytes: 1 << 32,
+            overlap: if lenient {
+                micromap_index::micromap::Overlap::Allow {
+                    max_decoded_bytes: DATA_FILE_LIMIT,
+                }
+            } else {
+                micromap_index::micromap::Overlap::Forbid
             },
             ..ReadOptions::default()
         },
     )
     .map_err(|e| Failure::Malformed(format!("{}: {e}", dir.display())))?;
+    // Data past the last block: no record reaches it (read_buffers checks
+    // that every block lies inside the data, not that the data ends there).
+    let used_end = read
+        .records
+        .iter()
+        .zip(&read.micromaps)
+        .map(|(r, m)| u64::from(r.data_offset) + m.as_bytes().len() as u64)
+        .max()
+        .unwrap_or(0);
+    let trailing_data_bytes = data.len() as u64 - used_end.min(data.len() as u64);
+    if trailing_data_bytes > 0 && !lenient {
+        return Err(Failure::Malformed(format!(
+            "{}: {trailing_data_bytes} bytes of micromap-data.bin after the last block \
+             (byte {used_end}) belong to no record (--lenient-layout accepts them)",
+            dir.display()
+        )));
+    }
     let indices = read.indices.unwrap_or_default();
     if indices.len() != job.triangles.len() {
         return Err(Failure::Malformed(format!(
@@ -773,8 +1017,12 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
         unknown_micro_triangles: 0,
         unknown_fraction: 0.0,
         undecided: 0,
+        unchecked_micro_triangles: 0,
+        complete: true,
         contradictions: 0,
         first_contradictions: Vec::new(),
+        usage_counts_checked: usage.is_some(),
+        trailing_data_bytes,
         sound: true,
     };
     for (t, (uv, index)) in job.triangles.iter().zip(&indices).enumerate() {
@@ -782,17 +1030,15 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
             MicromapIndex::Record(r) => TriangleOpacity::Micromap(&read.micromaps[r as usize]),
             MicromapIndex::Special(state) => TriangleOpacity::Special(state),
         };
-        let v = baker.verify(uv, &opacity);
-        out.triangles_checked += usize::from(v.checked);
-        out.known_micro_triangles += v.known;
-        out.unknown_micro_triangles += v.unknown;
-        out.undecided += v.undecided;
-        out.contradictions += v.contradictions.len() as u64;
-        for c in v.contradictions {
-            if out.first_contradictions.len() >= max_report {
-                break;
+        // Only the first --max-report contradictions are kept (the rest are
+        // counted), so memory stays bounded however wrong the maps are.
+        let first = &mut out.first_contradictions;
+        let remaining = max_checks.saturating_sub(out.known_micro_triangles);
+        let v = baker.verify_each(uv, &opacity, remaining, |c| {
+            if first.len() >= max_report {
+                return;
             }
-            out.first_contradictions.push(ContradictionJson {
+            first.push(ContradictionJson {
                 triangle: t,
                 micro_triangle: c.micro_triangle,
                 state: c.state.to_string(),
@@ -809,11 +1055,18 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
                     None => f64::from(job.sampler.border_alpha),
                 },
             });
-        }
+        });
+        out.triangles_checked += usize::from(v.checked);
+        out.known_micro_triangles += v.known;
+        out.unchecked_micro_triangles += v.unchecked;
+        out.unknown_micro_triangles += v.unknown;
+        out.undecided += v.undecided;
+        out.contradictions += v.contradictions;
     }
     let micro = out.known_micro_triangles + out.unknown_micro_triangles;
     out.unknown_fraction = out.unknown_micro_triangles as f64 / micro.max(1) as f64;
-    out.sound = out.contradictions == 0;
+    out.complete = out.unchecked_micro_triangles == 0;
+    out.sound = out.contradictions == 0 && out.complete;
     let exit = if out.sound {
         Exit::Success
     } else {
@@ -824,7 +1077,13 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
     } else {
         let mut text = format!(
             "{}: {} triangles ({} checked), {} known and {} unknown micro-triangles (unknown fraction {:.4}), {} undecided\n",
-            if out.sound { "sound" } else { "NOT SOUND" },
+            if out.sound {
+                "sound"
+            } else if out.contradictions == 0 {
+                "INCOMPLETE"
+            } else {
+                "NOT SOUND"
+            },
             out.triangles,
             out.triangles_checked,
             out.known_micro_triangles,
@@ -832,6 +1091,13 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
             out.unknown_fraction,
             out.undecided
         );
+        if !out.complete {
+            let _ = writeln!(
+                text,
+                "not checked: {} known micro-triangles past --max-checks",
+                out.unchecked_micro_triangles
+            );
+        }
         let _ = writeln!(text, "contradictions: {}", out.contradictions);
         for c in &out.first_contradictions {
             let witness = match &c.witness_texel_space {

@@ -21,11 +21,12 @@
 //! * 141 — stdout closed by its reader (the table in `micromap-index help`).
 
 use crate::args::{level_range, Command, Flag, Parsed};
-use crate::input::{open, read_bytes, shown_path};
+use crate::input::{open, shown_path};
 use crate::output::{self, print_then, Exit, Failure};
 use micromap_index_conformance::vectors::{
     check_reader, is_known_tag, parse_answers, tag, Selection,
 };
+use std::io::{self, Read};
 
 /// Examples per class when `--examples` is not given.
 const DEFAULT_EXAMPLES: usize = 5;
@@ -88,7 +89,9 @@ fn check(options: &[&str]) -> Result<Exit, Failure> {
         }
     };
     let selection = selection(&options).map_err(Failure::Usage)?;
-    let answers = read_bytes(answers_path).map_err(Failure::Io)?;
+    let answers = read_answers(answers_path)
+        .map_err(Failure::Io)?
+        .map_err(Failure::Malformed)?;
     let answers = parse_answers(&answers)
         .map_err(|e| Failure::Malformed(format!("{}: {e}", shown_path(answers_path))))?;
     let reader = open(vectors_path).map_err(Failure::Io)?;
@@ -137,4 +140,31 @@ fn selection(options: &Parsed<'_>) -> Result<Selection, String> {
         }
     }
     Ok(selection)
+}
+
+/// The most bytes `--answers` may hold (the 1 GiB the bake inputs allow:
+/// answers to every published vector take a few megabytes).
+const MAX_ANSWERS_BYTES: u64 = 1 << 30;
+
+/// The answers file's bytes (`-`: stdin), read up to [`MAX_ANSWERS_BYTES`]
+/// (an endless pipe stops there): `Err` unreadable (exit 3), `Ok(Err)` over
+/// the limit (exit 2, the message names it).
+fn read_answers(path: &str) -> Result<Result<Vec<u8>, String>, String> {
+    let reader: Box<dyn Read> = if path == "-" {
+        Box::new(io::stdin())
+    } else {
+        Box::new(std::fs::File::open(path).map_err(|e| format!("cannot read {path}: {e}"))?)
+    };
+    let mut bytes = Vec::new();
+    reader
+        .take(MAX_ANSWERS_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("reading {}: {e}", shown_path(path)))?;
+    if bytes.len() as u64 > MAX_ANSWERS_BYTES {
+        return Ok(Err(format!(
+            "{}: over the limit of {MAX_ANSWERS_BYTES} bytes for --answers",
+            shown_path(path)
+        )));
+    }
+    Ok(Ok(bytes))
 }

@@ -23,6 +23,7 @@ pub(crate) fn open(path: &str) -> Result<Box<dyn Read>, String> {
 }
 
 /// The file's bytes (`-`: stdin), or a message naming it.
+#[allow(dead_code)] // used by micromap-lab's vectors, which compiles this file in
 pub(crate) fn read_bytes(path: &str) -> Result<Vec<u8>, String> {
     if path == "-" {
         let mut bytes = Vec::new();

@@ -2,7 +2,7 @@
 //! several) in grey, every micro-triangle of every triangle tinted by its
 //! state, the mesh triangles' edges in white.
 
-use micromap_index::bake::{BakedTriangle, UvTriangle};
+use micromap_index::bake::{AddressMode, BakedTriangle, Sampler, UvTriangle};
 use micromap_index::inverse::micro_triangles;
 use micromap_index::micromap::State;
 use micromap_index_assets::{AlphaImage, AlphaTexels};
@@ -13,6 +13,23 @@ const COLOURS: [[u8; 3]; 4] = [[40, 90, 255], [40, 200, 60], [235, 60, 40], [250
 
 /// The largest side of the picture we aim for.
 const TARGET: u32 = 1024;
+
+/// The most pixels the micro-triangles of one preview may cover in total
+/// (2^27: about a second of drawing). Past it the rest are not drawn and
+/// are counted in [`Drawn::skipped`], so a bake of 10^6 overlapping
+/// triangles cannot make the preview take hours.
+pub(crate) const PIXEL_BUDGET: u64 = 1 << 27;
+
+/// What [`render`] drew.
+pub(crate) struct Drawn {
+    /// The PNG bytes.
+    pub(crate) png: Vec<u8>,
+    /// Micro-triangles drawn.
+    pub(crate) micro_triangles: u64,
+    /// Micro-triangles not drawn: past [`PIXEL_BUDGET`], or of a triangle
+    /// already drawn (the same UVs in the same job bake the same way).
+    pub(crate) skipped: u64,
+}
 
 struct Canvas {
     width: u32,
@@ -36,8 +53,8 @@ impl Canvas {
 /// The picture as PNG bytes. `jobs`: (image index, triangles, their bakes).
 pub(crate) fn render<'a>(
     images: &[AlphaImage],
-    jobs: impl Iterator<Item = (usize, &'a [UvTriangle], &'a [BakedTriangle])>,
-) -> Result<Vec<u8>, String> {
+    jobs: impl Iterator<Item = (usize, Sampler, &'a [UvTriangle], &'a [BakedTriangle])>,
+) -> Result<Drawn, String> {
     let max_side = images
         .iter()
         .map(|i| i.width.max(i.height))
@@ -76,14 +93,24 @@ pub(crate) fn render<'a>(
             }
         }
     }
-    for (image_index, triangles, baked) in jobs {
+    let mut pixels_left = PIXEL_BUDGET;
+    let (mut drawn, mut skipped) = (0u64, 0u64);
+    for (job, (image_index, sampler, triangles, baked)) in jobs.enumerate() {
         let image = &images[image_index];
         let tile = Tile {
             x0: offsets[image_index],
             width: image.width * scale,
             height: image.height * scale,
+            address: [sampler.address_u, sampler.address_v],
         };
+        let mut seen = std::collections::HashSet::new();
         for (uv, b) in triangles.iter().zip(baked) {
+            let level = b.opacity.level();
+            let count = 1u64 << (2 * level.get());
+            if !seen.insert((job, uv.map(|c| c.map(f32::to_bits)))) {
+                skipped += count;
+                continue;
+            }
             if uv
                 .iter()
                 .flatten()
@@ -91,7 +118,6 @@ pub(crate) fn render<'a>(
             {
                 continue;
             }
-            let level = b.opacity.level();
             for t in micro_triangles(level) {
                 let state = b.opacity.state(t.index()).unwrap_or(State::UnknownOpaque);
                 let n = f64::from(1u32 << level.get());
@@ -106,6 +132,13 @@ pub(crate) fn render<'a>(
                     };
                     (at(0, tile.width), at(1, tile.height))
                 });
+                let area = bounding_pixels(&corners);
+                if area > pixels_left {
+                    skipped += 1;
+                    continue;
+                }
+                pixels_left -= area;
+                drawn += 1;
                 tile.fill(&mut canvas, corners, COLOURS[state.bits() as usize], 0.55);
             }
             let corners = uv.map(|c| {
@@ -119,21 +152,68 @@ pub(crate) fn render<'a>(
             }
         }
     }
-    encode(&canvas)
+    Ok(Drawn {
+        png: encode(&canvas)?,
+        micro_triangles: drawn,
+        skipped,
+    })
+}
+
+/// The pixels of `p`'s bounding box (what `fill` visits), at least 1.
+fn bounding_pixels(p: &[(f64, f64); 3]) -> u64 {
+    let span = |k: fn(&(f64, f64)) -> f64| {
+        let lo = p.iter().map(k).fold(f64::INFINITY, f64::min).floor();
+        let hi = p.iter().map(k).fold(f64::NEG_INFINITY, f64::max).ceil();
+        (hi - lo).max(1.0)
+    };
+    let area = span(|q| q.0) * span(|q| q.1);
+    if area.is_finite() && area < 1e18 {
+        area as u64
+    } else {
+        u64::MAX
+    }
+}
+
+/// Where a pixel `i` of a `size`-pixel axis lands in the tile under `mode`
+/// (the texture's own wrapping), or `None` where the texture is not
+/// repeated (clamped axes draw only the tile itself).
+fn wrap(mode: AddressMode, i: i64, size: i64) -> Option<i64> {
+    let period = i.div_euclid(size);
+    let r = i.rem_euclid(size);
+    match mode {
+        AddressMode::Repeat => Some(r),
+        AddressMode::MirroredRepeat => Some(if period % 2 == 0 { r } else { size - 1 - r }),
+        AddressMode::MirrorClampToEdge => match period {
+            0 => Some(r),
+            -1 => Some(size - 1 - r),
+            _ => None,
+        },
+        // Clamp-to-edge, clamp-to-border and modes added later: only the
+        // tile itself.
+        _ => (period == 0).then_some(r),
+    }
 }
 
 struct Tile {
     x0: u32,
     width: u32,
     height: u32,
+    /// The job's address modes (u, v): a triangle past the unit square is
+    /// drawn where the sampler reads it.
+    address: [AddressMode; 2],
 }
 
 impl Tile {
-    /// Blends a pixel given in tile coordinates, wrapped into the tile (the
-    /// texture repeats for the picture's purpose).
+    /// Blends a pixel given in tile coordinates, wrapped into the tile with
+    /// the job's address modes (dropped where a clamped axis does not
+    /// repeat the texture).
     fn put(&self, canvas: &mut Canvas, x: i64, y: i64, colour: [u8; 3], weight: f32) {
-        let x = x.rem_euclid(i64::from(self.width));
-        let y = y.rem_euclid(i64::from(self.height));
+        let (Some(x), Some(y)) = (
+            wrap(self.address[0], x, i64::from(self.width)),
+            wrap(self.address[1], y, i64::from(self.height)),
+        ) else {
+            return;
+        };
         canvas.blend(i64::from(self.x0) + x, y, colour, weight);
     }
 
@@ -210,3 +290,81 @@ fn encode(canvas: &Canvas) -> Result<Vec<u8>, String> {
 
 /// Keeps `State` in scope for the colour table's order.
 const _: () = assert!(State::Opaque as usize == 1);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Pixels past the tile land where the sampler reads them: repeat
+    /// wraps, mirrored-repeat reflects every other period, mirror-clamp
+    /// reflects once, the clamps draw only the tile (they drew at
+    /// repeat-wrapped positions before).
+    #[test]
+    fn pixels_wrap_with_the_jobs_address_modes() {
+        let size = 4;
+        let at = |mode| (-5..9).map(|i| wrap(mode, i, size)).collect::<Vec<_>>();
+        let s = Some;
+        assert_eq!(
+            at(AddressMode::Repeat),
+            [
+                s(3),
+                s(0),
+                s(1),
+                s(2),
+                s(3),
+                s(0),
+                s(1),
+                s(2),
+                s(3),
+                s(0),
+                s(1),
+                s(2),
+                s(3),
+                s(0)
+            ]
+        );
+        assert_eq!(
+            at(AddressMode::MirroredRepeat),
+            [
+                s(3),
+                s(3),
+                s(2),
+                s(1),
+                s(0),
+                s(0),
+                s(1),
+                s(2),
+                s(3),
+                s(3),
+                s(2),
+                s(1),
+                s(0),
+                s(0)
+            ]
+        );
+        assert_eq!(
+            at(AddressMode::MirrorClampToEdge),
+            // Mirrored once, then clamped: past the tile only the edge.
+            [
+                None,
+                s(3),
+                s(2),
+                s(1),
+                s(0),
+                s(0),
+                s(1),
+                s(2),
+                s(3),
+                None,
+                None,
+                None,
+                None,
+                None
+            ]
+        );
+        for mode in [AddressMode::ClampToEdge, AddressMode::ClampToBorder] {
+            let expected: Vec<_> = (-5..9).map(|i| (0..4).contains(&i).then_some(i)).collect();
+            assert_eq!(at(mode), expected);
+        }
+    }
+}

@@ -193,10 +193,20 @@ fn encode(given: &[&str]) -> Result<String, Failure> {
     let text = match found.get("--states") {
         Some(text) if text != "-" => text,
         _ => {
+            // A level-L string has 4^L characters; stdin is read up to that
+            // and 4096 bytes of trailing whitespace, never endlessly.
+            let limit = (1u64 << (2 * level.get())) + 4096;
             let mut buffer = String::new();
             io::stdin()
+                .take(limit + 1)
                 .read_to_string(&mut buffer)
                 .map_err(|e| Failure::Io(format!("reading the states from stdin: {e}")))?;
+            if buffer.len() as u64 > limit {
+                return Err(Failure::Malformed(format!(
+                    "stdin: over the limit of {limit} bytes for a level-{level} state string \
+                     (4^{level} characters and 4096 bytes of whitespace)"
+                )));
+            }
             stdin_text = buffer;
             stdin_text.trim_end()
         }

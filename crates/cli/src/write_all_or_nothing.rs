@@ -4,17 +4,31 @@
 //! complete and synced.
 //!
 //! Each file is first written to a temporary file in the same directory and
-//! synced; an existing file it will replace is kept under a backup name (a
-//! hard link, or a copy where links are not supported); then the temporaries
-//! are renamed over their targets one by one (a rename within a directory
-//! replaces a file in one step, so a reader never sees a partial file). If a
-//! rename fails, the files renamed so far are put back from their backups or
-//! removed. Only a process killed in the middle (`kill -9`, power loss) can
-//! leave temporaries (`.NAME.PID.tmp`) behind.
+//! synced; an existing file it will replace (or remove) is kept under a
+//! backup name (a hard link, or a copy where links are not supported); then
+//! the temporaries are renamed over their targets one by one (a rename
+//! within a directory replaces a file in one step, so a reader never sees a
+//! partial file). If a rename fails, the files renamed so far are put back
+//! from their backups or removed.
+//!
+//! [`Destination`] (used by `bake`) adds what concurrent and interrupted
+//! use needs: a lock file (`DIR/.micromap-index.lock`, created with
+//! `O_EXCL`, so a second writer into the same directory is refused before it
+//! checks or writes anything, and the existence check and the renames of one
+//! writer cannot interleave with another's), the removal of the directories
+//! it created when nothing was committed, and a Ctrl-C handler
+//! ([`install_interrupt_handler`]) that rolls back and removes temporaries,
+//! backups and the lock before exiting 130. Only a process killed in the
+//! middle (`kill -9`, power loss) can leave temporaries (`.NAME.PID.tmp`),
+//! backups (`NAME.PID.old`) or the lock behind.
 
 use std::fs::{self, File};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+
+/// The lock file's name inside the destination directory.
+pub(crate) const LOCK_NAME: &str = ".micromap-index.lock";
 
 /// Why the destination was refused before anything was written.
 pub(crate) fn check_destination(dir: &Path, names: &[&str], force: bool) -> Result<(), String> {
@@ -52,16 +66,27 @@ pub(crate) fn check_destination(dir: &Path, names: &[&str], force: bool) -> Resu
 
 /// Writes `files` (name, bytes) into `dir`, creating `dir` if needed: all
 /// of them, or (after an error, which the message describes) none.
+#[allow(dead_code)] // micromap-lab's vectors --out (bake stages through Destination)
 pub(crate) fn write_files(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), String> {
     fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let mut staged = Staged::default();
-    let result = staged.write(dir, files);
-    staged.clean_up();
+    let staged = Mutex::new(Staged::default());
+    let result = Staged::write(&staged, |s| s, dir, files, &[]);
+    lock(&staged).clean_up();
     if result.is_ok() {
-        // Best effort: make the renames themselves durable.
-        let _ = File::open(dir).and_then(|d| d.sync_all());
+        sync_dir(dir);
     }
     result
+}
+
+/// Best effort: make the renames themselves durable.
+fn sync_dir(dir: &Path) {
+    let _ = File::open(dir).and_then(|d| d.sync_all());
+}
+
+/// The guard of `mutex`, also after a panic elsewhere (the state stays
+/// meaningful: every step leaves it consistent).
+fn lock<T>(mutex: &Mutex<T>) -> MutexGuard<'_, T> {
+    mutex.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
 /// The paths created so far, for the clean-up.
@@ -73,49 +98,80 @@ struct Staged {
     backups: Vec<(PathBuf, PathBuf)>,
     /// Targets renamed into place, in order.
     renamed: Vec<PathBuf>,
+    /// Old files removed (their backups put them back).
+    removed: Vec<PathBuf>,
     committed: bool,
 }
 
 impl Staged {
-    fn write(&mut self, dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), String> {
+    /// Writes `files` and removes the existing files named in `remove`.
+    /// Each step takes the lock on its own, so an interrupt handler can
+    /// take it between two steps (and never gives it back: it exits).
+    fn write<H>(
+        state: &Mutex<H>,
+        staged: fn(&mut H) -> &mut Staged,
+        dir: &Path,
+        files: &[(String, Vec<u8>)],
+        remove: &[&str],
+    ) -> Result<(), String> {
         let pid = std::process::id();
         let mut pairs = Vec::new();
         for (name, bytes) in files {
             let temporary = dir.join(format!(".{name}.{pid}.tmp"));
-            let mut file = File::options()
-                .write(true)
-                .create_new(true)
-                .open(&temporary)
-                .map_err(|e| format!("cannot create {}: {e}", temporary.display()))?;
-            self.temporaries.push(temporary.clone());
+            let mut file = {
+                let mut guard = lock(state);
+                let file = File::options()
+                    .write(true)
+                    .create_new(true)
+                    .open(&temporary)
+                    .map_err(|e| format!("cannot create {}: {e}", temporary.display()))?;
+                staged(&mut guard).temporaries.push(temporary.clone());
+                file
+            };
             file.write_all(bytes)
                 .and_then(|()| file.sync_all())
                 .map_err(|e| format!("cannot write {}: {e}", temporary.display()))?;
             pairs.push((temporary, dir.join(name)));
         }
-        for (_, target) in &pairs {
+        let removals: Vec<PathBuf> = remove
+            .iter()
+            .map(|name| dir.join(name))
+            .filter(|path| fs::symlink_metadata(path).is_ok_and(|m| m.is_file()))
+            .collect();
+        for target in pairs.iter().map(|(_, target)| target).chain(&removals) {
             if fs::symlink_metadata(target).is_ok_and(|m| m.is_file()) {
                 let backup = PathBuf::from(format!("{}.{pid}.old", target.display()));
+                let mut guard = lock(state);
                 keep_copy(target, &backup)
                     .map_err(|e| format!("cannot keep a backup of {}: {e}", target.display()))?;
-                self.backups.push((target.clone(), backup));
+                staged(&mut guard).backups.push((target.clone(), backup));
             }
         }
+        stall_for_tests();
         for (temporary, target) in pairs {
+            let mut guard = lock(state);
             fs::rename(&temporary, &target)
                 .map_err(|e| format!("cannot rename into {}: {e}", target.display()))?;
-            self.temporaries.retain(|t| *t != temporary);
-            self.renamed.push(target);
+            let staged = staged(&mut guard);
+            staged.temporaries.retain(|t| *t != temporary);
+            staged.renamed.push(target);
         }
-        self.committed = true;
+        for target in removals {
+            let mut guard = lock(state);
+            fs::remove_file(&target)
+                .map_err(|e| format!("cannot remove {}: {e}", target.display()))?;
+            staged(&mut guard).removed.push(target);
+        }
+        staged(&mut lock(state)).committed = true;
         Ok(())
     }
 
     /// Removes temporaries and backups; after a failure, first restores or
-    /// removes the targets renamed so far.
-    fn clean_up(self) {
+    /// removes the targets renamed so far and puts removed files back.
+    /// Leaves the state empty (a second call does nothing).
+    fn clean_up(&mut self) {
         if !self.committed {
-            for target in self.renamed.iter().rev() {
+            for target in self.renamed.iter().rev().chain(&self.removed) {
                 match self.backups.iter().find(|(t, _)| t == target) {
                     Some((_, backup)) => {
                         let _ = fs::rename(backup, target);
@@ -126,13 +182,209 @@ impl Staged {
                 }
             }
         }
-        for path in self.temporaries {
+        for path in self.temporaries.drain(..) {
             let _ = fs::remove_file(path);
         }
-        for (_, backup) in self.backups {
+        for (_, backup) in self.backups.drain(..) {
             let _ = fs::remove_file(backup);
         }
+        self.renamed.clear();
+        self.removed.clear();
     }
+}
+
+/// For the interrupt tests only: `MICROMAP_INDEX_TEST_STALL_MS=N` waits N
+/// milliseconds after the temporaries and backups are written, before the
+/// first rename (the moment with the most to clean up).
+fn stall_for_tests() {
+    if let Some(ms) = std::env::var("MICROMAP_INDEX_TEST_STALL_MS")
+        .ok()
+        .and_then(|v| v.parse::<u64>().ok())
+    {
+        std::thread::sleep(std::time::Duration::from_millis(ms));
+    }
+}
+
+/// Why [`Destination::claim`] refused a directory.
+pub(crate) enum Refusal {
+    /// The destination itself is wrong (exit 2): an empty path, not a
+    /// directory, an existing output without `--force`.
+    Refused(String),
+    /// Another writer holds the lock, or the directory or the lock cannot be
+    /// created (exit 3).
+    Io(String),
+}
+
+/// A destination directory held for one writer: created if needed, locked,
+/// checked; released (lock removed, the directories it created removed
+/// when still empty, anything staged rolled back) when dropped or
+/// interrupted.
+pub(crate) struct Destination {
+    state: Arc<Mutex<Held>>,
+}
+
+/// What a [`Destination`] has to undo.
+struct Held {
+    dir: PathBuf,
+    /// The lock file, until released.
+    lock: Option<PathBuf>,
+    /// Directories this writer created, outermost first.
+    created: Vec<PathBuf>,
+    staged: Staged,
+}
+
+impl Held {
+    /// Rolls back what was not committed, removes the lock and (when nothing
+    /// was committed) the directories it created if they are empty.
+    fn release(&mut self) {
+        let committed = self.staged.committed;
+        self.staged.clean_up();
+        if let Some(lock) = self.lock.take() {
+            let _ = fs::remove_file(lock);
+        }
+        if !committed {
+            for dir in self.created.drain(..).rev() {
+                // Fails (and keeps it) when something else is inside.
+                let _ = fs::remove_dir(dir);
+            }
+        }
+        self.created.clear();
+    }
+}
+
+/// The destinations held now, for the interrupt handler.
+static HELD: Mutex<Vec<Arc<Mutex<Held>>>> = Mutex::new(Vec::new());
+
+impl Destination {
+    /// Creates `dir` (and missing parents) if needed, takes its lock and
+    /// checks it as [`check_destination`] does, all before anything is read
+    /// or written. A second writer into the same directory (another `bake`
+    /// still running) gets [`Refusal::Io`] naming the lock and its holder.
+    pub(crate) fn claim(dir: &Path, names: &[&str], force: bool) -> Result<Destination, Refusal> {
+        if dir.as_os_str().is_empty() {
+            return Err(Refusal::Refused(
+                "--out needs a directory path, got an empty one".into(),
+            ));
+        }
+        if fs::metadata(dir).is_ok_and(|m| !m.is_dir()) {
+            return Err(Refusal::Refused(format!(
+                "--out {} exists and is not a directory",
+                dir.display()
+            )));
+        }
+        let held = Arc::new(Mutex::new(Held {
+            dir: dir.to_path_buf(),
+            lock: None,
+            created: Vec::new(),
+            staged: Staged::default(),
+        }));
+        lock(&HELD).push(Arc::clone(&held));
+        // From here on, dropping `destination` undoes what was done.
+        let destination = Destination { state: held };
+        destination.create_dirs(dir)?;
+        let lock_path = dir.join(LOCK_NAME);
+        {
+            let mut held = lock(&destination.state);
+            match File::options()
+                .write(true)
+                .create_new(true)
+                .open(&lock_path)
+            {
+                Ok(mut file) => {
+                    held.lock = Some(lock_path.clone());
+                    let _ = writeln!(file, "{}", std::process::id());
+                }
+                Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {
+                    let holder = fs::read_to_string(&lock_path).unwrap_or_default();
+                    let holder = holder.trim();
+                    let holder = if holder.is_empty() {
+                        String::new()
+                    } else {
+                        format!(", held by process {holder}")
+                    };
+                    return Err(Refusal::Io(format!(
+                        "{} is in use by another bake (lock {}{holder}); nothing written                          (remove the lock if no bake is running)",
+                        dir.display(),
+                        lock_path.display()
+                    )));
+                }
+                Err(e) => {
+                    return Err(Refusal::Io(format!(
+                        "cannot create the lock {}: {e}; nothing written",
+                        lock_path.display()
+                    )))
+                }
+            }
+        }
+        check_destination(dir, names, force).map_err(Refusal::Refused)?;
+        Ok(destination)
+    }
+
+    /// Creates `dir` and its missing parents, recording each one created.
+    fn create_dirs(&self, dir: &Path) -> Result<(), Refusal> {
+        let mut missing = Vec::new();
+        let mut at = Some(dir);
+        while let Some(path) = at {
+            if path.as_os_str().is_empty() || fs::symlink_metadata(path).is_ok() {
+                break;
+            }
+            missing.push(path.to_path_buf());
+            at = path.parent();
+        }
+        for path in missing.into_iter().rev() {
+            match fs::create_dir(&path) {
+                Ok(()) => lock(&self.state).created.push(path),
+                Err(e) if e.kind() == io::ErrorKind::AlreadyExists && path.is_dir() => {}
+                Err(e) => {
+                    return Err(Refusal::Io(format!(
+                        "cannot create {}: {e}; nothing written",
+                        path.display()
+                    )))
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Writes `files` into the directory and removes the existing files
+    /// named in `remove` (outputs this run does not produce, so that no
+    /// stale one is left beside the new ones): all of it, or (after an
+    /// error, which the message describes) nothing.
+    pub(crate) fn write(&self, files: &[(String, Vec<u8>)], remove: &[&str]) -> Result<(), String> {
+        let dir = lock(&self.state).dir.clone();
+        let result = Staged::write(&self.state, |h| &mut h.staged, &dir, files, remove);
+        let mut held = lock(&self.state);
+        if result.is_ok() {
+            sync_dir(&dir);
+        }
+        held.release();
+        result
+    }
+}
+
+impl Drop for Destination {
+    fn drop(&mut self) {
+        lock(&self.state).release();
+        lock(&HELD).retain(|h| !Arc::ptr_eq(h, &self.state));
+    }
+}
+
+/// Catches Ctrl-C (SIGINT) for a writer of [`Destination`]s: every held
+/// destination is rolled back and released (temporaries, backups, the lock,
+/// the directories created), then the process exits 130. The handler takes
+/// each destination's lock, so it runs between two steps of a write, and
+/// never gives it back (it exits), so no step follows it.
+pub(crate) fn install_interrupt_handler() -> Result<(), String> {
+    ctrlc::set_handler(|| {
+        let held = lock(&HELD);
+        let mut guards: Vec<_> = held.iter().map(|h| lock(h)).collect();
+        for guard in &mut guards {
+            guard.release();
+        }
+        crate::output::report("interrupted; nothing written");
+        std::process::exit(130);
+    })
+    .map_err(|e| format!("cannot catch Ctrl-C ({e})"))
 }
 
 /// `backup` as a hard link to `target`, or a copy where links fail.
@@ -219,5 +471,28 @@ mod tests {
         let e = check_destination(Path::new(""), &["x"], false).unwrap_err();
         assert_eq!(e, "--out needs a directory path, got an empty one");
         let _ = fs::remove_dir_all(&dir);
+    }
+
+    /// One process, two claims on one directory: the second is refused
+    /// while the first holds it, and succeeds once the first is dropped;
+    /// the first's directory (created by it, still empty) is then removed.
+    #[test]
+    fn a_claimed_directory_is_refused_until_released() {
+        let parent = scratch("claim");
+        let dir = parent.join("made");
+        let first = Destination::claim(&dir, &["a"], false).ok().unwrap();
+        assert_eq!(listing(&dir), [LOCK_NAME]);
+        match Destination::claim(&dir, &["a"], true) {
+            Err(Refusal::Io(e)) => assert!(e.contains("is in use by another bake"), "{e}"),
+            _ => panic!("a second claim was not refused"),
+        }
+        drop(first);
+        assert!(!dir.exists(), "the created directory is left");
+        let again = Destination::claim(&dir, &["a"], false).ok().unwrap();
+        again.write(&files(&["a"]), &["gone"]).unwrap();
+        assert_eq!(listing(&dir), ["a"]);
+        drop(again);
+        assert_eq!(listing(&dir), ["a"]);
+        let _ = fs::remove_dir_all(&parent);
     }
 }

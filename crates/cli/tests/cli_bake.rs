@@ -146,7 +146,11 @@ fn bake_writes_consistent_buffers_that_verify_sound_and_a_flip_is_caught() {
     bad[offset..offset + map.as_bytes().len()].copy_from_slice(map.as_bytes());
     let tampered = dir.join("tampered");
     std::fs::create_dir_all(&tampered).unwrap();
-    for name in ["micromap-triangles.bin", "micromap-indices.bin"] {
+    for name in [
+        "micromap-triangles.bin",
+        "micromap-indices.bin",
+        "micromap-usage.bin",
+    ] {
         std::fs::copy(out.join(name), tampered.join(name)).unwrap();
     }
     std::fs::write(tampered.join("micromap-data.bin"), &bad).unwrap();

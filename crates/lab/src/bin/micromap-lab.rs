@@ -27,6 +27,7 @@ mod prove_all_levels;
 #[path = "micromap-lab/vectors.rs"]
 mod vectors;
 #[path = "../../../cli/src/write_all_or_nothing.rs"]
+#[allow(dead_code)] // bake's lock and roll-back: the user CLI alone uses them
 mod write_all_or_nothing;
 
 use args::{usage_text, Command};
