@@ -11,7 +11,7 @@ use micromap_index::bake::mesh::{
     bake_meshes, LevelRule, Material, Mesh, MeshBakeError, MeshOptions, MeshTriangles,
 };
 use micromap_index::bake::{
-    AddressMode, AlphaTexture, Baker, Comparison, Cutoff, Filter, Sampler, UvTriangle,
+    AddressMode, AlphaTexture, Baker, Comparison, Cutoff, Filter, Model, Sampler, UvTriangle,
 };
 use micromap_index::micromap::{
     read_buffers, BufferBytes, Format, IndexWidth, MicromapIndex, ReadOptions, TriangleOpacity,
@@ -61,6 +61,11 @@ options:
   --cutoff C              alpha cutoff (default 0.5; glTF: alphaCutoff);
                           opaque when alpha >= C (glTF MASK)
   --opaque-above          opaque when alpha > C (the OMM SDK's rule)
+  --model gpu-binary32|exact
+                          the points known states hold for: every binary32
+                          hit a GPU assigns to the micro-triangle and the
+                          texel its binary32 arithmetic reads (default), or
+                          the exact real points only (docs/bake.md)
   --index-width 16|32     micromap-indices.bin width (default 32)
   --force                 replace existing files in DIR
   --no-preview            skip preview.png
@@ -71,6 +76,7 @@ input or unwritable DIR (nothing written).";
 pub(crate) const VERIFY_USAGE: &str = "\
 usage: micromap-index verify-bake --texture T.png --triangles TRIS.json --micromaps DIR
                                   [sampler and cutoff options as bake] [--index-width 16|32]
+                                  [--model gpu-binary32|exact]
                                   [--json] [--max-report N]
 Checks any baker's micromaps (DIR/micromap-data.bin, micromap-triangles.bin,
 micromap-indices.bin in bake's layout) against the texture: every micro-triangle
@@ -249,6 +255,16 @@ fn sampler_options(p: &Parsed<'_>) -> Result<SamplerOptions, Failure> {
     })
 }
 
+/// `--model` (default gpu-binary32).
+fn model_option(p: &Parsed<'_>) -> Result<Model, Failure> {
+    match p.get("--model") {
+        None => Ok(Model::default()),
+        Some(text) => Model::from_name(text).ok_or_else(|| {
+            Failure::Malformed(format!("--model {text:?}: expected gpu-binary32 or exact"))
+        }),
+    }
+}
+
 fn read_file(path: &Path) -> Result<Vec<u8>, Failure> {
     std::fs::read(path).map_err(|e| Failure::Io(format!("cannot read {}: {e}", path.display())))
 }
@@ -378,6 +394,7 @@ struct JobSummary {
 struct Summary {
     triangles: usize,
     format: u32,
+    model: &'static str,
     levels: Vec<u64>,
     micro_triangles: StateCounts,
     known_fraction: f64,
@@ -430,6 +447,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         "--format",
         "--unknown-as",
         "--index-width",
+        "--model",
     ];
     valued.extend(SAMPLER_VALUED);
     let p = Parsed::new(
@@ -480,6 +498,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         ));
     }
     let width = index_width(&p)?;
+    let model = model_option(&p)?;
     let s = sampler_options(&p)?;
     let preview = !p.flag("--no-preview");
     check_destination(&out, &OUTPUTS, p.flag("--force")).map_err(Failure::Malformed)?;
@@ -516,6 +535,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         format,
         unknown: two_state,
         budget_bytes: budget,
+        model,
         ..MeshOptions::default()
     };
     let show_progress = !p.flag("--quiet") && std::io::stderr().is_terminal();
@@ -581,6 +601,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     let summary = Summary {
         triangles: report.triangles,
         format: u32::from(format.raw()),
+        model: model.name(),
         levels: report.levels.clone(),
         known_fraction: report.known_fraction,
         known_area_fraction: report.known_area_fraction,
@@ -650,6 +671,7 @@ struct ContradictionJson {
 
 #[derive(Serialize)]
 struct VerifyJson {
+    model: &'static str,
     triangles: usize,
     triangles_checked: usize,
     known_micro_triangles: u64,
@@ -668,6 +690,7 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
         "--micromaps",
         "--index-width",
         "--max-report",
+        "--model",
     ];
     valued.extend(SAMPLER_VALUED);
     let p = Parsed::new(
@@ -692,6 +715,7 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
         .parse()
         .map_err(|_| Failure::Malformed("--max-report: expected a count".into()))?;
     let width = index_width(&p)?;
+    let model = model_option(&p)?;
     let s = sampler_options(&p)?;
     let input = read_input(&p, &s)?;
     let job = &input.jobs[0];
@@ -728,8 +752,10 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
         .texture()
         .map_err(|e| Failure::Malformed(e.to_string()))?;
     let baker = Baker::new(&texture, job.sampler, job.cutoff)
-        .map_err(|e| Failure::Malformed(e.to_string()))?;
+        .map_err(|e| Failure::Malformed(e.to_string()))?
+        .with_model(model);
     let mut out = VerifyJson {
+        model: model.name(),
         triangles: job.triangles.len(),
         triangles_checked: 0,
         known_micro_triangles: 0,
