@@ -207,7 +207,7 @@ pub struct Verification {
 /// micromaps exactly (see the [module docs](super) for the model).
 ///
 /// ```
-/// use micromap_index::bake::{Baker, Cutoff, Sampler, Unorm8Texture};
+/// use micromap_index::bake::{Baker, Cutoff, Model, Sampler, Unorm8Texture};
 /// use micromap_index::micromap::{Format, State};
 /// use micromap_index::Level;
 ///
@@ -216,15 +216,28 @@ pub struct Verification {
 /// let texture = Unorm8Texture::new(2, 2, &texels).unwrap();
 /// let baker = Baker::new(&texture, Sampler::default(), Cutoff::default()).unwrap();
 /// // A triangle inside the left column (x < 1/2: x = 1/2 would read the
-/// // right column) and one across both.
-/// let left = [[0.0, 0.0], [0.45, 0.0], [0.0, 1.0]];
+/// // right column; and under the default GPU model an edge on x = 0 could
+/// // read x = -1, the right column again under repeat) and one across both.
+/// let left = [[0.05, 0.0], [0.45, 0.0], [0.05, 1.0]];
 /// let across = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
 /// let level = Level::new(2).unwrap();
 /// let baked = baker.bake(&left, level, Format::FourState, Default::default()).unwrap();
 /// assert_eq!(baked.counts[State::Opaque.bits() as usize], 16);
-/// let baked = baker.bake(&across, level, Format::FourState, Default::default()).unwrap();
+/// // The exact model (real points only) knows the edge on x = 0 too.
+/// let exact = baker.clone().with_model(Model::Exact);
+/// let on_edge = [[0.0, 0.0], [0.45, 0.0], [0.0, 1.0]];
+/// let baked = exact.bake(&on_edge, level, Format::FourState, Default::default()).unwrap();
+/// assert_eq!(baked.counts[State::Opaque.bits() as usize], 16);
+/// let baked = baker.bake(&on_edge, level, Format::FourState, Default::default()).unwrap();
+/// assert!(baked.counts[State::Opaque.bits() as usize] < 16);
+/// // Across both columns the exact model knows transparent micro-triangles;
+/// // the GPU model none (each has an edge on a column boundary).
+/// let baked = exact.bake(&across, level, Format::FourState, Default::default()).unwrap();
 /// assert!(baked.counts[State::Transparent.bits() as usize] > 0);
-/// // Whatever it bakes, the verifier finds sound.
+/// // Whatever it bakes, its verifier finds sound; the GPU model's does not.
+/// assert!(exact.verify(&across, &baked.opacity.as_opacity()).contradictions.is_empty());
+/// assert!(!baker.verify(&across, &baked.opacity.as_opacity()).contradictions.is_empty());
+/// let baked = baker.bake(&across, level, Format::FourState, Default::default()).unwrap();
 /// assert!(baker.verify(&across, &baked.opacity.as_opacity()).contradictions.is_empty());
 /// ```
 #[derive(Clone, Debug)]

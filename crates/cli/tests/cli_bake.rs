@@ -396,10 +396,11 @@ fn model_option_defaults_to_the_gpu_model_and_exact_keeps_the_old_bytes() {
     assert_eq!(verify(&gpu, "exact"), (Some(0), 0));
     let mut args = vec!["bake"];
     args.extend(input);
-    args.extend(["--out", dir.join("bad").to_str().unwrap(), "--model", "gpu"]);
+    let bad = dir.join("bad");
+    args.extend(["--out", bad.to_str().unwrap(), "--model", "gpu"]);
     let out = run(&args);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--model"));
-    assert!(!dir.join("bad").exists());
+    assert!(!bad.exists());
     let _ = std::fs::remove_dir_all(&dir);
 }

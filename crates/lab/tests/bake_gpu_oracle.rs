@@ -23,11 +23,22 @@ use micromap_index::bake::{
     AddressMode, AlphaTexture, BakedOpacity, Baker, Comparison, Cutoff, Filter, Model, Sampler,
     Unorm8Texture, UvTriangle,
 };
-use micromap_index::micromap::{Format, State};
+use micromap_index::micromap::{Format, State, UnknownPolicy};
 use micromap_index::{spec, Level, SpecLevel};
 use micromap_index_assets::{decode_alpha_image, read_triangles_json, Limits};
 use micromap_index_test_support::SplitMix64;
 use std::collections::BTreeSet;
+
+/// The binary32 value next to a finite `x`, up or down (`f32::next_up` is
+/// newer than the minimum Rust).
+fn next(x: f32, up: bool) -> f32 {
+    if x == 0.0 {
+        let tiny = f32::from_bits(1);
+        return if up { tiny } else { -tiny };
+    }
+    let bits = x.to_bits();
+    f32::from_bits(if (x > 0.0) == up { bits + 1 } else { bits - 1 })
+}
 
 /// The texels and sampler as the oracle reads them.
 struct Scene<'a> {
@@ -83,7 +94,7 @@ impl Scene<'_> {
         if !x.is_finite() {
             return None;
         }
-        let (lo, hi) = (x.next_down().next_down(), x.next_up().next_up());
+        let (lo, hi) = (next(next(x, false), false), next(next(x, true), true));
         Some(match self.sampler.filter {
             Filter::Nearest => (lo.floor() as i64, hi.floor() as i64),
             Filter::Linear => ((lo - 0.5).floor() as i64, (hi - 0.5).floor() as i64 + 1),
@@ -145,7 +156,7 @@ fn hits(level: u32, mut visit: impl FnMut(f32, f32)) {
     let step = |x: f32, k: i32| -> f32 {
         let mut y = x;
         for _ in 0..k.unsigned_abs() {
-            y = if k > 0 { y.next_up() } else { y.next_down() };
+            y = next(y, k > 0);
         }
         y
     };
@@ -215,7 +226,7 @@ fn bake(scene: &Scene<'_>, model: Model, uv: &UvTriangle, level: u32) -> BakedOp
             uv,
             Level::new(level).unwrap(),
             Format::FourState,
-            Default::default(),
+            UnknownPolicy::default(),
         )
         .unwrap()
         .opacity
