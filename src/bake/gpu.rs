@@ -80,10 +80,14 @@ fn ceil_log2(x: f64) -> i32 {
 /// offset). Computed in `f64` and enlarged by `2^-30` relative, far more
 /// than the few `f64` roundings can lose.
 pub(crate) fn margin_exponent(c: [f32; 3], size: u32, level: u32) -> i32 {
-    let a = c.iter().map(|x| f64::from(x.abs())).fold(0.0, f64::max);
-    let d = (f64::from(c[1]) - f64::from(c[0]))
-        .abs()
-        .max((f64::from(c[2]) - f64::from(c[0])).abs());
+    // |x| and max by hand: neither is in `core` at the minimum Rust.
+    let abs = |x: f64| f64::from_bits(x.to_bits() & !(1 << 63));
+    let max = |x: f64, y: f64| if x >= y { x } else { y };
+    let a = c.iter().map(|&x| abs(f64::from(x))).fold(0.0, max);
+    let d = max(
+        abs(f64::from(c[1]) - f64::from(c[0])),
+        abs(f64::from(c[2]) - f64::from(c[0])),
+    );
     let s = f64::from(size);
     let m = s * d * exp2(-25 - level as i32) + s * a * (exp2(-20) + exp2(-21)) + exp2(-21);
     ceil_log2(m * (1.0 + exp2(-30)))
