@@ -5,7 +5,8 @@
 //! the oracle confirms.
 
 use micromap_index::bake::{
-    AddressMode, Baker, Comparison, Cutoff, F32Texture, Filter, Sampler, TriangleStatus, UvTriangle,
+    AddressMode, Baker, Comparison, Cutoff, F32Texture, Filter, Model, Sampler, TriangleStatus,
+    UvTriangle,
 };
 use micromap_index::inverse::micro_triangles;
 use micromap_index::micromap::{Format, State, TriangleOpacity, UnknownPolicy};
@@ -239,9 +240,14 @@ fn random_case(rng: &mut SplitMix64) -> Case {
     Case { oracle, uv, level }
 }
 
+/// The exact model's baker: this file checks the exact model against an
+/// exact oracle (the GPU model's oracle is
+/// `crates/lab/tests/bake_gpu_oracle.rs`).
 fn baker(oracle: &Oracle) -> Baker {
     let texture = F32Texture::new(oracle.width, oracle.height, &oracle.texels).unwrap();
-    Baker::new(&texture, oracle.sampler, oracle.cutoff).unwrap()
+    Baker::new(&texture, oracle.sampler, oracle.cutoff)
+        .unwrap()
+        .with_model(Model::Exact)
 }
 
 /// The main soundness check: for many random and adversarial cases, every
@@ -446,7 +452,9 @@ fn verifier_accepts_sound_bakes_and_catches_every_flip_with_a_witness() {
 fn edge_cases_have_documented_outcomes() {
     let texels = [1.0f32, 0.0, 0.0, 1.0];
     let texture = F32Texture::new(2, 2, &texels).unwrap();
-    let baker = Baker::new(&texture, Sampler::default(), Cutoff::default()).unwrap();
+    let baker = Baker::new(&texture, Sampler::default(), Cutoff::default())
+        .unwrap()
+        .with_model(Model::Exact);
     let level = Level::new(3).unwrap();
     for uv in [
         [[f32::NAN, 0.0], [1.0, 0.0], [0.0, 1.0]],
@@ -504,7 +512,8 @@ fn edge_cases_have_documented_outcomes() {
         },
         Cutoff::default(),
     )
-    .unwrap();
+    .unwrap()
+    .with_model(Model::Exact);
     let baked = linear
         .bake(&inside, level0, Format::FourState, UnknownPolicy::Fallback)
         .unwrap();

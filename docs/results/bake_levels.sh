@@ -17,7 +17,7 @@ for level in 0 1 2 3 4 5 6 7 8; do
   for run in 1 2 3; do
     "$bin" bake --texture assets/crytek-sponza/sponza_thorn.png \
       --triangles assets/crytek-sponza/grid.tris.json --out "$out/L$level" --force \
-      --level "$level" --format 4 --filter linear --address clamp-to-edge \
+      --level "$level" --format 4 --filter linear --address clamp-to-edge --model exact \
       --no-preview --quiet > "$out/s$run.json"
     best=$(python3 -c "
 import json,sys

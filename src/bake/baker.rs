@@ -1,7 +1,8 @@
 //! [`Baker`]: one texture, sampler and cutoff; bakes and verifies triangles.
 
-use super::classify::{is_small, Block, Classes, Search, TexelClasses};
+use super::classify::{is_small, Block, Classes, Grid, Search, TexelClasses};
 use super::exact::{narrowed_below, AxisFrame, ExactTriangle, FrameError};
+use super::gpu::{margin_exponent, Model};
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
 use crate::inverse::micro_triangles;
 use crate::micromap::{Format, Micromap, MicromapError, State, TriangleOpacity, UnknownPolicy};
@@ -228,7 +229,7 @@ pub struct VerifyCounts {
 /// micromaps exactly (see the [module docs](super) for the model).
 ///
 /// ```
-/// use micromap_index::bake::{Baker, Cutoff, Sampler, Unorm8Texture};
+/// use micromap_index::bake::{Baker, Cutoff, Model, Sampler, Unorm8Texture};
 /// use micromap_index::micromap::{Format, State};
 /// use micromap_index::Level;
 ///
@@ -237,21 +238,35 @@ pub struct VerifyCounts {
 /// let texture = Unorm8Texture::new(2, 2, &texels).unwrap();
 /// let baker = Baker::new(&texture, Sampler::default(), Cutoff::default()).unwrap();
 /// // A triangle inside the left column (x < 1/2: x = 1/2 would read the
-/// // right column) and one across both.
-/// let left = [[0.0, 0.0], [0.45, 0.0], [0.0, 1.0]];
+/// // right column; and under the default GPU model an edge on x = 0 could
+/// // read x = -1, the right column again under repeat) and one across both.
+/// let left = [[0.05, 0.0], [0.45, 0.0], [0.05, 1.0]];
 /// let across = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
 /// let level = Level::new(2).unwrap();
 /// let baked = baker.bake(&left, level, Format::FourState, Default::default()).unwrap();
 /// assert_eq!(baked.counts[State::Opaque.bits() as usize], 16);
-/// let baked = baker.bake(&across, level, Format::FourState, Default::default()).unwrap();
+/// // The exact model (real points only) knows the edge on x = 0 too.
+/// let exact = baker.clone().with_model(Model::Exact);
+/// let on_edge = [[0.0, 0.0], [0.45, 0.0], [0.0, 1.0]];
+/// let baked = exact.bake(&on_edge, level, Format::FourState, Default::default()).unwrap();
+/// assert_eq!(baked.counts[State::Opaque.bits() as usize], 16);
+/// let baked = baker.bake(&on_edge, level, Format::FourState, Default::default()).unwrap();
+/// assert!(baked.counts[State::Opaque.bits() as usize] < 16);
+/// // Across both columns the exact model knows transparent micro-triangles;
+/// // the GPU model none (each has an edge on a column boundary).
+/// let baked = exact.bake(&across, level, Format::FourState, Default::default()).unwrap();
 /// assert!(baked.counts[State::Transparent.bits() as usize] > 0);
-/// // Whatever it bakes, the verifier finds sound.
+/// // Whatever it bakes, its verifier finds sound; the GPU model's does not.
+/// assert!(exact.verify(&across, &baked.opacity.as_opacity()).contradictions.is_empty());
+/// assert!(!baker.verify(&across, &baked.opacity.as_opacity()).contradictions.is_empty());
+/// let baked = baker.bake(&across, level, Format::FourState, Default::default()).unwrap();
 /// assert!(baker.verify(&across, &baked.opacity.as_opacity()).contradictions.is_empty());
 /// ```
 #[derive(Clone, Debug)]
 pub struct Baker {
     classes: TexelClasses,
     budget: u32,
+    model: Model,
 }
 
 /// `floor(q / 3)`, in `i64` where `q` fits (an `i128` division is a
@@ -269,7 +284,7 @@ fn floor_third(q: i128) -> i128 {
 /// whether a micro-triangle ran out of budget, and the search's stack.
 struct Walk<'a> {
     level: u32,
-    shifts: (u32, u32),
+    grid: Grid,
     two_state: UnknownPolicy,
     map: &'a mut Micromap,
     counts: &'a mut [u64; 4],
@@ -296,11 +311,22 @@ const NARROW_WALK_COORDINATE: i128 = 1 << 59;
 /// See [`NARROW_WALK_COORDINATE`]; also keeps `1 << shift` in `i64`.
 const NARROW_SHIFT: u32 = 58;
 
+/// The largest margin (`2^k` grid units) the `i64` walk takes: a
+/// coordinate below `2^59` minus half a cell (`2^57`) and the margin stays
+/// below `2^60`.
+const NARROW_MARGIN: u32 = 57;
+
+/// The largest margin (`2^k` grid units) on the exact grid: coordinates
+/// below `2^98` plus it stay below [`COORDINATE_LIMIT`](super::exact).
+const MARGIN_LIMIT: u32 = 97;
+
 impl Placed<i128> {
     /// The same triangle in `i64`, when the walk from it (as the root)
     /// stays in range: see [`NARROW_WALK_COORDINATE`].
-    fn narrowed(&self, (sx, sy): (u32, u32)) -> Option<Placed<i64>> {
-        if sx.max(sy) > NARROW_SHIFT {
+    fn narrowed(&self, grid: Grid) -> Option<Placed<i64>> {
+        let (sx, sy) = grid.shifts;
+        let wide_margin = |m: Option<u32>| m.is_some_and(|k| k > NARROW_MARGIN);
+        if sx.max(sy) > NARROW_SHIFT || wide_margin(grid.margin.0) || wide_margin(grid.margin.1) {
             return None;
         }
         let bound = NARROW_WALK_COORDINATE as u128;
@@ -345,7 +371,23 @@ impl Baker {
         Ok(Baker {
             classes: TexelClasses::new_within(texture, sampler, cutoff, max_bytes)?,
             budget: DEFAULT_BLOCK_BUDGET,
+            model: Model::default(),
         })
+    }
+
+    /// The same baker for another [`Model`] (the default is
+    /// [`Model::GpuBinary32`]); [`bake`](Self::bake) and
+    /// [`verify`](Self::verify) both follow it.
+    #[must_use]
+    pub fn with_model(mut self, model: Model) -> Baker {
+        self.model = model;
+        self
+    }
+
+    /// The model it bakes and verifies for.
+    #[must_use]
+    pub fn model(&self) -> Model {
+        self.model
     }
 
     /// The same baker with another cap on block tests per micro-triangle
@@ -378,10 +420,41 @@ impl Baker {
         }
     }
 
-    fn frames(&self, uv: &UvTriangle, level: Level) -> Result<(AxisFrame, AxisFrame), FrameError> {
-        let fx = AxisFrame::new(uv.map(|c| c[0]), self.classes.width, level.get())?;
-        let fy = AxisFrame::new(uv.map(|c| c[1]), self.classes.height, level.get())?;
-        Ok((fx, fy))
+    /// The triangle's frames on both axes and their grid: for the GPU
+    /// model, fine enough to hold the margin `2^e` texels of
+    /// [`margin_exponent`] (a grid unit of at most `2^e`), which is then
+    /// `2^(shift + e)` grid units.
+    fn frames(
+        &self,
+        uv: &UvTriangle,
+        level: Level,
+    ) -> Result<(AxisFrame, AxisFrame, Grid), FrameError> {
+        let n = level.get();
+        let axis = |k: usize, size: u32| -> Result<(AxisFrame, Option<u32>), FrameError> {
+            let c = uv.map(|c| c[k]);
+            match self.model {
+                Model::Exact => Ok((AxisFrame::new(c, size, n, 0)?, None)),
+                Model::GpuBinary32 => {
+                    if c.iter().any(|x| !x.is_finite()) {
+                        return Err(FrameError::NotFinite);
+                    }
+                    let e = margin_exponent(c, size, n);
+                    let frame = AxisFrame::new(c, size, n, (-e).max(0) as u32)?;
+                    let k = frame.shift as i32 + e;
+                    if k > MARGIN_LIMIT as i32 {
+                        return Err(FrameError::OutOfRange);
+                    }
+                    Ok((frame, Some(k as u32)))
+                }
+            }
+        };
+        let (fx, mx) = axis(0, self.classes.width)?;
+        let (fy, my) = axis(1, self.classes.height)?;
+        let grid = Grid {
+            shifts: (fx.shift, fy.shift),
+            margin: (mx, my),
+        };
+        Ok((fx, fy, grid))
     }
 
     fn place(
@@ -401,10 +474,10 @@ impl Baker {
     fn classify<C: GridInt>(
         &self,
         p: &Placed<C>,
-        shifts: (u32, u32),
+        grid: Grid,
         stack: &mut Vec<Block>,
     ) -> (Classes, bool) {
-        let bounding = self.bounding_block(p, shifts);
+        let bounding = self.bounding_block(p, grid);
         let quick = self.classes.quick(bounding);
         if !quick.is_mixed() {
             return (quick, false);
@@ -416,15 +489,16 @@ impl Baker {
         // footprint, whose search could not run out of budget: the answer
         // is the search's. A midpoint `(a + b) / 2` is a grid point of the
         // twice finer grid (shift + 1).
+        // (Points of the micro-triangle are points of its dilation too.)
         if is_small(bounding) {
-            let (sx, sy) = shifts;
+            let (sx, sy) = grid.shifts;
             let mut sure = Classes::default();
             for k in 0..6 {
                 let (a, b) = (k % 3, if k < 3 { k % 3 } else { (k + 1) % 3 });
                 let (x, y) = (p.x[a] + p.x[b], p.y[a] + p.y[b]);
-                let point = self
-                    .classes
-                    .bounding_block((x, x), (y, y), (sx + 1, sy + 1));
+                let point =
+                    self.classes
+                        .bounding_block((x, x), (y, y), Grid::exact((sx + 1, sy + 1)));
                 sure = sure.union(self.classes.quick(point));
                 if sure.is_mixed() {
                     return (sure, false);
@@ -435,21 +509,21 @@ impl Baker {
         let t = ExactTriangle::new(wide.x, wide.y);
         let s: Search = self
             .classes
-            .search(&t, shifts, Classes::BOTH, self.budget, stack);
+            .search(&t, grid, Classes::BOTH, self.budget, stack);
         (s.classes, s.exhausted)
     }
 
     /// The classes of the placed triangle's bounding block of texels: a
     /// superset of what it reads (exact when not mixed).
-    fn quick_classes<C: GridInt>(&self, p: &Placed<C>, shifts: (u32, u32)) -> Classes {
-        self.classes.quick(self.bounding_block(p, shifts))
+    fn quick_classes<C: GridInt>(&self, p: &Placed<C>, grid: Grid) -> Classes {
+        self.classes.quick(self.bounding_block(p, grid))
     }
 
     /// The placed triangle's bounding block of texels.
-    fn bounding_block<C: GridInt>(&self, p: &Placed<C>, shifts: (u32, u32)) -> Block<C> {
+    fn bounding_block<C: GridInt>(&self, p: &Placed<C>, grid: Grid) -> Block<C> {
         let min_max = |c: [C; 3]| (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
         self.classes
-            .bounding_block(min_max(p.x), min_max(p.y), shifts)
+            .bounding_block(min_max(p.x), min_max(p.y), grid)
     }
 
     /// The known state to split an unknown micro-triangle by: the class of
@@ -489,21 +563,20 @@ impl Baker {
             }
         };
         let mut map = Micromap::new(level, format)?;
-        let (fx, fy) = match self.frames(uv, level) {
+        let (fx, fy, grid) = match self.frames(uv, level) {
             Ok(frames) => frames,
             Err(FrameError::NotFinite) => return Ok(whole_unknown(TriangleStatus::NotFinite)),
             Err(FrameError::OutOfRange) => {
                 return Ok(whole_unknown(TriangleStatus::OutOfExactRange))
             }
         };
-        let shifts = (fx.shift, fy.shift);
         let n = level.get();
         let side = 1u64 << n;
         let root = Self::place(&fx, &fy, n, [(0, 0), (side, 0), (0, side)]);
         let mut counts = [0u64; 4];
-        let exhausted = match root.narrowed(shifts) {
-            Some(narrow) => self.walk(narrow, n, shifts, two_state, &mut map, &mut counts)?,
-            None => self.walk(root, n, shifts, two_state, &mut map, &mut counts)?,
+        let exhausted = match root.narrowed(grid) {
+            Some(narrow) => self.walk(narrow, n, grid, two_state, &mut map, &mut counts)?,
+            None => self.walk(root, n, grid, two_state, &mut map, &mut counts)?,
         };
         Ok(BakedTriangle {
             opacity: BakedOpacity::Map(map),
@@ -525,14 +598,14 @@ impl Baker {
         &self,
         root: Placed<C>,
         level: u32,
-        shifts: (u32, u32),
+        grid: Grid,
         two_state: UnknownPolicy,
         map: &mut Micromap,
         counts: &mut [u64; 4],
     ) -> Result<bool, BakeError> {
         let mut walk = Walk {
             level,
-            shifts,
+            grid,
             two_state,
             map,
             counts,
@@ -571,9 +644,9 @@ impl Baker {
         // block descends, and the children decide more cheaply than an
         // exact search over a large triangle would.
         let (classes, out_of_budget) = if depth < n {
-            (self.quick_classes(&p, walk.shifts), false)
+            (self.quick_classes(&p, walk.grid), false)
         } else {
-            self.classify(&p, walk.shifts, &mut walk.stack)
+            self.classify(&p, walk.grid, &mut walk.stack)
         };
         let known = match (classes.opaque, classes.transparent) {
             (true, false) => Some(State::Opaque),
@@ -597,7 +670,7 @@ impl Baker {
             return Ok(());
         }
         walk.exhausted |= out_of_budget;
-        let state = if self.centroid_is_opaque(&p, walk.shifts) {
+        let state = if self.centroid_is_opaque(&p, walk.grid.shifts) {
             State::UnknownOpaque
         } else {
             State::UnknownTransparent
@@ -656,11 +729,11 @@ impl Baker {
             TriangleOpacity::Special(state) => *state,
         };
         let mut report = VerifyCounts::default();
-        let Ok((fx, fy)) = self.frames(uv, level) else {
+        let Ok((fx, fy, grid)) = self.frames(uv, level) else {
             return report;
         };
         report.checked = true;
-        let shifts = (fx.shift, fy.shift);
+        let shifts = grid.shifts;
         let mut stack = Vec::new();
         for t in micro_triangles(level) {
             let state = state_of(t.index());
@@ -682,7 +755,7 @@ impl Baker {
             // A larger budget than baking: a verdict, not a bake.
             let search = self.classes.search(
                 &exact,
-                shifts,
+                grid,
                 other,
                 self.budget.saturating_mul(16),
                 &mut stack,
@@ -690,7 +763,7 @@ impl Baker {
             let witness_block = search.witness_block[usize::from(other.opaque)];
             match witness_block {
                 Some(found) => {
-                    let (block, witness) = self.witness(&exact, found, shifts, other.opaque);
+                    let (block, witness) = self.witness(&exact, found, grid, other.opaque);
                     let texel = witness.map_or_else(
                         || self.classes.wrap(block.x0, block.y0),
                         |w| {
@@ -733,15 +806,15 @@ impl Baker {
         &self,
         t: &ExactTriangle,
         found: Block,
-        shifts: (u32, u32),
+        grid: Grid,
         opaque: bool,
     ) -> (Block, Option<(i128, i128, u32)>) {
-        if let Some(w) = self.witness_in(t, found, shifts) {
+        if let Some(w) = self.witness_in(t, found, grid) {
             return (found, Some(w));
         }
         let b = self
             .classes
-            .bounding_block((t.min_x(), t.max_x()), (t.min_y(), t.max_y()), shifts);
+            .bounding_block((t.min_x(), t.max_x()), (t.min_y(), t.max_y()), grid);
         if (b.x1 - b.x0 + 1).saturating_mul(b.y1 - b.y0 + 1) <= 4096 {
             for y in b.y0..=b.y1 {
                 for x in b.x0..=b.x1 {
@@ -754,11 +827,11 @@ impl Baker {
                         y0: y,
                         y1: y,
                     };
-                    let [rx0, rx1, ry0, ry1] = self.classes.block_reach(texel, shifts);
+                    let [rx0, rx1, ry0, ry1] = self.classes.block_reach(texel, grid);
                     if !t.meets(rx0, rx1, ry0, ry1) {
                         continue;
                     }
-                    if let Some(w) = self.witness_in(t, texel, shifts) {
+                    if let Some(w) = self.witness_in(t, texel, grid) {
                         return (texel, Some(w));
                     }
                 }
@@ -774,14 +847,9 @@ impl Baker {
     /// of these (a 2-D overlap holds fine-grid points; a contact along an
     /// edge holds dyadic points of that edge; a single-point contact is a
     /// vertex or the corner).
-    fn witness_in(
-        &self,
-        t: &ExactTriangle,
-        block: Block,
-        shifts: (u32, u32),
-    ) -> Option<(i128, i128, u32)> {
+    fn witness_in(&self, t: &ExactTriangle, block: Block, grid: Grid) -> Option<(i128, i128, u32)> {
         const EXTRA: u32 = 20;
-        let [x0, x1, y0, y1] = self.classes.block_reach(block, shifts);
+        let [x0, x1, y0, y1] = self.classes.block_reach(block, grid);
         let inside = |px: i128, py: i128| x0 <= px && px < x1 && y0 <= py && py < y1;
         if t.contains(x0, y0) {
             return Some((x0, y0, 0));
@@ -887,6 +955,7 @@ mod tests {
                 }
             };
             let shifts = (shift(next()), shift(next()));
+            let grid = Grid::exact(shifts);
             // Coordinates within 2^spread of +-2^59 (below it), or near 0;
             // multiples of 2^level, as a root's are.
             let spread = 1 + next() % 58;
@@ -904,7 +973,7 @@ mod tests {
                 x: [coordinate(), coordinate(), coordinate()],
                 y: [coordinate(), coordinate(), coordinate()],
             };
-            let narrow = root.narrowed(shifts).unwrap();
+            let narrow = root.narrowed(grid).unwrap();
             let bake = |walk: &dyn Fn(&mut Micromap, &mut [u64; 4]) -> bool| {
                 let mut map = Micromap::new(Level(level as u8), Format::FourState).unwrap();
                 let mut counts = [0; 4];
@@ -912,14 +981,11 @@ mod tests {
                 (map, counts, exhausted)
             };
             let policy = UnknownPolicy::Fallback;
-            let wide = bake(&|map, counts| {
-                baker
-                    .walk(root, level, shifts, policy, map, counts)
-                    .unwrap()
-            });
+            let wide =
+                bake(&|map, counts| baker.walk(root, level, grid, policy, map, counts).unwrap());
             let narrowed = bake(&|map, counts| {
                 baker
-                    .walk(narrow, level, shifts, policy, map, counts)
+                    .walk(narrow, level, grid, policy, map, counts)
                     .unwrap()
             });
             assert_eq!(narrowed, wide, "{root:?} {shifts:?} level {level}");
@@ -929,8 +995,10 @@ mod tests {
             // One step past either bound takes the wide walk.
             let mut over = root;
             over.x[case as usize % 3] = if case % 2 == 0 { limit } else { -limit };
-            assert!(over.narrowed(shifts).is_none());
-            assert!(root.narrowed((NARROW_SHIFT + 1, shifts.1)).is_none());
+            assert!(over.narrowed(grid).is_none());
+            assert!(root
+                .narrowed(Grid::exact((NARROW_SHIFT + 1, shifts.1)))
+                .is_none());
         }
         // Every state came out, many times.
         assert!(seen.iter().all(|&n| n > 100), "{seen:?}");

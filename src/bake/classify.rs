@@ -67,6 +67,34 @@ pub(crate) struct Block<C = i128> {
     pub(crate) y1: C,
 }
 
+/// One triangle's grid: `2^shift` grid units per texel on each axis, and
+/// the margin by which the GPU model dilates every micro-triangle, `2^k`
+/// grid units per axis (`None`: no margin, the exact model). The dilated
+/// region `T + [-mx, mx] x [-my, my]` meets a half-open rectangle
+/// `[x0, x1) x [y0, y1)` iff `T` meets `[x0 - mx, x1 + mx) x [y0 - my,
+/// y1 + my)`, so the search only widens its rectangles.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Grid {
+    pub(crate) shifts: (u32, u32),
+    pub(crate) margin: (Option<u32>, Option<u32>),
+}
+
+impl Grid {
+    /// The exact model's grid (no margin).
+    pub(crate) fn exact(shifts: (u32, u32)) -> Grid {
+        Grid {
+            shifts,
+            margin: (None, None),
+        }
+    }
+}
+
+/// A margin `2^k` grid units (0 for `None`) in the type `C`.
+#[inline]
+fn margin_in<C: GridInt>(margin: Option<u32>) -> C {
+    margin.map_or(C::from(0), |k| C::from(1) << k)
+}
+
 /// A texel coordinate known to be in `0..size` (`size < 2^32`), as `u32`.
 #[inline]
 fn texel_in_range<C: GridInt>(c: C) -> u32 {
@@ -387,8 +415,11 @@ impl TexelClasses {
     /// `floor(p)`; linear `floor(p - 1/2)` and the next one.
     /// In the coordinates' own type `C`: the caller's bound keeps `lo`,
     /// `hi` and half a grid cell's offset from them in range.
+    /// With a `margin` (`2^k` grid units), of the interval dilated by it.
     #[inline]
-    fn footprint<C: GridInt>(&self, lo: C, hi: C, shift: u32) -> (C, C) {
+    fn footprint<C: GridInt>(&self, lo: C, hi: C, shift: u32, margin: Option<u32>) -> (C, C) {
+        let m = margin_in::<C>(margin);
+        let (lo, hi) = (lo - m, hi + m);
         match self.sampler.filter {
             Filter::Nearest => (lo >> shift, hi >> shift),
             Filter::Linear => {
@@ -399,29 +430,32 @@ impl TexelClasses {
     }
 
     /// The geometric half-open rectangle (grid units) of the points whose
-    /// footprint meets the texel range `lo..=hi`.
+    /// footprint meets the texel range `lo..=hi`, widened by `margin`
+    /// (`2^k` grid units) on both sides.
     #[inline]
-    fn reach(&self, lo: i128, hi: i128, shift: u32) -> (i128, i128) {
+    fn reach(&self, lo: i128, hi: i128, shift: u32, margin: Option<u32>) -> (i128, i128) {
+        let m = margin_in::<i128>(margin);
         match self.sampler.filter {
-            Filter::Nearest => (lo << shift, (hi + 1) << shift),
+            Filter::Nearest => ((lo << shift) - m, ((hi + 1) << shift) + m),
             Filter::Linear => {
                 let half = 1i128 << (shift - 1);
-                ((lo << shift) - half, ((hi + 1) << shift) + half)
+                ((lo << shift) - half - m, ((hi + 1) << shift) + half + m)
             }
         }
     }
 
     /// The footprint block of a point set with grid bounding box
-    /// `[min_x, max_x] x [min_y, max_y]`.
+    /// `[min_x, max_x] x [min_y, max_y]`, dilated by the grid's margin.
     #[inline]
     pub(crate) fn bounding_block<C: GridInt>(
         &self,
         (min_x, max_x): (C, C),
         (min_y, max_y): (C, C),
-        (sx, sy): (u32, u32),
+        grid: Grid,
     ) -> Block<C> {
-        let (x0, x1) = self.footprint(min_x, max_x, sx);
-        let (y0, y1) = self.footprint(min_y, max_y, sy);
+        let (sx, sy) = grid.shifts;
+        let (x0, x1) = self.footprint(min_x, max_x, sx, grid.margin.0);
+        let (y0, y1) = self.footprint(min_y, max_y, sy, grid.margin.1);
         Block { x0, x1, y0, y1 }
     }
 
@@ -439,20 +473,21 @@ impl TexelClasses {
     pub(crate) fn search(
         &self,
         t: &ExactTriangle,
-        shifts: (u32, u32),
+        grid: Grid,
         want: Classes,
         budget: u32,
         stack: &mut Vec<Block>,
     ) -> Search {
-        let (sx, sy) = shifts;
-        let start = self.bounding_block((t.min_x(), t.max_x()), (t.min_y(), t.max_y()), shifts);
+        let (sx, sy) = grid.shifts;
+        let (mx, my) = grid.margin;
+        let start = self.bounding_block((t.min_x(), t.max_x()), (t.min_y(), t.max_y()), grid);
         let mut found = Search::default();
         // A small footprint (most micro-triangles at useful levels): its
         // texels one by one, without the block stack.
         if is_small(start) {
             return match start.narrowed() {
-                Some(narrow) => self.search_texels(t, narrow, shifts, want),
-                None => self.search_texels(t, start, shifts, want),
+                Some(narrow) => self.search_texels(t, narrow, grid, want),
+                None => self.search_texels(t, start, grid, want),
             };
         }
         stack.clear();
@@ -477,8 +512,8 @@ impl TexelClasses {
             if found.classes.contains(classes) {
                 continue;
             }
-            let (rx0, rx1) = self.reach(block.x0, block.x1, sx);
-            let (ry0, ry1) = self.reach(block.y0, block.y1, sy);
+            let (rx0, rx1) = self.reach(block.x0, block.x1, sx, mx);
+            let (ry0, ry1) = self.reach(block.y0, block.y1, sy, my);
             if !t.meets(rx0, rx1, ry0, ry1) {
                 continue;
             }
@@ -528,9 +563,11 @@ impl TexelClasses {
         &self,
         t: &ExactTriangle,
         block: Block<C>,
-        (sx, sy): (u32, u32),
+        grid: Grid,
         want: Classes,
     ) -> Search {
+        let (sx, sy) = grid.shifts;
+        let (mx, my) = grid.margin;
         let mut found = Search::default();
         // A small block's sides are below SMALL_BLOCK: exact casts.
         let side = |lo: C, hi: C| Into::<i128>::into(hi - lo) as u32;
@@ -542,8 +579,8 @@ impl TexelClasses {
                 if found.classes.contains(classes) {
                     continue;
                 }
-                let (rx0, rx1) = self.reach(x.into(), x.into(), sx);
-                let (ry0, ry1) = self.reach(y.into(), y.into(), sy);
+                let (rx0, rx1) = self.reach(x.into(), x.into(), sx, mx);
+                let (ry0, ry1) = self.reach(y.into(), y.into(), sy, my);
                 if t.meets(rx0, rx1, ry0, ry1) {
                     found.classes = found.classes.union(classes);
                     let texel = Block {
@@ -564,9 +601,10 @@ impl TexelClasses {
 
     /// The point set's reach rectangle for a block (grid units), public to
     /// the witness search.
-    pub(crate) fn block_reach(&self, block: Block, (sx, sy): (u32, u32)) -> [i128; 4] {
-        let (x0, x1) = self.reach(block.x0, block.x1, sx);
-        let (y0, y1) = self.reach(block.y0, block.y1, sy);
+    pub(crate) fn block_reach(&self, block: Block, grid: Grid) -> [i128; 4] {
+        let (sx, sy) = grid.shifts;
+        let (x0, x1) = self.reach(block.x0, block.x1, sx, grid.margin.0);
+        let (y0, y1) = self.reach(block.y0, block.y1, sy, grid.margin.1);
         [x0, x1, y0, y1]
     }
 
@@ -578,8 +616,8 @@ impl TexelClasses {
         (px, py): (i128, i128),
         (sx, sy): (u32, u32),
     ) -> (i128, i128) {
-        let (fx0, fx1) = self.footprint(px, px, sx);
-        let (fy0, fy1) = self.footprint(py, py, sy);
+        let (fx0, fx1) = self.footprint(px, px, sx, None);
+        let (fy0, fy1) = self.footprint(py, py, sy, None);
         (
             fx0.max(block.x0).min(fx1.min(block.x1)),
             fy0.max(block.y0).min(fy1.min(block.y1)),
@@ -618,7 +656,7 @@ mod tests {
                 border_alpha: 0.0,
             };
             let classes = TexelClasses::new(&texture, sampler, Cutoff::default()).unwrap();
-            let shifts = (1 + (next() % 4) as u32, 1 + (next() % 4) as u32);
+            let shifts = Grid::exact((1 + (next() % 4) as u32, 1 + (next() % 4) as u32));
             // A block of up to 6 x 6 texels ending just inside +-2^62.
             let side = |r: u64, sign: i128| {
                 let (far, len) = (1 + i128::from(r % 3), i128::from(r / 3 % 6));

@@ -80,8 +80,14 @@ fn decompose(x: f32) -> (i64, i32) {
 
 impl AxisFrame {
     /// The frame of one axis: coordinates `c` scaled by `size` texels, for
-    /// micro-triangles of `level`.
-    pub(crate) fn new(c: [f32; 3], size: u32, level: u32) -> Result<AxisFrame, FrameError> {
+    /// micro-triangles of `level`, on a grid of at least `min_shift`
+    /// (`2^min_shift` units per texel; 0 for the coarsest exact grid).
+    pub(crate) fn new(
+        c: [f32; 3],
+        size: u32,
+        level: u32,
+        min_shift: u32,
+    ) -> Result<AxisFrame, FrameError> {
         if c.iter().any(|x| !x.is_finite()) {
             return Err(FrameError::NotFinite);
         }
@@ -96,7 +102,7 @@ impl AxisFrame {
         // sum n_k value_k / 2^level; on a grid of 2^-shift texels it is
         // sum n_k (size m_k 2^(e_k - e_min) 2^(e_min - level + shift)).
         let level = level as i32;
-        let shift = (level - e_min + 1).max(1);
+        let shift = (level - e_min + 1).max(1).max(min_shift.min(200) as i32);
         let extra = e_min - level + shift; // >= 1
         let mut corner = [0i128; 3];
         for (out, &(m, e)) in corner.iter_mut().zip(&parts) {

@@ -40,7 +40,7 @@
 use super::baker::BakedOpacity;
 use super::baker::{BakeError, BakedTriangle, Baker, TriangleStatus, UvTriangle};
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
-use super::{levels_within_budget, useful_level, DEFAULT_BLOCK_BUDGET};
+use super::{levels_within_budget, useful_level, Model, DEFAULT_BLOCK_BUDGET};
 use crate::micromap::{
     BufferError, BuildOptions, Format, Micromap, MicromapBuffers, MicromapBuffersBuilder,
     MicromapIndex, State, UnknownPolicy,
@@ -220,11 +220,14 @@ pub struct MeshOptions {
     pub budget_bytes: Option<u64>,
     /// Block tests a micro-triangle may use ([`Baker::with_block_budget`]).
     pub block_budget: u32,
+    /// The points known states hold for ([`Baker::with_model`]; default
+    /// [`Model::GpuBinary32`]).
+    pub model: Model,
 }
 
 impl Default for MeshOptions {
     /// Useful levels up to 12, 4-state, fallback for unknowns, no byte
-    /// budget, [`DEFAULT_BLOCK_BUDGET`].
+    /// budget, [`DEFAULT_BLOCK_BUDGET`], the GPU model.
     fn default() -> Self {
         MeshOptions {
             levels: LevelRule::default(),
@@ -232,6 +235,7 @@ impl Default for MeshOptions {
             unknown: UnknownPolicy::Fallback,
             budget_bytes: None,
             block_budget: DEFAULT_BLOCK_BUDGET,
+            model: Model::default(),
         }
     }
 }
@@ -680,7 +684,8 @@ pub fn bake_meshes(
             Baker::new(&texture, material.sampler, material.cutoff)
         }
         .map_err(texture_error)?
-        .with_block_budget(options.block_budget);
+        .with_block_budget(options.block_budget)
+        .with_model(options.model);
         // With vertex alpha: two bakers per distinct vertex range (lower
         // and upper bound), built once each.
         let mut bound_bakers: BTreeMap<(u64, u64), (Baker, Baker)> = BTreeMap::new();
@@ -705,7 +710,8 @@ pub fn bake_meshes(
                             };
                             Ok(Baker::new(&texture, material.sampler, material.cutoff)
                                 .map_err(texture_error)?
-                                .with_block_budget(options.block_budget))
+                                .with_block_budget(options.block_budget)
+                                .with_model(options.model))
                         };
                         slot.insert((bound(false)?, bound(true)?));
                     }

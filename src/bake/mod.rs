@@ -84,6 +84,7 @@
 mod baker;
 mod classify;
 mod exact;
+mod gpu;
 pub mod mesh;
 mod texture;
 
@@ -91,6 +92,7 @@ pub use baker::{
     BakeError, BakedOpacity, BakedTriangle, Baker, Contradiction, TexelPoint, TriangleStatus,
     UvTriangle, Verification, VerifyCounts, DEFAULT_BLOCK_BUDGET,
 };
+pub use gpu::Model;
 pub use texture::{
     AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Sampler, SliceTexture,
     Texel, TextureError, Unorm16Texture, Unorm8Texture,

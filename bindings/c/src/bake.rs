@@ -356,6 +356,9 @@ fn options(o: &mmi_bake_options) -> Result<MeshOptions> {
         } else {
             o.block_budget
         },
+        // The library's default, the GPU binary32 model (docs/bake.md); the
+        // C options do not offer the exact-real model yet.
+        model: micromap_index::bake::Model::default(),
     })
 }
 

@@ -11,7 +11,7 @@ use micromap_index::bake::mesh::{
     bake_meshes, LevelRule, Material, Mesh, MeshBakeError, MeshOptions, MeshTriangles,
 };
 use micromap_index::bake::{
-    AddressMode, AlphaTexture, Baker, Comparison, Cutoff, Filter, Sampler, UvTriangle,
+    AddressMode, AlphaTexture, Baker, Comparison, Cutoff, Filter, Model, Sampler, UvTriangle,
 };
 use micromap_index::micromap::{
     read_buffers, BufferBytes, Format, IndexWidth, MicromapIndex, ReadOptions, TriangleOpacity,
@@ -27,7 +27,7 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// The sampler and cutoff flags `bake` and `verify-bake` share.
+/// The sampler, cutoff and model flags `bake` and `verify-bake` share.
 macro_rules! sampler_flags {
     () => {
         [
@@ -54,6 +54,13 @@ macro_rules! sampler_flags {
                 "--opaque-above",
                 "opaque when alpha > C (the OMM SDK's rule)",
             ),
+            Flag::value(
+                "--model",
+                "M",
+                "the points known states hold for: gpu-binary32 (default: every binary32
+                         hit a GPU assigns to the micro-triangle and the texel its binary32
+                         arithmetic reads) or exact (the exact real points only; docs/bake.md)",
+            ),
         ]
     };
 }
@@ -67,7 +74,8 @@ pub(crate) static BAKE: Command = Command {
     ],
     about: "  Bakes opacity micromaps exactly: a micro-triangle is opaque (transparent)
   only if every point of it, closed, reads only opaque (transparent) texels
-  under the sampler; otherwise unknown (docs/bake.md). Writes into DIR, all
+  under the sampler, and by default every binary32 hit a GPU assigns to it
+  too (--model); otherwise unknown (docs/bake.md). Writes into DIR, all
   or nothing:
     micromap-data.bin       the packed micromaps (Vulkan/DXR/glTF layout)
     micromap-triangles.bin  8-byte records {u32 offset, u16 level, u16 format}
@@ -92,7 +100,7 @@ pub(crate) static BAKE: Command = Command {
   written (DIR complete); 130 interrupted (nothing written); 141 stdout
   closed (DIR complete).",
     flags: &{
-        const SAMPLER: [Flag; 7] = sampler_flags!();
+        const SAMPLER: [Flag; 8] = sampler_flags!();
         [
             Flag::value(
                 "--gltf",
@@ -127,6 +135,7 @@ pub(crate) static BAKE: Command = Command {
             SAMPLER[4],
             SAMPLER[5],
             SAMPLER[6],
+            SAMPLER[7],
             Flag::value(
                 "--index-width",
                 "16|32",
@@ -170,7 +179,7 @@ pub(crate) static VERIFY_BAKE: Command = Command {
   malformed buffers (a layout error, a file over its limit); 3 unreadable
   input.",
     flags: &{
-        const SAMPLER: [Flag; 7] = sampler_flags!();
+        const SAMPLER: [Flag; 8] = sampler_flags!();
         [
             Flag::value("--texture", "T.png", "the alpha texture (PNG or JPEG)"),
             Flag::value(
@@ -186,6 +195,7 @@ pub(crate) static VERIFY_BAKE: Command = Command {
             SAMPLER[4],
             SAMPLER[5],
             SAMPLER[6],
+            SAMPLER[7],
             Flag::value(
                 "--index-width",
                 "16|32",
@@ -400,6 +410,16 @@ fn read_file(path: &Path, limit: u64, what: &str) -> Result<Vec<u8>, Failure> {
     Ok(bytes)
 }
 
+/// `--model` (default gpu-binary32).
+fn model_option(p: &Parsed<'_>) -> Result<Model, Failure> {
+    match p.get("--model") {
+        None => Ok(Model::default()),
+        Some(text) => Model::from_name(text).ok_or_else(|| {
+            Failure::Malformed(format!("--model {text:?}: expected gpu-binary32 or exact"))
+        }),
+    }
+}
+
 fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
     let limits = Limits::default();
     let cutoff_of = |value: f32| {
@@ -534,6 +554,7 @@ struct JobSummary {
 struct Summary {
     triangles: usize,
     format: u32,
+    model: &'static str,
     levels: Vec<u64>,
     micro_triangles: StateCounts,
     known_fraction: f64,
@@ -666,6 +687,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         .transpose()?
         .unwrap_or(DEFAULT_MAX_OUTPUT_BYTES);
     let width = index_width(&p)?;
+    let model = model_option(&p)?;
     let s = sampler_options(&p)?;
     let preview = !p.flag("--no-preview");
     if let Err(message) = install_interrupt_handler() {
@@ -725,6 +747,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         format,
         unknown: two_state,
         budget_bytes: budget,
+        model,
         ..MeshOptions::default()
     };
     let show_progress = !p.flag("--quiet") && std::io::stderr().is_terminal();
@@ -817,6 +840,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     let summary = Summary {
         triangles: report.triangles,
         format: u32::from(format.raw()),
+        model: model.name(),
         levels: report.levels.clone(),
         known_fraction: report.known_fraction,
         known_area_fraction: report.known_area_fraction,
@@ -883,6 +907,7 @@ struct ContradictionJson {
 
 #[derive(Serialize)]
 struct VerifyJson {
+    model: &'static str,
     triangles: usize,
     triangles_checked: usize,
     known_micro_triangles: u64,
@@ -927,6 +952,7 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
             .map_err(|_| Failure::Malformed(format!("--max-checks {text:?}: expected a count")))?,
     };
     let width = index_width(&p)?;
+    let model = model_option(&p)?;
     let s = sampler_options(&p)?;
     let input = read_input(&p, &s)?;
     let job = &input.jobs[0];
@@ -1009,8 +1035,10 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
         .texture()
         .map_err(|e| Failure::Malformed(e.to_string()))?;
     let baker = Baker::new(&texture, job.sampler, job.cutoff)
-        .map_err(|e| Failure::Malformed(e.to_string()))?;
+        .map_err(|e| Failure::Malformed(e.to_string()))?
+        .with_model(model);
     let mut out = VerifyJson {
+        model: model.name(),
         triangles: job.triangles.len(),
         triangles_checked: 0,
         known_micro_triangles: 0,

@@ -310,3 +310,96 @@ fn bad_input_is_refused_and_nothing_is_written() {
     ok(&forced);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// FNV-1a, 64 bits: a digest of a file's bytes.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3)
+    })
+}
+
+/// `--model`: the default is the GPU model; `--model exact` writes the
+/// bytes earlier versions wrote (digests of a level-5 grid bake by the
+/// baker before the GPU model, f81befe); the summary names the model; the
+/// GPU model knows fewer micro-triangles on the texel-aligned grid; an
+/// exact bake verifies sound for the exact model and not for the GPU model,
+/// a GPU bake for both; an unknown model is refused.
+#[test]
+fn model_option_defaults_to_the_gpu_model_and_exact_keeps_the_old_bytes() {
+    let dir = scratch("model");
+    let texture = format!("{ASSETS}/sponza_thorn.png");
+    let tris = format!("{ASSETS}/grid.tris.json");
+    let input = ["--texture", &texture, "--triangles", &tris];
+    let summary_of = |out: &Path, model: Option<&str>| -> serde_json::Value {
+        let mut args = vec!["bake"];
+        args.extend(input);
+        args.extend([
+            "--out",
+            out.to_str().unwrap(),
+            "--level",
+            "5",
+            "--no-preview",
+            "--quiet",
+        ]);
+        if let Some(m) = model {
+            args.extend(["--model", m]);
+        }
+        serde_json::from_str(&ok(&args)).unwrap()
+    };
+    let (exact, gpu, default) = (dir.join("exact"), dir.join("gpu"), dir.join("default"));
+    let s_exact = summary_of(&exact, Some("exact"));
+    let s_gpu = summary_of(&gpu, Some("gpu-binary32"));
+    let s_default = summary_of(&default, None);
+    assert_eq!(s_exact["model"], "exact");
+    assert_eq!(s_gpu["model"], "gpu-binary32");
+    assert_eq!(s_default["model"], "gpu-binary32");
+    for (file, digest) in [
+        ("micromap-data.bin", 0x8f98_e304_c9ec_83b3u64),
+        ("micromap-triangles.bin", 0x93fd_08cf_6b1f_8925),
+        ("micromap-indices.bin", 0x709f_2462_c272_f725),
+        ("micromap-usage.bin", 0x9b38_f5ea_f9eb_c392),
+    ] {
+        assert_eq!(
+            fnv1a(&std::fs::read(exact.join(file)).unwrap()),
+            digest,
+            "{file}"
+        );
+        assert_eq!(
+            std::fs::read(gpu.join(file)).unwrap(),
+            std::fs::read(default.join(file)).unwrap()
+        );
+    }
+    let known = |s: &serde_json::Value| s["known_fraction"].as_f64().unwrap();
+    assert!(known(&s_gpu) < known(&s_exact), "{s_gpu} {s_exact}");
+    assert!(known(&s_gpu) > 0.5 * known(&s_exact));
+    let verify = |dir: &Path, model: &str| {
+        let mut args = vec!["verify-bake"];
+        args.extend(input);
+        args.extend([
+            "--micromaps",
+            dir.to_str().unwrap(),
+            "--model",
+            model,
+            "--json",
+        ]);
+        let out = run(&args);
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(json["model"], model);
+        (out.status.code(), json["contradictions"].as_u64().unwrap())
+    };
+    assert_eq!(verify(&exact, "exact"), (Some(0), 0));
+    let (code, contradictions) = verify(&exact, "gpu-binary32");
+    assert_eq!(code, Some(1));
+    assert!(contradictions > 0);
+    assert_eq!(verify(&gpu, "gpu-binary32"), (Some(0), 0));
+    assert_eq!(verify(&gpu, "exact"), (Some(0), 0));
+    let mut args = vec!["bake"];
+    args.extend(input);
+    let bad = dir.join("bad");
+    args.extend(["--out", bad.to_str().unwrap(), "--model", "gpu"]);
+    let out = run(&args);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--model"));
+    assert!(!bad.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
