@@ -82,7 +82,9 @@ use micromap_index::{internals, spec, Error, Level, Outside};
 use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet, VecDeque};
 use std::fmt;
 
+mod certify;
 mod product;
+mod reference_code;
 mod report;
 mod search;
 mod symbolic;
@@ -90,7 +92,9 @@ mod symbolic;
 mod tests;
 mod transducer;
 
+pub use certify::*;
 pub use product::*;
+pub use reference_code::*;
 pub use report::*;
 pub use search::*;
 pub use symbolic::*;
