@@ -138,6 +138,13 @@ pub fn index(u: f32, v: f32, level: SpecLevel) -> u32 {
 pub mod internals {
     pub use crate::inverse::micro_triangle_ref;
     pub use crate::spec::rounding_flips_diagonal;
+    /// The reference's integer half and dyadic diagonal test, generic over
+    /// the word, for the lab's symbolic derivation of the reference
+    /// transducer (`docs/verification.md`, section 10.3).
+    pub use crate::spec::{
+        fractions_reach_one, reference_cell, reference_digits, ReferenceWord, NARROW_INTERLEAVE,
+        NARROW_PREFIX_XOR, WIDE_INTERLEAVE, WIDE_PREFIX_XOR,
+    };
     pub use crate::uv2index::index_version1_unchecked;
     pub use crate::uv2index::{
         cell_real_f32, cell_real_f64, exact_index_f32_ref, exact_index_f64_ref,

@@ -1,6 +1,7 @@
 //! The reference's steps over the reals for dyadic points, with integers
 //! only: what the face-by-face proof feeds the reference.
 
+use super::integer_half::ReferenceWord;
 use super::{index_from_cell, wide_index_from_cell, Cell};
 use crate::{Error, Level, SpecLevel};
 
@@ -46,7 +47,7 @@ pub fn cell_dyadic(
         Cell {
             iu: u >> shift,
             iv: v >> shift,
-            diagonal: (u & mask) + (v & mask) > mask,
+            diagonal: fractions_reach_one(u & mask, v & mask, mask),
         }
     } else {
         // Coarser than the lattice: every such point is a lattice vertex.
@@ -57,6 +58,15 @@ pub fn cell_dyadic(
             diagonal: false,
         }
     })
+}
+
+/// The diagonal test `uf + vf >= 1` on the fractions below the level,
+/// `uf = u & mask`, `vf = v & mask` with `mask = 2^shift - 1` (units of
+/// `2^-shift`): `uf + vf > mask`. Generic so that the lab runs it on
+/// symbolic fractions (`docs/verification.md`, section 10.3).
+#[inline(always)]
+pub fn fractions_reach_one<W: ReferenceWord>(uf: W, vf: W, mask: W) -> bool {
+    !mask.at_least(uf.wrapping_add(vf))
 }
 
 /// The reference's steps over the reals for the dyadic point

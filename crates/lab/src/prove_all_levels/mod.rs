@@ -43,23 +43,24 @@
 //! of variables `R(d) = (bit + R(d+1)) / 2`. Nothing of the step is
 //! restated.
 //!
-//! # The reference: learnt column table and one restated rule
+//! # The reference: derived from its code
 //!
 //! The reference's integer half turns its cell `(iu, iv, iw)` into digits
 //! column by column from the top, carrying the parity of the Top digits
 //! above (its prefix XOR). The table `(parity, u bit, v bit, w bit) ->
-//! digit` is *learnt* from [`spec::wide_index_from_cell`] on every cell of
-//! levels 1..=5 ([`ReferenceColumns::learn`]), and fails unless it is a
-//! function. What is restated is how the reference's cell relates to the
-//! point's digits: `(iu, iv, iw)` is the point's integer parts `(U, V, W)`
-//! at level `n` with at most one of them decremented by one
-//! ([`decremented_coordinate`], derived by hand from the clamps, the
-//! hypotenuse move and the diagonal test in `docs/verification.md`).
-//! Read from the top, "minus one" flips exactly the bits below which the
-//! number's rest is zero, so the transducer guesses the decremented
-//! coordinate at the start and the guess is checked where the level ends.
-//! Both restatements are cross-checked against the real functions on every
-//! face of levels 0..=12 (`tests/prove_all_levels.rs`).
+//! digit` is *learnt* from the code's `internals::reference_digits`
+//! ([`ReferenceColumns::learn`]) and *verified* by running the same code on
+//! words of GF(2) polynomials at every level `0..=32` (64-bit) and `0..=16`
+//! (32-bit) ([`verify_columns`]). How the cell relates to the point's
+//! digits (the point's integer parts at level `n` with at most one of them
+//! decremented by one) is *derived* by running the code's
+//! `internals::reference_cell` and dyadic diagonal test on symbolic affine
+//! forms for every case and level ([`derive_cell_rule`]). Read from the
+//! top, "minus one" flips exactly the bits below which the number's rest is
+//! zero, so the transducer guesses the decremented coordinate at the start
+//! and the guess is checked where the level ends. [`prove_all_levels`] then
+//! [`certify`]s the search: every face of levels 0..=8 runs along explored
+//! transitions and the product is the committed listing.
 //!
 //! ```
 //! use micromap_index_lab::prove::WalkVersion;
@@ -82,7 +83,9 @@ use micromap_index::{internals, spec, Error, Level, Outside};
 use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet, VecDeque};
 use std::fmt;
 
+mod certify;
 mod product;
+mod reference_code;
 mod report;
 mod search;
 mod symbolic;
@@ -90,7 +93,9 @@ mod symbolic;
 mod tests;
 mod transducer;
 
+pub use certify::*;
 pub use product::*;
+pub use reference_code::*;
 pub use report::*;
 pub use search::*;
 pub use symbolic::*;

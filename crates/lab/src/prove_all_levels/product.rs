@@ -39,12 +39,13 @@ pub struct Start {
 }
 
 /// The two transducers: the walk's step (the crate's, or a mutated one in
-/// tests), the learnt reference columns and the decrement rule.
+/// tests), the reference's column table and its cell rule (both from the
+/// reference's code: [`verify_columns`], [`derive_cell_rule`]).
 #[derive(Clone, Copy)]
 pub struct Machine {
     step: SymbolicStep,
     columns: ReferenceColumns,
-    rule: DecrementRule,
+    rule: CellRule,
     pub(super) version: Option<WalkVersion>,
 }
 
@@ -65,10 +66,12 @@ impl Machine {
             WalkVersion::Version1 => step_version1 as SymbolicStep,
         };
         let columns = ReferenceColumns::learn().map_err(ModelError)?;
+        verify_columns(&columns).map_err(ModelError)?;
+        let rule = derive_cell_rule(REFERENCE_CELL, REFERENCE_DIAGONAL).map_err(ModelError)?;
         Ok(Machine {
             step,
             columns,
-            rule: decremented_coordinate,
+            rule,
             version: Some(version),
         })
     }
@@ -76,11 +79,7 @@ impl Machine {
     /// A machine with parts replaced (to show that the search rejects a
     /// wrong transducer); it has no real walk to check counterexamples with.
     #[must_use]
-    pub fn with_parts(
-        step: SymbolicStep,
-        columns: ReferenceColumns,
-        rule: DecrementRule,
-    ) -> Machine {
+    pub fn with_parts(step: SymbolicStep, columns: ReferenceColumns, rule: CellRule) -> Machine {
         Machine {
             step,
             columns,
@@ -93,6 +92,12 @@ impl Machine {
     #[must_use]
     pub fn columns(&self) -> ReferenceColumns {
         self.columns
+    }
+
+    /// The reference's cell rule, derived from its code.
+    #[must_use]
+    pub fn rule(&self) -> CellRule {
+        self.rule
     }
 
     /// The state a run starts in, or an error if the reference's cell
@@ -142,7 +147,8 @@ impl Machine {
     /// guess is the right one for this rest.
     #[must_use]
     pub fn level_may_end(&self, state: &ReferenceState, rest: Rest) -> bool {
-        (self.rule)(rest.zero, state.u_zero, state.w_zero) == state.decremented
+        self.rule.outcome(rest, state.u_zero, state.w_zero)
+            == CellOutcome::Decrement(state.decremented)
     }
 
     /// One column: the walk's digit, the reference's digit and the next
@@ -233,12 +239,18 @@ impl Machine {
         // The guess a correct run makes: the rule at the level's rest.
         let u_zero = !first.bits[U] && first.rest.zero[U];
         let w_zero = !first.bits[W] && first.rest.zero[W];
-        let decremented = (self.rule)(at_level.zero, u_zero, w_zero);
+        let CellOutcome::Decrement(decremented) = self.rule.outcome(at_level, u_zero, w_zero)
+        else {
+            return Err(ModelError(format!(
+                "the cell rule has no outcome for the point's level end {at_level:?}"
+            )));
+        };
         let mut state = self.start(Start {
             column: first,
             decremented,
         })?;
         let mut states = vec![state];
+        let start_column = first;
         let (mut walk_index, mut reference_index) = (0u64, 0u64);
         for &column in &columns[1..=n] {
             if !state.rest.admits(column.bits, column.rest) {
@@ -260,6 +272,11 @@ impl Machine {
         Ok(PointRun {
             walk_index,
             reference_index,
+            start: Start {
+                column: start_column,
+                decremented,
+            },
+            columns: columns[1..=n].to_vec(),
             states,
         })
     }
@@ -272,7 +289,12 @@ pub struct PointRun {
     pub walk_index: u64,
     /// The index from the reference transducer's digits.
     pub reference_index: u64,
-    /// The product states of the run, start first.
+    /// The start the run begins from (its first column and guess).
+    pub start: Start,
+    /// The columns `1..=n` the run read, one per digit.
+    pub columns: Vec<Column>,
+    /// The product states of the run, start first (one more than
+    /// `columns`).
     pub states: Vec<ProductState>,
 }
 

@@ -1,6 +1,6 @@
 //! What the search reports (verdict, counts, the product it explored),
 //! the real functions at a face, and the printing of states and
-//! transitions (for `micromap-index prove --all-levels --list` and the
+//! transitions (for `micromap-lab prove --all-levels --list` and the
 //! docs).
 
 #[allow(clippy::wildcard_imports)]
@@ -283,7 +283,7 @@ impl fmt::Display for ReferenceState {
 
 impl AllLevelsReport {
     /// Every state and transition of the product, one per line (what
-    /// `micromap-index prove --all-levels --list` prints).
+    /// `micromap-lab prove --all-levels --list` prints).
     #[must_use]
     pub fn listing(&self) -> Vec<String> {
         let mut lines = Vec::new();

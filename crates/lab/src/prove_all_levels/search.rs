@@ -118,12 +118,26 @@ enum Parent {
 /// every real point of the closed triangle, the walk equals the reference
 /// (see the module docs for what is restated and how it is checked).
 pub fn prove_all_levels(version: WalkVersion) -> Result<AllLevelsReport, ModelError> {
-    Ok(explore(&Machine::new(version)?))
+    let machine = Machine::new(version)?;
+    Ok(certify(&machine, explore(&machine), COMMITTED_LISTING))
 }
 
-/// Explores the product for any machine (also a mutated one).
+/// Explores the product for any machine (also a mutated one). This is the
+/// search alone: [`prove_all_levels`] also [`certify`]s what it explored.
 #[must_use]
 pub fn explore(machine: &Machine) -> AllLevelsReport {
+    explore_pruned(machine, |_, _| false)
+}
+
+/// [`explore`] with a hook that may skip columns the search would follow
+/// (`prune(state, column)` true: not explored). Only for showing that an
+/// over-pruning search is caught by [`certify`]; [`explore`] prunes nothing.
+#[doc(hidden)]
+#[must_use]
+pub fn explore_pruned(
+    machine: &Machine,
+    prune: impl Fn(&ProductState, &Column) -> bool,
+) -> AllLevelsReport {
     let completable = completable();
     let liveness = Liveness::build(machine, &completable);
     let mut ids: HashMap<ProductState, usize> = HashMap::new();
@@ -208,7 +222,7 @@ pub fn explore(machine: &Machine) -> AllLevelsReport {
                 rest: column.rest,
                 ..state
             };
-            if !liveness.is_live(&probe) {
+            if !liveness.is_live(&probe) || prune(&state, &column) {
                 continue; // no valid word goes on from here to a level end
             }
             counts.transitions += 1;

@@ -136,16 +136,38 @@ fn step_without_top_flip(walk: &mut Walk<Symbolic>) -> u8 {
     walk.step()
 }
 
-/// The decrement rule without the hypotenuse move (and the clamps).
-fn no_move(zero: [bool; 3], _u_zero: bool, w_zero: bool) -> Option<usize> {
-    (!w_zero && zero[W]).then_some(W)
+/// The reference's cell steps without the hypotenuse move (a mutant of
+/// `internals::reference_cell`, for the derivation).
+fn cell_without_move(
+    iu: CellForm,
+    iv: CellForm,
+    diagonal: bool,
+    level: u32,
+) -> (CellForm, CellForm, CellForm) {
+    use micromap_index::internals::ReferenceWord;
+    let one = CellForm::constant(1);
+    let cells = CellForm::power_of_two(level);
+    let last = cells.wrapping_sub(one);
+    let (mut iu, mut iv) = (iu, iv);
+    if iu.at_least(cells) {
+        iu = last;
+    }
+    if iv.at_least(cells) {
+        iv = last;
+    }
+    let iuv = iu.wrapping_add(iv);
+    let mut iw = iu.wrapping_add(iv).complement();
+    if diagonal && !iuv.at_least(last) {
+        iw = iw.wrapping_sub(one);
+    }
+    (iu, iv, iw)
 }
 
 #[test]
 fn mutated_transducers_are_rejected() {
     let columns = machine().columns();
     for step in [step_without_tie_rule as SymbolicStep, step_without_top_flip] {
-        let report = explore(&Machine::with_parts(step, columns, decremented_coordinate));
+        let report = explore(&Machine::with_parts(step, columns, machine().rule()));
         assert!(
             matches!(report.verdict, Verdict::Counterexample(_)),
             "{:?}",
@@ -157,20 +179,20 @@ fn mutated_transducers_are_rejected() {
         for key in 0..8 {
             let mut wrong = columns;
             wrong.digits[parity][key] ^= 1;
-            let report = explore(&Machine::with_parts(
-                step_version2,
-                wrong,
-                decremented_coordinate,
-            ));
+            let report = explore(&Machine::with_parts(step_version2, wrong, machine().rule()));
             assert!(
                 !report.is_proof(),
                 "entry ({parity}, {key:03b}) flipped still proved"
             );
         }
     }
-    // A decrement rule that forgets the hypotenuse move.
-    let report = explore(&Machine::with_parts(step_version2, columns, no_move));
-    assert!(!report.is_proof(), "{:?}", report.verdict);
+    // The reference's cell code without the hypotenuse move: the
+    // derivation refuses it (the hypotenuse vertex's cell reaches 2^level).
+    let derived = derive_cell_rule(cell_without_move, REFERENCE_DIAGONAL);
+    assert!(
+        matches!(&derived, Err(e) if e.contains("not the point's integer part")),
+        "{derived:?}"
+    );
 }
 
 /// A step that compares `u - v` (not a single remainder) with 1/2: the
@@ -185,7 +207,7 @@ fn undecided_comparisons_fail_the_construction() {
     let machine = Machine::with_parts(
         step_comparing_a_difference,
         machine().columns(),
-        decremented_coordinate,
+        machine().rule(),
     );
     let report = explore(&machine);
     assert!(
@@ -211,4 +233,211 @@ fn faces_of_points_match_the_lattice() {
             );
         }
     }
+}
+
+/// A search that prunes too much (here: never follows a column whose bits
+/// are all one, which only vertices and the corners need) still finds no
+/// differing digit, but [`prove_all_levels`]'s certification refuses it:
+/// some face of levels 0..=8 reads a transition it did not explore.
+#[test]
+fn an_over_pruning_search_is_refused() {
+    let machine = machine();
+    let pruned = explore_pruned(&machine, |_, column| column.bits == [true; 3]);
+    assert_eq!(pruned.verdict, Verdict::Proved, "the pruned search alone");
+    assert!(pruned.transitions.len() < 106);
+    let certified = certify(&machine, pruned, COMMITTED_LISTING);
+    assert!(
+        matches!(&certified.verdict, Verdict::Failed(e) if e.0.contains("did not explore the whole product")),
+        "{:?}",
+        certified.verdict
+    );
+    // Pruning a single transition is caught too.
+    let full = explore(&machine);
+    let first = full.transitions[full.transitions.len() - 1];
+    let from = full.product_states[first.from];
+    let pruned = explore_pruned(&machine, |state, column| {
+        *state == from && *column == first.column
+    });
+    assert_eq!(pruned.transitions.len(), 105);
+    assert!(!certify(&machine, pruned, COMMITTED_LISTING).is_proof());
+}
+
+#[test]
+fn the_committed_listing_is_checked() {
+    let machine = machine();
+    let report = certify(&machine, explore(&machine), COMMITTED_LISTING);
+    assert_eq!(report.verdict, Verdict::Proved);
+    // One changed digit in the committed text: refused, with the line.
+    let altered =
+        COMMITTED_LISTING.replacen("digits walk 0 reference 0", "digits walk 1 reference 1", 1);
+    assert_ne!(altered, COMMITTED_LISTING);
+    let report = certify(&machine, explore(&machine), &altered);
+    assert!(
+        matches!(&report.verdict, Verdict::Failed(e) if e.0.contains("differs from the committed")),
+        "{:?}",
+        report.verdict
+    );
+    // A missing line as well.
+    let shorter = COMMITTED_LISTING
+        .lines()
+        .filter(|l| !l.starts_with("S33:"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert!(!certify(&machine, explore(&machine), &shorter).is_proof());
+}
+
+/// The cell rule derived from the code is the case analysis of
+/// `docs/verification.md` section 10.3 (kept here as the test's oracle).
+#[test]
+fn derived_cell_rule_is_the_documented_case_analysis() {
+    let rule = derive_cell_rule(REFERENCE_CELL, REFERENCE_DIAGONAL).unwrap();
+    let documented = |zero: [bool; 3], u_zero: bool, w_zero: bool| {
+        if !w_zero && zero[W] {
+            Some(W)
+        } else if w_zero && zero[U] && zero[V] {
+            Some(if u_zero { V } else { U })
+        } else {
+            None
+        }
+    };
+    let mut reachable = 0;
+    for rest in search::completable() {
+        for (u_zero, w_zero) in [(false, false), (false, true), (true, false), (true, true)] {
+            match rule.outcome(rest, u_zero, w_zero) {
+                CellOutcome::Decrement(d) => {
+                    reachable += 1;
+                    assert_eq!(
+                        d,
+                        documented(rest.zero, u_zero, w_zero),
+                        "{rest:?} {u_zero} {w_zero}"
+                    );
+                }
+                CellOutcome::Unreachable => {
+                    // u == 0 needs u's rest zero, w == 0 needs w's; both
+                    // mean v = 1, nothing left.
+                    assert!(
+                        (u_zero && !rest.zero[U])
+                            || (w_zero && !rest.zero[W])
+                            || (u_zero && w_zero && rest.sum > 0),
+                        "{rest:?} {u_zero} {w_zero}"
+                    );
+                }
+            }
+        }
+    }
+    assert!(reachable >= 10, "{reachable}");
+}
+
+/// Mutants of the reference's cell code (copies of
+/// `internals::reference_cell` with one change): each is refused by the
+/// derivation or changes the derived rule.
+fn cell_mutant(
+    iu: CellForm,
+    iv: CellForm,
+    diagonal: bool,
+    level: u32,
+    mutant: u8,
+) -> (CellForm, CellForm, CellForm) {
+    use micromap_index::internals::ReferenceWord;
+    let one = CellForm::constant(1);
+    let cells = CellForm::power_of_two(level);
+    let last = cells.wrapping_sub(one);
+    let (mut iu, mut iv) = (iu, iv);
+    if iu.at_least(cells) {
+        iu = last;
+    }
+    if iv.at_least(cells) {
+        iv = last;
+    }
+    let iuv = iu.wrapping_add(iv);
+    let moves = match mutant {
+        // `>` instead of `>=`.
+        1 => !cells.at_least(iuv),
+        // Switched off from level 20 on.
+        2 => level < 20 && iuv.at_least(cells),
+        _ => iuv.at_least(cells),
+    };
+    if moves {
+        iu = iu.wrapping_sub(iuv.wrapping_sub(cells).wrapping_add(one));
+    }
+    let mut iw = iu.wrapping_add(iv).complement();
+    // 3: the decrement on `<=` instead of `<`.
+    let decrements = || {
+        if mutant == 3 {
+            last.at_least(iuv)
+        } else {
+            !iuv.at_least(last)
+        }
+    };
+    if diagonal && decrements() {
+        iw = iw.wrapping_sub(one);
+    }
+    (iu, iv, iw)
+}
+
+#[test]
+fn mutants_of_the_reference_cell_are_caught() {
+    let real = machine().rule();
+    assert_eq!(cell_mutant_rule(0), Ok(real));
+    for mutant in 1..=3 {
+        let derived = cell_mutant_rule(mutant);
+        assert!(
+            derived.as_ref() != Ok(&real),
+            "mutant {mutant} derives the real rule"
+        );
+        if let Ok(rule) = derived {
+            let report = explore(&Machine::with_parts(
+                step_version2,
+                machine().columns(),
+                rule,
+            ));
+            assert!(!report.is_proof(), "mutant {mutant} proved");
+        }
+    }
+    // A diagonal test on `>=` (a mutant of `fractions_reach_one`).
+    let derived = derive_cell_rule(REFERENCE_CELL, diagonal_at_least);
+    assert!(derived.as_ref() != Ok(&real), "{derived:?}");
+}
+
+/// `uf + vf >= mask` instead of `>`: a mutant of `fractions_reach_one`.
+fn diagonal_at_least(uf: FractionForm, vf: FractionForm, mask: FractionForm) -> bool {
+    use micromap_index::internals::ReferenceWord;
+    uf.wrapping_add(vf).at_least(mask)
+}
+
+fn cell_mutant_rule(mutant: u8) -> Result<CellRule, String> {
+    let code: [CellCode; 4] = [
+        |iu, iv, d, l| cell_mutant(iu, iv, d, l, 0),
+        |iu, iv, d, l| cell_mutant(iu, iv, d, l, 1),
+        |iu, iv, d, l| cell_mutant(iu, iv, d, l, 2),
+        |iu, iv, d, l| cell_mutant(iu, iv, d, l, 3),
+    ];
+    derive_cell_rule(code[usize::from(mutant)], REFERENCE_DIAGONAL)
+}
+
+/// The column table holds for the 64-bit code at every level 0..=32 and
+/// the 32-bit code at 0..=16; the 32-bit code is refuted at 17 (its 16-bit
+/// prefix XOR and interleave), and so is a 64-bit code whose prefix XOR
+/// stops at 16 bits.
+#[test]
+fn integer_half_verified_symbolically_with_negative_controls() {
+    let columns = machine().columns();
+    verify_columns(&columns).unwrap();
+    let refuted = verify_columns_at(&columns, NARROW, 17);
+    assert!(
+        matches!(&refuted, Err(e) if e.contains("32-bit integer half at level 17")),
+        "{refuted:?}"
+    );
+    let window16 = Width {
+        prefix_xor: &[1, 2, 4, 8],
+        ..WIDE
+    };
+    for level in 0..=16 {
+        verify_columns_at(&columns, window16, level).unwrap();
+    }
+    assert!(verify_columns_at(&columns, window16, 17).is_err());
+    // A wrong table entry is refused at level 1 already.
+    let mut wrong = columns;
+    wrong.digits[0][1] ^= 2;
+    assert!(verify_columns_at(&wrong, WIDE, 1).is_err());
 }

@@ -1,5 +1,6 @@
-//! The reference transducer: the learnt column table and the restated
-//! decrement rule (the module docs, "The reference").
+//! The reference transducer: the column table (learnt from the code,
+//! verified symbolically by [`verify_columns`]) and the top-down borrow of
+//! the decremented coordinate (the module docs, "The reference").
 
 #[allow(clippy::wildcard_imports)]
 use super::*;
@@ -14,14 +15,13 @@ pub struct ReferenceColumns {
 }
 
 impl ReferenceColumns {
-    /// Runs [`spec::wide_index_from_cell`] on every cell `(iu, iv)` with
-    /// `iu + iv < 2^level` and both diagonal bits, levels 1..=5, and reads
-    /// off, for every digit position, the digit against the parity of the
-    /// Top digits above it and the column's bits of `(iu, iv, iw)`, where
-    /// `iw = 2^level - 1 - iu - iv - [diagonal and iu + iv < 2^level - 1]`
-    /// (the code's `~(iu + iv)` and decrement, restated for cells inside
-    /// the grid, where no clamp applies). Fails unless every key is seen
-    /// and always with one digit.
+    /// Runs the reference's digit steps ([`internals::reference_digits`],
+    /// 64-bit words, the code [`spec::wide_index_from_cell`] runs after its
+    /// cell) on every cell `(iu, iv, iw)` of levels 1..=3 (any three words
+    /// below `2^level`) and reads off, for every digit position, the digit
+    /// against the parity of the Top digits above it and the column's bits.
+    /// Fails unless every key is seen and always with one digit.
+    /// [`verify_columns`] then checks the table symbolically at every level.
     ///
     /// ```
     /// use micromap_index_lab::prove_all_levels::ReferenceColumns;
@@ -34,14 +34,19 @@ impl ReferenceColumns {
     /// ```
     pub fn learn() -> Result<ReferenceColumns, String> {
         let mut digits: [[Option<u8>; 8]; 2] = [[None; 8]; 2];
-        for level in 1..=5u32 {
+        for level in 1..=3u32 {
             let cells = 1u64 << level;
             for iu in 0..cells {
-                for iv in 0..cells - iu {
-                    for diagonal in [false, true] {
-                        let decrement = u64::from(diagonal && iu + iv < cells - 1);
-                        let iw = cells - 1 - iu - iv - decrement;
-                        let index = spec::wide_index_from_cell(iu, iv, diagonal, level);
+                for iv in 0..cells {
+                    for iw in 0..cells {
+                        let index = internals::reference_digits(
+                            iu,
+                            iv,
+                            iw,
+                            level,
+                            &internals::WIDE_PREFIX_XOR,
+                            &internals::WIDE_INTERLEAVE,
+                        );
                         let mut parity = false;
                         for position in (0..level).rev() {
                             let digit = ((index >> (2 * position)) & 3) as u8;
@@ -51,7 +56,7 @@ impl ReferenceColumns {
                             if slot.is_some_and(|known| known != digit) {
                                 return Err(format!(
                                     "reference digit is not a function of (parity, column): \
-                                     cell ({iu}, {iv}, {diagonal}) level {level} position {position}"
+                                     cell ({iu}, {iv}, {iw}) level {level} position {position}"
                                 ));
                             }
                             *slot = Some(digit);
@@ -87,50 +92,13 @@ pub struct ReferenceState {
     /// Parity of the Top digits emitted so far (the prefix XOR).
     pub parity: bool,
     /// The guessed coordinate the reference's cell decrements (see
-    /// [`decremented_coordinate`]).
+    /// [`derive_cell_rule`]).
     pub decremented: Option<usize>,
     /// `u == 0` (known from the first column and its rest).
     pub u_zero: bool,
     /// `w == 0`.
     pub w_zero: bool,
 }
-
-/// Which of the point's integer parts `(U, V, W) = floor(2^n (u, v, w))`
-/// the reference's cell `(iu, iv, iw)` has one less of, from the rest
-/// below level `n` and whether `u` or `w` is zero (restated by hand from
-/// [`spec::wide_index_from_cell`]'s clamps, hypotenuse move and diagonal
-/// test; `docs/verification.md` section 10.3 has the case analysis):
-///
-/// * `w`'s rest is zero and `w > 0` (vertices, and points on a line
-///   `u + v = k/2^n` below the hypotenuse): `iw = W - 1`;
-/// * `w = 0` and the point is a lattice vertex: `iu = U - 1` (the
-///   hypotenuse move, and the clamp of `u = 1`), or `iv = V - 1` when
-///   `u = 0` (the clamp of `v = 1`);
-/// * otherwise the cell is `(U, V, W)`.
-///
-/// ```
-/// use micromap_index_lab::prove_all_levels::{decremented_coordinate, U, V, W};
-/// // A vertex below the hypotenuse: iw = W - 1.
-/// assert_eq!(decremented_coordinate([true; 3], false, false), Some(W));
-/// // The vertex u = 1 (w = 0): iu clamped to U - 1; v = 1 (u = 0 too): iv.
-/// assert_eq!(decremented_coordinate([true; 3], false, true), Some(U));
-/// assert_eq!(decremented_coordinate([true; 3], true, true), Some(V));
-/// // Inside an upright micro-triangle: the cell is (U, V, W).
-/// assert_eq!(decremented_coordinate([false; 3], false, false), None);
-/// ```
-#[must_use]
-pub fn decremented_coordinate(rest_zero: [bool; 3], u_zero: bool, w_zero: bool) -> Option<usize> {
-    if !w_zero && rest_zero[W] {
-        Some(W)
-    } else if w_zero && rest_zero[U] && rest_zero[V] {
-        Some(if u_zero { V } else { U })
-    } else {
-        None
-    }
-}
-
-/// The rule [`Machine`] uses for [`decremented_coordinate`].
-pub type DecrementRule = fn([bool; 3], bool, bool) -> Option<usize>;
 
 /// The reference's cell bits in one column: the point's bits with those
 /// of the decremented coordinate flipped wherever its rest is zero (the

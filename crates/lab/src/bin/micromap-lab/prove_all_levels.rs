@@ -18,7 +18,7 @@ pub(crate) static ALL_LEVELS: Command = Command {
     name: "prove",
     forms: &["--all-levels [--version1] [--json] [--list]"],
     about: "  --all-levels proves the walk equal to the reference at every level at once
-  by exploring the finite product of two digit transducers (milliseconds);
+  by exploring the finite product of two digit transducers (under a second);
   exit 0 proved, 1 not; with --version1 it must fail and prints a face; --list
   prints every product state and transition (docs/verification.md section 10).",
     flags: &[
