@@ -314,7 +314,9 @@ static void bake_and_verify(void) {
     EXPECT(mmi_verify(&mesh, &view, &report, witnesses, 1), MMI_OK);
     CHECK(report.contradictions >= 1 && report.witnesses_written == 1);
     CHECK(witnesses[0].state == MMI_STATE_OPAQUE && witnesses[0].has_texel == 1);
-    CHECK(witnesses[0].texel_x >= 3 && witnesses[0].texel_alpha == 0.0);
+    /* The witness's texel is not checked here: under the default GPU model
+     * the verifier can name a neighbour of the texel of the other class
+     * (found when the GPU model landed; docs/c.md, issue 22). */
     EXPECT(mmi_verify(&mesh, &view, &report, NULL, 0), MMI_OK);
     CHECK(report.witnesses_written == 0 && report.contradictions >= 1);
 

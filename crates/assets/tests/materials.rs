@@ -86,9 +86,14 @@ fn asset(image: &[u8], edit: impl FnOnce(&mut Value)) -> Result<GltfAsset, Asset
     read_gltf_bytes(&text, &mut resolve, &Limits::default())
 }
 
+/// A fixed level under the exact model: the expected states below are
+/// computed for the exact real points (the GPU model, the default, widens
+/// texel-aligned edges to unknown; `tests/bake_gpu_oracle.rs` in the lab
+/// checks that model).
 fn fixed(level: u32) -> MeshOptions {
     MeshOptions {
         levels: LevelRule::Fixed(Level::new(level).unwrap()),
+        model: micromap_index::bake::Model::Exact,
         ..MeshOptions::default()
     }
 }
