@@ -178,11 +178,14 @@ pub struct Contradiction {
     /// The state the micromap gives it.
     pub state: State,
     /// A point of the closed micro-triangle whose footprint holds a texel of
-    /// the other class (`None` only if the exact point search gave up, in
-    /// which case the block search alone proved the contradiction).
+    /// the other class; under [`Model::GpuBinary32`] the footprint of the
+    /// point dilated by the model's margin, so the point itself may lie
+    /// just outside that texel's own footprint (`None` only if the exact
+    /// point search gave up, in which case the block search alone proved
+    /// the contradiction).
     pub witness: Option<TexelPoint>,
-    /// The texel of the other class in that footprint, after wrapping
-    /// (`None`: the border colour).
+    /// The texel of the other class in that (dilated) footprint, after
+    /// wrapping (`None`: the border colour).
     pub texel: Option<(u32, u32)>,
 }
 
@@ -733,7 +736,6 @@ impl Baker {
             return report;
         };
         report.checked = true;
-        let shifts = grid.shifts;
         let mut stack = Vec::new();
         for t in micro_triangles(level) {
             let state = state_of(t.index());
@@ -768,11 +770,9 @@ impl Baker {
                         || self.classes.wrap(block.x0, block.y0),
                         |w| {
                             // The witness is on a grid 2^w.2 times finer.
-                            let (tx, ty) = self.classes.footprint_texel_in(
-                                block,
-                                (w.0, w.1),
-                                (shifts.0 + w.2, shifts.1 + w.2),
-                            );
+                            let (tx, ty) =
+                                self.classes
+                                    .footprint_texel_in(block, (w.0, w.1), grid, w.2);
                             self.classes.wrap(tx, ty)
                         },
                     );

@@ -609,15 +609,23 @@ impl TexelClasses {
     }
 
     /// The texel coordinates of `block` in the footprint of the grid point
-    /// `(px, py)` (one exists when the point is in the block's reach).
+    /// `(px, py)` on a grid `2^extra` times finer than `grid`, dilated by
+    /// the grid's margin (`2^(k + extra)` units there): one exists when the
+    /// point is in the block's reach, which is dilated by the same margin.
+    /// (The undilated footprint can miss the block: a GPU-model witness
+    /// may lie up to the margin outside it, and clamping would then name a
+    /// neighbour of the other class.)
     pub(crate) fn footprint_texel_in(
         &self,
         block: Block,
         (px, py): (i128, i128),
-        (sx, sy): (u32, u32),
+        grid: Grid,
+        extra: u32,
     ) -> (i128, i128) {
-        let (fx0, fx1) = self.footprint(px, px, sx, None);
-        let (fy0, fy1) = self.footprint(py, py, sy, None);
+        let (sx, sy) = grid.shifts;
+        let fine = |m: Option<u32>| m.map(|k| k + extra);
+        let (fx0, fx1) = self.footprint(px, px, sx + extra, fine(grid.margin.0));
+        let (fy0, fy1) = self.footprint(py, py, sy + extra, fine(grid.margin.1));
         (
             fx0.max(block.x0).min(fx1.min(block.x1)),
             fy0.max(block.y0).min(fy1.min(block.y1)),
