@@ -138,6 +138,12 @@ const char *mmi_version_string(void);
  * one texel, the paper's eq. 1), capped at max_level. */
 #define MMI_LEVEL_AUTO 0xFFFFFFFFu
 
+/** mmi_bake_options.model, mmi_verify_with_model: known states hold for
+ * what a GPU computes in binary32 (the default; docs/bake.md). */
+#define MMI_MODEL_GPU_BINARY32 0
+/** Known states hold for the exact real texture coordinates only. */
+#define MMI_MODEL_EXACT 1
+
 /** mmi_bake_result_indices: every geometry, concatenated. */
 #define MMI_ALL_GEOMETRIES SIZE_MAX
 
@@ -261,6 +267,12 @@ typedef struct mmi_mesh {
     const uint32_t *indices;
     /** The number of indices, a multiple of 3 (ignored without indices). */
     size_t index_count;
+    /** Vertex i's alpha (glTF's COLOR_0 alpha, in [0, 1]) is the float at
+     * byte i * vertex_alpha_stride (4-byte aligned), multiplied into the
+     * sampled alpha as glTF renderers do; NULL: alpha 1. */
+    const float *vertex_alpha;
+    /** Bytes from one vertex alpha to the next: a multiple of 4; 0 means 4. */
+    size_t vertex_alpha_stride;
 } mmi_mesh;
 
 /** How mmi_bake bakes; start from mmi_bake_options_default. */
@@ -280,6 +292,11 @@ typedef struct mmi_bake_options {
     uint32_t block_budget;
     /** The byte budget, with use_budget. */
     uint64_t budget_bytes;
+    /** Which hits known states hold for: MMI_MODEL_GPU_BINARY32 (the
+     * default, 0) or MMI_MODEL_EXACT. */
+    uint32_t model;
+    /** Padding, 0. */
+    uint32_t reserved;
 } mmi_bake_options;
 
 /** What mmi_bake found over all meshes. */
@@ -500,18 +517,25 @@ mmi_result mmi_read_options_default(mmi_read_options *options);
 mmi_result mmi_validate_buffers(const mmi_buffers_view *buffers, const mmi_read_options *options,
                                 mmi_buffers_info *info);
 
-/** Checks any baker's buffers (data, records and one index per triangle of
- * mesh) against mesh's texture, sampler and cutoff, as `micromap-index
- * verify-bake` does: every known micro-triangle whose closed area can read
- * a texel of the other class is a contradiction. Records may share data.
- * The first witness_capacity contradictions are written to witnesses (NULL
- * allowed with capacity 0); report counts them all. MMI_OK whether or not
- * contradictions were found; MMI_ERROR_MALFORMED for buffers the validator
- * refuses; MMI_ERROR_LENGTH when the index count is not the triangle
- * count; MMI_ERROR_UNSUPPORTED for an alpha factor other than 1. */
+/** mmi_verify_with_model under the default model, MMI_MODEL_GPU_BINARY32. */
 mmi_result mmi_verify(const mmi_mesh *mesh, const mmi_buffers_view *buffers,
                       mmi_verify_report *report, mmi_contradiction *witnesses,
                       size_t witness_capacity);
+
+/** Checks any baker's buffers (data, records and one index per triangle of
+ * mesh) against mesh's texture, sampler and cutoff under model
+ * (MMI_MODEL_*), as `micromap-index verify-bake --model` does: every known
+ * micro-triangle whose closed area can read a texel of the other class is
+ * a contradiction. Records may share data. The first witness_capacity
+ * contradictions are written to witnesses (NULL allowed with capacity 0);
+ * report counts them all. MMI_OK whether or not contradictions were found;
+ * MMI_ERROR_MALFORMED for buffers the validator refuses; MMI_ERROR_LENGTH
+ * when the index count is not the triangle count; MMI_ERROR_INVALID_ENUM
+ * for an unknown model; MMI_ERROR_UNSUPPORTED for an alpha factor other
+ * than 1 or a vertex alpha. */
+mmi_result mmi_verify_with_model(const mmi_mesh *mesh, const mmi_buffers_view *buffers,
+                                 uint32_t model, mmi_verify_report *report,
+                                 mmi_contradiction *witnesses, size_t witness_capacity);
 
 /* ------------------------------------------------------------------ */
 /* The succinct tree                                                   */

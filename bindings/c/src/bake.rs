@@ -2,19 +2,20 @@
 //! (`bake::mesh::bake_meshes`).
 
 use crate::constants::{
-    MMI_ALL_GEOMETRIES, MMI_LEVEL_AUTO, MMI_OPAQUE_ABOVE, MMI_OPAQUE_AT_LEAST, MMI_TEXEL_F32,
-    MMI_TEXEL_U16, MMI_TEXEL_U8,
+    MMI_ALL_GEOMETRIES, MMI_LEVEL_AUTO, MMI_MODEL_EXACT, MMI_MODEL_GPU_BINARY32, MMI_OPAQUE_ABOVE,
+    MMI_OPAQUE_AT_LEAST, MMI_TEXEL_F32, MMI_TEXEL_U16, MMI_TEXEL_U8,
 };
 use crate::ffi::{
     copy_out, guard, lend, mmi_result, null, reference, slice, write, Error, Result,
     MMI_ERROR_BAKE, MMI_ERROR_INVALID_ARGUMENT, MMI_ERROR_INVALID_ENUM, MMI_ERROR_INVALID_LEVEL,
     MMI_ERROR_LENGTH,
 };
+use crate::vertex_alpha::vertex_alphas;
 use micromap_index::bake::mesh::{
     bake_meshes, LevelRule, Material, Mesh, MeshBake, MeshOptions, MeshTriangles,
 };
 use micromap_index::bake::{
-    AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Sampler, Texel,
+    AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Model, Sampler, Texel,
     Unorm16Texture, Unorm8Texture, UvTriangle, DEFAULT_BLOCK_BUDGET,
 };
 use micromap_index::micromap::{usage_counts_to_le_bytes, Format, IndexWidth, UnknownPolicy};
@@ -89,6 +90,12 @@ pub struct mmi_mesh {
     /// The number of indices (a multiple of 3); ignored when `indices` is
     /// NULL.
     pub index_count: usize,
+    /// Vertex `i`'s alpha (glTF's `COLOR_0` alpha, in `[0, 1]`) is the
+    /// float at byte `i * vertex_alpha_stride` (4-byte aligned), multiplied
+    /// into the sampled alpha as glTF renderers do; NULL: alpha 1.
+    pub vertex_alpha: *const f32,
+    /// Bytes from one vertex alpha to the next: a multiple of 4; 0 means 4.
+    pub vertex_alpha_stride: usize,
 }
 
 /// How `mmi_bake` bakes.
@@ -110,6 +117,11 @@ pub struct mmi_bake_options {
     pub block_budget: u32,
     /// The byte budget, with `use_budget`.
     pub budget_bytes: u64,
+    /// Which hits known states hold for: `MMI_MODEL_GPU_BINARY32` (the
+    /// default, 0) or `MMI_MODEL_EXACT` (`docs/bake.md`).
+    pub model: u32,
+    /// Padding, 0.
+    pub reserved: u32,
 }
 
 /// What `mmi_bake` found, over all meshes.
@@ -356,10 +368,21 @@ fn options(o: &mmi_bake_options) -> Result<MeshOptions> {
         } else {
             o.block_budget
         },
-        // The library's default, the GPU binary32 model (docs/bake.md); the
-        // C options do not offer the exact-real model yet.
-        model: micromap_index::bake::Model::default(),
+        model: model(o.model)?,
     })
+}
+
+/// The model named by an `MMI_MODEL_*` value.
+pub(crate) fn model(value: u32) -> Result<Model> {
+    match value {
+        MMI_MODEL_GPU_BINARY32 => Ok(Model::GpuBinary32),
+        MMI_MODEL_EXACT => Ok(Model::Exact),
+        other => Err(enum_error(
+            "model",
+            other,
+            "MMI_MODEL_GPU_BINARY32 or MMI_MODEL_EXACT",
+        )),
+    }
 }
 
 /// A mesh's triangles as the library takes them.
@@ -444,8 +467,8 @@ impl<'a> Triangles<'a> {
 }
 
 /// The defaults: level `MMI_LEVEL_AUTO` up to 12, 4-state, fallback for
-/// unknowns, no byte budget, the library's block budget (the CLI's
-/// `micromap-index bake` defaults).
+/// unknowns, no byte budget, the library's block budget, the GPU binary32
+/// model (the CLI's `micromap-index bake` defaults).
 ///
 /// # Safety
 /// `options` must be NULL or writable.
@@ -460,6 +483,8 @@ pub unsafe extern "C" fn mmi_bake_options_default(options: *mut mmi_bake_options
             use_budget: 0,
             block_budget: DEFAULT_BLOCK_BUDGET,
             budget_bytes: 0,
+            model: MMI_MODEL_GPU_BINARY32,
+            reserved: 0,
         };
         // SAFETY: the caller's promise about `options`.
         unsafe { write(options, value, "options") }
@@ -516,11 +541,13 @@ pub unsafe extern "C" fn mmi_bake(
         let mut texels = Vec::with_capacity(meshes.len());
         let mut triangles = Vec::with_capacity(meshes.len());
         let mut materials = Vec::with_capacity(meshes.len());
+        let mut alphas = Vec::with_capacity(meshes.len());
         for m in meshes {
             // SAFETY: the caller's promise about each mesh's pointers.
             unsafe {
                 texels.push(Texels::new(&m.texture)?);
                 triangles.push(Triangles::new(m)?);
+                alphas.push(vertex_alphas(m)?);
             }
             materials.push(Material {
                 sampler: sampler(&m.material.sampler)?,
@@ -538,9 +565,7 @@ pub unsafe extern "C" fn mmi_bake(
                 triangles: triangles[i].mesh_triangles(),
                 texture: &*textures[i],
                 material: materials[i],
-                // The C API has no per-vertex alpha yet: alpha 1 (glTF
-                // without COLOR_0).
-                vertex_alpha: None,
+                vertex_alpha: alphas[i].as_deref(),
             })
             .collect();
         let bake = bake_meshes(&library_meshes, &options, &mut |_, _| {})

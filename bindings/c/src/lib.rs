@@ -29,6 +29,7 @@ mod ffi;
 mod index;
 mod tree;
 mod verify;
+mod vertex_alpha;
 
 pub use bake::{
     mmi_bake, mmi_bake_options, mmi_bake_options_default, mmi_bake_result, mmi_bake_result_data,
@@ -53,6 +54,7 @@ pub use tree::{
 pub use verify::{
     mmi_buffers_info, mmi_buffers_view, mmi_contradiction, mmi_read_options,
     mmi_read_options_default, mmi_validate_buffers, mmi_verify, mmi_verify_report,
+    mmi_verify_with_model,
 };
 
 /// The constants shared by the header's `#define`s and the Rust side (the
@@ -95,6 +97,11 @@ pub mod constants {
     /// `mmi_bake_options::level`: each triangle's useful level (the paper's
     /// eq. 1), capped at `max_level`.
     pub const MMI_LEVEL_AUTO: u32 = 0xFFFF_FFFF;
+    /// `mmi_bake_options::model`: known states hold for what a GPU computes
+    /// in binary32 (the default; `docs/bake.md`).
+    pub const MMI_MODEL_GPU_BINARY32: u32 = 0;
+    /// Known states hold for the exact real texture coordinates only.
+    pub const MMI_MODEL_EXACT: u32 = 1;
     /// `mmi_bake_result_indices`' geometry: every geometry, concatenated.
     pub const MMI_ALL_GEOMETRIES: usize = usize::MAX;
     /// The paper's depth-first tree (`PaperTree`).

@@ -2,6 +2,7 @@
 //! baker's buffers against a texture (`bake::Baker::verify`).
 
 use crate::bake::{cutoff, mmi_mesh, sampler, Texels, Triangles};
+use crate::constants::MMI_MODEL_GPU_BINARY32;
 use crate::ffi::{
     guard, mmi_result, reference, slice, slice_mut, write, Error, Result,
     MMI_ERROR_INVALID_ARGUMENT, MMI_ERROR_INVALID_ENUM, MMI_ERROR_LENGTH, MMI_ERROR_MALFORMED,
@@ -265,24 +266,56 @@ pub unsafe extern "C" fn mmi_validate_buffers(
 /// Checks any baker's buffers (one geometry: data, records and an index
 /// buffer with one index per triangle of `mesh`) against `mesh`'s texture,
 /// sampler and cutoff, as `micromap-index verify-bake` does
-/// (`bake::Baker::verify`): every known micro-triangle whose closed area
-/// can read a texel of the other class is a contradiction. Records may
-/// share data. The first `witness_capacity` contradictions are written to
-/// `witnesses` (which may be NULL when the capacity is 0); `report` counts
-/// them all. Returns `MMI_OK` whether or not contradictions were found
+/// (`bake::Baker::verify`), under the default GPU binary32 model:
+/// `mmi_verify_with_model` with `MMI_MODEL_GPU_BINARY32`.
+///
+/// # Safety
+/// As `mmi_verify_with_model`.
+#[no_mangle]
+pub unsafe extern "C" fn mmi_verify(
+    mesh: *const mmi_mesh,
+    buffers: *const mmi_buffers_view,
+    report: *mut mmi_verify_report,
+    witnesses: *mut mmi_contradiction,
+    witness_capacity: usize,
+) -> mmi_result {
+    // SAFETY: forwarded from the caller.
+    unsafe {
+        mmi_verify_with_model(
+            mesh,
+            buffers,
+            MMI_MODEL_GPU_BINARY32,
+            report,
+            witnesses,
+            witness_capacity,
+        )
+    }
+}
+
+/// Checks any baker's buffers (one geometry: data, records and an index
+/// buffer with one index per triangle of `mesh`) against `mesh`'s texture,
+/// sampler and cutoff under `model` (`MMI_MODEL_*`), as `micromap-index
+/// verify-bake --model` does (`bake::Baker::verify`): every known
+/// micro-triangle whose closed area can read a texel of the other class
+/// is a contradiction. Records may share data. The first
+/// `witness_capacity` contradictions are written to `witnesses` (which may
+/// be NULL when the capacity is 0); `report` counts them all. Returns
+/// `MMI_OK` whether or not contradictions were found
 /// (`report->contradictions` says); `MMI_ERROR_MALFORMED` for buffers the
 /// validator refuses, `MMI_ERROR_LENGTH` when the index count is not the
-/// triangle count, `MMI_ERROR_UNSUPPORTED` for an alpha factor other than
-/// 1.
+/// triangle count, `MMI_ERROR_INVALID_ENUM` for an unknown model,
+/// `MMI_ERROR_UNSUPPORTED` for an alpha factor other than 1 or a vertex
+/// alpha.
 ///
 /// # Safety
 /// `mesh` and `buffers` must be readable with pointers as their types
 /// describe; `report` writable; `witnesses` NULL or `witness_capacity`
 /// writable records.
 #[no_mangle]
-pub unsafe extern "C" fn mmi_verify(
+pub unsafe extern "C" fn mmi_verify_with_model(
     mesh: *const mmi_mesh,
     buffers: *const mmi_buffers_view,
+    model: u32,
     report: *mut mmi_verify_report,
     witnesses: *mut mmi_contradiction,
     witness_capacity: usize,
@@ -305,6 +338,13 @@ pub unsafe extern "C" fn mmi_verify(
                 "mmi_verify: alpha_factor must be 1 (as verify-bake)",
             ));
         }
+        if !mesh.vertex_alpha.is_null() {
+            return Err(Error::new(
+                MMI_ERROR_UNSUPPORTED,
+                "mmi_verify: vertex_alpha must be NULL (as verify-bake)",
+            ));
+        }
+        let model = crate::bake::model(model)?;
         if view.indices.is_null() {
             return Err(crate::ffi::null("buffers.indices"));
         }
@@ -313,7 +353,8 @@ pub unsafe extern "C" fn mmi_verify(
         let texture = texels.texture(mesh.texture.width, mesh.texture.height)?;
         let sampler = sampler(&mesh.material.sampler)?;
         let baker = Baker::new(&*texture, sampler, cutoff(&mesh.material)?)
-            .map_err(|e| Error::new(MMI_ERROR_INVALID_ARGUMENT, e.to_string()))?;
+            .map_err(|e| Error::new(MMI_ERROR_INVALID_ARGUMENT, e.to_string()))?
+            .with_model(model);
         let uv: Vec<UvTriangle> = match triangles.mesh_triangles() {
             MeshTriangles::Uv(t) => t.to_vec(),
             MeshTriangles::Indexed {

@@ -149,11 +149,12 @@ static void bake_and_verify(void) {
     uint8_t indices[64], small[2], flipped[64];
     size_t i;
     float wide_texels[64];
+    static const float zero_alpha[4] = {0.0f, 0.0f, 0.0f, 0.0f};
 
     quad_mesh(&mesh);
     EXPECT(mmi_bake_options_default(&options), MMI_OK);
     CHECK(options.level == MMI_LEVEL_AUTO && options.max_level == 12 &&
-          options.format == MMI_FORMAT_4_STATE);
+          options.format == MMI_FORMAT_4_STATE && options.model == MMI_MODEL_GPU_BINARY32);
 
     /* Misuse first: each returns its code and leaves *result NULL. */
     result = (mmi_bake_result *)&mesh; /* must be overwritten with NULL */
@@ -314,14 +315,43 @@ static void bake_and_verify(void) {
     EXPECT(mmi_verify(&mesh, &view, &report, witnesses, 1), MMI_OK);
     CHECK(report.contradictions >= 1 && report.witnesses_written == 1);
     CHECK(witnesses[0].state == MMI_STATE_OPAQUE && witnesses[0].has_texel == 1);
-    /* The witness's texel is not checked here: under the default GPU model
-     * the verifier can name a neighbour of the texel of the other class
-     * (found when the GPU model landed; docs/c.md, issue 22). */
+    /* The named texel is one of the transparent columns (x >= 3), also
+     * under the default GPU model, whose witness may lie just left of it. */
+    CHECK(witnesses[0].texel_x >= 3 && witnesses[0].texel_alpha == 0.0);
     EXPECT(mmi_verify(&mesh, &view, &report, NULL, 0), MMI_OK);
     CHECK(report.witnesses_written == 0 && report.contradictions >= 1);
+    /* The same under the exact model, named explicitly; an unknown model
+     * is refused. */
+    EXPECT(mmi_verify_with_model(&mesh, &view, MMI_MODEL_EXACT, &report, witnesses, 1), MMI_OK);
+    CHECK(report.contradictions >= 1 && witnesses[0].texel_x >= 3 &&
+          witnesses[0].texel_alpha == 0.0);
+    EXPECT(mmi_verify_with_model(&mesh, &view, 2, &report, NULL, 0), MMI_ERROR_INVALID_ENUM);
+    /* A vertex alpha is baked, not verified. */
+    bad = mesh;
+    bad.vertex_alpha = zero_alpha;
+    EXPECT(mmi_verify(&bad, &view, &report, NULL, 0), MMI_ERROR_UNSUPPORTED);
 
     mmi_bake_result_free(result);
     mmi_bake_result_free(NULL);
+
+    /* Vertex alpha 0 at every vertex: 0 times any texel is below the
+     * cutoff, so every micro-triangle is transparent. */
+    bad = mesh;
+    bad.vertex_alpha = zero_alpha;
+    options.level = 2;
+    EXPECT(mmi_bake(&bad, 1, &options, &result), MMI_OK);
+    EXPECT(mmi_bake_result_stats(result, &stats), MMI_OK);
+    CHECK(stats.counts[MMI_STATE_TRANSPARENT] == 2 * 16 && stats.counts[MMI_STATE_OPAQUE] == 0);
+    mmi_bake_result_free(result);
+    /* The exact model, and a model out of range. */
+    options.model = MMI_MODEL_EXACT;
+    EXPECT(mmi_bake(&mesh, 1, &options, &result), MMI_OK);
+    mmi_bake_result_free(result);
+    bad_options = options;
+    bad_options.model = 2;
+    EXPECT(mmi_bake(&mesh, 1, &bad_options, &result), MMI_ERROR_INVALID_ENUM);
+    CHECK(result == NULL);
+    options.model = MMI_MODEL_GPU_BINARY32;
 
     /* A float texture, tightly packed, 2-state at a fixed level. */
     for (i = 0; i < 64; ++i) {

@@ -1,11 +1,12 @@
 //! The C entry points called from Rust: texel formats and row pitches give
 //! the library's bytes, handles are shared across threads, the last error
-//! is per thread, and the budget and 2-state options reach the library.
+//! is per thread, and the budget, 2-state, model and vertex-alpha options
+//! reach the library.
 
 use micromap_index::bake::mesh::{
     bake_mesh, LevelRule, Material, Mesh, MeshOptions, MeshTriangles,
 };
-use micromap_index::bake::Unorm8Texture;
+use micromap_index::bake::{Model, Unorm8Texture};
 use micromap_index::micromap::{Format, UnknownPolicy};
 use micromap_index::Level;
 use micromap_index_capi::constants::*;
@@ -40,6 +41,8 @@ fn mesh(texture: mmi_texture, material: mmi_material) -> mmi_mesh {
         uv_stride: 0,
         indices: ptr::null(),
         index_count: 0,
+        vertex_alpha: ptr::null(),
+        vertex_alpha_stride: 0,
     }
 }
 
@@ -246,6 +249,254 @@ fn options_reach_the_library() {
     c_options.use_budget = 0;
     let unbudgeted = bake(&mesh(view, c_material), &c_options).0.len();
     assert!(unbudgeted > 8, "{unbudgeted} bytes");
+}
+
+/// The bake's statistics (the code must be `MMI_OK`).
+fn stats(mesh: &mmi_mesh, options: &mmi_bake_options) -> mmi_bake_stats {
+    let mut result = ptr::null_mut();
+    let mut stats = mmi_bake_stats::default();
+    // SAFETY: valid pointers; the mesh's arrays outlive the call.
+    unsafe {
+        assert_eq!(
+            mmi_bake(mesh, 1, options, &mut result),
+            MMI_OK,
+            "{}",
+            last_error()
+        );
+        assert_eq!(mmi_bake_result_stats(result, &mut stats), MMI_OK);
+        mmi_bake_result_free(result);
+    }
+    stats
+}
+
+/// The code `mmi_bake` returns (the handle, if any, freed).
+fn bake_code(mesh: &mmi_mesh, options: &mmi_bake_options) -> mmi_result {
+    let mut result = ptr::null_mut();
+    // SAFETY: valid pointers; the mesh's arrays outlive the call.
+    unsafe {
+        let code = mmi_bake(mesh, 1, options, &mut result);
+        mmi_bake_result_free(result);
+        code
+    }
+}
+
+/// `mmi_bake_options::model` selects the library's model (the same bytes
+/// as `bake_mesh` with it), and the two differ where the doc-test of
+/// `Baker` says: a triangle with an edge on a texel boundary is fully
+/// known (16 of 16 opaque at level 2) only under the exact model. An
+/// unknown model is refused, by `mmi_bake` and `mmi_verify_with_model`.
+#[test]
+fn the_model_reaches_the_library() {
+    let t8 = texels();
+    let texture = Unorm8Texture::new(W, H, &t8).unwrap();
+    let view = mmi_texture {
+        texels: t8.as_ptr().cast(),
+        width: W,
+        height: H,
+        row_pitch: 0,
+        format: MMI_TEXEL_U8,
+    };
+    let triangles: Vec<[[f32; 2]; 3]> = UVS
+        .chunks_exact(6)
+        .map(|c| [[c[0], c[1]], [c[2], c[3]], [c[4], c[5]]])
+        .collect();
+    for (c_model, model) in [
+        (MMI_MODEL_GPU_BINARY32, Model::GpuBinary32),
+        (MMI_MODEL_EXACT, Model::Exact),
+    ] {
+        let library = bake_mesh(
+            &Mesh {
+                triangles: MeshTriangles::Uv(&triangles),
+                texture: &texture,
+                material: Material::default(),
+                vertex_alpha: None,
+            },
+            &MeshOptions {
+                levels: LevelRule::Fixed(Level::new(6).unwrap()),
+                model,
+                ..MeshOptions::default()
+            },
+        )
+        .unwrap();
+        let mut o = options(6, MMI_FORMAT_4_STATE);
+        o.model = c_model;
+        let (data, records, _) = bake(&mesh(view, material()), &o);
+        assert_eq!(
+            (data, records),
+            (
+                library.buffers.data().to_vec(),
+                library.buffers.records_le_bytes()
+            ),
+            "{model:?}"
+        );
+    }
+    // Left column opaque, right transparent; an edge on u = 0.
+    let columns = [255u8, 0, 255, 0];
+    let on_edge: [f32; 6] = [0.0, 0.0, 0.45, 0.0, 0.0, 1.0];
+    let mut m = mesh(
+        mmi_texture {
+            texels: columns.as_ptr().cast(),
+            width: 2,
+            height: 2,
+            row_pitch: 0,
+            format: MMI_TEXEL_U8,
+        },
+        material(),
+    );
+    m.uvs = on_edge.as_ptr();
+    m.vertex_count = 3;
+    let mut o = options(2, MMI_FORMAT_4_STATE);
+    assert_eq!(o.model, MMI_MODEL_GPU_BINARY32, "the default");
+    let opaque = MMI_STATE_OPAQUE as usize;
+    assert!(stats(&m, &o).counts[opaque] < 16);
+    o.model = MMI_MODEL_EXACT;
+    assert_eq!(stats(&m, &o).counts[opaque], 16);
+    o.model = 2;
+    assert_eq!(bake_code(&m, &o), MMI_ERROR_INVALID_ENUM);
+    assert!(last_error().contains("model 2"), "{}", last_error());
+    // The verifier: the exact model's bake is sound under the exact model
+    // and contradicted under the GPU model (its edge may read u = -1, the
+    // transparent column under repeat).
+    o.model = MMI_MODEL_EXACT;
+    let (data, records, indices) = bake(&m, &o);
+    let buffers = mmi_buffers_view {
+        data: data.as_ptr(),
+        data_len: data.len(),
+        records: records.as_ptr(),
+        records_len: records.len(),
+        indices: indices.as_ptr(),
+        indices_len: indices.len(),
+        index_width_bits: 32,
+        usage_counts: ptr::null(),
+        usage_counts_len: 0,
+    };
+    let verify = |model: u32| {
+        let mut report = mmi_verify_report::default();
+        // SAFETY: valid pointers; the arrays outlive the call.
+        let code =
+            unsafe { mmi_verify_with_model(&m, &buffers, model, &mut report, ptr::null_mut(), 0) };
+        (code, report.contradictions)
+    };
+    assert_eq!(verify(MMI_MODEL_EXACT), (MMI_OK, 0));
+    let (code, contradictions) = verify(MMI_MODEL_GPU_BINARY32);
+    assert!(
+        code == MMI_OK && contradictions > 0,
+        "{code} {contradictions}"
+    );
+    assert_eq!(verify(7).0, MMI_ERROR_INVALID_ENUM);
+}
+
+/// `mmi_mesh::vertex_alpha` reaches the library: strided (interleaved with
+/// the UVs) and through indices it gives `bake_mesh`'s bytes with the
+/// gathered per-triangle alphas; alpha 1 everywhere gives the bytes of no
+/// vertex alpha; alpha 0 everywhere makes every micro-triangle transparent
+/// (0 times any texel is below the cutoff 0.5). Bad strides, indices and
+/// values are refused, and the verifier refuses a vertex alpha.
+#[test]
+fn vertex_alpha_reaches_the_library() {
+    let t8 = texels();
+    let texture = Unorm8Texture::new(W, H, &t8).unwrap();
+    let view = mmi_texture {
+        texels: t8.as_ptr().cast(),
+        width: W,
+        height: H,
+        row_pitch: 0,
+        format: MMI_TEXEL_U8,
+    };
+    let alphas = [1.0f32, 0.25, 0.75, 0.5, 1.0, 0.0];
+    // (u, v, alpha) per vertex.
+    let interleaved: Vec<f32> = (0..6)
+        .flat_map(|i| [UVS[2 * i], UVS[2 * i + 1], alphas[i]])
+        .collect();
+    let indices = [2u32, 0, 1, 5, 3, 4, 1, 4, 2];
+    let corner_uv = |i: u32| [UVS[2 * i as usize], UVS[2 * i as usize + 1]];
+    let triangles: Vec<[[f32; 2]; 3]> = indices
+        .chunks_exact(3)
+        .map(|c| [corner_uv(c[0]), corner_uv(c[1]), corner_uv(c[2])])
+        .collect();
+    let gathered: Vec<[f32; 3]> = indices
+        .chunks_exact(3)
+        .map(|c| [0, 1, 2].map(|k| alphas[c[k] as usize]))
+        .collect();
+    let library = bake_mesh(
+        &Mesh {
+            triangles: MeshTriangles::Uv(&triangles),
+            texture: &texture,
+            material: Material::default(),
+            vertex_alpha: Some(&gathered),
+        },
+        &MeshOptions {
+            levels: LevelRule::Fixed(Level::new(5).unwrap()),
+            ..MeshOptions::default()
+        },
+    )
+    .unwrap();
+    let mut m = mesh(view, material());
+    m.uvs = interleaved.as_ptr();
+    m.uv_stride = 12;
+    m.indices = indices.as_ptr();
+    m.index_count = indices.len();
+    m.vertex_alpha = interleaved[2..].as_ptr();
+    m.vertex_alpha_stride = 12;
+    let o = options(5, MMI_FORMAT_4_STATE);
+    let (data, records, c_indices) = bake(&m, &o);
+    assert_eq!(
+        (data, records, c_indices),
+        (
+            library.buffers.data().to_vec(),
+            library.buffers.records_le_bytes(),
+            library
+                .buffers
+                .index_bytes(0, micromap_index::micromap::IndexWidth::U32)
+                .unwrap()
+        )
+    );
+    // Alpha 1: as without; alpha 0: all transparent.
+    let plain = mesh(view, material());
+    let ones = [1.0f32; 6];
+    let zeros = [0.0f32; 6];
+    let mut with = plain;
+    with.vertex_alpha = ones.as_ptr();
+    assert_eq!(bake(&with, &o), bake(&plain, &o));
+    assert!(stats(&plain, &o).counts[MMI_STATE_OPAQUE as usize] > 0);
+    with.vertex_alpha = zeros.as_ptr();
+    let s = stats(&with, &o);
+    let total = 2 * 4u64.pow(5);
+    assert_eq!(
+        s.counts[MMI_STATE_TRANSPARENT as usize], total,
+        "{:?}",
+        s.counts
+    );
+    // Refusals.
+    let mut bad = with;
+    bad.vertex_alpha_stride = 6;
+    assert_eq!(bake_code(&bad, &o), MMI_ERROR_INVALID_ARGUMENT);
+    let over = [1.0f32, 1.0, 1.5, 1.0, 1.0, 1.0];
+    bad = with;
+    bad.vertex_alpha = over.as_ptr();
+    assert_eq!(bake_code(&bad, &o), MMI_ERROR_BAKE);
+    assert!(last_error().contains("1.5"), "{}", last_error());
+    let far = [0u32, 1, 9];
+    bad = with;
+    bad.indices = far.as_ptr();
+    bad.index_count = 3;
+    assert_eq!(bake_code(&bad, &o), MMI_ERROR_INVALID_ARGUMENT);
+    let (data, records, c_indices) = bake(&plain, &o);
+    let buffers = mmi_buffers_view {
+        data: data.as_ptr(),
+        data_len: data.len(),
+        records: records.as_ptr(),
+        records_len: records.len(),
+        indices: c_indices.as_ptr(),
+        indices_len: c_indices.len(),
+        index_width_bits: 32,
+        usage_counts: ptr::null(),
+        usage_counts_len: 0,
+    };
+    let mut report = mmi_verify_report::default();
+    // SAFETY: valid pointers; the arrays outlive the call.
+    let code = unsafe { mmi_verify(&with, &buffers, &mut report, ptr::null_mut(), 0) };
+    assert_eq!(code, MMI_ERROR_UNSUPPORTED);
 }
 
 #[test]
