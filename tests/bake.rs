@@ -604,6 +604,356 @@ fn witnesses_hold(
     caught
 }
 
+/// The widening's cost a GPU-model bake reports is the exact model's
+/// extra known micro-triangles, counted by a second, separate bake under
+/// the exact model: per triangle (random and adversarial cases), and per
+/// mesh with a vertex alpha (two bounds combined). 0 under the exact model.
+#[test]
+fn widened_is_what_the_exact_model_knows_more() {
+    use micromap_index::bake::mesh::{
+        bake_mesh, LevelRule, Material, Mesh, MeshOptions, MeshTriangles,
+    };
+    let mut rng = SplitMix64::new(seed(0x0057_1de7));
+    let known = |c: [u64; 4]| c[0] + c[1];
+    let (mut total, mut cases_with) = (0u64, 0u32);
+    for case_number in 0..600 {
+        let case = random_case(&mut rng);
+        let bake = |model| {
+            baker_for(&case.oracle, model)
+                .bake(
+                    &case.uv,
+                    case.level,
+                    Format::FourState,
+                    UnknownPolicy::Fallback,
+                )
+                .unwrap()
+        };
+        let (gpu, exact) = (bake(Model::GpuBinary32), bake(Model::Exact));
+        assert_eq!(exact.widened, 0);
+        if gpu.status == TriangleStatus::BudgetExceeded
+            || exact.status == TriangleStatus::BudgetExceeded
+        {
+            continue;
+        }
+        assert_eq!(
+            known(gpu.counts) + gpu.widened,
+            known(exact.counts),
+            "case {case_number}: uv {:?} level {} sampler {:?}",
+            case.uv,
+            case.level,
+            case.oracle.sampler
+        );
+        total += gpu.widened;
+        cases_with += u32::from(gpu.widened > 0);
+        // With a vertex alpha: the mesh's report against the exact model's.
+        let texture =
+            F32Texture::new(case.oracle.width, case.oracle.height, &case.oracle.texels).unwrap();
+        let alpha = [[
+            rng.pick(&[1.0f32, 0.5, 0.75]),
+            1.0,
+            rng.pick(&[0.9f32, 1.0]),
+        ]];
+        let mesh = |model| {
+            bake_mesh(
+                &Mesh {
+                    triangles: MeshTriangles::Uv(&[case.uv]),
+                    texture: &texture,
+                    material: Material {
+                        sampler: case.oracle.sampler,
+                        cutoff: case.oracle.cutoff,
+                        alpha_factor: 1.0,
+                    },
+                    vertex_alpha: Some(&alpha),
+                },
+                &MeshOptions {
+                    levels: LevelRule::Fixed(case.level),
+                    model,
+                    ..MeshOptions::default()
+                },
+            )
+            .unwrap()
+            .report
+        };
+        let (gpu, exact) = (mesh(Model::GpuBinary32), mesh(Model::Exact));
+        if gpu.status.budget_exceeded + exact.status.budget_exceeded > 0 {
+            continue;
+        }
+        assert_eq!(exact.widened, 0);
+        assert_eq!(
+            known(gpu.counts) + gpu.widened,
+            known(exact.counts),
+            "case {case_number} with vertex alpha {alpha:?}"
+        );
+    }
+    println!("widened micro-triangles {total} in {cases_with} of 600 cases");
+    // Texel-aligned edges are common among the cases: widening happens.
+    assert!(cases_with >= 10 && total >= 100, "{cases_with} {total}");
+}
+
+/// One mip chain of an 8-bit texture, computed apart from the baker: each
+/// level `max(1, W >> 1) x max(1, H >> 1)`, each texel the area-weighted
+/// box filter of the level above over its footprint `[x r, (x + 1) r)`
+/// (`r = W_k / W_(k+1)`), rounded to 8 bits by `round` (down, up or to
+/// nearest: every renderer's rounding is one of these or between them).
+fn mip_chain(
+    width: u32,
+    height: u32,
+    codes: &[u8],
+    round: fn(f64) -> f64,
+) -> Vec<(u32, u32, Vec<u8>)> {
+    let mut chain = vec![(width, height, codes.to_vec())];
+    while let Some((w, h, level)) = chain.last().cloned() {
+        if w == 1 && h == 1 {
+            break;
+        }
+        let (nw, nh) = ((w >> 1).max(1), (h >> 1).max(1));
+        let overlap = |i: u32, x: u32, from: u32, to: u32| {
+            let r = f64::from(from) / f64::from(to);
+            let (a, b) = (f64::from(x) * r, f64::from(x + 1) * r);
+            (b.min(f64::from(i + 1)) - a.max(f64::from(i))).max(0.0)
+        };
+        let mut next = Vec::new();
+        for y in 0..nh {
+            for x in 0..nw {
+                let (mut sum, mut weight) = (0.0, 0.0);
+                for sy in 0..h {
+                    for sx in 0..w {
+                        let wgt = overlap(sx, x, w, nw) * overlap(sy, y, h, nh);
+                        sum += wgt * f64::from(level[(sy * w + sx) as usize]);
+                        weight += wgt;
+                    }
+                }
+                next.push(round(sum / weight).clamp(0.0, 255.0) as u8);
+            }
+        }
+        chain.push((nw, nh, next));
+    }
+    chain
+}
+
+/// `Mips::All` against real mip chains: random and adversarial 8-bit
+/// textures (sizes 1..=6 per axis, odd ones included) and triangles; for
+/// each of three roundings a mip chain made by [`mip_chain`]; every sample
+/// point of every known micro-triangle, read at every level under linear
+/// filtering (which reads every texel nearest filtering reads), never
+/// reads the other class, under both models. Named cases check expected
+/// states worked out by hand.
+#[test]
+fn every_mip_level_holds_for_mips_all() {
+    use micromap_index::bake::mesh::{
+        bake_mesh, LevelRule, Material, Mesh, MeshOptions, MeshTriangles, Mips,
+    };
+    use micromap_index::bake::Unorm8Texture;
+    let bake = |w: u32,
+                h: u32,
+                codes: &[u8],
+                uv: UvTriangle,
+                level: Level,
+                material: Material,
+                model: Model,
+                mips: Mips| {
+        let texture = Unorm8Texture::new(w, h, codes).unwrap();
+        let baked = bake_mesh(
+            &Mesh {
+                triangles: MeshTriangles::Uv(&[uv]),
+                texture: &texture,
+                material,
+                vertex_alpha: None,
+            },
+            &MeshOptions {
+                levels: LevelRule::Fixed(level),
+                model,
+                mips,
+                ..MeshOptions::default()
+            },
+        )
+        .unwrap();
+        baked
+    };
+    // Named cases. A 4x4 texture, left half opaque: a triangle inside the
+    // left half is opaque at level 0, but the 1x1 level averages both
+    // halves to 127.5, which rounds to either side of the cutoff 0.5: so
+    // under Mips::All nothing is known. An all-opaque texture stays known
+    // opaque at every level.
+    let half: Vec<u8> = (0..16).map(|i| if i % 4 < 2 { 255 } else { 0 }).collect();
+    let inside = [[0.05, 0.05], [0.45, 0.05], [0.05, 0.95]];
+    let level = Level::new(2).unwrap();
+    for model in Model::ALL {
+        let l0 = bake(
+            4,
+            4,
+            &half,
+            inside,
+            level,
+            Material::default(),
+            model,
+            Mips::Level0,
+        );
+        assert_eq!(
+            l0.report.counts[State::Opaque.bits() as usize],
+            16,
+            "{model:?}"
+        );
+        assert_eq!(l0.report.widened, 0);
+        let all = bake(
+            4,
+            4,
+            &half,
+            inside,
+            level,
+            Material::default(),
+            model,
+            Mips::All,
+        );
+        assert_eq!(
+            all.report.counts[0] + all.report.counts[1],
+            0,
+            "{model:?} {:?}",
+            all.report.counts
+        );
+        let full = bake(
+            4,
+            4,
+            &[255; 16],
+            inside,
+            level,
+            Material::default(),
+            model,
+            Mips::All,
+        );
+        assert_eq!(
+            full.report.counts[State::Opaque.bits() as usize],
+            16,
+            "{model:?}"
+        );
+    }
+    // Tight where the box filter's average decides: a 4x4 texture opaque
+    // in its top-left 2x2 only. A triangle in the top-right, away from the
+    // opaque texels under linear filtering at levels 0 and 1 (clamp to
+    // edge), reads the 1x1 level's 0.25 (64/255 at most after rounding):
+    // transparent at every level. (Bounds of min and max alone would make
+    // the 1x1 level [0, 1], and this triangle unknown.)
+    let corner: Vec<u8> = (0..16)
+        .map(|i| if i % 4 < 2 && i / 4 < 2 { 255 } else { 0 })
+        .collect();
+    let clamped = Material {
+        sampler: Sampler {
+            address_u: AddressMode::ClampToEdge,
+            address_v: AddressMode::ClampToEdge,
+            ..Sampler::default()
+        },
+        ..Material::default()
+    };
+    let top_right = [[0.8, 0.15], [0.9, 0.15], [0.8, 0.35]];
+    for model in Model::ALL {
+        let all = bake(4, 4, &corner, top_right, level, clamped, model, Mips::All);
+        assert_eq!(
+            all.report.counts[State::Transparent.bits() as usize],
+            16,
+            "{model:?}"
+        );
+    }
+    // An 8-bit code just above the cutoff with the factor 1: the 2x2 box of
+    // four 200s is 200 at every rounding: opaque at every level.
+    let level_codes = [200u8; 4];
+    let all = bake(
+        2,
+        2,
+        &level_codes,
+        inside,
+        level,
+        Material::default(),
+        Model::Exact,
+        Mips::All,
+    );
+    assert_eq!(all.report.counts[State::Opaque.bits() as usize], 16);
+
+    // The sampled check.
+    let mut rng = SplitMix64::new(seed(0x0a11_0f11));
+    let rounds: [fn(f64) -> f64; 3] = [f64::floor, f64::ceil, f64::round];
+    let (mut known, mut known_level0, mut known_up_to_1) = (0u64, 0u64, 0u64);
+    for case_number in 0..200 {
+        let case = random_case(&mut rng);
+        let (w, h) = (case.oracle.width, case.oracle.height);
+        // 8-bit codes around the cutoff 0.5 (127.5): ties never occur.
+        let codes: Vec<u8> = (0..w * h)
+            .map(|_| rng.pick(&[0u8, 255, 127, 128, 100, 200, 255, 0]))
+            .collect();
+        let cutoff = Cutoff::new(0.5, rng.pick(&[Comparison::AtLeast, Comparison::Above])).unwrap();
+        let material = Material {
+            sampler: case.oracle.sampler,
+            cutoff,
+            alpha_factor: 1.0,
+        };
+        let chains: Vec<_> = rounds.iter().map(|&r| mip_chain(w, h, &codes, r)).collect();
+        for (model, (mips, last)) in Model::ALL
+            .into_iter()
+            .flat_map(|m| [(m, (Mips::All, usize::MAX)), (m, (Mips::UpTo(1), 1))])
+        {
+            let baked = bake(w, h, &codes, case.uv, case.level, material, model, mips);
+            let l0 = bake(
+                w,
+                h,
+                &codes,
+                case.uv,
+                case.level,
+                material,
+                model,
+                Mips::Level0,
+            );
+            if mips == Mips::All {
+                known_level0 += l0.report.counts[0] + l0.report.counts[1];
+                known += baked.report.counts[0] + baked.report.counts[1];
+            } else {
+                known_up_to_1 += baked.report.counts[0] + baked.report.counts[1];
+            }
+            let opacity = baked.buffers.resolve(0, 0).unwrap();
+            for t in micro_triangles(case.level) {
+                let state = match &opacity {
+                    TriangleOpacity::Micromap(map) => map.get(t.index()).unwrap(),
+                    TriangleOpacity::Special(state) => *state,
+                };
+                if !state.is_known() {
+                    continue;
+                }
+                for chain in &chains {
+                    for (k, (lw, lh, texels)) in
+                        chain.iter().enumerate().take(last.saturating_add(1))
+                    {
+                        let oracle = Oracle {
+                            width: *lw,
+                            height: *lh,
+                            texels: texels.iter().map(|&c| f32::from(c) / 255.0).collect(),
+                            sampler: Sampler {
+                                filter: Filter::Linear,
+                                ..case.oracle.sampler
+                            },
+                            cutoff,
+                        };
+                        for (a, b) in sample_points(t.vertices_scaled(), 2) {
+                            let (x, y) = oracle.point(&case.uv, a, b, case.level.get() + 2);
+                            let (o, tr) = oracle.classes_at(&x, &y);
+                            let wrong = if state == State::Opaque { tr } else { o };
+                            assert!(
+                                !wrong,
+                                "case {case_number} {model:?} {mips:?}: micro-triangle {} is {state:?} but mip level {k} ({lw}x{lh}, {texels:?}) reads the other class; codes {codes:?} {w}x{h} uv {:?} level {} sampler {:?} cutoff {cutoff:?}",
+                                t.index(),
+                                case.uv,
+                                case.level,
+                                case.oracle.sampler
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+    println!(
+        "known micro-triangles: level 0 only {known_level0}, levels 0..=1 {known_up_to_1}, every mip level {known}"
+    );
+    assert!(known > 1000 && known < known_up_to_1 && known_up_to_1 < known_level0);
+}
+
 /// Named regressions and documented outcomes.
 #[test]
 fn edge_cases_have_documented_outcomes() {

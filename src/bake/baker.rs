@@ -52,6 +52,14 @@ pub struct BakedTriangle {
     /// before a 2-state format resolves the unknowns (so a 2-state bake
     /// still tells how many were unknown).
     pub counts: [u64; 4],
+    /// Of the unknown micro-triangles, those the exact model
+    /// ([`Model::Exact`]) knows: what the GPU model's widening cost this
+    /// triangle (always 0 under the exact model). Each is decided exactly,
+    /// by the exact model's classification of that micro-triangle on the
+    /// same grid, so `counts`' known ones plus these are the exact model's
+    /// known ones (but where the block budget runs out under one model
+    /// only).
+    pub widened: u64,
 }
 
 /// What a triangle's micromap index will point at.
@@ -292,6 +300,8 @@ struct Walk<'a> {
     map: &'a mut Micromap,
     counts: &'a mut [u64; 4],
     exhausted: bool,
+    /// Unknown leaves the exact model knows (see [`BakedTriangle::widened`]).
+    widened: u64,
     stack: Vec<Block>,
 }
 
@@ -429,13 +439,14 @@ impl Baker {
     /// `2^(shift + e)` grid units.
     fn frames(
         &self,
+        model: Model,
         uv: &UvTriangle,
         level: Level,
     ) -> Result<(AxisFrame, AxisFrame, Grid), FrameError> {
         let n = level.get();
         let axis = |k: usize, size: u32| -> Result<(AxisFrame, Option<u32>), FrameError> {
             let c = uv.map(|c| c[k]);
-            match self.model {
+            match model {
                 Model::Exact => Ok((AxisFrame::new(c, size, n, 0)?, None)),
                 Model::GpuBinary32 => {
                     if c.iter().any(|x| !x.is_finite()) {
@@ -556,6 +567,18 @@ impl Baker {
         format: Format,
         two_state: UnknownPolicy,
     ) -> Result<BakedTriangle, BakeError> {
+        self.bake_as(self.model, uv, level, format, two_state)
+    }
+
+    /// [`bake`](Self::bake) under `model`.
+    pub(crate) fn bake_as(
+        &self,
+        model: Model,
+        uv: &UvTriangle,
+        level: Level,
+        format: Format,
+        two_state: UnknownPolicy,
+    ) -> Result<BakedTriangle, BakeError> {
         let whole_unknown = |status| {
             let mut counts = [0u64; 4];
             counts[State::UnknownOpaque.bits() as usize] = level.micro_triangle_count() as u64;
@@ -563,21 +586,31 @@ impl Baker {
                 opacity: BakedOpacity::Special(State::UnknownOpaque),
                 status,
                 counts,
+                widened: 0,
             }
         };
         let mut map = Micromap::new(level, format)?;
-        let (fx, fy, grid) = match self.frames(uv, level) {
+        let (fx, fy, grid) = match self.frames(model, uv, level) {
             Ok(frames) => frames,
             Err(FrameError::NotFinite) => return Ok(whole_unknown(TriangleStatus::NotFinite)),
             Err(FrameError::OutOfRange) => {
-                return Ok(whole_unknown(TriangleStatus::OutOfExactRange))
+                let mut unknown = whole_unknown(TriangleStatus::OutOfExactRange);
+                // The GPU model's margin can push a triangle the exact
+                // grid holds off it: then the whole exact bake's known
+                // micro-triangles are the widening's cost.
+                if model == Model::GpuBinary32 {
+                    let exact = self.bake_as(Model::Exact, uv, level, Format::FourState, two_state);
+                    let counts = exact?.counts;
+                    unknown.widened = counts[0] + counts[1];
+                }
+                return Ok(unknown);
             }
         };
         let n = level.get();
         let side = 1u64 << n;
         let root = Self::place(&fx, &fy, n, [(0, 0), (side, 0), (0, side)]);
         let mut counts = [0u64; 4];
-        let exhausted = match root.narrowed(grid) {
+        let (exhausted, widened) = match root.narrowed(grid) {
             Some(narrow) => self.walk(narrow, n, grid, two_state, &mut map, &mut counts)?,
             None => self.walk(root, n, grid, two_state, &mut map, &mut counts)?,
         };
@@ -589,13 +622,14 @@ impl Baker {
                 TriangleStatus::Exact
             },
             counts,
+            widened,
         })
     }
 
     /// The top-down walk of [`bake`](Self::bake) from the whole triangle
     /// `root` (on the grid of `level`), in coordinates of type `C`: fills
     /// `map` and `counts`, and says whether a micro-triangle ran out of
-    /// budget. The caller picks `C` so that the walk stays in range (see
+    /// budget and how many unknown ones the exact model knows. The caller picks `C` so that the walk stays in range (see
     /// [`NARROW_WALK_COORDINATE`]); the result is the same in every type.
     fn walk<C: GridInt>(
         &self,
@@ -605,7 +639,7 @@ impl Baker {
         two_state: UnknownPolicy,
         map: &mut Micromap,
         counts: &mut [u64; 4],
-    ) -> Result<bool, BakeError> {
+    ) -> Result<(bool, u64), BakeError> {
         let mut walk = Walk {
             level,
             grid,
@@ -613,11 +647,12 @@ impl Baker {
             map,
             counts,
             exhausted: false,
+            widened: 0,
             stack: Vec::new(),
         };
         let vertices = [0, 1, 2].map(|k| (root.x[k], root.y[k]));
         self.visit(&mut walk, 0, 0, vertices, false)?;
-        Ok(walk.exhausted)
+        Ok((walk.exhausted, walk.widened))
     }
 
     /// One micro-triangle of the walk: its depth and index in the tree,
@@ -673,6 +708,14 @@ impl Baker {
             return Ok(());
         }
         walk.exhausted |= out_of_budget;
+        // The widening's cost: would the exact model know it? The same
+        // points on the same grid, without the margin (only unknown
+        // leaves pay for this second classification).
+        if walk.grid.margin != (None, None) && !out_of_budget {
+            let exact = Grid::exact(walk.grid.shifts);
+            let (classes, exhausted) = self.classify(&p, exact, &mut walk.stack);
+            walk.widened += u64::from(!exhausted && classes.opaque != classes.transparent);
+        }
         let state = if self.centroid_is_opaque(&p, walk.grid.shifts) {
             State::UnknownOpaque
         } else {
@@ -732,7 +775,7 @@ impl Baker {
             TriangleOpacity::Special(state) => *state,
         };
         let mut report = VerifyCounts::default();
-        let Ok((fx, fy, grid)) = self.frames(uv, level) else {
+        let Ok((fx, fy, grid)) = self.frames(self.model, uv, level) else {
             return report;
         };
         report.checked = true;
@@ -908,6 +951,9 @@ mod tests {
     use crate::bake::{AddressMode, Filter, Unorm8Texture};
     use micromap_index_test_support::SplitMix64;
 
+    /// A walk: fills the map and counts, says (exhausted, widened).
+    type Walker<'a> = dyn Fn(&mut Micromap, &mut [u64; 4]) -> (bool, u64) + 'a;
+
     /// The `i64` walk gives the `i128` walk's micromap wherever
     /// [`Placed::narrowed`] accepts a root: roots with coordinates just
     /// below `2^59` (and some crossing zero), shifts up to 58, every
@@ -974,7 +1020,7 @@ mod tests {
                 y: [coordinate(), coordinate(), coordinate()],
             };
             let narrow = root.narrowed(grid).unwrap();
-            let bake = |walk: &dyn Fn(&mut Micromap, &mut [u64; 4]) -> bool| {
+            let bake = |walk: &Walker<'_>| {
                 let mut map = Micromap::new(Level(level as u8), Format::FourState).unwrap();
                 let mut counts = [0; 4];
                 let exhausted = walk(&mut map, &mut counts);

@@ -37,13 +37,14 @@
 //! assert!(baked.report.known_fraction > 0.5 && baked.report.known_fraction < 1.0);
 //! ```
 
-use super::baker::BakedOpacity;
 use super::baker::{BakeError, BakedTriangle, Baker, TriangleStatus, UvTriangle};
+pub use super::mips::Mips;
+use super::mips::{bake_bounded, mip_bakers};
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
 use super::{levels_within_budget, useful_level, Model, DEFAULT_BLOCK_BUDGET};
 use crate::micromap::{
-    BufferError, BuildOptions, Format, Micromap, MicromapBuffers, MicromapBuffersBuilder,
-    MicromapIndex, State, UnknownPolicy,
+    BufferError, BuildOptions, Format, MicromapBuffers, MicromapBuffersBuilder, MicromapIndex,
+    UnknownPolicy,
 };
 use crate::succinct::{LevelOrderTree, PaperTree};
 use crate::Level;
@@ -223,6 +224,10 @@ pub struct MeshOptions {
     /// The points known states hold for ([`Baker::with_model`]; default
     /// [`Model::GpuBinary32`]).
     pub model: Model,
+    /// The mip levels the known states hold for (default
+    /// [`Mips::Level0`]; the filter model of the others is in
+    /// `docs/bake.md`, "Every mip level").
+    pub mips: Mips,
 }
 
 impl Default for MeshOptions {
@@ -236,6 +241,7 @@ impl Default for MeshOptions {
             budget_bytes: None,
             block_budget: DEFAULT_BLOCK_BUDGET,
             model: Model::default(),
+            mips: Mips::default(),
         }
     }
 }
@@ -286,6 +292,11 @@ pub struct BakeReport {
     pub bytes_paper_tree: u64,
     /// Bytes they take as level-order trees ([`LevelOrderTree`]).
     pub bytes_level_order_tree: u64,
+    /// Unknown micro-triangles the exact model knows: the GPU model's
+    /// widening cost ([`BakedTriangle::widened`]; 0 under the exact
+    /// model). `(counts[0] + counts[1] + widened) / micro-triangles` is
+    /// the known fraction the exact model would have.
+    pub widened: u64,
 }
 
 /// What [`bake_meshes`] returns: the buffers, the report, and every baked
@@ -491,56 +502,6 @@ fn vertex_range(v: [f32; 3]) -> (u64, u64) {
     (low.max(0.0).to_bits(), high.to_bits())
 }
 
-/// Combines the bake against the lower bound (`low`: its opaque states
-/// hold) and against the upper (`high`: its transparent states hold) into
-/// one triangle of `format`.
-fn combine(
-    low: BakedTriangle,
-    high: &BakedTriangle,
-    level: Level,
-    format: Format,
-    two_state: UnknownPolicy,
-) -> Result<BakedTriangle, MeshBakeError> {
-    // A special index comes from the coordinates alone: both agree.
-    if let BakedOpacity::Special(_) = low.opacity {
-        return Ok(low);
-    }
-    let mut map = Micromap::new(level, format).map_err(|e| MeshBakeError::Bake(e.into()))?;
-    let mut counts = [0u64; 4];
-    for i in 0..level.micro_triangle_count() as u64 {
-        let (a, b) = (
-            low.opacity.state(i).unwrap_or(State::UnknownOpaque),
-            high.opacity.state(i).unwrap_or(State::UnknownOpaque),
-        );
-        let state = if a == State::Opaque {
-            State::Opaque
-        } else if b == State::Transparent {
-            State::Transparent
-        } else if matches!(b, State::Opaque | State::UnknownOpaque) {
-            State::UnknownOpaque
-        } else {
-            State::UnknownTransparent
-        };
-        counts[state.bits() as usize] += 1;
-        let stored = match format {
-            Format::FourState => state,
-            Format::TwoState => two_state.resolve(state),
-        };
-        map.set(i, stored)
-            .map_err(|e| MeshBakeError::Bake(e.into()))?;
-    }
-    let status = if high.status == TriangleStatus::BudgetExceeded {
-        TriangleStatus::BudgetExceeded
-    } else {
-        low.status
-    };
-    Ok(BakedTriangle {
-        opacity: BakedOpacity::Map(map),
-        status,
-        counts,
-    })
-}
-
 /// Checks a mesh's vertex alphas.
 fn check_vertex_alpha<'a>(
     m: usize,
@@ -663,6 +624,7 @@ pub fn bake_meshes(
 
     let total: usize = triangles.iter().map(|t| t.len()).sum();
     let mut counts = [0u64; 4];
+    let mut widened = 0u64;
     let mut status = StatusCounts::default();
     let mut known_area = 0.0;
     let mut area = 0.0;
@@ -686,15 +648,46 @@ pub fn bake_meshes(
         .map_err(texture_error)?
         .with_block_budget(options.block_budget)
         .with_model(options.model);
+        let mips = match options.mips {
+            Mips::Level0 => Vec::new(),
+            _ if vertex_alpha.is_some() => {
+                return Err(MeshBakeError::VertexAlpha {
+                    mesh: m,
+                    message: "vertex alpha with mip levels below 0 is not modelled".into(),
+                })
+            }
+            mips => {
+                let make = |texture: &dyn AlphaTexture, sampler| {
+                    Ok(Baker::new(texture, sampler, material.cutoff)?
+                        .with_block_budget(options.block_budget)
+                        .with_model(options.model))
+                };
+                let factored = FactorTexture {
+                    inner: mesh.texture,
+                    factor: material.alpha_factor,
+                };
+                let texture: &dyn AlphaTexture = if material.alpha_factor == 1.0 {
+                    mesh.texture
+                } else {
+                    &factored
+                };
+                mip_bakers(mips, texture, material.sampler, &make).map_err(texture_error)?
+            }
+        };
         // With vertex alpha: two bakers per distinct vertex range (lower
         // and upper bound), built once each.
         let mut bound_bakers: BTreeMap<(u64, u64), (Baker, Baker)> = BTreeMap::new();
         let mut baked = Vec::with_capacity(triangles.len());
         for (t, (uv, &level)) in triangles.iter().zip(mesh_levels).enumerate() {
             let b = match vertex_alpha {
-                None => baker
+                None if mips.is_empty() => baker
                     .bake(uv, level, options.format, options.unknown)
                     .map_err(MeshBakeError::Bake)?,
+                None => {
+                    let mut pairs = vec![(&baker, &baker)];
+                    pairs.extend(mips.iter().map(|(low, high)| (low, high)));
+                    bake_bounded(&pairs, uv, level, options.format, options.unknown)?
+                }
                 Some(alphas) => {
                     let key = vertex_range(alphas[t]);
                     if let alloc::collections::btree_map::Entry::Vacant(slot) =
@@ -716,19 +709,13 @@ pub fn bake_meshes(
                         slot.insert((bound(false)?, bound(true)?));
                     }
                     let (low, high) = &bound_bakers[&key];
-                    let four = Format::FourState;
-                    let a = low
-                        .bake(uv, level, four, options.unknown)
-                        .map_err(MeshBakeError::Bake)?;
-                    let b = high
-                        .bake(uv, level, four, options.unknown)
-                        .map_err(MeshBakeError::Bake)?;
-                    combine(a, &b, level, options.format, options.unknown)?
+                    bake_bounded(&[(low, high)], uv, level, options.format, options.unknown)?
                 }
             };
             for (sum, count) in counts.iter_mut().zip(b.counts) {
                 *sum += count;
             }
+            widened += b.widened;
             let n = b.counts.iter().sum::<u64>().max(1) as f64;
             let a = texel_area(uv, baker.size());
             area += a;
@@ -795,6 +782,7 @@ pub fn bake_meshes(
         bytes_flat: buffers.data().len(),
         bytes_paper_tree: paper_bits.div_ceil(8),
         bytes_level_order_tree: level_order_bits.div_ceil(8),
+        widened,
     };
     Ok(MeshBake {
         buffers,
@@ -806,7 +794,7 @@ pub fn bake_meshes(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bake::Unorm8Texture;
+    use crate::bake::{BakedOpacity, Unorm8Texture};
 
     #[test]
     fn indexed_and_uv_triangles_bake_alike() {

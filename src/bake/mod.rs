@@ -86,6 +86,7 @@ mod classify;
 mod exact;
 mod gpu;
 pub mod mesh;
+mod mips;
 mod texture;
 
 pub use baker::{

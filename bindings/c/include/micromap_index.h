@@ -334,6 +334,9 @@ typedef struct mmi_bake_stats {
     uint64_t bytes_paper_tree;
     /** Bytes as level-order trees. */
     uint64_t bytes_level_order_tree;
+    /** Unknown micro-triangles that MMI_MODEL_EXACT would know: the GPU
+     * model's widening cost (0 under MMI_MODEL_EXACT). */
+    uint64_t widened;
 } mmi_bake_stats;
 
 /** A finished bake (opaque): free with mmi_bake_result_free. */

@@ -161,6 +161,9 @@ pub struct mmi_bake_stats {
     pub bytes_paper_tree: u64,
     /// Bytes as level-order trees.
     pub bytes_level_order_tree: u64,
+    /// Unknown micro-triangles that `MMI_MODEL_EXACT` would know: the GPU
+    /// model's widening cost (0 under `MMI_MODEL_EXACT`).
+    pub widened: u64,
 }
 
 /// A finished bake: the buffers, their serialised forms and the report.
@@ -369,6 +372,8 @@ fn options(o: &mmi_bake_options) -> Result<MeshOptions> {
             o.block_budget
         },
         model: model(o.model)?,
+        // Level 0, the library's default (the C options have no mip rule).
+        mips: micromap_index::bake::mesh::Mips::Level0,
     })
 }
 
@@ -743,6 +748,7 @@ pub unsafe extern "C" fn mmi_bake_result_stats(
             bytes_flat: r.bytes_flat as u64,
             bytes_paper_tree: r.bytes_paper_tree,
             bytes_level_order_tree: r.bytes_level_order_tree,
+            widened: r.widened,
         };
         // SAFETY: the caller's promise about `stats`.
         unsafe { write(stats, value, "stats") }

@@ -348,9 +348,13 @@ fn the_model_reaches_the_library() {
     let mut o = options(2, MMI_FORMAT_4_STATE);
     assert_eq!(o.model, MMI_MODEL_GPU_BINARY32, "the default");
     let opaque = MMI_STATE_OPAQUE as usize;
-    assert!(stats(&m, &o).counts[opaque] < 16);
+    let gpu = stats(&m, &o);
+    assert!(gpu.counts[opaque] < 16);
+    // What the widening cost: the exact model's extra known ones.
+    assert_eq!(gpu.counts[opaque] + gpu.widened, 16);
     o.model = MMI_MODEL_EXACT;
-    assert_eq!(stats(&m, &o).counts[opaque], 16);
+    let exact = stats(&m, &o);
+    assert_eq!((exact.counts[opaque], exact.widened), (16, 0));
     o.model = 2;
     assert_eq!(bake_code(&m, &o), MMI_ERROR_INVALID_ENUM);
     assert!(last_error().contains("model 2"), "{}", last_error());

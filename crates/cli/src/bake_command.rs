@@ -8,7 +8,7 @@ use crate::args::{Command, Flag, Parsed};
 use crate::output::{print_then, report, Exit, Failure};
 use crate::write_all_or_nothing::{install_interrupt_handler, Destination, Refusal};
 use micromap_index::bake::mesh::{
-    bake_meshes, LevelRule, Material, Mesh, MeshBakeError, MeshOptions, MeshTriangles,
+    bake_meshes, LevelRule, Material, Mesh, MeshBakeError, MeshOptions, MeshTriangles, Mips,
 };
 use micromap_index::bake::{
     AddressMode, AlphaTexture, Baker, Comparison, Cutoff, Filter, Model, Sampler, UvTriangle,
@@ -136,6 +136,13 @@ pub(crate) static BAKE: Command = Command {
             SAMPLER[5],
             SAMPLER[6],
             SAMPLER[7],
+            Flag::value(
+                "--mips",
+                "0|N|all",
+                "the mip levels known states hold for: 0 (default: level 0, which ray
+                         tracing shaders sample), 0..=N or all, each level the box filter of
+                         the one above, under either filter (docs/bake.md)",
+            ),
             Flag::value(
                 "--index-width",
                 "16|32",
@@ -555,6 +562,10 @@ struct Summary {
     triangles: usize,
     format: u32,
     model: &'static str,
+    /// `--mips`: `0`, `N` or `all`.
+    mips: String,
+    /// What the GPU model's widening cost this bake (zero under `exact`).
+    widening: Widening,
     levels: Vec<u64>,
     micro_triangles: StateCounts,
     known_fraction: f64,
@@ -576,6 +587,14 @@ struct Summary {
     preview_micro_triangles_skipped: u64,
     jobs: Vec<JobSummary>,
     warnings: Vec<String>,
+}
+
+#[derive(Serialize)]
+struct Widening {
+    /// Unknown micro-triangles the exact model knows (`BakeReport::widened`).
+    micro_triangles_made_unknown: u64,
+    /// The known fraction the same bake has under `--model exact`.
+    known_fraction_exact_model: f64,
 }
 
 #[derive(Serialize)]
@@ -688,6 +707,12 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         .unwrap_or(DEFAULT_MAX_OUTPUT_BYTES);
     let width = index_width(&p)?;
     let model = model_option(&p)?;
+    let mips = match p.get("--mips") {
+        None => Mips::default(),
+        Some(text) => Mips::from_name(text).ok_or_else(|| {
+            Failure::Malformed(format!("--mips {text:?}: expected 0, a level N or all"))
+        })?,
+    };
     let s = sampler_options(&p)?;
     let preview = !p.flag("--no-preview");
     if let Err(message) = install_interrupt_handler() {
@@ -748,6 +773,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         unknown: two_state,
         budget_bytes: budget,
         model,
+        mips,
         ..MeshOptions::default()
     };
     let show_progress = !p.flag("--quiet") && std::io::stderr().is_terminal();
@@ -841,6 +867,13 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         triangles: report.triangles,
         format: u32::from(format.raw()),
         model: model.name(),
+        mips: mips.to_string(),
+        widening: Widening {
+            micro_triangles_made_unknown: report.widened,
+            known_fraction_exact_model: (report.counts[0] + report.counts[1] + report.widened)
+                as f64
+                / micro.max(1) as f64,
+        },
         levels: report.levels.clone(),
         known_fraction: report.known_fraction,
         known_area_fraction: report.known_area_fraction,

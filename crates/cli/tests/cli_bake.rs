@@ -372,6 +372,26 @@ fn model_option_defaults_to_the_gpu_model_and_exact_keeps_the_old_bytes() {
     let known = |s: &serde_json::Value| s["known_fraction"].as_f64().unwrap();
     assert!(known(&s_gpu) < known(&s_exact), "{s_gpu} {s_exact}");
     assert!(known(&s_gpu) > 0.5 * known(&s_exact));
+    // The widening's cost, as the GPU bake reports it, is the exact bake's
+    // extra known micro-triangles (same triangles, same levels).
+    let widening = |s: &serde_json::Value, key: &str| s["widening"][key].clone();
+    let count = |s: &serde_json::Value, state: &str| s["micro_triangles"][state].as_u64().unwrap();
+    let known_count = |s: &serde_json::Value| count(s, "opaque") + count(s, "transparent");
+    assert_eq!(
+        widening(&s_gpu, "micro_triangles_made_unknown")
+            .as_u64()
+            .unwrap(),
+        known_count(&s_exact) - known_count(&s_gpu)
+    );
+    assert_eq!(
+        widening(&s_gpu, "known_fraction_exact_model"),
+        s_exact["known_fraction"]
+    );
+    assert_eq!(widening(&s_exact, "micro_triangles_made_unknown"), 0);
+    assert_eq!(
+        widening(&s_exact, "known_fraction_exact_model"),
+        s_exact["known_fraction"]
+    );
     let verify = |dir: &Path, model: &str| {
         let mut args = vec!["verify-bake"];
         args.extend(input);
@@ -402,4 +422,66 @@ fn model_option_defaults_to_the_gpu_model_and_exact_keeps_the_old_bytes() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("--model"));
     assert!(!bad.exists());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `--mips`: the summary names the rule; each lower level a bake must also
+/// hold for leaves fewer micro-triangles known (the grid at level 4:
+/// levels 0, 0..=2, all); a rule that names no level is refused with exit
+/// 2 and nothing written; vertex alpha is not needed for this.
+#[test]
+fn mips_option_names_its_rule_and_knows_less_per_level() {
+    let dir = scratch("mips");
+    let texture = format!("{ASSETS}/sponza_thorn.png");
+    let tris = format!("{ASSETS}/grid.tris.json");
+    let bake = |mips: &str| -> serde_json::Value {
+        let out = dir.join(format!("m{mips}"));
+        let args = [
+            "bake",
+            "--texture",
+            &texture,
+            "--triangles",
+            &tris,
+            "--out",
+            out.to_str().unwrap(),
+            "--level",
+            "4",
+            "--mips",
+            mips,
+            "--no-preview",
+            "--quiet",
+        ];
+        serde_json::from_str(&ok(&args)).unwrap()
+    };
+    let known = |s: &serde_json::Value| s["known_fraction"].as_f64().unwrap();
+    let (zero, two, all) = (bake("0"), bake("2"), bake("all"));
+    assert_eq!(
+        (
+            zero["mips"].as_str(),
+            two["mips"].as_str(),
+            all["mips"].as_str()
+        ),
+        (Some("0"), Some("2"), Some("all"))
+    );
+    assert!(
+        known(&zero) > known(&two) && known(&two) > known(&all),
+        "{zero} {two} {all}"
+    );
+    for bad in ["-1", "x", "2.5", ""] {
+        let out = dir.join("bad");
+        let r = run(&[
+            "bake",
+            "--texture",
+            &texture,
+            "--triangles",
+            &tris,
+            "--out",
+            out.to_str().unwrap(),
+            "--mips",
+            bad,
+            "--quiet",
+        ]);
+        assert_eq!(r.status.code(), Some(2), "--mips {bad:?}");
+        assert!(String::from_utf8_lossy(&r.stderr).contains("--mips"));
+        assert!(!out.exists());
+    }
 }

@@ -3,8 +3,10 @@
 //! `crates/lab/tests/fuzz_corpus.rs`.
 
 use micromap_index::bake::mesh::{
-    bake_mesh, LevelRule, Mesh, MeshBakeError, MeshOptions, MeshTriangles,
+    bake_mesh, BakeReport, LevelRule, Mesh, MeshBakeError, MeshOptions, MeshTriangles, Mips,
 };
+use micromap_index::bake::Model;
+use micromap_index::micromap::State;
 use micromap_index::Level;
 use micromap_index_assets::{
     decode_alpha_image, read_gltf_bytes, read_triangles_json, AlphaSource, AlphaTexels, AssetError,
@@ -224,12 +226,60 @@ fn bake_primitive(asset: &GltfAsset, primitive: &MaskPrimitive) {
         ..MeshOptions::default()
     };
     match bake_mesh(&mesh, &options) {
-        Ok(baked) => assert_eq!(baked.report.triangles, n),
+        Ok(baked) => {
+            assert_eq!(baked.report.triangles, n);
+            widening_and_mips_hold(&mesh, &options, &baked.report);
+        }
         // A factor the vertex-alpha bake does not take (negative, say).
         Err(MeshBakeError::VertexAlpha { .. }) => {
             assert!(!(primitive.alpha_factor >= 0.0 && primitive.alpha_factor.is_finite()));
         }
         Err(error) => panic!("bake of an accepted primitive failed: {error}"),
+    }
+}
+
+/// The GPU-model bake's widening count is the exact model's extra known
+/// micro-triangles, and a bake for mip levels 0..=2 (without vertex alpha,
+/// which it refuses) knows no more than the level-0 bake, all of the
+/// same state.
+fn widening_and_mips_hold(mesh: &Mesh<'_>, options: &MeshOptions, gpu: &BakeReport) {
+    let known = |r: &BakeReport| r.counts[0] + r.counts[1];
+    let exact = bake_mesh(
+        mesh,
+        &MeshOptions {
+            model: Model::Exact,
+            ..*options
+        },
+    )
+    .expect("the GPU model's bake succeeded");
+    if gpu.status.budget_exceeded + exact.report.status.budget_exceeded == 0 {
+        assert_eq!(known(gpu) + gpu.widened, known(&exact.report));
+    }
+    let mips = MeshOptions {
+        mips: Mips::UpTo(2),
+        ..*options
+    };
+    match (bake_mesh(mesh, &mips), mesh.vertex_alpha) {
+        (Err(MeshBakeError::VertexAlpha { .. }), Some(_)) => {}
+        (Ok(lower), None) => {
+            let (low, zero) = (&lower.report, gpu);
+            assert!(low.counts[0] <= zero.counts[0] && low.counts[1] <= zero.counts[1]);
+            let zero_bake = bake_mesh(mesh, options).expect("baked before");
+            for (a, b) in lower
+                .triangles
+                .iter()
+                .flatten()
+                .zip(zero_bake.triangles.iter().flatten())
+            {
+                for i in 0..a.counts.iter().sum::<u64>() {
+                    let state = a.opacity.state(i);
+                    if state.is_some_and(State::is_known) {
+                        assert_eq!(state, b.opacity.state(i));
+                    }
+                }
+            }
+        }
+        (other, _) => panic!("mips bake: {:?}", other.map(|b| b.report)),
     }
 }
 
