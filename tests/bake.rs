@@ -868,6 +868,28 @@ fn every_mip_level_holds_for_mips_all() {
     );
     assert_eq!(all.report.counts[State::Opaque.bits() as usize], 16);
 
+    // Vertex alpha with mips is not modelled: refused, never baked.
+    let texture = Unorm8Texture::new(4, 4, &half).unwrap();
+    let refused = bake_mesh(
+        &Mesh {
+            triangles: MeshTriangles::Uv(&[inside]),
+            texture: &texture,
+            material: Material::default(),
+            vertex_alpha: Some(&[[1.0, 0.5, 1.0]]),
+        },
+        &MeshOptions {
+            mips: Mips::UpTo(1),
+            ..MeshOptions::default()
+        },
+    );
+    assert!(
+        matches!(
+            refused,
+            Err(micromap_index::bake::mesh::MeshBakeError::VertexAlpha { .. })
+        ),
+        "{refused:?}"
+    );
+
     // The sampled check.
     let mut rng = SplitMix64::new(seed(0x0a11_0f11));
     let rounds: [fn(f64) -> f64; 3] = [f64::floor, f64::ceil, f64::round];

@@ -346,7 +346,9 @@ pub enum MeshBakeError {
     },
     /// Mesh `mesh` has a vertex alpha list whose length is not its number
     /// of triangles, or a vertex alpha outside `[0, 1]` (NaN included), or
-    /// vertex alpha with an alpha factor that is negative or not finite.
+    /// vertex alpha with an alpha factor that is negative or not finite,
+    /// or with [`MeshOptions::mips`] other than [`Mips::Level0`] (not
+    /// modelled).
     VertexAlpha {
         /// The mesh, by position.
         mesh: usize,
