@@ -59,10 +59,12 @@ pub(crate) fn copy<T: Element + Copy>(
     let read = typed
         .try_readonly()
         .map_err(|e| PyValueError::new_err(format!("{what}: {e}")))?;
+    // `as_slice` also accepts Fortran order (memory order, not numpy's
+    // logical order): only a C-contiguous array is copied as one slice.
     let elements = match read.as_slice() {
-        Ok(slice) => slice.to_vec(),
-        // Not contiguous: ndarray iterates in logical (C) order.
-        Err(_) => read.as_array().iter().copied().collect(),
+        Ok(slice) if array.is_c_contiguous() => slice.to_vec(),
+        // ndarray iterates in logical (C) order.
+        _ => read.as_array().iter().copied().collect(),
     };
     Ok(Owned {
         shape: array.shape().to_vec(),

@@ -115,11 +115,12 @@ fn common(
     format: i64,
     unknown: &str,
     model: &str,
-    budget: Option<u64>,
+    budget: Option<i64>,
     index_width: i64,
 ) -> PyResult<Common> {
     let fixed = options::level_or_auto(level)?;
     let max = options::bake_level(max_level, "max_level")?;
+    let budget = budget.map(|b| options::count(b, "budget")).transpose()?;
     if budget.is_some() && fixed.is_some() {
         return Err(value_error(
             "budget chooses levels: it goes with level=\"auto\"",
@@ -262,7 +263,7 @@ pub(crate) fn bake<'py>(
     cutoff: f32,
     opaque_above: bool,
     model: &str,
-    budget: Option<u64>,
+    budget: Option<i64>,
     index_width: i64,
     alpha_factor: f32,
 ) -> PyResult<Bound<'py, PyDict>> {
@@ -336,7 +337,7 @@ pub(crate) fn bake_gltf<'py>(
     cutoff: Option<f32>,
     opaque_above: bool,
     model: &str,
-    budget: Option<u64>,
+    budget: Option<i64>,
     index_width: i64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let c = common(

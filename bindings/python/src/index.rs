@@ -21,9 +21,11 @@ enum Points<'a> {
 /// A float32 array's elements, borrowed when contiguous (the GIL is held
 /// for the whole call, so nothing can change them meanwhile).
 fn elements<'a>(read: &'a numpy::PyReadonlyArrayDyn<'_, f32>) -> Cow<'a, [f32]> {
+    // `as_slice` also accepts Fortran order (memory order, not numpy's
+    // logical order): only a C-contiguous array is borrowed as one slice.
     match read.as_slice() {
-        Ok(slice) => Cow::Borrowed(slice),
-        Err(_) => Cow::Owned(read.as_array().iter().copied().collect()),
+        Ok(slice) if read.is_c_contiguous() => Cow::Borrowed(slice),
+        _ => Cow::Owned(read.as_array().iter().copied().collect()),
     }
 }
 

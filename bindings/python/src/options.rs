@@ -174,3 +174,8 @@ pub(crate) fn index_width(bits: i64) -> PyResult<IndexWidth> {
         ))),
     }
 }
+
+/// A count or byte budget: an int `>= 0`.
+pub(crate) fn count(value: i64, what: &str) -> PyResult<u64> {
+    u64::try_from(value).map_err(|_| value_error(format!("{what} {value}: expected a count >= 0")))
+}

@@ -38,8 +38,8 @@ pub(crate) fn verify<'py>(
     cutoff: f32,
     opaque_above: bool,
     model: &str,
-    max_report: usize,
-    max_checks: Option<u64>,
+    max_report: i64,
+    max_checks: Option<i64>,
     lenient_layout: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let alpha = Alpha::new(alpha)?;
@@ -52,7 +52,12 @@ pub(crate) fn verify<'py>(
     )?;
     let cutoff = options::cutoff(cutoff, opaque_above)?;
     let model = options::model(model)?;
-    let max_checks = max_checks.unwrap_or(u64::MAX);
+    let max_checks = max_checks
+        .map(|m| options::count(m, "max_checks"))
+        .transpose()?
+        .unwrap_or(u64::MAX);
+    let max_report =
+        usize::try_from(options::count(max_report, "max_report")?).unwrap_or(usize::MAX);
     let outcome = py.allow_threads(|| -> Result<_, String> {
         let read = read_buffers(
             &BufferBytes {
