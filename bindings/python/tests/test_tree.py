@@ -40,3 +40,25 @@ def test_two_state_trees_hold_known_states_only():
     states = np.array([mmi.OPAQUE, mmi.TRANSPARENT] * 8, np.uint8)
     tree = mmi.Tree.encode(states.tobytes(), 2, format=2)
     assert tree.format == 2 and np.array_equal(tree.decode(), states)
+
+
+def test_sizes_and_lookups_equal_the_cli():
+    from conftest import run_cli
+    import json
+
+    rng = np.random.default_rng(22)
+    for level in range(5):
+        states = np.repeat(rng.integers(0, 4, 4 ** level, dtype=np.uint8), 1)
+        states[: 4 ** level // 2] = mmi.OPAQUE  # a uniform half collapses
+        text = "".join(map(str, states.tolist()))
+        cli = json.loads(run_cli("tree", "encode", "--format", "4", "--level", level,
+                                 "--states", text).stdout)
+        paper = mmi.Tree.encode(states, level, layout="paper")
+        level_order = mmi.Tree.encode(states, level, layout="level-order")
+        assert paper.total_bits == cli["paper_bits"]
+        assert level_order.total_bits == cli["level_order_bits"]
+        u, v = rng.random(2, dtype=np.float32)
+        found = json.loads(run_cli("tree", "lookup", "--format", "4", "--level", level,
+                                   "--tree", cli["tree"], "--data", cli["data"],
+                                   "--u", f"0x{int(u.view(np.uint32)):08x}", "--v", f"0x{int(v.view(np.uint32)):08x}").stdout)
+        assert paper.state_at(u, v) == level_order.state_at(u, v) == found["state"]
