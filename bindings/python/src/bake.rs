@@ -5,7 +5,8 @@
 use crate::arrays::{copy, dtype_name, has_dtype, untyped};
 use crate::options::{self, value_error};
 use micromap_index::bake::mesh::{
-    bake_meshes, LevelRule, Material, Mesh, MeshBake, MeshBakeError, MeshOptions, MeshTriangles,
+    bake_meshes, output_bytes_bound, LevelRule, Material, Mesh, MeshBake, MeshBakeError,
+    MeshOptions, MeshTriangles,
 };
 use micromap_index::bake::{
     AlphaTexture, F32Texture, Sampler, TextureError, Unorm16Texture, Unorm8Texture, UvTriangle,
@@ -106,6 +107,7 @@ pub(crate) fn uv_triangles(obj: &Bound<'_, PyAny>) -> PyResult<Vec<UvTriangle>> 
 struct Common {
     options: MeshOptions,
     width: IndexWidth,
+    max_bytes: u64,
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -117,6 +119,7 @@ fn common(
     model: &str,
     budget: Option<i64>,
     index_width: i64,
+    max_bytes: i64,
 ) -> PyResult<Common> {
     let fixed = options::level_or_auto(level)?;
     let max = options::bake_level(max_level, "max_level")?;
@@ -136,7 +139,25 @@ fn common(
             ..MeshOptions::default()
         },
         width: options::index_width(index_width)?,
+        max_bytes: options::count(max_bytes, "max_bytes")?,
     })
+}
+
+/// Bakes `meshes`, refusing first (as `micromap-index bake --max-bytes`)
+/// a bake whose output may exceed `c.max_bytes`: the allocator would abort
+/// the interpreter long before such a bake finished.
+fn bake_within(meshes: &[Mesh<'_>], c: &Common, info: &[MeshInfo]) -> PyResult<MeshBake> {
+    let estimate =
+        output_bytes_bound(meshes, &c.options, c.width).map_err(|e| bake_error(e, info))?;
+    if estimate > c.max_bytes {
+        return Err(value_error(format!(
+            "the output may take up to {estimate} bytes (before deduplication), over the \
+             limit of max_bytes={} bytes; nothing baked (max_bytes raises the limit, \
+             budget or a lower level/max_level shrinks the output)",
+            c.max_bytes
+        )));
+    }
+    bake_meshes(meshes, &c.options, &mut |_, _| {}).map_err(|e| bake_error(e, info))
 }
 
 /// A finished bake as the Python layer wraps it: the four files'
@@ -247,7 +268,7 @@ fn bake_error(e: MeshBakeError, names: &[MeshInfo]) -> PyErr {
 /// `bake --texture --triangles`); the Python layer documents the options.
 #[pyfunction]
 #[pyo3(signature = (alpha, uvs, *, level, max_level, format, unknown, filter, address,
-    border_alpha, cutoff, opaque_above, model, budget, index_width, alpha_factor))]
+    border_alpha, cutoff, opaque_above, model, budget, index_width, alpha_factor, max_bytes))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn bake<'py>(
     py: Python<'py>,
@@ -266,6 +287,7 @@ pub(crate) fn bake<'py>(
     budget: Option<i64>,
     index_width: i64,
     alpha_factor: f32,
+    max_bytes: i64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let alpha = Alpha::new(alpha)?;
     let triangles = uv_triangles(uvs)?;
@@ -277,6 +299,7 @@ pub(crate) fn bake<'py>(
         model,
         budget,
         index_width,
+        max_bytes,
     )?;
     let sampler = options::sampler(
         options::filter(filter)?,
@@ -300,7 +323,7 @@ pub(crate) fn bake<'py>(
     let baked = py.allow_threads(|| {
         let texture = alpha
             .texture()
-            .map_err(|error| MeshBakeError::Texture { mesh: 0, error })?;
+            .map_err(|error| bake_error(MeshBakeError::Texture { mesh: 0, error }, &info))?;
         let mesh = Mesh {
             triangles: MeshTriangles::Uv(&triangles),
             texture: &*texture,
@@ -311,9 +334,8 @@ pub(crate) fn bake<'py>(
             },
             vertex_alpha: None,
         };
-        bake_meshes(&[mesh], &c.options, &mut |_, _| {})
-    });
-    let baked = baked.map_err(|e| bake_error(e, &info))?;
+        bake_within(&[mesh], &c, &info)
+    })?;
     result(py, &baked, c.width, &info)
 }
 
@@ -322,7 +344,7 @@ pub(crate) fn bake<'py>(
 /// own when given.
 #[pyfunction]
 #[pyo3(signature = (path, *, level, max_level, format, unknown, filter, address,
-    border_alpha, cutoff, opaque_above, model, budget, index_width))]
+    border_alpha, cutoff, opaque_above, model, budget, index_width, max_bytes))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn bake_gltf<'py>(
     py: Python<'py>,
@@ -339,6 +361,7 @@ pub(crate) fn bake_gltf<'py>(
     model: &str,
     budget: Option<i64>,
     index_width: i64,
+    max_bytes: i64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let c = common(
         level,
@@ -348,6 +371,7 @@ pub(crate) fn bake_gltf<'py>(
         model,
         budget,
         index_width,
+        max_bytes,
     )?;
     let filter = filter.map(options::filter).transpose()?;
     let address = address.map(options::address_pair).transpose()?;
@@ -404,7 +428,7 @@ pub(crate) fn bake_gltf<'py>(
             .iter()
             .map(micromap_index_assets::AlphaImage::texture)
             .collect::<Result<Vec<_>, _>>()
-            .map_err(|error| MeshBakeError::Texture { mesh: 0, error })?;
+            .map_err(|error| bake_error(MeshBakeError::Texture { mesh: 0, error }, &info))?;
         let meshes: Vec<Mesh<'_>> = gltf
             .primitives
             .iter()
@@ -416,9 +440,8 @@ pub(crate) fn bake_gltf<'py>(
                 vertex_alpha: prim.vertex_alpha.as_deref(),
             })
             .collect();
-        bake_meshes(&meshes, &c.options, &mut |_, _| {})
-    });
-    let baked = baked.map_err(|e| bake_error(e, &info))?;
+        bake_within(&meshes, &c, &info)
+    })?;
     let out = result(py, &baked, c.width, &info)?;
     out.set_item("warnings", gltf.warnings.clone())?;
     Ok(out)

@@ -139,3 +139,24 @@ def list_of(contradiction):
     c["witness_uv"] = None if c["witness_uv"] is None else list(c["witness_uv"])
     c["texel"] = None if c["texel"] is None else list(c["texel"])
     return c
+
+
+def test_max_bytes_refuses_where_the_cli_does(cli_bake, tmp_path):
+    alpha = mmi.read_alpha(THORN)
+    uvs = mmi.read_triangles(GRID)
+    # 128 level-4 4-state maps of 64 bytes, records, 32-bit indices, usage.
+    bound = 128 * (64 + 8 + 4) + 34 * 12
+    with pytest.raises(ValueError, match=f"up to {bound} bytes"):
+        mmi.bake(alpha, uvs, level=4, max_bytes=bound - 1)
+    files, _ = cli_bake("--texture", THORN, "--triangles", GRID, "--level", "4",
+                        "--max-bytes", bound)
+    assert mmi.bake(alpha, uvs, level=4, max_bytes=bound).files() == files
+    refused = run_cli("bake", "--texture", THORN, "--triangles", GRID, "--level", "4",
+                      "--max-bytes", bound - 1, "--no-preview", "--out", tmp_path / "no",
+                      check=False)
+    assert refused.returncode != 0 and f"up to {bound} bytes" in refused.stderr
+    # The default limit (1 GiB) refuses level 16 everywhere: 128 GiB of data.
+    with pytest.raises(ValueError, match="max_bytes"):
+        mmi.bake(alpha, uvs, level=16)
+    with pytest.raises(ValueError, match="max_bytes"):
+        mmi.bake_gltf(SPONZA / "cards.gltf", level=16)

@@ -151,6 +151,7 @@ def bake(
     budget: Optional[int] = None,
     index_width: int = 32,
     alpha_factor: float = 1.0,
+    max_bytes: int = 1 << 30,
 ) -> BakeResult:
     """Bakes opacity micromaps for ``uvs`` over the alpha texture ``alpha``.
 
@@ -172,7 +173,9 @@ def bake(
     assigns to a micro-triangle) or ``"exact"``; ``budget`` at most that many
     bytes of micromap data (with ``level="auto"``); ``index_width`` 16 or 32;
     ``alpha_factor`` multiplies every texel's alpha (glTF's
-    ``baseColorFactor[3]``).
+    ``baseColorFactor[3]``); ``max_bytes`` (default 1 GiB, as the CLI's
+    ``--max-bytes``) refuses, before baking, a bake whose output may exceed
+    it (a ``ValueError``).
 
     Releases the GIL while baking. Raises ``TypeError`` / ``ValueError``.
     """
@@ -193,6 +196,7 @@ def bake(
             budget=budget,
             index_width=index_width,
             alpha_factor=alpha_factor,
+            max_bytes=max_bytes,
         )
     )
 
@@ -212,6 +216,7 @@ def bake_gltf(
     model: str = "gpu-binary32",
     budget: Optional[int] = None,
     index_width: int = 32,
+    max_bytes: int = 1 << 30,
 ) -> BakeResult:
     """Bakes every alpha-masked primitive of a glTF 2.0 asset (``.gltf`` or
     ``.glb``), as ``micromap-index bake --gltf``: one geometry per primitive,
@@ -235,6 +240,7 @@ def bake_gltf(
             model=model,
             budget=budget,
             index_width=index_width,
+            max_bytes=max_bytes,
         )
     )
 

@@ -70,6 +70,7 @@ def bake(
     budget: Optional[int] = ...,
     index_width: int = ...,
     alpha_factor: float = ...,
+    max_bytes: int = ...,
 ) -> BakeResult: ...
 def bake_gltf(
     path: Union[str, "os.PathLike[str]"],
@@ -86,6 +87,7 @@ def bake_gltf(
     model: str = ...,
     budget: Optional[int] = ...,
     index_width: int = ...,
+    max_bytes: int = ...,
 ) -> BakeResult: ...
 def verify(
     alpha: _Alpha,
