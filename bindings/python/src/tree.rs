@@ -84,7 +84,9 @@ impl Tree {
                 value_error(format!(
                     "micro-triangle {index} is past the tree's last ({} at level {})",
                     // Levels read from bytes may reach 32, where 4^level is 2^64.
-                    1u128.checked_shl(2 * self.level()).map_or(u128::MAX, |n| n - 1),
+                    1u128
+                        .checked_shl(2 * self.level())
+                        .map_or(u128::MAX, |n| n - 1),
                     self.level()
                 ))
             })
