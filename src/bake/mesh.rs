@@ -56,6 +56,11 @@ use alloc::vec;
 use alloc::vec::Vec;
 use core::fmt;
 
+// The levels bake_meshes chooses, and the output bound callers check first.
+mod levels;
+pub use levels::{chosen_levels, output_bytes_bound};
+use levels::{levels_of, resolve_all};
+
 /// A mesh's triangles in UV space.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum MeshTriangles<'a> {
@@ -593,36 +598,8 @@ pub fn bake_meshes(
     options: &MeshOptions,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<MeshBake, MeshBakeError> {
-    let triangles: Vec<Cow<'_, [UvTriangle]>> = meshes
-        .iter()
-        .enumerate()
-        .map(|(m, mesh)| mesh.triangles.resolve(m))
-        .collect::<Result<_, _>>()?;
-
-    // Levels per triangle.
-    let mut levels: Vec<Vec<Level>> = meshes
-        .iter()
-        .zip(&triangles)
-        .map(|(mesh, triangles)| {
-            let size = (mesh.texture.width(), mesh.texture.height());
-            triangles
-                .iter()
-                .map(|uv| match options.levels {
-                    LevelRule::Fixed(level) => level,
-                    LevelRule::Useful { max } => useful_level(uv, size, max),
-                })
-                .collect()
-        })
-        .collect();
-    if let Some(budget) = options.budget_bytes {
-        let flat: Vec<Level> = levels.iter().flatten().copied().collect();
-        let mut capped = levels_within_budget(&flat, options.format, budget).into_iter();
-        for mesh_levels in &mut levels {
-            for level in mesh_levels.iter_mut() {
-                *level = capped.next().unwrap_or(*level);
-            }
-        }
-    }
+    let triangles = resolve_all(meshes)?;
+    let levels = levels_of(meshes, &triangles, options);
 
     let total: usize = triangles.iter().map(|t| t.len()).sum();
     let mut counts = [0u64; 4];

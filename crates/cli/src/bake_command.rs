@@ -8,7 +8,8 @@ use crate::args::{Command, Flag, Parsed};
 use crate::output::{print_then, report, Exit, Failure};
 use crate::write_all_or_nothing::{install_interrupt_handler, Destination, Refusal};
 use micromap_index::bake::mesh::{
-    bake_meshes, LevelRule, Material, Mesh, MeshBakeError, MeshOptions, MeshTriangles, Mips,
+    bake_meshes, output_bytes_bound, LevelRule, Material, Mesh, MeshBakeError, MeshOptions,
+    MeshTriangles, Mips,
 };
 use micromap_index::bake::{
     AddressMode, AlphaTexture, Baker, Comparison, Cutoff, Filter, Model, Sampler, UvTriangle,
@@ -620,34 +621,6 @@ impl From<micromap_index::bake::mesh::StatusCounts> for StatusCounts {
 /// level-12 4-state maps.
 const DEFAULT_MAX_OUTPUT_BYTES: u64 = 1 << 30;
 
-/// An upper bound on the bytes bake writes (data before deduplication,
-/// records, indices, usage counts), from the levels `bake_meshes` chooses.
-fn output_estimate(
-    input: &Input,
-    fixed_level: Option<Level>,
-    max_level: Level,
-    budget: Option<u64>,
-    format: Format,
-    width: IndexWidth,
-) -> u64 {
-    let mut levels = Vec::new();
-    for job in &input.jobs {
-        let image = &input.images[job.image];
-        let size = (image.width, image.height);
-        levels.extend(job.triangles.iter().map(|uv| {
-            fixed_level.unwrap_or_else(|| micromap_index::bake::useful_level(uv, size, max_level))
-        }));
-    }
-    if let Some(budget) = budget {
-        levels = micromap_index::bake::levels_within_budget(&levels, format, budget);
-    }
-    let per_triangle = 8 + width.bytes() as u64;
-    levels.iter().fold(34 * 12, |sum: u64, &level| {
-        sum.saturating_add(micromap_index::micromap::Micromap::byte_len(level, format) as u64)
-            .saturating_add(per_triangle)
-    })
-}
-
 pub(crate) fn run_bake(options: &[&str]) -> Exit {
     finish(bake(options))
 }
@@ -753,17 +726,6 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
             vertex_alpha: job.vertex_alpha.as_deref(),
         })
         .collect();
-    // The output's size before deduplication (an upper bound: maps that
-    // dedup or become special indices only shrink it), from the same levels
-    // bake_meshes chooses, checked before any micro-triangle is baked.
-    let estimate = output_estimate(&input, fixed_level, max_level, budget, format, width);
-    if estimate > max_bytes {
-        return Err(Failure::Malformed(format!(
-            "the output may take up to {estimate} bytes (before deduplication), over the \
-             limit of {max_bytes} bytes; nothing written (--max-bytes raises the limit, \
-             --budget or a lower --level/--max-level shrinks the output)"
-        )));
-    }
     let options = MeshOptions {
         levels: match fixed_level {
             Some(level) => LevelRule::Fixed(level),
@@ -776,6 +738,18 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         mips,
         ..MeshOptions::default()
     };
+    // The output's size before deduplication (an upper bound: maps that
+    // dedup or become special indices only shrink it), from the levels
+    // bake_meshes chooses, checked before any micro-triangle is baked.
+    let estimate = output_bytes_bound(&meshes, &options, width)
+        .map_err(|e| Failure::Malformed(e.to_string()))?;
+    if estimate > max_bytes {
+        return Err(Failure::Malformed(format!(
+            "the output may take up to {estimate} bytes (before deduplication), over the \
+             limit of {max_bytes} bytes; nothing written (--max-bytes raises the limit, \
+             --budget or a lower --level/--max-level shrinks the output)"
+        )));
+    }
     let show_progress = !p.flag("--quiet") && std::io::stderr().is_terminal();
     let mut progress = |done: usize, total: usize| {
         if show_progress && (done % 64 == 0 || done == total) {

@@ -1,0 +1,356 @@
+"""Opacity micromaps for ray tracing, from Python (docs/python.md).
+
+A thin layer over the Rust library micromap-index: every answer is the
+library's. Numpy in, numpy out:
+
+* :func:`index` / :func:`wide_index` -- barycentrics to the micro-triangle
+  index, bit for bit the Vulkan reference in binary32 (SIMD batch kernels on
+  arrays);
+* :func:`bake` / :func:`bake_gltf` -- an alpha texture and UV triangles (or a
+  glTF asset) to the API buffers ``micromap-index bake`` writes, sound for
+  binary32 GPU hits (model ``"gpu-binary32"``) or for the exact real points
+  (``"exact"``);
+* :func:`verify` -- anyone's micromap buffers checked against the texture;
+* :class:`Tree` -- one micromap as a succinct tree;
+* :func:`read_alpha`, :func:`read_triangles` -- the CLI's PNG/JPEG and
+  TRIS.json readers, as arrays.
+
+Bad input raises ``TypeError`` (wrong type or dtype), ``ValueError`` (wrong
+shape or value, malformed buffers or assets) or ``OSError`` (files), with
+the library's message; it never crashes the interpreter. Bakes and
+verification release the GIL.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _native
+from ._native import Tree, index, read_alpha, read_triangles, wide_index
+
+__version__: str = _native.__version__
+
+__all__ = [
+    "BakeResult",
+    "FILE_NAMES",
+    "OPAQUE",
+    "TRANSPARENT",
+    "TRIANGLE_DTYPE",
+    "Tree",
+    "UNKNOWN_OPAQUE",
+    "UNKNOWN_TRANSPARENT",
+    "USAGE_DTYPE",
+    "VerifyReport",
+    "bake",
+    "bake_gltf",
+    "index",
+    "read_alpha",
+    "read_triangles",
+    "verify",
+    "wide_index",
+]
+
+#: Micro-triangle states (the API values).
+TRANSPARENT = 0
+OPAQUE = 1
+UNKNOWN_TRANSPARENT = 2
+UNKNOWN_OPAQUE = 3
+
+#: One triangle record, as ``VkMicromapTriangleEXT`` / DXR's
+#: ``D3D12_RAYTRACING_OPACITY_MICROMAP_DESC`` (8 bytes, little endian).
+TRIANGLE_DTYPE = np.dtype(
+    [("data_offset", "<u4"), ("subdivision_level", "<u2"), ("format", "<u2")]
+)
+#: One usage count, as ``VkMicromapUsageEXT`` (12 bytes, little endian).
+USAGE_DTYPE = np.dtype(
+    [("count", "<u4"), ("subdivision_level", "<u4"), ("format", "<u4")]
+)
+#: The files ``micromap-index bake`` writes, by :meth:`BakeResult.files` key.
+FILE_NAMES = (
+    "micromap-data.bin",
+    "micromap-triangles.bin",
+    "micromap-indices.bin",
+    "micromap-usage.bin",
+)
+
+Address = Union[str, Tuple[str, str]]
+
+
+@dataclass(frozen=True)
+class BakeResult:
+    """A finished bake, in the API layouts.
+
+    ``data``: the packed micromap data (``micromap-data.bin``).
+    ``triangles``: one :data:`TRIANGLE_DTYPE` record per micromap.
+    ``indices``: one index per input triangle (``int32``, or ``int16`` with
+    ``index_width=16``), all meshes concatenated; ``-1`` .. ``-4`` are the
+    special indices (fully transparent, fully opaque, unknown transparent,
+    unknown opaque).
+    ``usage``: :data:`USAGE_DTYPE` counts per (level, format).
+    ``stats``: the bake's statistics, with the keys of the CLI's
+    ``summary.json`` (``triangles``, ``levels``, ``micro_triangles``,
+    ``known_fraction``, ``status``, ``micromaps_after_dedup``, ...).
+    ``meshes``: per mesh its name, texture size, sampler, cutoff, triangle
+    count and ``first_index`` into ``indices``.
+    ``warnings``: what the glTF reader warned about (empty for :func:`bake`).
+    """
+
+    data: bytes
+    triangles: np.ndarray
+    indices: np.ndarray
+    usage: np.ndarray
+    index_width: int
+    stats: Dict[str, Any]
+    meshes: List[Dict[str, Any]]
+    warnings: List[str] = field(default_factory=list)
+
+    def files(self) -> Dict[str, bytes]:
+        """The bytes of the four files ``micromap-index bake`` writes, by
+        name (:data:`FILE_NAMES`); equal to the CLI's for the same inputs."""
+        return {
+            "micromap-data.bin": self.data,
+            "micromap-triangles.bin": self.triangles.tobytes(),
+            "micromap-indices.bin": self.indices.tobytes(),
+            "micromap-usage.bin": self.usage.tobytes(),
+        }
+
+
+def _result(raw: Dict[str, Any]) -> BakeResult:
+    width = raw["index_width"]
+    indices = np.frombuffer(raw["indices"], dtype="<i4" if width == 32 else "<i2")
+    return BakeResult(
+        data=raw["data"],
+        triangles=np.frombuffer(raw["triangles"], dtype=TRIANGLE_DTYPE),
+        indices=indices,
+        usage=np.frombuffer(raw["usage"], dtype=USAGE_DTYPE),
+        index_width=width,
+        stats=raw["stats"],
+        meshes=raw["meshes"],
+        warnings=list(raw.get("warnings", [])),
+    )
+
+
+def bake(
+    alpha: np.ndarray,
+    uvs: np.ndarray,
+    *,
+    level: Union[int, str] = "auto",
+    max_level: int = 12,
+    format: int = 4,
+    unknown: str = "fallback",
+    filter: str = "nearest",
+    address: Address = "repeat",
+    border_alpha: float = 0.0,
+    cutoff: float = 0.5,
+    opaque_above: bool = False,
+    model: str = "gpu-binary32",
+    budget: Optional[int] = None,
+    index_width: int = 32,
+    alpha_factor: float = 1.0,
+    max_bytes: int = 1 << 30,
+) -> BakeResult:
+    """Bakes opacity micromaps for ``uvs`` over the alpha texture ``alpha``.
+
+    ``alpha``: a 2-D ``uint8`` (unorm8), ``uint16`` (unorm16) or ``float32``
+    array of shape ``(height, width)``, row 0 the image's top row (``v = 0``),
+    as an image library returns it. ``uvs``: a ``float32`` array of shape
+    ``(N, 3, 2)``, triangle ``t``'s vertex ``i`` at ``uvs[t, i]`` (the order
+    of the triangle's barycentrics: vertex 0 has weight ``1 - u - v``).
+
+    Options as ``micromap-index bake``'s flags: ``level`` an int 0..=16 or
+    ``"auto"`` (each triangle's useful level up to ``max_level``); ``format``
+    2 or 4; ``unknown`` (2-state) ``"fallback"``, ``"opaque"`` or
+    ``"transparent"``; ``filter`` ``"nearest"`` or ``"linear"``; ``address``
+    one mode or a ``(u, v)`` pair of ``"repeat"``, ``"mirrored-repeat"``,
+    ``"clamp-to-edge"``, ``"clamp-to-border"``, ``"mirror-clamp-to-edge"``;
+    ``border_alpha`` for clamp-to-border; opaque where ``alpha >= cutoff``
+    (glTF's rule) or ``alpha > cutoff`` with ``opaque_above``; ``model``
+    ``"gpu-binary32"`` (the default: sound for every binary32 hit a GPU
+    assigns to a micro-triangle) or ``"exact"``; ``budget`` at most that many
+    bytes of micromap data (with ``level="auto"``); ``index_width`` 16 or 32;
+    ``alpha_factor`` multiplies every texel's alpha (glTF's
+    ``baseColorFactor[3]``); ``max_bytes`` (default 1 GiB, as the CLI's
+    ``--max-bytes``) refuses, before baking, a bake whose output may exceed
+    it (a ``ValueError``).
+
+    Releases the GIL while baking. Raises ``TypeError`` / ``ValueError``.
+    """
+    return _result(
+        _native.bake(
+            alpha,
+            uvs,
+            level=level,
+            max_level=max_level,
+            format=format,
+            unknown=unknown,
+            filter=filter,
+            address=address,
+            border_alpha=border_alpha,
+            cutoff=cutoff,
+            opaque_above=opaque_above,
+            model=model,
+            budget=budget,
+            index_width=index_width,
+            alpha_factor=alpha_factor,
+            max_bytes=max_bytes,
+        )
+    )
+
+
+def bake_gltf(
+    path: Union[str, "os.PathLike[str]"],
+    *,
+    level: Union[int, str] = "auto",
+    max_level: int = 12,
+    format: int = 4,
+    unknown: str = "fallback",
+    filter: Optional[str] = None,
+    address: Optional[Address] = None,
+    border_alpha: float = 0.0,
+    cutoff: Optional[float] = None,
+    opaque_above: bool = False,
+    model: str = "gpu-binary32",
+    budget: Optional[int] = None,
+    index_width: int = 32,
+    max_bytes: int = 1 << 30,
+) -> BakeResult:
+    """Bakes every alpha-masked primitive of a glTF 2.0 asset (``.gltf`` or
+    ``.glb``), as ``micromap-index bake --gltf``: one geometry per primitive,
+    in the asset's order, micromaps deduplicated across all. Each primitive
+    uses its material's ``alphaCutoff``, ``baseColorFactor`` alpha and its
+    texture's sampler unless ``filter``, ``address`` or ``cutoff`` is given.
+    The other options are :func:`bake`'s. Raises ``OSError`` when a file
+    cannot be read and ``ValueError`` for a malformed asset."""
+    return _result(
+        _native.bake_gltf(
+            os.fspath(path),
+            level=level,
+            max_level=max_level,
+            format=format,
+            unknown=unknown,
+            filter=filter,
+            address=address,
+            border_alpha=border_alpha,
+            cutoff=cutoff,
+            opaque_above=opaque_above,
+            model=model,
+            budget=budget,
+            index_width=index_width,
+            max_bytes=max_bytes,
+        )
+    )
+
+
+@dataclass(frozen=True)
+class VerifyReport:
+    """What :func:`verify` found (the keys of ``micromap-index verify-bake
+    --json``). ``sound`` is true when no known micro-triangle is contradicted
+    and every one was checked."""
+
+    model: str
+    triangles: int
+    triangles_checked: int
+    known_micro_triangles: int
+    unknown_micro_triangles: int
+    unknown_fraction: float
+    undecided: int
+    unchecked_micro_triangles: int
+    complete: bool
+    contradictions: int
+    first_contradictions: List[Dict[str, Any]]
+    usage_counts_checked: bool
+    sound: bool
+
+
+_Buffer = Union[bytes, bytearray, memoryview, np.ndarray]
+
+
+def _buffer_bytes(value: _Buffer, name: str, dtypes: Sequence[np.dtype]) -> bytes:
+    if isinstance(value, (bytes, bytearray, memoryview)):
+        return bytes(value)
+    if isinstance(value, np.ndarray):
+        if value.dtype not in dtypes and value.dtype != np.uint8:
+            expected = ", ".join(str(d) for d in dtypes)
+            raise TypeError(
+                f"{name} must be bytes or an array of dtype {expected} or uint8, "
+                f"not {value.dtype}"
+            )
+        return np.ascontiguousarray(value).tobytes()
+    raise TypeError(f"{name} must be bytes or a numpy array, not {type(value).__name__}")
+
+
+def _index_width(indices: _Buffer, index_width: Optional[int]) -> int:
+    if index_width is not None:
+        return index_width
+    if isinstance(indices, np.ndarray) and indices.dtype.itemsize == 2:
+        return 16
+    return 32
+
+
+def verify(
+    alpha: np.ndarray,
+    uvs: np.ndarray,
+    buffers: Optional[BakeResult] = None,
+    *,
+    data: Optional[_Buffer] = None,
+    triangles: Optional[_Buffer] = None,
+    indices: Optional[_Buffer] = None,
+    usage: Optional[_Buffer] = None,
+    index_width: Optional[int] = None,
+    filter: str = "nearest",
+    address: Address = "repeat",
+    border_alpha: float = 0.0,
+    cutoff: float = 0.5,
+    opaque_above: bool = False,
+    model: str = "gpu-binary32",
+    max_report: int = 20,
+    max_checks: Optional[int] = None,
+    lenient_layout: bool = False,
+) -> VerifyReport:
+    """Checks micromap buffers -- a :class:`BakeResult`, or ``data``,
+    ``triangles``, ``indices`` and (optionally) ``usage`` from any baker, as
+    bytes or arrays -- against ``alpha`` and ``uvs`` (as :func:`bake`
+    takes them), as ``micromap-index verify-bake``: the buffers are validated
+    (a malformed one is a ``ValueError``), then every known micro-triangle is
+    checked exactly against the texture under the sampler, the cutoff and the
+    model. The first ``max_report`` contradictions are reported with an exact
+    witness point; ``max_checks`` caps the known micro-triangles checked
+    (then ``complete`` is false). ``lenient_layout`` accepts overlapping
+    records. ``index_width`` defaults to the ``indices`` array's (16 for
+    2-byte dtypes) or 32. Releases the GIL while checking."""
+    if buffers is not None:
+        if any(x is not None for x in (data, triangles, indices, usage)):
+            raise TypeError("give either a BakeResult or data/triangles/indices/usage, not both")
+        data, triangles, indices, usage = (
+            buffers.data,
+            buffers.triangles,
+            buffers.indices,
+            buffers.usage,
+        )
+        index_width = buffers.index_width
+    if data is None or triangles is None or indices is None:
+        raise TypeError("verify needs a BakeResult or data, triangles and indices")
+    index_dtypes = [np.dtype(t) for t in ("<i4", "<u4", "<i2", "<u2")]
+    raw = _native.verify(
+        alpha,
+        uvs,
+        data=_buffer_bytes(data, "data", []),
+        triangles=_buffer_bytes(triangles, "triangles", [TRIANGLE_DTYPE]),
+        indices=_buffer_bytes(indices, "indices", index_dtypes),
+        index_width=_index_width(indices, index_width),
+        usage=None if usage is None else _buffer_bytes(usage, "usage", [USAGE_DTYPE]),
+        filter=filter,
+        address=address,
+        border_alpha=border_alpha,
+        cutoff=cutoff,
+        opaque_above=opaque_above,
+        model=model,
+        max_report=max_report,
+        max_checks=max_checks,
+        lenient_layout=lenient_layout,
+    )
+    return VerifyReport(**raw)

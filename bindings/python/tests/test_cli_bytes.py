@@ -1,0 +1,162 @@
+"""The package bakes the committed assets to exactly the CLI's bytes."""
+
+import numpy as np
+import pytest
+
+import micromap_index as mmi
+from conftest import GRID, SPONZA, THORN, ROOT, run_cli, summary
+
+
+def assert_same_files(result, cli_files):
+    mine = result.files()
+    assert list(mine) == list(cli_files)
+    for name, cli in cli_files.items():
+        assert mine[name] == cli, (
+            f"{name}: {len(mine[name])} bytes from the package, {len(cli)} from the CLI"
+        )
+
+
+@pytest.mark.parametrize(
+    "options, flags",
+    [
+        ({"level": 4}, ["--level", "4"]),
+        ({}, []),
+        (
+            {"level": 5, "format": 2, "unknown": "opaque", "filter": "linear",
+             "address": "clamp-to-edge", "cutoff": 0.3, "opaque_above": True,
+             "index_width": 16},
+            ["--level", "5", "--format", "2", "--unknown-as", "opaque", "--filter", "linear",
+             "--address", "clamp-to-edge", "--cutoff", "0.3", "--opaque-above",
+             "--index-width", "16"],
+        ),
+        ({"level": 3, "model": "exact", "address": ("mirrored-repeat", "clamp-to-border"),
+          "border_alpha": 1.0},
+         ["--level", "3", "--model", "exact", "--address-u", "mirrored-repeat",
+          "--address-v", "clamp-to-border", "--border", "1"]),
+        ({"budget": 4096}, ["--budget", "4096"]),
+    ],
+    ids=["level4", "auto", "2state-linear-clamp", "exact-mixed-address", "budget"],
+)
+def test_texture_and_triangles_equal_the_cli(cli_bake, options, flags):
+    alpha = mmi.read_alpha(THORN)
+    uvs = mmi.read_triangles(GRID)
+    assert alpha.shape == (512, 512) and alpha.dtype == np.uint8
+    assert uvs.shape == (128, 3, 2) and uvs.dtype == np.float32
+    result = mmi.bake(alpha, uvs, **options)
+    files, out = cli_bake("--texture", THORN, "--triangles", GRID, *flags)
+    assert_same_files(result, files)
+    s = summary(out)
+    for key in ("triangles", "levels", "micromaps_after_dedup", "bytes_flat",
+                "special_index_triangles", "known_fraction", "status"):
+        assert result.stats[key] == s[key], key
+    assert result.stats["micro_triangles"] == s["micro_triangles"]
+    assert result.indices.dtype == (np.int16 if options.get("index_width") == 16 else np.int32)
+    assert len(result.indices) == len(uvs)
+
+
+def test_float_and_unorm16_alpha_bake_as_the_library_reads_them():
+    """The same mask as uint8, uint16 (c * 257: the same quotient) gives
+    the same bytes; float32 c/255 too, at a cutoff no rounding reaches."""
+    alpha8 = mmi.read_alpha(THORN)
+    uvs = mmi.read_triangles(GRID)
+    ref = mmi.bake(alpha8, uvs, level=4).files()
+    alpha16 = alpha8.astype(np.uint16) * np.uint16(257)
+    assert mmi.bake(alpha16, uvs, level=4).files() == ref
+    alpha32 = (alpha8 / np.float32(255)).astype(np.float32)
+    assert mmi.bake(alpha32, uvs, level=4).files() == ref
+    # Fortran order and strided views read as numpy shows them.
+    assert mmi.bake(np.asfortranarray(alpha8), np.asfortranarray(uvs), level=4).files() == ref
+    rgba = np.zeros(alpha8.shape + (4,), np.uint8)
+    rgba[:, :, 3] = alpha8
+    assert mmi.bake(rgba[:, :, 3], uvs, level=4).files() == ref
+    assert mmi.bake(alpha8.T.copy().T, uvs, level=4).files() == ref
+    # A transposed texture is another texture.
+    assert mmi.bake(alpha8.T, uvs, level=4).files() != ref
+
+
+@pytest.mark.parametrize(
+    "asset", [SPONZA / "cards.gltf", SPONZA / "cards.glb",
+              ROOT / "assets" / "polyhaven-fern02" / "fern_02.gltf"],
+    ids=lambda p: p.name,
+)
+def test_gltf_equals_the_cli(cli_bake, asset):
+    result = mmi.bake_gltf(asset, max_level=6)
+    files, out = cli_bake("--gltf", asset, "--max-level", "6")
+    assert_same_files(result, files)
+    s = summary(out)
+    assert [m["name"] for m in result.meshes] == [j["name"] for j in s["jobs"]]
+    assert [m["first_index"] for m in result.meshes] == [j["first_index"] for j in s["jobs"]]
+    assert result.warnings == s["warnings"]
+
+
+def test_gltf_overrides_equal_the_cli(cli_bake):
+    asset = SPONZA / "cards.gltf"
+    result = mmi.bake_gltf(asset, level=3, filter="nearest", address="clamp-to-edge",
+                           cutoff=0.25, format=2)
+    files, _ = cli_bake("--gltf", asset, "--level", "3", "--filter", "nearest",
+                        "--address", "clamp-to-edge", "--cutoff", "0.25", "--format", "2")
+    assert_same_files(result, files)
+
+
+def test_verify_agrees_with_verify_bake(cli_bake, tmp_path):
+    alpha = mmi.read_alpha(THORN)
+    uvs = mmi.read_triangles(GRID)
+    result = mmi.bake(alpha, uvs, level=4)
+    report = mmi.verify(alpha, uvs, result)
+    assert report.sound and report.contradictions == 0
+    assert report.known_micro_triangles > 0
+
+    # Break a known state: every 4-state byte flipped between transparent
+    # (0b00) and opaque (0b01) states, then both verifiers must agree.
+    data = bytearray(result.data)
+    for i in range(len(data)):
+        data[i] ^= 0b01010101
+    files = result.files()
+    files["micromap-data.bin"] = bytes(data)
+    directory = tmp_path / "broken"
+    directory.mkdir()
+    for name, content in files.items():
+        (directory / name).write_bytes(content)
+    broken = mmi.verify(alpha, uvs, data=bytes(data), triangles=result.triangles,
+                        indices=result.indices, usage=result.usage, max_report=5)
+    assert not broken.sound and broken.contradictions > 0
+    done = run_cli("verify-bake", "--micromaps", directory, "--texture", THORN,
+                   "--triangles", GRID, "--json", "--max-report", "5", check=False)
+    assert done.returncode != 0
+    import json
+    cli = json.loads(done.stdout)
+    mine = broken.__dict__
+    for key, value in mine.items():
+        assert cli[key] == (list(map(list_of, value)) if key == "first_contradictions" else value), key
+
+
+def list_of(contradiction):
+    """A contradiction as the CLI's JSON writes it (tuples as lists, the
+    exact witness numerators as decimal strings)."""
+    c = dict(contradiction)
+    w = c["witness_texel_space"]
+    c["witness_texel_space"] = None if w is None else [[str(n), s] for n, s in w]
+    c["witness_uv"] = None if c["witness_uv"] is None else list(c["witness_uv"])
+    c["texel"] = None if c["texel"] is None else list(c["texel"])
+    return c
+
+
+def test_max_bytes_refuses_where_the_cli_does(cli_bake, tmp_path):
+    alpha = mmi.read_alpha(THORN)
+    uvs = mmi.read_triangles(GRID)
+    # 128 level-4 4-state maps of 64 bytes, records, 32-bit indices, usage.
+    bound = 128 * (64 + 8 + 4) + 34 * 12
+    with pytest.raises(ValueError, match=f"up to {bound} bytes"):
+        mmi.bake(alpha, uvs, level=4, max_bytes=bound - 1)
+    files, _ = cli_bake("--texture", THORN, "--triangles", GRID, "--level", "4",
+                        "--max-bytes", bound)
+    assert mmi.bake(alpha, uvs, level=4, max_bytes=bound).files() == files
+    refused = run_cli("bake", "--texture", THORN, "--triangles", GRID, "--level", "4",
+                      "--max-bytes", bound - 1, "--no-preview", "--out", tmp_path / "no",
+                      check=False)
+    assert refused.returncode != 0 and f"up to {bound} bytes" in refused.stderr
+    # The default limit (1 GiB) refuses level 16 everywhere: 128 GiB of data.
+    with pytest.raises(ValueError, match="max_bytes"):
+        mmi.bake(alpha, uvs, level=16)
+    with pytest.raises(ValueError, match="max_bytes"):
+        mmi.bake_gltf(SPONZA / "cards.gltf", level=16)

@@ -1,0 +1,109 @@
+"""Bad input raises TypeError or ValueError (OSError for files) with the
+library's message; it never crashes the interpreter."""
+
+import numpy as np
+import pytest
+
+import micromap_index as mmi
+from conftest import GRID, THORN
+
+F32 = np.zeros(4, np.float32)
+ALPHA = np.full((8, 8), 255, np.uint8)
+UVS = np.array([[[0, 0], [1, 0], [0, 1]]], np.float32)
+
+
+@pytest.mark.parametrize(
+    "call, error, message",
+    [
+        (lambda: mmi.index(F32.astype(np.float64), F32, 3), TypeError, "float32"),
+        (lambda: mmi.index(F32.astype(">f4"), F32, 3), TypeError, "float32"),
+        (lambda: mmi.index(F32, F32.astype(np.float16), 3), TypeError, "float32"),
+        (lambda: mmi.index(F32, F32[:3], 3), ValueError, "same shape"),
+        (lambda: mmi.index(F32, 0.5, 3), TypeError, "both"),
+        (lambda: mmi.index("a", 0.5, 3), TypeError, "number"),
+        (lambda: mmi.index(0.5, 0.5, 17), ValueError, "0..=16"),
+        (lambda: mmi.index(0.5, 0.5, -1), ValueError, "0..=16"),
+        (lambda: mmi.wide_index(0.5, 0.5, 33), ValueError, "0..=32"),
+        (lambda: mmi.bake(ALPHA.astype(np.int32), UVS), TypeError, "uint8, uint16 or float32"),
+        (lambda: mmi.bake(ALPHA.astype(np.float64), UVS), TypeError, "float64"),
+        (lambda: mmi.bake([[1, 2]], UVS), TypeError, "numpy array"),
+        (lambda: mmi.bake(ALPHA[0], UVS), ValueError, "2-D"),
+        (lambda: mmi.bake(ALPHA[None], UVS), ValueError, "2-D"),
+        (lambda: mmi.bake(ALPHA[:0], UVS), ValueError, "no texels"),
+        (lambda: mmi.bake(ALPHA, UVS.astype(np.float64)), TypeError, "float32"),
+        (lambda: mmi.bake(ALPHA, UVS[0]), ValueError, "(N, 3, 2)"),
+        (lambda: mmi.bake(ALPHA, UVS.reshape(1, 2, 3)), ValueError, "(N, 3, 2)"),
+        (lambda: mmi.bake(ALPHA, UVS, level=17), ValueError, "0..=16"),
+        (lambda: mmi.bake(ALPHA, UVS, level="high"), ValueError, "auto"),
+        (lambda: mmi.bake(ALPHA, UVS, level=2.5), TypeError, "level"),
+        (lambda: mmi.bake(ALPHA, UVS, max_level=40), ValueError, "max_level"),
+        (lambda: mmi.bake(ALPHA, UVS, format=3), ValueError, "2 or 4"),
+        (lambda: mmi.bake(ALPHA, UVS, unknown="maybe"), ValueError, "fallback"),
+        (lambda: mmi.bake(ALPHA, UVS, filter="cubic"), ValueError, "nearest"),
+        (lambda: mmi.bake(ALPHA, UVS, address="wrap"), ValueError, "repeat"),
+        (lambda: mmi.bake(ALPHA, UVS, address=3), TypeError, "address"),
+        (lambda: mmi.bake(ALPHA, UVS, cutoff=float("nan")), ValueError, "cutoff"),
+        (lambda: mmi.bake(ALPHA, UVS, cutoff=1.5), ValueError, "[0, 1]"),
+        (lambda: mmi.bake(ALPHA, UVS, border_alpha=float("inf")), ValueError, "finite"),
+        (lambda: mmi.bake(ALPHA, UVS, model="cpu"), ValueError, "gpu-binary32"),
+        (lambda: mmi.bake(ALPHA, UVS, index_width=8), ValueError, "16 or 32"),
+        (lambda: mmi.bake(ALPHA, UVS, level=3, budget=100), ValueError, "auto"),
+        (lambda: mmi.bake(ALPHA, UVS, budget=-1), ValueError, "count"),
+        (lambda: mmi.verify(ALPHA, UVS, mmi.bake(ALPHA, UVS), max_report=-1), ValueError, "count"),
+        (lambda: mmi.bake(ALPHA, UVS, alpha_factor=float("nan")), ValueError, "alpha_factor"),
+        (lambda: mmi.bake_gltf("/nonexistent/x.gltf"), OSError, "x.gltf"),
+        (lambda: mmi.bake_gltf(GRID), ValueError, "grid.tris.json"),
+        (lambda: mmi.read_alpha(GRID), ValueError, "grid.tris.json"),
+        (lambda: mmi.read_alpha("/nonexistent.png"), OSError, "nonexistent"),
+        (lambda: mmi.read_triangles(THORN), ValueError, "sponza_thorn.png"),
+        (lambda: mmi.Tree.encode(np.zeros(15, np.uint8), 2), ValueError, "16"),
+        (lambda: mmi.Tree.encode(np.zeros(16, np.int64), 2), TypeError, "uint8"),
+        (lambda: mmi.Tree.encode([0] * 16, 2), TypeError, "uint8"),
+        (lambda: mmi.Tree.encode(np.full(16, 4, np.uint8), 2), ValueError, "0..=3"),
+        (lambda: mmi.Tree.encode(np.full(16, 2, np.uint8), 2, format=2), ValueError, ""),
+        (lambda: mmi.Tree.encode(np.zeros(16, np.uint8), 17), ValueError, "0..=16"),
+        (lambda: mmi.Tree.encode(np.zeros(16, np.uint8), 2, layout="bfs"), ValueError, "paper"),
+        (lambda: mmi.Tree.from_bytes(b"\x00" * 7), ValueError, ""),
+        (lambda: mmi.Tree.from_bytes(b""), ValueError, ""),
+        (lambda: mmi.Tree.encode(np.zeros(16, np.uint8), 2).lookup(16), ValueError, "past"),
+        (lambda: mmi.Tree.encode(np.zeros(16, np.uint8), 2).lookup(-1), ValueError, "negative"),
+        (lambda: mmi.Tree.encode(np.zeros(16, np.uint8), 2).lookup(np.array([-1])), ValueError, "negative"),
+        (lambda: mmi.Tree.encode(np.zeros(16, np.uint8), 2).lookup(np.zeros(2, np.float32)), TypeError, "int64"),
+        (lambda: mmi.Tree.encode(np.zeros(16, np.uint8), 2).lookup("1"), TypeError, "int"),
+    ],
+)
+def test_bad_input_raises(call, error, message):
+    with pytest.raises(error) as raised:
+        call()
+    assert message in str(raised.value)
+
+
+def test_malformed_buffers_raise():
+    checker = (np.indices((8, 8)).sum(axis=0) % 2 * 255).astype(np.uint8)
+    result = mmi.bake(checker, UVS, level=3)
+    assert len(result.data) > 0 and len(result.triangles) == 1
+    with pytest.raises(ValueError):
+        mmi.verify(checker, UVS, data=result.data[:-1], triangles=result.triangles,
+                   indices=result.indices, usage=result.usage)
+    with pytest.raises(ValueError):
+        mmi.verify(checker, UVS, data=result.data, triangles=b"\xff" * 8,
+                   indices=result.indices)
+    with pytest.raises(ValueError, match="indices"):
+        mmi.verify(checker, np.concatenate([UVS, UVS]), result)
+    with pytest.raises(TypeError):
+        mmi.verify(ALPHA, UVS, data=result.data, triangles=result.triangles.astype("O"),
+                   indices=result.indices)
+    with pytest.raises(TypeError):
+        mmi.verify(ALPHA, UVS)
+    # Random bytes never crash the validator.
+    rng = np.random.default_rng(24)
+    for _ in range(200):
+        junk = [rng.integers(0, 256, rng.integers(0, 40), dtype=np.uint8).tobytes() for _ in range(3)]
+        try:
+            mmi.verify(ALPHA, UVS, data=junk[0], triangles=junk[1], indices=junk[2])
+        except ValueError:
+            pass
+        try:
+            mmi.Tree.from_bytes(junk[0] + junk[1])
+        except ValueError:
+            pass

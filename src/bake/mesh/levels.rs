@@ -1,0 +1,99 @@
+//! The levels [`bake_meshes`] chooses per triangle, and an upper bound on
+//! its output computed from them before anything is baked.
+
+#[cfg(doc)]
+use super::bake_meshes;
+use super::{
+    levels_within_budget, useful_level, LevelRule, Mesh, MeshBakeError, MeshOptions, UvTriangle,
+};
+use crate::micromap::{IndexWidth, Micromap};
+use crate::Level;
+use alloc::borrow::Cow;
+use alloc::vec::Vec;
+
+/// Each triangle's level, mesh by mesh, as [`bake_meshes`] chooses them:
+/// the [`LevelRule`], then the byte budget over all meshes
+/// ([`levels_within_budget`]).
+pub fn chosen_levels(
+    meshes: &[Mesh<'_>],
+    options: &MeshOptions,
+) -> Result<Vec<Vec<Level>>, MeshBakeError> {
+    let triangles = resolve_all(meshes)?;
+    Ok(levels_of(meshes, &triangles, options))
+}
+
+/// An upper bound, before any micro-triangle is baked, on the bytes of
+/// [`bake_meshes`]'s buffers with indices of `width`: the data of every
+/// triangle's micromap at its [`chosen_levels`] level before deduplication
+/// (maps that deduplicate or become special indices only shrink it), the
+/// 8-byte records, the indices and the usage counts (at most 34 of 12
+/// bytes). A caller refuses a bake over its memory limit with it.
+///
+/// ```
+/// use micromap_index::bake::mesh::{output_bytes_bound, LevelRule, Material, Mesh, MeshOptions, MeshTriangles};
+/// use micromap_index::bake::Unorm8Texture;
+/// use micromap_index::micromap::IndexWidth;
+/// use micromap_index::Level;
+///
+/// let texels = [0u8, 255, 255, 0];
+/// let texture = Unorm8Texture::new(2, 2, &texels).unwrap();
+/// let triangle = [[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]];
+/// let mesh = Mesh { triangles: MeshTriangles::Uv(&triangle), texture: &texture, material: Material::default(), vertex_alpha: None };
+/// let options = MeshOptions { levels: LevelRule::Fixed(Level::new(4).unwrap()), ..MeshOptions::default() };
+/// // One level-4 4-state map (64 bytes), a record, a 32-bit index, the usage counts.
+/// assert_eq!(output_bytes_bound(&[mesh], &options, IndexWidth::U32)?, 64 + 8 + 4 + 34 * 12);
+/// # Ok::<(), micromap_index::bake::mesh::MeshBakeError>(())
+/// ```
+pub fn output_bytes_bound(
+    meshes: &[Mesh<'_>],
+    options: &MeshOptions,
+    width: IndexWidth,
+) -> Result<u64, MeshBakeError> {
+    let per_triangle = 8 + width.bytes() as u64;
+    let levels = chosen_levels(meshes, options)?;
+    Ok(levels.iter().flatten().fold(34 * 12, |sum: u64, &level| {
+        sum.saturating_add(Micromap::byte_len(level, options.format) as u64)
+            .saturating_add(per_triangle)
+    }))
+}
+
+pub(super) fn resolve_all<'a>(
+    meshes: &'a [Mesh<'_>],
+) -> Result<Vec<Cow<'a, [UvTriangle]>>, MeshBakeError> {
+    meshes
+        .iter()
+        .enumerate()
+        .map(|(m, mesh)| mesh.triangles.resolve(m))
+        .collect()
+}
+
+pub(super) fn levels_of(
+    meshes: &[Mesh<'_>],
+    triangles: &[Cow<'_, [UvTriangle]>],
+    options: &MeshOptions,
+) -> Vec<Vec<Level>> {
+    let mut levels: Vec<Vec<Level>> = meshes
+        .iter()
+        .zip(triangles)
+        .map(|(mesh, triangles)| {
+            let size = (mesh.texture.width(), mesh.texture.height());
+            triangles
+                .iter()
+                .map(|uv| match options.levels {
+                    LevelRule::Fixed(level) => level,
+                    LevelRule::Useful { max } => useful_level(uv, size, max),
+                })
+                .collect()
+        })
+        .collect();
+    if let Some(budget) = options.budget_bytes {
+        let flat: Vec<Level> = levels.iter().flatten().copied().collect();
+        let mut capped = levels_within_budget(&flat, options.format, budget).into_iter();
+        for mesh_levels in &mut levels {
+            for level in mesh_levels.iter_mut() {
+                *level = capped.next().unwrap_or(*level);
+            }
+        }
+    }
+    levels
+}
