@@ -83,6 +83,7 @@ use micromap_index::{internals, spec, Error, Level, Outside};
 use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet, VecDeque};
 use std::fmt;
 
+mod certificate;
 mod certify;
 mod product;
 mod reference_code;
@@ -93,6 +94,7 @@ mod symbolic;
 mod tests;
 mod transducer;
 
+pub use certificate::*;
 pub use certify::*;
 pub use product::*;
 pub use reference_code::*;
