@@ -37,13 +37,15 @@ dyadic point, so at every real point (docs/verification.md 10.1).
 
 Then it mutates the certificate in memory (a wrong target, both digits of
 a transition changed alike, a transition or a start dropped, a wrong form,
-a flipped parity) and requires each mutant to be refused (negative
-controls; `--no-controls` skips them).
+a flipped parity or flag) and checks the certificate under a wrong walk
+model (the tie rule without mid_flip), and requires each to be refused
+(negative controls; `--no-controls` skips them).
 
 Usage: python3 crates/lab/certificates/product.py [FILE] [--no-controls]
 (exit 0: the certificate holds and every mutant is refused)
 """
 import copy
+import functools
 import json
 import os
 import sys
@@ -157,12 +159,14 @@ def walk_new(u, v):
     return u, v, 1 - (u + v), False, False
 
 
-def walk_step(u, v, w, mid_flip, top_flip):
+def walk_step(u, v, w, mid_flip, top_flip, tie_needs_mid_flip=True):
     """`Walk::step` over the reals, as its four branches: a list of (path
     condition, digit, (u, v, w), mid_flip, top_flip). `twice` is 2x,
-    `plus`/`minus` exact, `cmp_half` the comparison with 1/2."""
+    `plus`/`minus` exact, `cmp_half` the comparison with 1/2.
+    `tie_needs_mid_flip=False` is a wrong walk (the tie rule without
+    `mid_flip`), only for the negative control of the model."""
     left, right = (RIGHT, LEFT) if top_flip else (LEFT, RIGHT)
-    tie_to_middle = z3.And(z3.BoolVal(mid_flip), v == HALF)
+    tie_to_middle = z3.And(z3.BoolVal(mid_flip or not tie_needs_mid_flip), v == HALF)
     go_left = w > HALF
     go_top = z3.And(z3.Not(go_left), v >= HALF, z3.Not(tie_to_middle))
     go_right = z3.And(z3.Not(go_left), z3.Not(go_top), u >= HALF, z3.Not(tie_to_middle))
@@ -308,8 +312,9 @@ class Abstraction:
         return False
 
 
-def check(cert, abstraction, verbose=True):
-    """All reasons the certificate fails (empty: it holds)."""
+def check(cert, abstraction, step=walk_step):
+    """All reasons the certificate fails (empty: it holds) under the walk
+    model `step`."""
     errors = []
     if cert.get("format") != 1:
         return [f"unknown certificate format {cert.get('format')!r}"]
@@ -366,7 +371,7 @@ def check(cert, abstraction, verbose=True):
         old = [form(wa[c], r0) for c in COORDINATES]
         new = [form(wb[c], r1) for c in COORDINATES]
         claims = []
-        for condition, digit, values, mid, top in walk_step(*old, wa["mid_flip"], wa["top_flip"]):
+        for condition, digit, values, mid, top in step(*old, wa["mid_flip"], wa["top_flip"]):
             same = digit == t["walk_digit"] and (mid, top) == (wb["mid_flip"], wb["top_flip"])
             outcome = z3.And(*[x == y for x, y in zip(values, new)]) if same else z3.BoolVal(False)
             claims.append(z3.Implies(condition, outcome))
@@ -456,8 +461,11 @@ def main():
             "every live start and column present, every transition's digits equal"
         )
     if "--no-controls" not in sys.argv:
-        for what, mutant in controls(cert):
-            refused = check(mutant, abstraction)
+        wrong_walk = functools.partial(walk_step, tie_needs_mid_flip=False)
+        cases = [(what, mutant, walk_step) for what, mutant in controls(cert)]
+        cases.append(("the certificate under a wrong walk model (the tie rule without mid_flip)", cert, wrong_walk))
+        for what, mutant, step in cases:
+            refused = check(mutant, abstraction, step)
             verdict = f"refused ({refused[0]})" if refused else "ACCEPTED (the checker cannot fail)"
             print(f"  negative control, {what}: {verdict}")
             ok &= bool(refused)
