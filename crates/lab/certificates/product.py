@@ -127,14 +127,14 @@ MODELLED_DIGITS = [
 
 
 def check_walk_source():
-    lines = [line.strip() for line in open(WALK_SOURCE).read().splitlines()]
+    raw = open(WALK_SOURCE).read().splitlines()
+    lines = [line.strip() for line in raw]
     for header, body in MODELLED_FUNCTIONS.items():
-        if header not in lines:
-            sys.exit(f"src/uv2index/mod.rs has no `{header}`; update product.py")
+        if lines.count(header) != 1:
+            sys.exit(f"src/uv2index/mod.rs has not exactly one `{header}`; update product.py")
         start = lines.index(header) + 1
         # The body ends at the first line that closes the function: a "}"
-        # at the header's indentation (found on the unstripped source).
-        raw = open(WALK_SOURCE).read().splitlines()
+        # at the header's indentation.
         indent = raw[start - 1][: len(raw[start - 1]) - len(raw[start - 1].lstrip())]
         end = next(i for i in range(start, len(raw)) if raw[i] == indent + "}")
         found = [l for l in lines[start:end] if l and not l.startswith("//")]

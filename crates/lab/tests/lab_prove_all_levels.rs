@@ -80,4 +80,21 @@ fn certificate_is_the_committed_one_byte_for_byte() {
 
     let missing = command(&["prove", "--all-levels", "--certificate"]);
     assert_eq!(missing.status.code(), Some(2));
+
+    // A file below a file: cannot be written, exit 3, nothing left.
+    let blocked = file.join("below-a-file.json");
+    let unwritable = command(&[
+        "prove",
+        "--all-levels",
+        "--certificate",
+        blocked.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        unwritable.status.code(),
+        Some(3),
+        "{}",
+        cli::text(&unwritable.stderr)
+    );
+    assert!(cli::text(&unwritable.stderr).contains("cannot create"));
+    assert_eq!(std::fs::read(&file).unwrap(), committed);
 }

@@ -27,7 +27,8 @@ pub(crate) static ALL_LEVELS: Command = Command {
   by exploring the finite product of two digit transducers (under a second);
   exit 0 proved, 1 not; with --version1 it must fail and prints a face; --list
   prints every product state and transition; --certificate writes the proved
-  product for crates/lab/certificates/product.py (docs/verification.md 10).",
+  product for crates/lab/certificates/product.py (docs/verification.md 10),
+  exit 3 if it cannot.",
     flags: &[
         Flag::switch(
             "--all-levels",
@@ -92,7 +93,7 @@ pub(crate) fn run(options: &[&str]) -> Exit {
             Some(certificate) => {
                 if let Err(e) = write_certificate(Path::new(file), certificate) {
                     report_error(format_args!("prove --all-levels: {e}"));
-                    verdict = Exit::Failed;
+                    verdict = Exit::Io;
                 }
             }
             None => {
