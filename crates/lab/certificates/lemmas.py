@@ -166,6 +166,16 @@ def borrow_lemma():
     return prove(claim, "borrow of minus one, 64-bit, every bit k")
 
 
+def documented_rule(u_zero, w_zero, zu, zv, zw):
+    """The cell rule of docs/verification.md 10.3 (lemma 3 proves the code
+    follows it; product.py uses it for the level ends): whether the
+    reference's cell decrements u, v, w, from u = 0, w = 0 and the zero
+    flags of the rest at the level (z3 Booleans)."""
+    dec_w = z3.And(z3.Not(w_zero), zw)
+    hyp = z3.And(z3.Not(dec_w), w_zero, zu, zv)
+    return z3.And(hyp, z3.Not(u_zero)), z3.And(hyp, u_zero), dec_w
+
+
 def cell_lemma(bits, max_level):
     n = z3.BitVec("n", bits)
     U, V, W = z3.BitVecs("U V W", bits)
@@ -194,12 +204,8 @@ def cell_lemma(bits, max_level):
     iu = z3.If(z3.UGE(iuv, cells), iu - (iuv - cells + one), iu)
     iw = ~(iu + iv)
     iw = z3.If(z3.And(diagonal, z3.ULT(iuv, last)), iw - one, iw)
-    # The documented rule (docs/verification.md 10.3).
     u_zero, w_zero = z3.And(U == 0, zu), z3.And(W == 0, zw)
-    dec_w = z3.And(z3.Not(w_zero), zw)
-    hyp = z3.And(z3.Not(dec_w), w_zero, zu, zv)
-    dec_v = z3.And(hyp, u_zero)
-    dec_u = z3.And(hyp, z3.Not(u_zero))
+    dec_u, dec_v, dec_w = documented_rule(u_zero, w_zero, zu, zv, zw)
     minus = lambda x, d: x - z3.If(d, one, z3.BitVecVal(0, bits))
     claim = z3.Implies(
         facts,

@@ -30,3 +30,71 @@ fn command_exits_0_when_proved_and_1_for_version1() {
     let bad = command(&["prove", "--all-levels", "--levels", "3"]);
     assert_eq!(bad.status.code(), Some(2));
 }
+
+/// `--certificate FILE` writes the proved product, byte for byte the
+/// committed `docs/results/all_levels_certificate.json` (the file
+/// `crates/lab/certificates/product.py` checks); nothing when not proved.
+#[test]
+fn certificate_is_the_committed_one_byte_for_byte() {
+    let dir = cli::scratch("all_levels_certificate");
+    let file = dir.join("product.json");
+    let proved = command(&[
+        "prove",
+        "--all-levels",
+        "--certificate",
+        file.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        proved.status.code(),
+        Some(0),
+        "{}",
+        cli::text(&proved.stderr)
+    );
+    let written = std::fs::read(&file).unwrap();
+    let committed =
+        std::fs::read(cli::root().join("docs/results/all_levels_certificate.json")).unwrap();
+    assert!(
+        written == committed,
+        "prove --all-levels --certificate differs from docs/results/all_levels_certificate.json \
+         (regenerate it and rerun crates/lab/certificates/product.py):\n{}",
+        cli::text(&written)
+    );
+
+    let refuted_file = dir.join("version1.json");
+    let refuted = command(&[
+        "prove",
+        "--all-levels",
+        "--version1",
+        "--certificate",
+        refuted_file.to_str().unwrap(),
+    ]);
+    assert_eq!(refuted.status.code(), Some(1));
+    assert!(cli::text(&refuted.stdout).contains("no certificate written"));
+    assert!(!refuted_file.exists());
+    let entries: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert_eq!(
+        entries.len(),
+        1,
+        "only the proved certificate, no temporaries"
+    );
+
+    let missing = command(&["prove", "--all-levels", "--certificate"]);
+    assert_eq!(missing.status.code(), Some(2));
+
+    // A file below a file: cannot be written, exit 3, nothing left.
+    let blocked = file.join("below-a-file.json");
+    let unwritable = command(&[
+        "prove",
+        "--all-levels",
+        "--certificate",
+        blocked.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        unwritable.status.code(),
+        Some(3),
+        "{}",
+        cli::text(&unwritable.stderr)
+    );
+    assert!(cli::text(&unwritable.stderr).contains("cannot create"));
+    assert_eq!(std::fs::read(&file).unwrap(), committed);
+}

@@ -1,7 +1,7 @@
 //! The all-levels construction (`micromap_index_lab::prove_all_levels`) checked
 //! against the real functions: the transducers' indices on every face of
 //! levels 0..=8 (9..=12 behind `--ignored`), random faces up to level 32,
-//! binary32 points (the command: `crates/cli/tests/cli_prove_all_levels.rs`).
+//! binary32 points (the command: `crates/lab/tests/lab_prove_all_levels.rs`).
 //!
 //! The slow levels: `cargo test -p micromap-index-lab --test prove_all_levels -- --ignored`.
 

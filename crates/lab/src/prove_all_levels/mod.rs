@@ -61,6 +61,8 @@
 //! and the guess is checked where the level ends. [`prove_all_levels`] then
 //! [`certify`]s the search: every face of levels 0..=8 runs along explored
 //! transitions and the product is the committed listing.
+//! [`AllLevelsReport::certificate`] exports the proved product for an
+//! independent checker (`crates/lab/certificates/product.py`, z3).
 //!
 //! ```
 //! use micromap_index_lab::prove::WalkVersion;
@@ -83,6 +85,7 @@ use micromap_index::{internals, spec, Error, Level, Outside};
 use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet, VecDeque};
 use std::fmt;
 
+mod certificate;
 mod certify;
 mod product;
 mod reference_code;
@@ -93,6 +96,7 @@ mod symbolic;
 mod tests;
 mod transducer;
 
+pub use certificate::*;
 pub use certify::*;
 pub use product::*;
 pub use reference_code::*;

@@ -1,4 +1,5 @@
-//! `micromap-lab prove --all-levels [--version1] [--json] [--list]`: the
+//! `micromap-lab prove --all-levels [--version1] [--json] [--list]
+//! [--certificate FILE]`: the
 //! walk against the reference at every level at once, by exploring the
 //! product of two digit transducers (`micromap_index_lab::prove_all_levels`).
 
@@ -6,21 +7,28 @@ use crate::args::{ArgError, Command, Flag};
 use crate::output::{print_then, report as report_error, Exit};
 use crate::prove::{JSON, VERSION1};
 use crate::usage;
+use crate::write_all_or_nothing::write_files;
 use micromap_index_lab::prove::WalkVersion;
 use micromap_index_lab::prove_all_levels::{prove_all_levels, AllLevelsReport, Verdict};
 use serde::Serialize;
 use std::fmt::Write as _;
+use std::path::Path;
 use std::time::Instant;
 
-/// The flag table of `prove --all-levels`: switches only, each may be
-/// repeated.
+/// The flag table of `prove --all-levels`: switches (each may be
+/// repeated) and the certificate's file.
 pub(crate) static ALL_LEVELS: Command = Command {
     name: "prove",
-    forms: &["--all-levels [--version1] [--json] [--list]"],
+    forms: &[
+        "--all-levels [--version1] [--json] [--list]",
+        "--all-levels --certificate FILE [--json] [--list]",
+    ],
     about: "  --all-levels proves the walk equal to the reference at every level at once
   by exploring the finite product of two digit transducers (under a second);
   exit 0 proved, 1 not; with --version1 it must fail and prints a face; --list
-  prints every product state and transition (docs/verification.md section 10).",
+  prints every product state and transition; --certificate writes the proved
+  product for crates/lab/certificates/product.py (docs/verification.md 10),
+  exit 3 if it cannot.",
     flags: &[
         Flag::switch(
             "--all-levels",
@@ -30,6 +38,11 @@ pub(crate) static ALL_LEVELS: Command = Command {
         VERSION1,
         JSON,
         Flag::switch("--list", "every product state and transition").repeatable(),
+        Flag::value(
+            "--certificate",
+            "FILE",
+            "write the proved product there (all or nothing)",
+        ),
     ],
 };
 
@@ -38,7 +51,7 @@ pub(crate) fn run(options: &[&str]) -> Exit {
         Ok(parsed) => parsed,
         Err(ArgError::Unknown(word) | ArgError::TakesNoValue(_, word)) => {
             return usage(&format!(
-                "prove --all-levels: unknown option {word:?} (only --version1, --json, --list)"
+                "prove --all-levels: unknown option {word:?} (only --version1, --json, --list, --certificate)"
             ))
         }
         Err(other) => return usage(&other.message("prove --all-levels")),
@@ -70,12 +83,39 @@ pub(crate) fn run(options: &[&str]) -> Exit {
             let _ = writeln!(text, "{line}");
         }
     }
-    let verdict = if report.is_proof() {
+    let mut verdict = if report.is_proof() {
         Exit::Success
     } else {
         Exit::Failed
     };
+    if let Some(file) = parsed.get("--certificate") {
+        match report.certificate() {
+            Some(certificate) => {
+                if let Err(e) = write_certificate(Path::new(file), certificate) {
+                    report_error(format_args!("prove --all-levels: {e}"));
+                    verdict = Exit::Io;
+                }
+            }
+            None => {
+                let _ = writeln!(text, "no certificate written to {file}: nothing was proved");
+            }
+        }
+    }
     print_then(&text, verdict)
+}
+
+/// Writes the certificate to `file`: the whole file or (after an error)
+/// nothing, the old content kept.
+fn write_certificate(file: &Path, certificate: String) -> Result<(), String> {
+    let name = file
+        .file_name()
+        .and_then(|name| name.to_str())
+        .ok_or_else(|| format!("--certificate {}: not a file name", file.display()))?;
+    let dir = match file.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir,
+        _ => Path::new("."),
+    };
+    write_files(dir, &[(name.to_owned(), certificate.into_bytes())])
 }
 
 /// For a counterexample: whether the real functions differ at the face
