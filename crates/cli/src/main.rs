@@ -33,6 +33,7 @@ mod input;
 mod locate_command;
 mod output;
 mod preview;
+mod render_command;
 mod tree_command;
 mod write_all_or_nothing;
 
@@ -77,6 +78,7 @@ fn main() -> ExitCode {
         ("tree", options) => tree_command::run(options).into(),
         ("bake", options) => bake_command::run_bake(options).into(),
         ("verify-bake", options) => bake_command::run_verify(options).into(),
+        ("render", options) => render_command::run(options).into(),
         (moved, _) if help::MOVED.contains(&moved) => {
             output::report(help::moved_note(moved));
             Exit::Usage.into()
