@@ -285,7 +285,7 @@ const RECORD_WORDS: usize = 8;
 /// Words per tree directory entry (shader `TREE_WORDS`).
 const TREE_WORDS: usize = 10;
 /// Most pixels of a frame (the pixel buffer's words stay below 2^31).
-pub const MAX_PIXELS: u64 = 1 << 26;
+pub const MAX_PIXELS: u64 = 1 << 22;
 
 /// A scene on the device, ready to trace.
 pub struct Renderer {
