@@ -489,10 +489,9 @@ impl Renderer {
             .flat_map(|w| w.to_le_bytes())
             .collect();
             push.extend(basis.iter().flatten().flat_map(|x| x.to_le_bytes()));
-            let (pipeline, structures) = (
-                self.pipeline.as_ref().expect("made in new"),
-                self.structures.as_ref().expect("made in new"),
-            );
+            let (Some(pipeline), Some(structures)) = (&self.pipeline, &self.structures) else {
+                return Err(RenderError::Vulkan("the renderer is not set up".into()));
+            };
             let cpu0 = vulkan::process_cpu_seconds();
             let wall0 = Instant::now();
             d.trace(

@@ -41,7 +41,7 @@ pub(crate) struct Buffer {
 pub(crate) struct Device {
     _entry: ash::Entry,
     instance: ash::Instance,
-    device: ash::Device,
+    raw: ash::Device,
     accel: acceleration_structure::Device,
     queue: vk::Queue,
     pool: vk::CommandPool,
@@ -61,7 +61,7 @@ pub(crate) struct Pipeline {
     module: vk::ShaderModule,
     set_layout: vk::DescriptorSetLayout,
     layout: vk::PipelineLayout,
-    pipeline: vk::Pipeline,
+    handle: vk::Pipeline,
 }
 
 fn text(c: Result<&std::ffi::CStr, std::ffi::FromBytesUntilNulError>) -> String {
@@ -128,7 +128,7 @@ impl Device {
                 seen.push(name);
                 continue;
             }
-            return Device::create(entry, instance, physical, &props, name);
+            return Device::create(entry, instance, physical, &props, &name);
         }
         Err(RenderError::NoDevice(if seen.is_empty() {
             "no Vulkan device (no ICD found: Debian: mesa-vulkan-drivers from bookworm-backports)"
@@ -146,7 +146,7 @@ impl Device {
         instance: &ash::Instance,
         physical: vk::PhysicalDevice,
         props: &vk::PhysicalDeviceProperties,
-        name: String,
+        name: &str,
     ) -> Result<Device, RenderError> {
         let mut about = vk::PhysicalDeviceDriverProperties::default();
         let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut about);
@@ -207,7 +207,7 @@ impl Device {
         Ok(Device {
             _entry: entry,
             instance: instance.clone(),
-            device,
+            raw: device,
             accel,
             queue,
             pool,
@@ -223,7 +223,7 @@ impl Device {
         bytes: u64,
         usage: vk::BufferUsageFlags,
     ) -> Result<Buffer, RenderError> {
-        let d = &self.device;
+        let d = &self.raw;
         let bytes = bytes.max(4).next_multiple_of(4);
         let info = vk::BufferCreateInfo::default()
             .size(bytes)
@@ -291,13 +291,13 @@ impl Device {
         // `buffer.bytes` bytes (checked above); unmapped before return.
         unsafe {
             let base = self
-                .device
+                .raw
                 .map_memory(buffer.memory, 0, buffer.bytes, vk::MemoryMapFlags::empty())
                 .map_err(vk_error("vkMapMemory"))?
                 .cast::<u8>();
             std::ptr::write_bytes(base, 0, buffer.bytes as usize);
             std::ptr::copy_nonoverlapping(bytes.as_ptr(), base.add(at as usize), bytes.len());
-            self.device.unmap_memory(buffer.memory);
+            self.raw.unmap_memory(buffer.memory);
         }
         Ok(())
     }
@@ -309,11 +309,11 @@ impl Device {
         // SAFETY: as in `write`; `words` fit in the buffer (checked above).
         unsafe {
             let at = self
-                .device
+                .raw
                 .map_memory(buffer.memory, 0, buffer.bytes, vk::MemoryMapFlags::empty())
                 .map_err(vk_error("vkMapMemory"))?;
             std::ptr::copy_nonoverlapping(at.cast::<u32>(), out.as_mut_ptr(), words);
-            self.device.unmap_memory(buffer.memory);
+            self.raw.unmap_memory(buffer.memory);
         }
         Ok(out)
     }
@@ -322,15 +322,15 @@ impl Device {
         // SAFETY: the buffer is no longer used by any pending command (every
         // submission is waited for).
         unsafe {
-            self.device.destroy_buffer(buffer.handle, None);
-            self.device.free_memory(buffer.memory, None);
+            self.raw.destroy_buffer(buffer.handle, None);
+            self.raw.free_memory(buffer.memory, None);
         }
     }
 
     /// Records commands with `record` into a fresh command buffer, submits
     /// them and waits until they finish.
     fn submit(&self, record: impl FnOnce(vk::CommandBuffer)) -> Result<(), RenderError> {
-        let d = &self.device;
+        let d = &self.raw;
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(self.pool)
             .level(vk::CommandBufferLevel::PRIMARY)
@@ -542,7 +542,7 @@ impl Device {
 
     /// The tracer's pipeline from the committed SPIR-V.
     pub(crate) fn pipeline(&self) -> Result<Pipeline, RenderError> {
-        let d = &self.device;
+        let d = &self.raw;
         let words: Vec<u32> = RENDER_QUERY_SPV
             .chunks_exact(4)
             .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
@@ -593,18 +593,17 @@ impl Device {
             module,
             set_layout,
             layout,
-            pipeline,
+            handle: pipeline,
         })
     }
 
     pub(crate) fn free_pipeline(&self, p: &Pipeline) {
         // SAFETY: no pending command uses them.
         unsafe {
-            self.device.destroy_pipeline(p.pipeline, None);
-            self.device.destroy_pipeline_layout(p.layout, None);
-            self.device
-                .destroy_descriptor_set_layout(p.set_layout, None);
-            self.device.destroy_shader_module(p.module, None);
+            self.raw.destroy_pipeline(p.handle, None);
+            self.raw.destroy_pipeline_layout(p.layout, None);
+            self.raw.destroy_descriptor_set_layout(p.set_layout, None);
+            self.raw.destroy_shader_module(p.module, None);
         }
     }
 
@@ -619,7 +618,7 @@ impl Device {
         push: &[u8],
         groups: (u32, u32),
     ) -> Result<(), RenderError> {
-        let d = &self.device;
+        let d = &self.raw;
         let sizes = [
             vk::DescriptorPoolSize::default()
                 .ty(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)
@@ -673,7 +672,7 @@ impl Device {
             // SAFETY: the pipeline, set and push range match its layout; the
             // submission is waited for inside `submit`.
             self.submit(|cmd| unsafe {
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.pipeline);
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.handle);
                 d.cmd_bind_descriptor_sets(
                     cmd,
                     vk::PipelineBindPoint::COMPUTE,
@@ -697,9 +696,9 @@ impl Drop for Device {
         // SAFETY: every object created from the device was freed by its
         // owner (`Tracer`'s drop runs first); nothing is pending.
         unsafe {
-            let _ = self.device.device_wait_idle();
-            self.device.destroy_command_pool(self.pool, None);
-            self.device.destroy_device(None);
+            let _ = self.raw.device_wait_idle();
+            self.raw.destroy_command_pool(self.pool, None);
+            self.raw.destroy_device(None);
             self.instance.destroy_instance(None);
         }
     }
@@ -717,7 +716,7 @@ pub(crate) fn process_cpu_seconds() -> Option<f64> {
         };
         // SAFETY: a valid clock id and a pointer to a live timespec.
         let ok = unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut t) } == 0;
-        ok.then(|| t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9)
+        ok.then_some(t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9)
     }
     #[cfg(not(unix))]
     {
