@@ -214,7 +214,9 @@ impl fmt::Display for RenderError {
 
 impl std::error::Error for RenderError {}
 
-/// What one frame counted, over all its rays.
+/// What one frame counted, over all its rays. The device counts in 32
+/// bits: a frame would need 2^32 candidates to wrap, far above the
+/// [`MAX_PIXELS`] frames with tens of candidates per ray seen here.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Counters {
     /// Primary rays (one per pixel).
