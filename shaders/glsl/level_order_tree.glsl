@@ -21,7 +21,7 @@
 //       top_depth-digit prefix of an index, the node at depth top_depth on its
 //       path as an offset from top_start, or MMI_TOP_LEAF | state when the
 //       path ends in a leaf above. Not read when top_depth is 0.
-// crates/lab/tests/shaders.rs has a host-side builder of both (Rust).
+// micromap_index_render::tables builds both on the host (Rust).
 //
 // Function
 //   uint mmi_level_order_get(uint index, uint top_depth, uint top_start)

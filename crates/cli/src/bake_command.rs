@@ -20,7 +20,8 @@ use micromap_index::micromap::{
 };
 use micromap_index::Level;
 use micromap_index_assets::{
-    decode_alpha_image, read_gltf_file, read_triangles_json, AlphaImage, AssetError, Limits,
+    decode_alpha_image, read_gltf_file, read_triangles_json, AlphaImage, AssetError, ImageTexture,
+    Limits,
 };
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -65,6 +66,7 @@ macro_rules! sampler_flags {
         ]
     };
 }
+pub(crate) use sampler_flags;
 
 /// The flag table of `bake`.
 pub(crate) static BAKE: Command = Command {
@@ -250,22 +252,56 @@ fn finish(outcome: Result<(String, Exit), Failure>) -> Exit {
 }
 
 /// One texture with its sampler, cutoff and triangles (a mesh to bake).
-struct Job {
-    name: String,
-    image: usize,
+pub(crate) struct Job {
+    pub(crate) name: String,
+    pub(crate) image: usize,
     /// glTF's `baseColorFactor[3]` (1 for `--texture`).
-    factor: f32,
-    sampler: Sampler,
-    cutoff: Cutoff,
-    triangles: Vec<UvTriangle>,
+    pub(crate) factor: f32,
+    pub(crate) sampler: Sampler,
+    pub(crate) cutoff: Cutoff,
+    pub(crate) triangles: Vec<UvTriangle>,
     /// glTF's `COLOR_0` alpha per triangle (`None` for `--texture`).
-    vertex_alpha: Option<Vec<[f32; 3]>>,
+    pub(crate) vertex_alpha: Option<Vec<[f32; 3]>>,
+    /// glTF's `POSITION` per triangle (`None` for `--texture` or without
+    /// `POSITION`), for `render`.
+    pub(crate) positions: Option<Vec<[[f32; 3]; 3]>>,
 }
 
-struct Input {
-    images: Vec<AlphaImage>,
-    jobs: Vec<Job>,
-    warnings: Vec<String>,
+pub(crate) struct Input {
+    pub(crate) images: Vec<AlphaImage>,
+    pub(crate) jobs: Vec<Job>,
+    pub(crate) warnings: Vec<String>,
+}
+
+impl Input {
+    /// The textures as the baker reads them.
+    pub(crate) fn textures(&self) -> Result<Vec<ImageTexture<'_>>, Failure> {
+        self.images
+            .iter()
+            .map(|image| {
+                image
+                    .texture()
+                    .map_err(|e| Failure::Malformed(e.to_string()))
+            })
+            .collect()
+    }
+
+    /// One mesh per job, over `textures` (from [`Input::textures`]).
+    pub(crate) fn meshes<'a>(&'a self, textures: &'a [ImageTexture<'a>]) -> Vec<Mesh<'a>> {
+        self.jobs
+            .iter()
+            .map(|job| Mesh {
+                triangles: MeshTriangles::Uv(&job.triangles),
+                texture: &textures[job.image],
+                material: Material {
+                    sampler: job.sampler,
+                    cutoff: job.cutoff,
+                    alpha_factor: job.factor,
+                },
+                vertex_alpha: job.vertex_alpha.as_deref(),
+            })
+            .collect()
+    }
 }
 
 fn parse_address(text: &str) -> Result<AddressMode, Failure> {
@@ -302,7 +338,7 @@ fn parse_f32(name: &str, text: &str) -> Result<f32, Failure> {
     }
 }
 
-fn parse_level(name: &str, text: &str) -> Result<Level, Failure> {
+pub(crate) fn parse_level(name: &str, text: &str) -> Result<Level, Failure> {
     match text.parse::<u32>() {
         Ok(level) if level <= 12 && text.bytes().all(|b| b.is_ascii_digit()) => {
             Level::new(level).map_err(|e| Failure::Malformed(e.to_string()))
@@ -315,7 +351,7 @@ fn parse_level(name: &str, text: &str) -> Result<Level, Failure> {
 
 /// The sampler and cutoff options shared by both commands; `None` fields
 /// keep the asset's own (glTF) or the default.
-struct SamplerOptions {
+pub(crate) struct SamplerOptions {
     filter: Option<Filter>,
     address_u: Option<AddressMode>,
     address_v: Option<AddressMode>,
@@ -324,7 +360,7 @@ struct SamplerOptions {
     comparison: Comparison,
 }
 
-fn sampler_options(p: &Parsed<'_>) -> Result<SamplerOptions, Failure> {
+pub(crate) fn sampler_options(p: &Parsed<'_>) -> Result<SamplerOptions, Failure> {
     let filter = match p.get("--filter") {
         None => None,
         Some("nearest") => Some(Filter::Nearest),
@@ -381,10 +417,10 @@ fn sampler_options(p: &Parsed<'_>) -> Result<SamplerOptions, Failure> {
 const INPUT_FILE_LIMIT: u64 = 1 << 30;
 /// The most bytes `micromap-data.bin` may hold: every block lies below a
 /// 32-bit offset plus one level-16 4-state block (1 GiB).
-const DATA_FILE_LIMIT: u64 = (1 << 32) + (1 << 30);
+pub(crate) const DATA_FILE_LIMIT: u64 = (1 << 32) + (1 << 30);
 /// The most bytes `micromap-triangles.bin` and `micromap-indices.bin` may
 /// hold (2^27 records or 2^28 32-bit indices).
-const RECORD_FILE_LIMIT: u64 = 1 << 30;
+pub(crate) const RECORD_FILE_LIMIT: u64 = 1 << 30;
 /// The most bytes `micromap-usage.bin` may hold (87,381 entries; 34 are
 /// enough for every level and format).
 const USAGE_FILE_LIMIT: u64 = 1 << 20;
@@ -392,7 +428,7 @@ const USAGE_FILE_LIMIT: u64 = 1 << 20;
 /// `path`'s bytes, refused past `limit` bytes (read at most `limit + 1`, so
 /// `/dev/zero` or an endless pipe cannot exhaust memory): exit 2 with a
 /// message naming the limit; unreadable: exit 3.
-fn read_file(path: &Path, limit: u64, what: &str) -> Result<Vec<u8>, Failure> {
+pub(crate) fn read_file(path: &Path, limit: u64, what: &str) -> Result<Vec<u8>, Failure> {
     use std::io::Read as _;
     let io = |e: std::io::Error| Failure::Io(format!("cannot read {}: {e}", path.display()));
     let file = std::fs::File::open(path).map_err(io)?;
@@ -419,7 +455,7 @@ fn read_file(path: &Path, limit: u64, what: &str) -> Result<Vec<u8>, Failure> {
 }
 
 /// `--model` (default gpu-binary32).
-fn model_option(p: &Parsed<'_>) -> Result<Model, Failure> {
+pub(crate) fn model_option(p: &Parsed<'_>) -> Result<Model, Failure> {
     match p.get("--model") {
         None => Ok(Model::default()),
         Some(text) => Model::from_name(text).ok_or_else(|| {
@@ -428,7 +464,7 @@ fn model_option(p: &Parsed<'_>) -> Result<Model, Failure> {
     }
 }
 
-fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
+pub(crate) fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
     let limits = Limits::default();
     let cutoff_of = |value: f32| {
         Cutoff::new(value, s.comparison).map_err(|e| Failure::Malformed(e.to_string()))
@@ -459,6 +495,7 @@ fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
                     cutoff: cutoff_of(s.cutoff.unwrap_or(prim.cutoff.alpha()))?,
                     triangles: prim.triangles.clone(),
                     vertex_alpha: prim.vertex_alpha.clone(),
+                    positions: prim.positions.clone(),
                 });
             }
             if jobs.is_empty() {
@@ -499,6 +536,7 @@ fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
                     cutoff: cutoff_of(s.cutoff.unwrap_or(0.5))?,
                     triangles,
                     vertex_alpha: None,
+                    positions: None,
                 }],
                 warnings: Vec::new(),
             })
@@ -509,7 +547,7 @@ fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
     }
 }
 
-fn index_width(p: &Parsed<'_>) -> Result<IndexWidth, Failure> {
+pub(crate) fn index_width(p: &Parsed<'_>) -> Result<IndexWidth, Failure> {
     match p.get("--index-width").unwrap_or("32") {
         "32" => Ok(IndexWidth::U32),
         "16" => Ok(IndexWidth::U16),
@@ -703,29 +741,8 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     let input = read_input(&p, &s)?;
 
     // The textures as the baker reads them, and one mesh per job.
-    let textures = input
-        .images
-        .iter()
-        .map(|image| {
-            image
-                .texture()
-                .map_err(|e| Failure::Malformed(e.to_string()))
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let meshes: Vec<Mesh<'_>> = input
-        .jobs
-        .iter()
-        .map(|job| Mesh {
-            triangles: MeshTriangles::Uv(&job.triangles),
-            texture: &textures[job.image],
-            material: Material {
-                sampler: job.sampler,
-                cutoff: job.cutoff,
-                alpha_factor: job.factor,
-            },
-            vertex_alpha: job.vertex_alpha.as_deref(),
-        })
-        .collect();
+    let textures = input.textures()?;
+    let meshes = input.meshes(&textures);
     let options = MeshOptions {
         levels: match fixed_level {
             Some(level) => LevelRule::Fixed(level),

@@ -17,7 +17,7 @@ pub(crate) enum Usage {
 }
 
 /// The commands and their usage, in the order `help` lists them.
-pub(crate) static COMMANDS: [(&str, Usage); 6] = [
+pub(crate) static COMMANDS: [(&str, Usage); 7] = [
     ("eval", Usage::Tables(&[&crate::eval_command::EVAL], "")),
     (
         "locate",
@@ -35,6 +35,10 @@ pub(crate) static COMMANDS: [(&str, Usage); 6] = [
     (
         "verify-bake",
         Usage::Tables(&[&crate::bake_command::VERIFY_BAKE], ""),
+    ),
+    (
+        "render",
+        Usage::Tables(&[&crate::render_command::RENDER], ""),
     ),
 ];
 

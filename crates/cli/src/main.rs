@@ -18,6 +18,7 @@
 //! | 1 | the check failed: a mismatch (`prove`, `check`), a missing or unknown id (`check`) |
 //! | 2 | usage error or malformed input: a bad option or value (`locate --level 33`, `prove --sample 0`), a malformed file, `vectors --out` refusing an existing file; nothing was done |
 //! | 3 | I/O error: unreadable input (a missing file, a directory as stdin), unwritable output (a full disk) |
+//! | 4 | `render`: no Vulkan device with ray queries; nothing written |
 //! | 130 | interrupted by Ctrl-C |
 //! | 141 | stdout closed by its reader (`... \| head -1`): the command stops quietly, as shells report a GNU tool killed by SIGPIPE |
 //!
@@ -33,6 +34,7 @@ mod input;
 mod locate_command;
 mod output;
 mod preview;
+mod render_command;
 mod tree_command;
 mod write_all_or_nothing;
 
@@ -77,6 +79,7 @@ fn main() -> ExitCode {
         ("tree", options) => tree_command::run(options).into(),
         ("bake", options) => bake_command::run_bake(options).into(),
         ("verify-bake", options) => bake_command::run_verify(options).into(),
+        ("render", options) => render_command::run(options).into(),
         (moved, _) if help::MOVED.contains(&moved) => {
             output::report(help::moved_note(moved));
             Exit::Usage.into()

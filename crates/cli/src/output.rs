@@ -42,6 +42,8 @@ pub(crate) enum Exit {
     /// directory as stdin) or an output that cannot be written (a full disk).
     /// Nothing is left half-written by `vectors --out`.
     Io,
+    /// 4: `render` found no Vulkan device with ray queries (nothing traced).
+    NoDevice,
     /// 130: interrupted by Ctrl-C (`prove`), as shells report a SIGINT death.
     Interrupted,
     /// 141: stdout was closed by its reader (`... | head -1`); the command
@@ -52,11 +54,12 @@ pub(crate) enum Exit {
 
 impl Exit {
     /// Every code, in the order of the table.
-    pub(crate) const TABLE: [Exit; 6] = [
+    pub(crate) const TABLE: [Exit; 7] = [
         Exit::Success,
         Exit::Failed,
         Exit::Usage,
         Exit::Io,
+        Exit::NoDevice,
         Exit::Interrupted,
         Exit::BrokenPipe,
     ];
@@ -69,6 +72,7 @@ impl Exit {
             Exit::Failed => 1,
             Exit::Usage => 2,
             Exit::Io => 3,
+            Exit::NoDevice => 4,
             Exit::Interrupted => 130,
             Exit::BrokenPipe => 141,
         }
@@ -87,6 +91,7 @@ impl Exit {
                  vectors --out refusing an existing file); nothing done"
             }
             Exit::Io => "I/O error: unreadable input, unwritable output (full disk)",
+            Exit::NoDevice => "no Vulkan device with ray queries (render); nothing traced",
             Exit::Interrupted => "interrupted (Ctrl-C)",
             Exit::BrokenPipe => "stdout closed by its reader (| head); stopped quietly",
         }

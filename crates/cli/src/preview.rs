@@ -273,17 +273,18 @@ impl Tile {
 }
 
 fn encode(canvas: &Canvas) -> Result<Vec<u8>, String> {
+    encode_rgb(canvas.width, canvas.height, &canvas.rgb).map_err(|e| format!("preview: {e}"))
+}
+
+/// An 8-bit RGB PNG of `rgb` (`3 * width * height` bytes, row-major).
+pub(crate) fn encode_rgb(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>, String> {
     let mut bytes = Vec::new();
     {
-        let mut encoder = png::Encoder::new(&mut bytes, canvas.width, canvas.height);
+        let mut encoder = png::Encoder::new(&mut bytes, width, height);
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);
-        let mut writer = encoder
-            .write_header()
-            .map_err(|e| format!("preview: {e}"))?;
-        writer
-            .write_image_data(&canvas.rgb)
-            .map_err(|e| format!("preview: {e}"))?;
+        let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
+        writer.write_image_data(rgb).map_err(|e| e.to_string())?;
     }
     Ok(bytes)
 }

@@ -8,6 +8,14 @@ mod common;
 fn docs_cli_md_shows_every_table_rendered_usage() {
     common::docs_show_the_usage(
         "micromap-index",
-        &["eval", "locate", "check", "tree", "bake", "verify-bake"],
+        &[
+            "eval",
+            "locate",
+            "check",
+            "tree",
+            "bake",
+            "verify-bake",
+            "render",
+        ],
     );
 }

@@ -86,7 +86,8 @@ fn a_full_or_closed_stderr_keeps_the_exit_code() {
 }
 
 /// Every code of the table, produced by a command (141 and 130 by
-/// `micromap-lab prove`, `crates/lab/tests/lab_output.rs`); and the table is
+/// `micromap-lab prove`, `crates/lab/tests/lab_output.rs`; 4 by `render`
+/// without a device, `crates/cli/tests/cli_render.rs`); and the table is
 /// the same in `help` and `docs/cli.md`.
 #[test]
 fn every_exit_code_of_the_table_is_produced() {
@@ -101,7 +102,7 @@ fn every_exit_code_of_the_table_is_produced() {
         .lines()
         .map(|line| line.split_whitespace().next().unwrap().parse().unwrap())
         .collect();
-    assert_eq!(codes, [0, 1, 2, 3, 130, 141]);
+    assert_eq!(codes, [0, 1, 2, 3, 4, 130, 141]);
     let docs = std::fs::read_to_string(common::root().join("docs/cli.md")).unwrap();
     for code in &codes {
         assert!(

@@ -25,6 +25,7 @@ mod glb;
 mod image;
 mod json;
 mod material;
+mod position;
 mod sampler;
 mod transform;
 mod uri;
@@ -83,6 +84,11 @@ pub struct MaskPrimitive {
     /// `VEC3` one (alpha 1). `FLOAT` values as stored (each in `[0, 1]`),
     /// normalized `c / 255` and `c / 65535`, each one binary32 division.
     pub vertex_alpha: Option<Vec<[f32; 3]>>,
+    /// The `POSITION` of each triangle's vertices (as
+    /// [`triangles`](Self::triangles), one entry per triangle), in the
+    /// mesh's own space (node transforms are not applied), for renderers;
+    /// `None` without `POSITION`. `VEC3` of `FLOAT`, every value finite.
+    pub positions: Option<Vec<[[f32; 3]; 3]>>,
 }
 
 impl MaskPrimitive {
@@ -550,6 +556,15 @@ impl Reader<'_, '_> {
                         }
                     }
                 };
+                let positions = match attributes.opt_usize("POSITION")? {
+                    None => None,
+                    Some(accessor) => Some(self.triangle_positions(
+                        &primitive.path,
+                        accessor,
+                        indices.as_deref(),
+                        triangles.len(),
+                    )?),
+                };
                 let texture =
                     self.root
                         .element("textures", texture_index, &texture_info.field("index"))?;
@@ -577,6 +592,7 @@ impl Reader<'_, '_> {
                     tex_coord,
                     triangles,
                     vertex_alpha,
+                    positions,
                 });
             }
         }

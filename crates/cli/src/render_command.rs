@@ -1,0 +1,689 @@
+//! `micromap-index render`: the render check (library:
+//! `micromap_index_render`). Reads the bake's input and its micromaps (or
+//! bakes them), traces every method on a Vulkan device with ray queries,
+//! writes the pictures, the difference pictures and `render.json`, and with
+//! `--check` says whether every 4-state method renders the alpha test's
+//! picture with no contradicted candidate.
+
+use crate::args::{Command, Flag, Parsed};
+use crate::bake_command::{
+    index_width, model_option, parse_level, read_file, read_input, sampler_flags, sampler_options,
+    Input, DATA_FILE_LIMIT, RECORD_FILE_LIMIT,
+};
+use crate::output::{print_then, report, Exit, Failure};
+use crate::preview::encode_rgb;
+use crate::write_all_or_nothing::{Destination, Refusal};
+use micromap_index::bake::mesh::{bake_meshes, LevelRule, MeshOptions};
+use micromap_index::micromap::Format;
+use micromap_index_render::{
+    classify, Camera, Classified, Faults, Frame, Method, Micromaps, RenderError, Renderer, Scene,
+    SceneMesh, SceneTexture,
+};
+use serde_json::{json, Value};
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+/// The flag table of `render`.
+pub(crate) static RENDER: Command = Command {
+    name: "render",
+    forms: &[
+        "(--gltf ASSET.gltf|.glb | --texture T.png --triangles TRIS.json)
+                           [--micromaps DIR] --out DIR [options]",
+    ],
+    about: "  The render check: traces one primary ray per pixel with GL_EXT_ray_query on
+  a Vulkan device (Mesa's lavapipe on a CPU) against a BLAS of the asset's
+  alpha-masked triangles (not opaque: every candidate reaches the shader) and
+  decides each candidate in the rayQueryProceedEXT loop by each method:
+    alpha-test        the alpha test only (the reference picture)
+    flat-4-state      the flat micromap: known states decide, unknown -> alpha test
+    flat-2-state      the same micromap forced to 2 states (no texture fetch)
+    level-order-tree  the level-order succinct tree, 4-state
+    paper-tree        the paper's Algorithm 3, 4-state
+  The micromaps are DIR's (bake's micromap-data.bin, micromap-triangles.bin,
+  micromap-indices.bin; one index per triangle in the asset's order) or, without
+  --micromaps, baked here (--level, --format, --model as bake). --texture and
+  --triangles lay the UV triangles out flat at (u, -v, 0). glTF meshes are
+  drawn in their own space (node transforms are not applied). Every known
+  decision is checked against the alpha test; a contradicted candidate is
+  explained exactly on the host from its binary32 barycentrics: micromap-wrong
+  (the exact hit point's alpha test disagrees) or binary32-rounding (the
+  shader's texture coordinate crossed a texel boundary). Writes into DIR, all
+  or nothing: METHOD.png per method, METHOD-diff.png (magenta: pixels that
+  differ from alpha-test.png) and render.json (counters per method, CPU time
+  per frame with the device's name, the contradictions).
+  --check: exit 0 only if every 4-state method's picture equals the alpha
+  test's pixel for pixel and no 4-state candidate is contradicted.
+  Exit 0 rendered (and checked); 1 the check failed (the first contradictions
+  on stdout); 2 bad options or input (nothing written); 3 unreadable input,
+  unwritable DIR or a Vulkan call failing; 4 no Vulkan device with ray
+  queries (nothing written).",
+    flags: &{
+        const SAMPLER: [Flag; 8] = sampler_flags!();
+        [
+            Flag::value(
+                "--gltf",
+                "ASSET",
+                "a glTF 2.0 asset (.gltf or .glb): its MASK primitives",
+            ),
+            Flag::value("--texture", "T.png", "an alpha texture (PNG or JPEG)"),
+            Flag::value("--triangles", "TRIS.json", "UV triangles over --texture"),
+            Flag::value(
+                "--micromaps",
+                "DIR",
+                "the micromaps, in bake's layout (default: bake them here)",
+            ),
+            Flag::value("--out", "DIR", "the output directory"),
+            Flag::value(
+                "--level",
+                "L|auto",
+                "without --micromaps: fixed level 0..=12 or auto (default auto)",
+            ),
+            Flag::value("--max-level", "L", "cap for auto (default 12)"),
+            Flag::value("--format", "2|4", "without --micromaps (default 4)"),
+            SAMPLER[0],
+            SAMPLER[1],
+            SAMPLER[2],
+            SAMPLER[3],
+            SAMPLER[4],
+            SAMPLER[5],
+            SAMPLER[6],
+            SAMPLER[7],
+            Flag::value(
+                "--index-width",
+                "16|32",
+                "micromap-indices.bin width (default 32)",
+            ),
+            Flag::value("--size", "WxH", "pixels (default 256x256; at most 2^22)"),
+            Flag::value(
+                "--camera",
+                "EX,EY,EZ,TX,TY,TZ[,FOV]",
+                "eye, target and vertical field of view in degrees (default: one that
+                         frames the asset from the front and above, 40 degrees)",
+            ),
+            Flag::value(
+                "--methods",
+                "LIST",
+                "comma-separated methods (default all; alpha-test always runs)",
+            ),
+            Flag::value(
+                "--frames",
+                "N",
+                "frames per method; the CPU time is the least per frame (default 1)",
+            ),
+            Flag::value(
+                "--fault",
+                "F",
+                "a negative control: swap-barycentrics (look up at (b2, b1)) or
+                         flip-known (flip every known state)",
+            ),
+            Flag::value(
+                "--max-report",
+                "N",
+                "contradictions kept per method (default 20)",
+            ),
+            Flag::switch("--check", "exit 1 unless the 4-state methods match"),
+            Flag::switch("--force", "replace existing files in DIR"),
+        ]
+    },
+};
+
+pub(crate) fn run(options: &[&str]) -> Exit {
+    match render(options) {
+        Ok((text, exit)) => print_then(&text, exit),
+        Err(failure) => failure.exit(),
+    }
+}
+
+fn count(p: &Parsed<'_>, name: &str, default: u32, max: u32) -> Result<u32, Failure> {
+    match p.get(name) {
+        None => Ok(default),
+        Some(text) => match text.parse::<u32>() {
+            Ok(n) if (1..=max).contains(&n) && text.bytes().all(|b| b.is_ascii_digit()) => Ok(n),
+            _ => Err(Failure::Malformed(format!(
+                "{name} {text:?}: expected a count 1..={max}"
+            ))),
+        },
+    }
+}
+
+fn size(p: &Parsed<'_>) -> Result<(u32, u32), Failure> {
+    let text = p.get("--size").unwrap_or("256x256");
+    let parsed = text.split_once('x').and_then(|(w, h)| {
+        let n = |t: &str| {
+            t.bytes()
+                .all(|b| b.is_ascii_digit())
+                .then(|| t.parse::<u32>().ok())
+                .flatten()
+        };
+        Some((n(w)?, n(h)?))
+    });
+    match parsed {
+        Some((w, h))
+            if w > 0
+                && h > 0
+                && u64::from(w) * u64::from(h) <= micromap_index_render::MAX_PIXELS =>
+        {
+            Ok((w, h))
+        }
+        _ => Err(Failure::Malformed(format!(
+            "--size {text:?}: expected WxH with at least one pixel and at most {} pixels",
+            micromap_index_render::MAX_PIXELS
+        ))),
+    }
+}
+
+fn camera(p: &Parsed<'_>, scene: &Scene, (w, h): (u32, u32)) -> Result<Camera, Failure> {
+    let Some(text) = p.get("--camera") else {
+        return scene
+            .bounds()
+            .map(|b| Camera::framing(b, w as f32 / h as f32))
+            .ok_or_else(|| Failure::Malformed("the scene has no triangles".into()));
+    };
+    let numbers: Option<Vec<f32>> = text
+        .split(',')
+        .map(|t| t.trim().parse::<f32>().ok().filter(|x| x.is_finite()))
+        .collect();
+    match numbers.as_deref() {
+        Some(&[ex, ey, ez, tx, ty, tz]) => Ok(Camera {
+            eye: [ex, ey, ez],
+            target: [tx, ty, tz],
+            fov_y_degrees: 40.0,
+        }),
+        Some(&[ex, ey, ez, tx, ty, tz, fov]) => Ok(Camera {
+            eye: [ex, ey, ez],
+            target: [tx, ty, tz],
+            fov_y_degrees: fov,
+        }),
+        _ => Err(Failure::Malformed(format!(
+            "--camera {text:?}: expected six or seven finite numbers EX,EY,EZ,TX,TY,TZ[,FOV]"
+        ))),
+    }
+}
+
+fn methods(p: &Parsed<'_>) -> Result<Vec<Method>, Failure> {
+    let mut chosen = vec![Method::AlphaTest];
+    match p.get("--methods") {
+        None => chosen.extend(&Method::ALL[1..]),
+        Some(text) => {
+            for name in text.split(',') {
+                let method = Method::from_name(name).ok_or_else(|| {
+                    Failure::Malformed(format!(
+                        "--methods: {name:?} is not one of {}",
+                        Method::ALL.map(Method::name).join(", ")
+                    ))
+                })?;
+                if !chosen.contains(&method) {
+                    chosen.push(method);
+                }
+            }
+        }
+    }
+    Ok(chosen)
+}
+
+/// The scene of the input: positions from glTF, or the UV layout for
+/// `--texture`; refused: a glTF primitive without `POSITION`, `COLOR_0`
+/// alpha (the tracer does not interpolate it).
+fn scene_of(input: &Input, from_gltf: bool) -> Result<Scene, Failure> {
+    let textures = input
+        .images
+        .iter()
+        .map(|image| SceneTexture {
+            width: image.width,
+            height: image.height,
+            alphas: (0..image.height)
+                .flat_map(|y| (0..image.width).map(move |x| (x, y)))
+                .map(|(x, y)| image.get(x, y).unwrap_or(0.0))
+                .collect(),
+        })
+        .collect();
+    let mut scene = Scene::new(textures);
+    for job in &input.jobs {
+        if job.vertex_alpha.is_some() {
+            return Err(Failure::Malformed(format!(
+                "{}: COLOR_0 alpha is not rendered (render interpolates no vertex colour); nothing rendered",
+                job.name
+            )));
+        }
+        let flat: Vec<[[f32; 3]; 3]>;
+        let positions = match &job.positions {
+            Some(positions) => positions,
+            None if !from_gltf => {
+                flat = job
+                    .triangles
+                    .iter()
+                    .map(|t| t.map(|[u, v]| [u, -v, 0.0]))
+                    .collect();
+                &flat
+            }
+            None => {
+                return Err(Failure::Malformed(format!(
+                    "{}: no POSITION attribute to render",
+                    job.name
+                )))
+            }
+        };
+        scene
+            .add_mesh(
+                SceneMesh {
+                    texture: job.image,
+                    material: micromap_index::bake::mesh::Material {
+                        sampler: job.sampler,
+                        cutoff: job.cutoff,
+                        alpha_factor: job.factor,
+                    },
+                },
+                positions,
+                &job.triangles,
+            )
+            .map_err(|e| Failure::Malformed(format!("{}: {e}", job.name)))?;
+    }
+    Ok(scene)
+}
+
+fn micromaps(p: &Parsed<'_>, input: &Input) -> Result<(Micromaps, String), Failure> {
+    if let Some(dir) = p.get("--micromaps") {
+        for flag in ["--level", "--max-level", "--format", "--model"] {
+            if p.get(flag).is_some() {
+                return Err(Failure::Usage(format!(
+                    "{flag} is for baking here; it does not go with --micromaps"
+                )));
+            }
+        }
+        let dir = PathBuf::from(dir);
+        let data = read_file(
+            &dir.join("micromap-data.bin"),
+            DATA_FILE_LIMIT,
+            "micromap data",
+        )?;
+        let records = read_file(
+            &dir.join("micromap-triangles.bin"),
+            RECORD_FILE_LIMIT,
+            "triangle records",
+        )?;
+        let indices = read_file(
+            &dir.join("micromap-indices.bin"),
+            RECORD_FILE_LIMIT,
+            "indices",
+        )?;
+        let maps = Micromaps::from_bytes(data, records, indices, index_width(p)?)
+            .map_err(|e| Failure::Malformed(format!("{}: {e}", dir.display())))?;
+        return Ok((maps, dir.display().to_string()));
+    }
+    let format = match p.get("--format").unwrap_or("4") {
+        "4" => Format::FourState,
+        "2" => Format::TwoState,
+        other => {
+            return Err(Failure::Malformed(format!(
+                "--format {other:?}: expected 2 or 4"
+            )))
+        }
+    };
+    let max = parse_level("--max-level", p.get("--max-level").unwrap_or("12"))?;
+    let levels = match p.get("--level").unwrap_or("auto") {
+        "auto" => LevelRule::Useful { max },
+        text => LevelRule::Fixed(parse_level("--level", text)?),
+    };
+    let model = model_option(p)?;
+    let textures = input.textures()?;
+    let meshes = input.meshes(&textures);
+    let options = MeshOptions {
+        levels,
+        format,
+        model,
+        ..MeshOptions::default()
+    };
+    let baked = bake_meshes(&meshes, &options, &mut |_, _| {})
+        .map_err(|e| Failure::Malformed(e.to_string()))?;
+    let maps =
+        Micromaps::from_buffers(&baked.buffers).map_err(|e| Failure::Malformed(e.to_string()))?;
+    let level = match levels {
+        LevelRule::Fixed(l) => format!("level {}", l.get()),
+        LevelRule::Useful { max } => format!("level auto (max {})", max.get()),
+    };
+    Ok((
+        maps,
+        format!(
+            "baked here: {level}, {}-state, model {}",
+            format.bits_per_state() * 2,
+            model.name()
+        ),
+    ))
+}
+
+/// A colour per mesh, a little brighter or darker per triangle.
+fn picture(frame: &Frame, scene: &Scene) -> Vec<u8> {
+    const PALETTE: [[u8; 3]; 6] = [
+        [96, 170, 72],
+        [214, 160, 64],
+        [80, 140, 210],
+        [190, 96, 160],
+        [220, 110, 80],
+        [120, 190, 180],
+    ];
+    let mut mesh_index = std::collections::HashMap::new();
+    frame
+        .hits
+        .iter()
+        .flat_map(|&[hit, _]| {
+            if hit == 0 {
+                return [24, 24, 32];
+            }
+            let t = (hit - 1) as usize;
+            let key = scene
+                .mesh_of(t)
+                .map(|m| (m.texture, m.material.cutoff.alpha().to_bits()));
+            let next = mesh_index.len();
+            let m = *mesh_index.entry(key).or_insert(next);
+            let shade = 0.8 + 0.2 * ((t.wrapping_mul(2654435761) >> 8) % 256) as f32 / 255.0;
+            PALETTE[m % PALETTE.len()].map(|c| (f32::from(c) * shade) as u8)
+        })
+        .collect()
+}
+
+fn difference(frame: &Frame, reference: &Frame, reference_rgb: &[u8]) -> (Vec<u8>, u64) {
+    let mut differing = 0;
+    let rgb = frame
+        .hits
+        .iter()
+        .zip(&reference.hits)
+        .enumerate()
+        .flat_map(|(i, (a, b))| {
+            if a == b {
+                [0, 1, 2].map(|k| reference_rgb[3 * i + k] / 3)
+            } else {
+                differing += 1;
+                [255, 0, 255]
+            }
+        })
+        .collect();
+    (rgb, differing)
+}
+
+fn hex(bits: u32) -> String {
+    format!("0x{bits:08x}")
+}
+
+fn contradiction_json(c: &Classified) -> Value {
+    let r = &c.contradiction;
+    json!({
+        "pixel": [r.x, r.y],
+        "triangle": r.triangle,
+        "micro_triangle": c.micro_triangle,
+        "shader_micro_triangle": r.micro_triangle,
+        "level": c.level,
+        "b1": hex(r.b1_bits),
+        "b2": hex(r.b2_bits),
+        "state": if r.state == 1 { "opaque" } else { "transparent" },
+        "class": c.class.name(),
+        "exact_texel_point": c.exact_texel_point,
+        "exact_alpha_test": if c.exact_opaque { "opaque" } else { "transparent" },
+        "texels": c.texels.iter().map(|&(x, y, a)| json!({"x": x, "y": y, "alpha": a})).collect::<Vec<_>>(),
+        "binary32_uv": c.binary32_uv,
+    })
+}
+
+fn contradiction_line(method: Method, c: &Classified) -> String {
+    let r = &c.contradiction;
+    let texels: Vec<String> = c
+        .texels
+        .iter()
+        .map(|(x, y, a)| format!("({x}, {y}) alpha {a}"))
+        .collect();
+    format!(
+        "{}: pixel ({}, {}) triangle {} micro-triangle {} (level {}) known {} at b1 = {}, b2 = {}: {}; exact point ({}, {}) texels reads {} -> {}",
+        method.name(),
+        r.x,
+        r.y,
+        r.triangle,
+        c.micro_triangle,
+        c.level.map_or("special".into(), |l| l.to_string()),
+        if r.state == 1 { "opaque" } else { "transparent" },
+        hex(r.b1_bits),
+        hex(r.b2_bits),
+        c.class.name(),
+        c.exact_texel_point[0],
+        c.exact_texel_point[1],
+        if texels.is_empty() { "the border".into() } else { texels.join(", ") },
+        if c.exact_opaque { "opaque" } else { "transparent" },
+    )
+}
+
+fn render_failure(e: RenderError) -> Failure {
+    match e {
+        RenderError::NoDevice(message) => {
+            report(format_args!("render: {message}"));
+            Failure::Exit(Exit::NoDevice)
+        }
+        RenderError::Input(message) => Failure::Malformed(message),
+        other => Failure::Io(format!("render: {other}")),
+    }
+}
+
+fn render(options: &[&str]) -> Result<(String, Exit), Failure> {
+    let p = RENDER
+        .parse(options)
+        .map_err(|error| Failure::Usage(error.message("render")))?;
+    let out = PathBuf::from(
+        p.get("--out")
+            .ok_or_else(|| Failure::Usage("render needs --out DIR".into()))?,
+    );
+    let size = size(&p)?;
+    let methods = methods(&p)?;
+    let frames = count(&p, "--frames", 1, 1000)?;
+    let max_report = p
+        .get("--max-report")
+        .map_or(Ok(20), |t| {
+            t.parse::<u32>()
+                .map_err(|_| Failure::Malformed(format!("--max-report {t:?}: expected a count")))
+        })?
+        .min(1 << 16);
+    let faults = match p.get("--fault") {
+        None => Faults::default(),
+        Some("swap-barycentrics") => Faults {
+            swap_barycentrics: true,
+            ..Faults::default()
+        },
+        Some("flip-known") => Faults {
+            flip_known: true,
+            ..Faults::default()
+        },
+        Some(other) => {
+            return Err(Failure::Malformed(format!(
+                "--fault {other:?}: expected swap-barycentrics or flip-known"
+            )))
+        }
+    };
+    let s = sampler_options(&p)?;
+    let mut names: Vec<String> = vec!["render.json".into()];
+    for m in &methods {
+        names.push(format!("{}.png", m.name()));
+        if *m != Method::AlphaTest {
+            names.push(format!("{}-diff.png", m.name()));
+        }
+    }
+    let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
+    let input = read_input(&p, &s)?;
+    let scene = scene_of(&input, p.get("--gltf").is_some())?;
+    let camera = camera(&p, &scene, size)?;
+    let (maps, source) = micromaps(&p, &input)?;
+    let renderer = Renderer::new(&scene, Some(&maps)).map_err(render_failure)?;
+    // Claimed once the device is there: exit 4 leaves DIR untouched.
+    let destination = Destination::claim(&out, &name_refs, p.flag("--force")).map_err(
+        |refusal| match refusal {
+            Refusal::Refused(message) => Failure::Malformed(message),
+            Refusal::Io(message) => Failure::Io(message),
+        },
+    )?;
+    let mut traced: Vec<(Frame, Vec<Classified>, Option<f64>, f64)> = Vec::new();
+    for &method in &methods {
+        let mut best: Option<Frame> = None;
+        let (mut cpu, mut wall) = (None::<f64>, f64::INFINITY);
+        for _ in 0..frames {
+            let frame = renderer
+                .render(method, &camera, size, faults, max_report)
+                .map_err(render_failure)?;
+            cpu = match (cpu, frame.cpu_seconds) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            };
+            wall = wall.min(frame.wall_seconds);
+            if let Some(previous) = &best {
+                if previous.hits != frame.hits || previous.counters != frame.counters {
+                    return Err(Failure::Failed(format!(
+                        "{}: two frames of the same method differ (the device is not deterministic)",
+                        method.name()
+                    )));
+                }
+            }
+            best = Some(frame);
+        }
+        let frame = best.expect("at least one frame");
+        let classified = frame
+            .contradictions
+            .iter()
+            .filter_map(|c| classify(&scene, &maps, c))
+            .collect();
+        traced.push((frame, classified, cpu, wall));
+    }
+    let reference = traced[0].0.clone();
+    let reference_rgb = picture(&reference, &scene);
+    let mut files = Vec::new();
+    let mut method_json = Vec::new();
+    let mut text = format!(
+        "device: {}\nmicromaps: {source}\nsize: {}x{}, {} triangles\n",
+        renderer.device_name(),
+        size.0,
+        size.1,
+        scene.triangle_count()
+    );
+    let _ = writeln!(
+        text,
+        "{:<17} {:>10} {:>10} {:>9} {:>10} {:>8} {:>9} {:>10}",
+        "method", "candidates", "fetches", "known", "unknown", "contra", "differ", "cpu ms"
+    );
+    let mut failures = Vec::new();
+    let encode = |rgb: &[u8]| {
+        encode_rgb(size.0, size.1, rgb).map_err(|e| Failure::Io(format!("render: PNG: {e}")))
+    };
+    for (frame, classified, cpu, wall) in &traced {
+        let method = frame.method;
+        let rgb = if method == Method::AlphaTest {
+            reference_rgb.clone()
+        } else {
+            picture(frame, &scene)
+        };
+        files.push((format!("{}.png", method.name()), encode(&rgb)?));
+        let mut differing = 0;
+        if method != Method::AlphaTest {
+            let (diff, n) = difference(frame, &reference, &reference_rgb);
+            differing = n;
+            files.push((format!("{}-diff.png", method.name()), encode(&diff)?));
+        }
+        let c = frame.counters;
+        let ratio = |a: u64, b: u64| if b == 0 { 0.0 } else { a as f64 / b as f64 };
+        let fetches_saved = 1.0 - ratio(c.texture_fetches, reference.counters.texture_fetches);
+        let _ = writeln!(
+            text,
+            "{:<17} {:>10} {:>10} {:>9} {:>10} {:>8} {:>9} {:>10}",
+            method.name(),
+            c.candidates,
+            c.texture_fetches,
+            c.known,
+            c.unknown,
+            c.contradicted,
+            differing,
+            cpu.map_or("-".into(), |s| format!("{:.1}", 1e3 * s))
+        );
+        if method.is_four_state() {
+            if differing > 0 {
+                failures.push(format!(
+                    "{}: {differing} pixels differ from alpha-test.png (see {}-diff.png)",
+                    method.name(),
+                    method.name()
+                ));
+            }
+            if c.contradicted > 0 {
+                failures.push(format!(
+                    "{}: {} contradicted candidates",
+                    method.name(),
+                    c.contradicted
+                ));
+                failures.extend(
+                    classified
+                        .iter()
+                        .take(5)
+                        .map(|x| contradiction_line(method, x)),
+                );
+            }
+            if c.invalid > 0 {
+                failures.push(format!(
+                    "{}: {} lookups returned the invalid state",
+                    method.name(),
+                    c.invalid
+                ));
+            }
+        }
+        let mut by_class = serde_json::Map::new();
+        for x in classified {
+            let e = by_class.entry(x.class.name()).or_insert(json!(0));
+            *e = json!(e.as_u64().unwrap_or(0) + 1);
+        }
+        method_json.push(json!({
+            "method": method.name(),
+            "four_state": method.is_four_state(),
+            "rays": c.rays,
+            "candidates": c.candidates,
+            "texture_fetches": c.texture_fetches,
+            "known": c.known,
+            "unknown": c.unknown,
+            "invalid": c.invalid,
+            "contradicted": c.contradicted,
+            "pixels_differing_from_alpha_test": differing,
+            "texture_fetches_saved_fraction": if method == Method::AlphaTest { 0.0 } else { fetches_saved },
+            "decided_without_texture_fraction": ratio(c.known, c.candidates),
+            "cpu_seconds_per_frame": cpu,
+            "wall_seconds_per_frame": wall,
+            "frames": frames,
+            "contradictions_classified": by_class,
+            "contradictions": classified.iter().map(contradiction_json).collect::<Vec<_>>(),
+        }));
+    }
+    let passed = failures.is_empty();
+    let report_json = json!({
+        "device": renderer.device_name(),
+        "time": "process CPU seconds per frame on this device (a CPU device's threads are the process's), least of the frames",
+        "size": [size.0, size.1],
+        "camera": {"eye": camera.eye, "target": camera.target, "fov_y_degrees": camera.fov_y_degrees},
+        "triangles": scene.triangle_count(),
+        "micromaps": source,
+        "fault": p.get("--fault"),
+        "methods": method_json,
+        "check": {"passed": passed, "failures": failures},
+    });
+    let json_text = serde_json::to_string_pretty(&report_json)
+        .map_err(|e| Failure::Io(format!("render.json: {e}")))?;
+    files.insert(
+        0,
+        ("render.json".into(), format!("{json_text}\n").into_bytes()),
+    );
+    destination.write(&files, &[]).map_err(Failure::Io)?;
+    let exit = if p.flag("--check") && !passed {
+        let _ = writeln!(text, "check: FAILED");
+        for f in &failures {
+            let _ = writeln!(text, "  {f}");
+        }
+        Exit::Failed
+    } else {
+        if p.flag("--check") {
+            let _ = writeln!(
+                text,
+                "check: passed (every 4-state method renders the alpha test's picture; no contradicted candidate)"
+            );
+        }
+        Exit::Success
+    };
+    let _ = write!(text, "wrote {}", out.display());
+    text.push('\n');
+    Ok((text, exit))
+}

@@ -1,0 +1,311 @@
+//! What a frame traces: the scene (triangles with positions and UVs, their
+//! textures and materials) and the micromaps for its triangles.
+
+use crate::RenderError;
+use micromap_index::bake::mesh::Material;
+use micromap_index::bake::{AddressMode, Comparison, Filter, UvTriangle};
+use micromap_index::micromap::{
+    read_buffers, BufferBytes, IndexWidth, MicromapBuffers, ReadBuffers, ReadOptions,
+};
+
+/// An alpha texture as the shader reads it: binary32 alphas, row-major,
+/// row 0 at `v = 0`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneTexture {
+    /// Texels per row (at least 1).
+    pub width: u32,
+    /// Rows (at least 1).
+    pub height: u32,
+    /// `width * height` alphas.
+    pub alphas: Vec<f32>,
+}
+
+/// A material: which texture, and how it is alpha-tested.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneMesh {
+    /// Index into the scene's textures.
+    pub texture: usize,
+    /// Sampler, cutoff and alpha factor, as the bake took them.
+    pub material: Material,
+}
+
+/// Alpha-masked triangles to trace.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    textures: Vec<SceneTexture>,
+    meshes: Vec<SceneMesh>,
+    positions: Vec<[[f32; 3]; 3]>,
+    uvs: Vec<UvTriangle>,
+    mesh_of: Vec<u32>,
+}
+
+impl Scene {
+    /// An empty scene over `textures`.
+    #[must_use]
+    pub fn new(textures: Vec<SceneTexture>) -> Scene {
+        Scene {
+            textures,
+            meshes: Vec::new(),
+            positions: Vec::new(),
+            uvs: Vec::new(),
+            mesh_of: Vec::new(),
+        }
+    }
+
+    /// Adds a mesh: its material and triangles (positions and UVs, in the
+    /// order the micromaps' index buffer follows). Refused: a texture that
+    /// does not exist or has not `width * height` alphas, lists of
+    /// different lengths, a position or UV that is not finite.
+    pub fn add_mesh(
+        &mut self,
+        mesh: SceneMesh,
+        positions: &[[[f32; 3]; 3]],
+        uvs: &[UvTriangle],
+    ) -> Result<(), RenderError> {
+        let bad = |m: String| Err(RenderError::Input(m));
+        let Some(t) = self.textures.get(mesh.texture) else {
+            return bad(format!(
+                "mesh {}: no texture {}",
+                self.meshes.len(),
+                mesh.texture
+            ));
+        };
+        if t.width == 0
+            || t.height == 0
+            || t.alphas.len() as u64 != u64::from(t.width) * u64::from(t.height)
+        {
+            return bad(format!(
+                "texture {}: {} alphas for {}x{}",
+                mesh.texture,
+                t.alphas.len(),
+                t.width,
+                t.height
+            ));
+        }
+        if positions.len() != uvs.len() {
+            return bad(format!(
+                "mesh {}: {} positions for {} UV triangles",
+                self.meshes.len(),
+                positions.len(),
+                uvs.len()
+            ));
+        }
+        if let Some(i) = (0..uvs.len()).find(|&i| {
+            positions[i].iter().flatten().any(|x| !x.is_finite())
+                || uvs[i].iter().flatten().any(|x| !x.is_finite())
+        }) {
+            return bad(format!(
+                "mesh {} triangle {i}: a position or UV is not finite",
+                self.meshes.len()
+            ));
+        }
+        if self.uvs.len() + uvs.len() > (1 << 24) {
+            return bad("more than 2^24 triangles".into());
+        }
+        let m = self.meshes.len() as u32;
+        self.meshes.push(mesh);
+        self.positions.extend_from_slice(positions);
+        self.uvs.extend_from_slice(uvs);
+        self.mesh_of.extend(std::iter::repeat(m).take(uvs.len()));
+        Ok(())
+    }
+
+    /// Triangles in all meshes.
+    #[must_use]
+    pub fn triangle_count(&self) -> usize {
+        self.uvs.len()
+    }
+
+    /// Every triangle's positions.
+    #[must_use]
+    pub fn positions(&self) -> &[[[f32; 3]; 3]] {
+        &self.positions
+    }
+
+    /// Every triangle's UVs.
+    #[must_use]
+    pub fn uvs(&self) -> &[UvTriangle] {
+        &self.uvs
+    }
+
+    /// The mesh of triangle `t`.
+    #[must_use]
+    pub fn mesh_of(&self, t: usize) -> Option<&SceneMesh> {
+        self.mesh_of.get(t).map(|&m| &self.meshes[m as usize])
+    }
+
+    /// Texture `i`.
+    #[must_use]
+    pub fn texture(&self, i: usize) -> Option<&SceneTexture> {
+        self.textures.get(i)
+    }
+
+    /// The box around every position (`None` without triangles).
+    #[must_use]
+    pub fn bounds(&self) -> Option<[[f32; 3]; 2]> {
+        let mut points = self.positions.iter().flatten();
+        let first = *points.next()?;
+        Some(points.fold([first, first], |[lo, hi], p| {
+            [
+                [0, 1, 2].map(|i| lo[i].min(p[i])),
+                [0, 1, 2].map(|i| hi[i].max(p[i])),
+            ]
+        }))
+    }
+
+    pub(crate) fn uv_bytes(&self) -> Vec<u8> {
+        self.uvs
+            .iter()
+            .flatten()
+            .flatten()
+            .flat_map(|x| x.to_le_bytes())
+            .collect()
+    }
+
+    pub(crate) fn mesh_of_bytes(&self) -> Vec<u8> {
+        self.mesh_of.iter().flat_map(|m| m.to_le_bytes()).collect()
+    }
+
+    /// The shader's `mesh_info` (`MESH_WORDS` words per mesh).
+    pub(crate) fn mesh_info_bytes(&self) -> Vec<u8> {
+        let mut bases = Vec::new();
+        let mut base = 0u32;
+        for t in &self.textures {
+            bases.push(base);
+            base = base.saturating_add(t.alphas.len() as u32);
+        }
+        let address = |a: AddressMode| match a {
+            AddressMode::Repeat => 0u32,
+            AddressMode::MirroredRepeat => 1,
+            AddressMode::ClampToEdge => 2,
+            AddressMode::ClampToBorder => 3,
+            AddressMode::MirrorClampToEdge => 4,
+        };
+        let mut words = Vec::new();
+        for m in &self.meshes {
+            let t = &self.textures[m.texture];
+            let s = m.material.sampler;
+            words.extend([
+                bases[m.texture],
+                t.width,
+                t.height,
+                u32::from(s.filter == Filter::Linear),
+                address(s.address_u),
+                address(s.address_v),
+                m.material.cutoff.alpha().to_bits(),
+                u32::from(m.material.cutoff.comparison() == Comparison::Above),
+                m.material.alpha_factor.to_bits(),
+                s.border_alpha.to_bits(),
+            ]);
+        }
+        words.iter().flat_map(|w| w.to_le_bytes()).collect()
+    }
+
+    pub(crate) fn texel_bytes(&self) -> Vec<u8> {
+        self.textures
+            .iter()
+            .flat_map(|t| t.alphas.iter())
+            .flat_map(|a| a.to_le_bytes())
+            .collect()
+    }
+}
+
+/// A micromap array and one index per scene triangle, as `micromap-index
+/// bake` writes them (`micromap-data.bin`, `micromap-triangles.bin`,
+/// `micromap-indices.bin`), checked once on the host.
+#[derive(Clone, Debug)]
+pub struct Micromaps {
+    data: Vec<u8>,
+    records: Vec<u8>,
+    indices: Vec<u8>,
+    width: IndexWidth,
+    read: ReadBuffers,
+}
+
+impl Micromaps {
+    /// From the files' bytes: checked as `micromap::read_buffers` checks
+    /// them (levels up to 12, no overlap), usage counts not required.
+    pub fn from_bytes(
+        data: Vec<u8>,
+        records: Vec<u8>,
+        indices: Vec<u8>,
+        width: IndexWidth,
+    ) -> Result<Micromaps, RenderError> {
+        let read = read_buffers(
+            &BufferBytes {
+                records: &records,
+                data: &data,
+                usage_counts: None,
+                indices: Some((&indices, width)),
+            },
+            &ReadOptions {
+                max_level: 12,
+                ..ReadOptions::default()
+            },
+        )
+        .map_err(|e| RenderError::Input(format!("micromaps: {e}")))?;
+        Ok(Micromaps {
+            data,
+            records,
+            indices,
+            width,
+            read,
+        })
+    }
+
+    /// From a bake's buffers (all geometries' indices in order).
+    pub fn from_buffers(buffers: &MicromapBuffers) -> Result<Micromaps, RenderError> {
+        let mut indices = Vec::new();
+        for g in 0..buffers.geometry_count() {
+            indices.extend(
+                buffers
+                    .index_bytes(g, IndexWidth::U32)
+                    .map_err(|e| RenderError::Input(e.to_string()))?,
+            );
+        }
+        Micromaps::from_bytes(
+            buffers.data().to_vec(),
+            buffers.records_le_bytes(),
+            indices,
+            IndexWidth::U32,
+        )
+    }
+
+    /// The records, micromaps and indices as the library read them.
+    #[must_use]
+    pub fn read(&self) -> &ReadBuffers {
+        &self.read
+    }
+
+    pub(crate) fn data(&self) -> &[u8] {
+        &self.data
+    }
+
+    pub(crate) fn records(&self) -> &[u8] {
+        &self.records
+    }
+
+    pub(crate) fn indices(&self) -> &[u8] {
+        &self.indices
+    }
+
+    pub(crate) fn index_width_bytes(&self) -> u32 {
+        match self.width {
+            IndexWidth::U8 => 1,
+            IndexWidth::U16 => 2,
+            IndexWidth::U32 => 4,
+        }
+    }
+
+    /// One index per scene triangle.
+    pub(crate) fn check_for(&self, scene: &Scene) -> Result<(), RenderError> {
+        let n = self.read.indices.as_ref().map_or(0, Vec::len);
+        if n != scene.triangle_count() {
+            return Err(RenderError::Input(format!(
+                "micromaps: {n} indices for {} triangles",
+                scene.triangle_count()
+            )));
+        }
+        Ok(())
+    }
+}
