@@ -4,6 +4,7 @@ use super::classify::{is_small, Block, Classes, Grid, Search, TexelClasses};
 use super::exact::{narrowed_below, AxisFrame, ExactTriangle, FrameError};
 use super::gpu::{margin_exponent, Model};
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
+use super::work::DEFAULT_TRIANGLE_WORK_BUDGET;
 use crate::inverse::micro_triangles;
 use crate::micromap::{Format, Micromap, MicromapError, State, TriangleOpacity, UnknownPolicy};
 use crate::num::wide::GridInt;
@@ -37,6 +38,10 @@ pub enum TriangleStatus {
     /// are unknown (sound, maybe not tight). Never happens to a
     /// micro-triangle whose footprint spans fewer texels than the budget.
     BudgetExceeded,
+    /// The triangle spent its work budget ([`Baker::bake_within`], units
+    /// in [`crate::bake::work`]): the micro-triangles not yet decided then
+    /// are unknown (sound, maybe not tight).
+    WorkBudgetExceeded,
 }
 
 /// One baked triangle: its opacity (a micromap, or a special index for a
@@ -52,6 +57,8 @@ pub struct BakedTriangle {
     /// before a 2-state format resolves the unknowns (so a 2-state bake
     /// still tells how many were unknown).
     pub counts: [u64; 4],
+    /// Work units spent ([`crate::bake::work`]).
+    pub work: u64,
 }
 
 /// What a triangle's micromap index will point at.
@@ -266,6 +273,7 @@ pub struct VerifyCounts {
 pub struct Baker {
     classes: TexelClasses,
     budget: u32,
+    work_budget: u64,
     model: Model,
 }
 
@@ -284,12 +292,22 @@ fn floor_third(q: i128) -> i128 {
 /// whether a micro-triangle ran out of budget, and the search's stack.
 struct Walk<'a> {
     level: u32,
+    /// Work units spent and allowed ([`crate::bake::work`]).
+    work: u64,
+    max_work: u64,
+    out_of_work: bool,
     grid: Grid,
     two_state: UnknownPolicy,
     map: &'a mut Micromap,
     counts: &'a mut [u64; 4],
     exhausted: bool,
     stack: Vec<Block>,
+}
+
+/// How a walk went: its status and the work units it spent.
+struct Spent {
+    status: TriangleStatus,
+    work: u64,
 }
 
 /// One micro-triangle placed on the grid, in coordinates of type `C`.
@@ -371,6 +389,7 @@ impl Baker {
         Ok(Baker {
             classes: TexelClasses::new_within(texture, sampler, cutoff, max_bytes)?,
             budget: DEFAULT_BLOCK_BUDGET,
+            work_budget: DEFAULT_TRIANGLE_WORK_BUDGET,
             model: Model::default(),
         })
     }
@@ -395,6 +414,15 @@ impl Baker {
     #[must_use]
     pub fn with_block_budget(mut self, budget: u32) -> Baker {
         self.budget = budget.max(1);
+        self
+    }
+
+    /// The same baker with another cap on the work units one
+    /// [`bake`](Self::bake) may spend (default
+    /// [`DEFAULT_TRIANGLE_WORK_BUDGET`]; see [`crate::bake::work`]).
+    #[must_use]
+    pub fn with_work_budget(mut self, units: u64) -> Baker {
+        self.work_budget = units;
         self
     }
 
@@ -476,12 +504,13 @@ impl Baker {
         p: &Placed<C>,
         grid: Grid,
         stack: &mut Vec<Block>,
-    ) -> (Classes, bool) {
+    ) -> (Classes, bool, u64) {
         let bounding = self.bounding_block(p, grid);
         let quick = self.classes.quick(bounding);
         if !quick.is_mixed() {
-            return (quick, false);
+            return (quick, false, 1);
         }
+        let mut work = 1;
         // Every texel in the footprint of a vertex or an edge midpoint is
         // read (both are points of the closed micro-triangle): when these
         // already hold both classes the micro-triangle is mixed, with no
@@ -500,8 +529,9 @@ impl Baker {
                     self.classes
                         .bounding_block((x, x), (y, y), Grid::exact((sx + 1, sy + 1)));
                 sure = sure.union(self.classes.quick(point));
+                work += 1;
                 if sure.is_mixed() {
-                    return (sure, false);
+                    return (sure, false, work);
                 }
             }
         }
@@ -510,7 +540,7 @@ impl Baker {
         let s: Search = self
             .classes
             .search(&t, grid, Classes::BOTH, self.budget, stack);
-        (s.classes, s.exhausted)
+        (s.classes, s.exhausted, work + u64::from(s.tests))
     }
 
     /// The classes of the placed triangle's bounding block of texels: a
@@ -545,13 +575,50 @@ impl Baker {
     /// resolves unknowns with `two_state` ([`UnknownPolicy::Fallback`]:
     /// by that split). Non-finite or off-grid coordinates give the special
     /// index unknown-opaque ([`TriangleStatus`]). The counts are taken
-    /// before the 2-state resolution.
+    /// before the 2-state resolution. The work is capped by the baker's
+    /// work budget ([`with_work_budget`](Self::with_work_budget)), as
+    /// [`bake_within`](Self::bake_within) says.
     pub fn bake(
         &self,
         uv: &UvTriangle,
         level: Level,
         format: Format,
         two_state: UnknownPolicy,
+    ) -> Result<BakedTriangle, BakeError> {
+        self.bake_within(uv, level, format, two_state, self.work_budget)
+    }
+
+    /// [`bake`](Self::bake) spending at most about `max_work` work units
+    /// ([`crate::bake::work`]): once they are spent, every micro-triangle
+    /// not yet decided is unknown (sound) and the status is
+    /// [`TriangleStatus::WorkBudgetExceeded`]. [`BakedTriangle::work`] says
+    /// what it spent.
+    ///
+    /// ```
+    /// use micromap_index::bake::{Baker, Cutoff, Sampler, TriangleStatus, Unorm8Texture};
+    /// use micromap_index::micromap::{Format, State};
+    /// use micromap_index::Level;
+    /// // A checkerboard: most micro-triangles need a search.
+    /// let texels: Vec<u8> = (0..64).map(|i| if (i + i / 8) % 2 == 0 { 255 } else { 0 }).collect();
+    /// let texture = Unorm8Texture::new(8, 8, &texels).unwrap();
+    /// let baker = Baker::new(&texture, Sampler::default(), Cutoff::default()).unwrap();
+    /// let uv = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+    /// let (level, four) = (Level::new(6).unwrap(), Format::FourState);
+    /// let full = baker.bake(&uv, level, four, Default::default()).unwrap();
+    /// assert_eq!(full.status, TriangleStatus::Exact);
+    /// let cut = baker.bake_within(&uv, level, four, Default::default(), full.work / 2).unwrap();
+    /// assert_eq!(cut.status, TriangleStatus::WorkBudgetExceeded);
+    /// assert!(cut.work < full.work);
+    /// let known = |c: [u64; 4]| c[State::Opaque.bits() as usize] + c[State::Transparent.bits() as usize];
+    /// assert!(known(cut.counts) < known(full.counts));
+    /// ```
+    pub fn bake_within(
+        &self,
+        uv: &UvTriangle,
+        level: Level,
+        format: Format,
+        two_state: UnknownPolicy,
+        max_work: u64,
     ) -> Result<BakedTriangle, BakeError> {
         let whole_unknown = |status| {
             let mut counts = [0u64; 4];
@@ -560,6 +627,7 @@ impl Baker {
                 opacity: BakedOpacity::Special(State::UnknownOpaque),
                 status,
                 counts,
+                work: 0,
             }
         };
         let mut map = Micromap::new(level, format)?;
@@ -574,25 +642,23 @@ impl Baker {
         let side = 1u64 << n;
         let root = Self::place(&fx, &fy, n, [(0, 0), (side, 0), (0, side)]);
         let mut counts = [0u64; 4];
-        let exhausted = match root.narrowed(grid) {
-            Some(narrow) => self.walk(narrow, n, grid, two_state, &mut map, &mut counts)?,
-            None => self.walk(root, n, grid, two_state, &mut map, &mut counts)?,
+        let out = (&mut map, &mut counts);
+        let spent = match root.narrowed(grid) {
+            Some(narrow) => self.walk(narrow, n, grid, two_state, max_work, out)?,
+            None => self.walk(root, n, grid, two_state, max_work, out)?,
         };
         Ok(BakedTriangle {
             opacity: BakedOpacity::Map(map),
-            status: if exhausted {
-                TriangleStatus::BudgetExceeded
-            } else {
-                TriangleStatus::Exact
-            },
+            status: spent.status,
             counts,
+            work: spent.work,
         })
     }
 
     /// The top-down walk of [`bake`](Self::bake) from the whole triangle
     /// `root` (on the grid of `level`), in coordinates of type `C`: fills
-    /// `map` and `counts`, and says whether a micro-triangle ran out of
-    /// budget. The caller picks `C` so that the walk stays in range (see
+    /// the map and counts of `out`, and says how it went and what it spent.
+    /// The caller picks `C` so that the walk stays in range (see
     /// [`NARROW_WALK_COORDINATE`]); the result is the same in every type.
     fn walk<C: GridInt>(
         &self,
@@ -600,11 +666,14 @@ impl Baker {
         level: u32,
         grid: Grid,
         two_state: UnknownPolicy,
-        map: &mut Micromap,
-        counts: &mut [u64; 4],
-    ) -> Result<bool, BakeError> {
+        max_work: u64,
+        (map, counts): (&mut Micromap, &mut [u64; 4]),
+    ) -> Result<Spent, BakeError> {
         let mut walk = Walk {
             level,
+            work: 0,
+            max_work,
+            out_of_work: false,
             grid,
             two_state,
             map,
@@ -614,7 +683,17 @@ impl Baker {
         };
         let vertices = [0, 1, 2].map(|k| (root.x[k], root.y[k]));
         self.visit(&mut walk, 0, 0, vertices, false)?;
-        Ok(walk.exhausted)
+        let status = if walk.out_of_work {
+            TriangleStatus::WorkBudgetExceeded
+        } else if walk.exhausted {
+            TriangleStatus::BudgetExceeded
+        } else {
+            TriangleStatus::Exact
+        };
+        Ok(Spent {
+            status,
+            work: walk.work,
+        })
     }
 
     /// One micro-triangle of the walk: its depth and index in the tree,
@@ -640,14 +719,21 @@ impl Baker {
             x: vertices.map(|v| v.0),
             y: vertices.map(|v| v.1),
         };
+        if walk.work >= walk.max_work {
+            // Out of work: this node's whole subtree is unknown (sound).
+            walk.out_of_work = true;
+            let count = 1u64 << (2 * up);
+            return self.set_unknown(walk, &p, index << (2 * up), count);
+        }
         // Above the finest level only the bounding block is read: a mixed
         // block descends, and the children decide more cheaply than an
         // exact search over a large triangle would.
-        let (classes, out_of_budget) = if depth < n {
-            (self.quick_classes(&p, walk.grid), false)
+        let (classes, out_of_budget, work) = if depth < n {
+            (self.quick_classes(&p, walk.grid), false, 1)
         } else {
             self.classify(&p, walk.grid, &mut walk.stack)
         };
+        walk.work += work;
         let known = match (classes.opaque, classes.transparent) {
             (true, false) => Some(State::Opaque),
             (false, true) => Some(State::Transparent),
@@ -670,17 +756,30 @@ impl Baker {
             return Ok(());
         }
         walk.exhausted |= out_of_budget;
-        let state = if self.centroid_is_opaque(&p, walk.grid.shifts) {
+        self.set_unknown(walk, &p, index, 1)
+    }
+
+    /// Marks `count` micro-triangles from `first` (the placed node `p`'s
+    /// finest-level range) unknown, split by `p`'s centroid texel, and
+    /// counts them.
+    fn set_unknown<C: GridInt>(
+        &self,
+        walk: &mut Walk<'_>,
+        p: &Placed<C>,
+        first: u64,
+        count: u64,
+    ) -> Result<(), BakeError> {
+        let state = if self.centroid_is_opaque(p, walk.grid.shifts) {
             State::UnknownOpaque
         } else {
             State::UnknownTransparent
         };
-        walk.counts[state.bits() as usize] += 1;
+        walk.counts[state.bits() as usize] += count;
         let stored = match walk.map.format() {
             Format::FourState => state,
             Format::TwoState => walk.two_state.resolve(state),
         };
-        walk.map.set(index, stored)?;
+        walk.map.fill(first, count, stored)?;
         Ok(())
     }
 

@@ -40,7 +40,8 @@
 use super::baker::BakedOpacity;
 use super::baker::{BakeError, BakedTriangle, Baker, TriangleStatus, UvTriangle};
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
-use super::{levels_within_budget, useful_level, Model, DEFAULT_BLOCK_BUDGET};
+use super::work::{DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET};
+use super::{levels_within_budget, Model, DEFAULT_BLOCK_BUDGET};
 use crate::micromap::{
     BufferError, BuildOptions, Format, Micromap, MicromapBuffers, MicromapBuffersBuilder,
     MicromapIndex, State, UnknownPolicy,
@@ -190,7 +191,10 @@ pub enum LevelRule {
     /// One level for every triangle.
     Fixed(Level),
     /// Each triangle's [`useful_level`] (the paper's eq. 1: edges at most
-    /// one texel long), capped at `max`.
+    /// one texel long), capped at `max`; level 0 where micro-triangles at
+    /// that level would each hold a whole texture period
+    /// ([`level_within_periods`](super::level_within_periods); the rule as
+    /// [`LevelRule::level_of`] applies it).
     Useful {
         /// The highest level chosen.
         max: Level,
@@ -220,6 +224,13 @@ pub struct MeshOptions {
     pub budget_bytes: Option<u64>,
     /// Block tests a micro-triangle may use ([`Baker::with_block_budget`]).
     pub block_budget: u32,
+    /// Work units one triangle may spend ([`Baker::bake_within`], units in
+    /// [`crate::bake::work`]).
+    pub triangle_work_budget: u64,
+    /// Work units all triangles together may spend: each triangle gets the
+    /// smaller of [`triangle_work_budget`](Self::triangle_work_budget) and
+    /// what the triangles before it (meshes in order) left.
+    pub bake_work_budget: u64,
     /// The points known states hold for ([`Baker::with_model`]; default
     /// [`Model::GpuBinary32`]).
     pub model: Model,
@@ -227,7 +238,8 @@ pub struct MeshOptions {
 
 impl Default for MeshOptions {
     /// Useful levels up to 12, 4-state, fallback for unknowns, no byte
-    /// budget, [`DEFAULT_BLOCK_BUDGET`], the GPU model.
+    /// budget, [`DEFAULT_BLOCK_BUDGET`], [`DEFAULT_TRIANGLE_WORK_BUDGET`],
+    /// [`DEFAULT_BAKE_WORK_BUDGET`], the GPU model.
     fn default() -> Self {
         MeshOptions {
             levels: LevelRule::default(),
@@ -235,6 +247,8 @@ impl Default for MeshOptions {
             unknown: UnknownPolicy::Fallback,
             budget_bytes: None,
             block_budget: DEFAULT_BLOCK_BUDGET,
+            triangle_work_budget: DEFAULT_TRIANGLE_WORK_BUDGET,
+            bake_work_budget: DEFAULT_BAKE_WORK_BUDGET,
             model: Model::default(),
         }
     }
@@ -251,6 +265,8 @@ pub struct StatusCounts {
     pub out_of_exact_range: usize,
     /// [`TriangleStatus::BudgetExceeded`].
     pub budget_exceeded: usize,
+    /// [`TriangleStatus::WorkBudgetExceeded`].
+    pub work_budget_exceeded: usize,
 }
 
 /// What [`bake_meshes`] found, over all meshes.
@@ -286,6 +302,12 @@ pub struct BakeReport {
     pub bytes_paper_tree: u64,
     /// Bytes they take as level-order trees ([`LevelOrderTree`]).
     pub bytes_level_order_tree: u64,
+    /// Work units spent, all triangles together ([`crate::bake::work`]).
+    pub work: u64,
+    /// Triangles [`LevelRule::Useful`] baked at level 0 because their
+    /// micro-triangles would each hold a whole texture period
+    /// ([`level_within_periods`](super::level_within_periods)).
+    pub period_level_zero: usize,
 }
 
 /// What [`bake_meshes`] returns: the buffers, the report, and every baked
@@ -529,15 +551,18 @@ fn combine(
         map.set(i, stored)
             .map_err(|e| MeshBakeError::Bake(e.into()))?;
     }
-    let status = if high.status == TriangleStatus::BudgetExceeded {
-        TriangleStatus::BudgetExceeded
-    } else {
-        low.status
+    let status = match (low.status, high.status) {
+        (TriangleStatus::WorkBudgetExceeded, _) | (_, TriangleStatus::WorkBudgetExceeded) => {
+            TriangleStatus::WorkBudgetExceeded
+        }
+        (_, TriangleStatus::BudgetExceeded) => TriangleStatus::BudgetExceeded,
+        (low, _) => low,
     };
     Ok(BakedTriangle {
         opacity: BakedOpacity::Map(map),
         status,
         counts,
+        work: low.work.saturating_add(high.work),
     })
 }
 
@@ -637,6 +662,7 @@ pub fn bake_meshes(
         .collect::<Result<_, _>>()?;
 
     // Levels per triangle.
+    let mut period_level_zero = 0;
     let mut levels: Vec<Vec<Level>> = meshes
         .iter()
         .zip(&triangles)
@@ -644,9 +670,10 @@ pub fn bake_meshes(
             let size = (mesh.texture.width(), mesh.texture.height());
             triangles
                 .iter()
-                .map(|uv| match options.levels {
-                    LevelRule::Fixed(level) => level,
-                    LevelRule::Useful { max } => useful_level(uv, size, max),
+                .map(|uv| {
+                    let (level, lowered) = options.levels.level_of(uv, size, mesh.material.sampler);
+                    period_level_zero += usize::from(lowered);
+                    level
                 })
                 .collect()
         })
@@ -664,10 +691,12 @@ pub fn bake_meshes(
     let total: usize = triangles.iter().map(|t| t.len()).sum();
     let mut counts = [0u64; 4];
     let mut status = StatusCounts::default();
+    let mut work = 0u64;
     let mut known_area = 0.0;
     let mut area = 0.0;
     let mut baked_all = Vec::with_capacity(meshes.len());
     let mut done = 0usize;
+    let mut work_left = options.bake_work_budget;
     for (m, ((mesh, triangles), mesh_levels)) in
         meshes.iter().zip(&triangles).zip(&levels).enumerate()
     {
@@ -691,9 +720,10 @@ pub fn bake_meshes(
         let mut bound_bakers: BTreeMap<(u64, u64), (Baker, Baker)> = BTreeMap::new();
         let mut baked = Vec::with_capacity(triangles.len());
         for (t, (uv, &level)) in triangles.iter().zip(mesh_levels).enumerate() {
+            let max_work = options.triangle_work_budget.min(work_left);
             let b = match vertex_alpha {
                 None => baker
-                    .bake(uv, level, options.format, options.unknown)
+                    .bake_within(uv, level, options.format, options.unknown, max_work)
                     .map_err(MeshBakeError::Bake)?,
                 Some(alphas) => {
                     let key = vertex_range(alphas[t]);
@@ -718,10 +748,16 @@ pub fn bake_meshes(
                     let (low, high) = &bound_bakers[&key];
                     let four = Format::FourState;
                     let a = low
-                        .bake(uv, level, four, options.unknown)
+                        .bake_within(uv, level, four, options.unknown, max_work)
                         .map_err(MeshBakeError::Bake)?;
                     let b = high
-                        .bake(uv, level, four, options.unknown)
+                        .bake_within(
+                            uv,
+                            level,
+                            four,
+                            options.unknown,
+                            max_work - a.work.min(max_work),
+                        )
                         .map_err(MeshBakeError::Bake)?;
                     combine(a, &b, level, options.format, options.unknown)?
                 }
@@ -738,7 +774,10 @@ pub fn bake_meshes(
                 TriangleStatus::NotFinite => status.not_finite += 1,
                 TriangleStatus::OutOfExactRange => status.out_of_exact_range += 1,
                 TriangleStatus::BudgetExceeded => status.budget_exceeded += 1,
+                TriangleStatus::WorkBudgetExceeded => status.work_budget_exceeded += 1,
             }
+            work_left = work_left.saturating_sub(b.work);
+            work = work.saturating_add(b.work);
             baked.push(b);
             done += 1;
             progress(done, total);
@@ -795,6 +834,8 @@ pub fn bake_meshes(
         bytes_flat: buffers.data().len(),
         bytes_paper_tree: paper_bits.div_ceil(8),
         bytes_level_order_tree: level_order_bits.div_ceil(8),
+        work,
+        period_level_zero,
     };
     Ok(MeshBake {
         buffers,

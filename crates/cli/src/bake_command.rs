@@ -12,6 +12,7 @@ use micromap_index::bake::mesh::{
 };
 use micromap_index::bake::{
     AddressMode, AlphaTexture, Baker, Comparison, Cutoff, Filter, Model, Sampler, UvTriangle,
+    DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET,
 };
 use micromap_index::micromap::{
     read_buffers, BufferBytes, Format, IndexWidth, MicromapIndex, ReadOptions, TriangleOpacity,
@@ -146,6 +147,17 @@ pub(crate) static BAKE: Command = Command {
                 "N",
                 "refuse (exit 2) before baking when the output may exceed N bytes
                          (default 1073741824; the estimate counts every map before dedup)",
+            ),
+            Flag::value(
+                "--work-budget",
+                "N",
+                "work units (texel-table lookups) one triangle may spend; the rest
+                         is unknown (default 67108864)",
+            ),
+            Flag::value(
+                "--bake-work-budget",
+                "N",
+                "work units all triangles may spend together (default 17179869184)",
             ),
             Flag::switch("--force", "replace existing files in DIR"),
             Flag::switch("--no-preview", "skip preview.png"),
@@ -556,6 +568,9 @@ struct Summary {
     format: u32,
     model: &'static str,
     levels: Vec<u64>,
+    /// Auto levels lowered to 0: micro-triangles would each hold a whole
+    /// texture period.
+    period_level_zero_triangles: usize,
     micro_triangles: StateCounts,
     known_fraction: f64,
     known_area_fraction: f64,
@@ -566,6 +581,8 @@ struct Summary {
     bytes_paper_tree: u64,
     bytes_level_order_tree: u64,
     index_width_bits: usize,
+    /// Work units spent (texel-table lookups, `micromap_index::bake::work`).
+    work_units: u64,
     bake_seconds: f64,
     micro_triangles_per_second: f64,
     /// Drawing preview.png (0 with --no-preview).
@@ -584,6 +601,7 @@ struct StatusCounts {
     not_finite: usize,
     out_of_exact_range: usize,
     budget_exceeded: usize,
+    work_budget_exceeded: usize,
 }
 
 impl From<micromap_index::bake::mesh::StatusCounts> for StatusCounts {
@@ -593,6 +611,7 @@ impl From<micromap_index::bake::mesh::StatusCounts> for StatusCounts {
             not_finite: s.not_finite,
             out_of_exact_range: s.out_of_exact_range,
             budget_exceeded: s.budget_exceeded,
+            work_budget_exceeded: s.work_budget_exceeded,
         }
     }
 }
@@ -605,8 +624,7 @@ const DEFAULT_MAX_OUTPUT_BYTES: u64 = 1 << 30;
 /// records, indices, usage counts), from the levels `bake_meshes` chooses.
 fn output_estimate(
     input: &Input,
-    fixed_level: Option<Level>,
-    max_level: Level,
+    rule: LevelRule,
     budget: Option<u64>,
     format: Format,
     width: IndexWidth,
@@ -615,9 +633,11 @@ fn output_estimate(
     for job in &input.jobs {
         let image = &input.images[job.image];
         let size = (image.width, image.height);
-        levels.extend(job.triangles.iter().map(|uv| {
-            fixed_level.unwrap_or_else(|| micromap_index::bake::useful_level(uv, size, max_level))
-        }));
+        levels.extend(
+            job.triangles
+                .iter()
+                .map(|uv| rule.level_of(uv, size, job.sampler).0),
+        );
     }
     if let Some(budget) = budget {
         levels = micromap_index::bake::levels_within_budget(&levels, format, budget);
@@ -686,6 +706,14 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         })
         .transpose()?
         .unwrap_or(DEFAULT_MAX_OUTPUT_BYTES);
+    let work_budget = |flag: &str, default: u64| {
+        p.get(flag).map_or(Ok(default), |t| {
+            t.parse::<u64>()
+                .map_err(|_| Failure::Malformed(format!("{flag} {t:?}: expected a count")))
+        })
+    };
+    let triangle_work_budget = work_budget("--work-budget", DEFAULT_TRIANGLE_WORK_BUDGET)?;
+    let bake_work_budget = work_budget("--bake-work-budget", DEFAULT_BAKE_WORK_BUDGET)?;
     let width = index_width(&p)?;
     let model = model_option(&p)?;
     let s = sampler_options(&p)?;
@@ -731,7 +759,11 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     // The output's size before deduplication (an upper bound: maps that
     // dedup or become special indices only shrink it), from the same levels
     // bake_meshes chooses, checked before any micro-triangle is baked.
-    let estimate = output_estimate(&input, fixed_level, max_level, budget, format, width);
+    let rule = match fixed_level {
+        Some(level) => LevelRule::Fixed(level),
+        None => LevelRule::Useful { max: max_level },
+    };
+    let estimate = output_estimate(&input, rule, budget, format, width);
     if estimate > max_bytes {
         return Err(Failure::Malformed(format!(
             "the output may take up to {estimate} bytes (before deduplication), over the \
@@ -740,13 +772,12 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         )));
     }
     let options = MeshOptions {
-        levels: match fixed_level {
-            Some(level) => LevelRule::Fixed(level),
-            None => LevelRule::Useful { max: max_level },
-        },
+        levels: rule,
         format,
         unknown: two_state,
         budget_bytes: budget,
+        triangle_work_budget,
+        bake_work_budget,
         model,
         ..MeshOptions::default()
     };
@@ -842,6 +873,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         format: u32::from(format.raw()),
         model: model.name(),
         levels: report.levels.clone(),
+        period_level_zero_triangles: report.period_level_zero,
         known_fraction: report.known_fraction,
         known_area_fraction: report.known_area_fraction,
         micro_triangles: counts,
@@ -852,6 +884,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         bytes_paper_tree: report.bytes_paper_tree,
         bytes_level_order_tree: report.bytes_level_order_tree,
         index_width_bits: width.bytes() * 8,
+        work_units: report.work,
         bake_seconds,
         micro_triangles_per_second: micro as f64 / bake_seconds.max(1e-9),
         preview_seconds,
