@@ -89,7 +89,8 @@ pub(crate) static BAKE: Command = Command {
                             unknown-opaque, red unknown-transparent), wrapped
                             with the job's address modes; each distinct
                             triangle once, at most 2^27 pixels of
-                            micro-triangles (summary.json counts the rest)
+                            micro-triangles (summary.json counts the rest),
+                            with a legend of the colours and the model
   DIR is locked (DIR/.micromap-index.lock) from the check to the last
   rename: a second bake into the same DIR is refused (exit 3) and never
   mixes its files with the first one's. Ctrl-C removes the temporaries,
@@ -848,6 +849,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         Some(
             crate::preview::render(
                 &input.images,
+                model,
                 input.jobs.iter().zip(&baked.triangles).map(|(job, baked)| {
                     (
                         job.image,
