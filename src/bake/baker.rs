@@ -1073,18 +1073,21 @@ mod tests {
                 y: [coordinate(), coordinate(), coordinate()],
             };
             let narrow = root.narrowed(grid).unwrap();
-            let bake = |walk: &dyn Fn(&mut Micromap, &mut [u64; 4]) -> bool| {
+            let bake = |walk: &dyn Fn(&mut Micromap, &mut [u64; 4]) -> Spent| {
                 let mut map = Micromap::new(Level(level as u8), Format::FourState).unwrap();
                 let mut counts = [0; 4];
-                let exhausted = walk(&mut map, &mut counts);
-                (map, counts, exhausted)
+                let spent = walk(&mut map, &mut counts);
+                (map, counts, spent.status, spent.work)
             };
             let policy = UnknownPolicy::Fallback;
-            let wide =
-                bake(&|map, counts| baker.walk(root, level, grid, policy, map, counts).unwrap());
+            let wide = bake(&|map, counts| {
+                baker
+                    .walk(root, level, grid, policy, u64::MAX, (map, counts))
+                    .unwrap()
+            });
             let narrowed = bake(&|map, counts| {
                 baker
-                    .walk(narrow, level, grid, policy, map, counts)
+                    .walk(narrow, level, grid, policy, u64::MAX, (map, counts))
                     .unwrap()
             });
             assert_eq!(narrowed, wide, "{root:?} {shifts:?} level {level}");

@@ -190,7 +190,7 @@ pub struct Mesh<'a> {
 pub enum LevelRule {
     /// One level for every triangle.
     Fixed(Level),
-    /// Each triangle's [`useful_level`] (the paper's eq. 1: edges at most
+    /// Each triangle's [`useful_level`](super::useful_level) (the paper's eq. 1: edges at most
     /// one texel long), capped at `max`; level 0 where micro-triangles at
     /// that level would each hold a whole texture period
     /// ([`level_within_periods`](super::level_within_periods); the rule as
