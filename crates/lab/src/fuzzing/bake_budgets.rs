@@ -178,7 +178,8 @@ pub fn texel_tables_within(data: &[u8]) {
     let limit = u64::from(b.u32()).min(1 << 22);
     let texture = Procedural { width, height };
     let (w, h) = (u64::from(width), u64::from(height));
-    let need = (w * h).saturating_add(4 * (w + 1) * (h + 1));
+    // Saturating: `4 (w + 1) (h + 1)` passes `u64` near `u32::MAX` squared.
+    let need = (w * h).saturating_add((w + 1).saturating_mul(h + 1).saturating_mul(4));
     match Baker::new_within(&texture, Sampler::default(), Cutoff::default(), limit) {
         Ok(baker) => {
             assert!(
