@@ -9,7 +9,9 @@
 //! finest-level micro-triangle, and each block or texel test of its exact
 //! search. Each unit is a few prefix-sum reads plus, for a search test, an
 //! exact triangle-block intersection, so units are close to proportional
-//! to time (a few tens of nanoseconds each on a 2-core x86-64 at level 12).
+//! to time: about 50 ns each in the costliest case measured (searches over
+//! footprints of many texture periods, 2^26 units in 3.4 s of CPU on a
+//! 2-core AMD EPYC; `docs/bake.md`, "Bounded work").
 //!
 //! # What a budget does
 //!
@@ -31,10 +33,9 @@ use super::{useful_level, UvTriangle};
 use crate::Level;
 
 /// Work units (see the [module docs](self)) one triangle may spend by
-/// default: 2^26, about 4 per micro-triangle of a level-12 map; a few
-/// seconds at the costliest units (searches over footprints of many
-/// periods), well under one for ordinary ones. The bundled assets' bakes
-/// stay under a sixteenth of it per triangle
+/// default: 2^26, about 4 per micro-triangle of a level-12 map; 3.4 s of
+/// CPU at the costliest units measured (see the [module docs](self)). The
+/// bundled assets' bakes stay under a sixteenth of it per triangle
 /// (`crates/cli/tests/cli_bake_work.rs`).
 pub const DEFAULT_TRIANGLE_WORK_BUDGET: u64 = 1 << 26;
 
