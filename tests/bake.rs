@@ -340,7 +340,9 @@ fn known_states_are_never_contradicted_by_exact_samples() {
                 );
                 over_budget += 1;
             }
-            other @ (TriangleStatus::NotFinite | TriangleStatus::OutOfExactRange) => {
+            other @ (TriangleStatus::NotFinite
+            | TriangleStatus::OutOfExactRange
+            | TriangleStatus::WorkBudgetExceeded) => {
                 panic!("case {case_number}: {other:?}")
             }
         }

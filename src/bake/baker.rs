@@ -4,6 +4,7 @@ use super::classify::{is_small, Block, Classes, Grid, Search, TexelClasses};
 use super::exact::{narrowed_below, AxisFrame, ExactTriangle, FrameError};
 use super::gpu::{margin_exponent, Model};
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
+use super::work::DEFAULT_TRIANGLE_WORK_BUDGET;
 use crate::inverse::micro_triangles;
 use crate::micromap::{Format, Micromap, MicromapError, State, TriangleOpacity, UnknownPolicy};
 use crate::num::wide::GridInt;
@@ -37,6 +38,10 @@ pub enum TriangleStatus {
     /// are unknown (sound, maybe not tight). Never happens to a
     /// micro-triangle whose footprint spans fewer texels than the budget.
     BudgetExceeded,
+    /// The triangle spent its work budget ([`Baker::bake_within`], units
+    /// in [`crate::bake::work`]): the micro-triangles not yet decided then
+    /// are unknown (sound, maybe not tight).
+    WorkBudgetExceeded,
 }
 
 /// One baked triangle: its opacity (a micromap, or a special index for a
@@ -57,9 +62,11 @@ pub struct BakedTriangle {
     /// triangle (always 0 under the exact model). Each is decided exactly,
     /// by the exact model's classification of that micro-triangle on the
     /// same grid, so `counts`' known ones plus these are the exact model's
-    /// known ones (but where the block budget runs out under one model
-    /// only).
+    /// known ones (but where the block or work budget runs out under one
+    /// model only).
     pub widened: u64,
+    /// Work units spent ([`crate::bake::work`]).
+    pub work: u64,
 }
 
 /// What a triangle's micromap index will point at.
@@ -277,6 +284,7 @@ pub struct VerifyCounts {
 pub struct Baker {
     classes: TexelClasses,
     budget: u32,
+    work_budget: u64,
     model: Model,
 }
 
@@ -295,6 +303,10 @@ fn floor_third(q: i128) -> i128 {
 /// whether a micro-triangle ran out of budget, and the search's stack.
 struct Walk<'a> {
     level: u32,
+    /// Work units spent and allowed ([`crate::bake::work`]).
+    work: u64,
+    max_work: u64,
+    out_of_work: bool,
     grid: Grid,
     two_state: UnknownPolicy,
     map: &'a mut Micromap,
@@ -303,6 +315,13 @@ struct Walk<'a> {
     /// Unknown leaves the exact model knows (see [`BakedTriangle::widened`]).
     widened: u64,
     stack: Vec<Block>,
+}
+
+/// How a walk went: its status and the work units it spent.
+struct Spent {
+    status: TriangleStatus,
+    work: u64,
+    widened: u64,
 }
 
 /// One micro-triangle placed on the grid, in coordinates of type `C`.
@@ -384,6 +403,7 @@ impl Baker {
         Ok(Baker {
             classes: TexelClasses::new_within(texture, sampler, cutoff, max_bytes)?,
             budget: DEFAULT_BLOCK_BUDGET,
+            work_budget: DEFAULT_TRIANGLE_WORK_BUDGET,
             model: Model::default(),
         })
     }
@@ -408,6 +428,15 @@ impl Baker {
     #[must_use]
     pub fn with_block_budget(mut self, budget: u32) -> Baker {
         self.budget = budget.max(1);
+        self
+    }
+
+    /// The same baker with another cap on the work units one
+    /// [`bake`](Self::bake) may spend (default
+    /// [`DEFAULT_TRIANGLE_WORK_BUDGET`]; see [`crate::bake::work`]).
+    #[must_use]
+    pub fn with_work_budget(mut self, units: u64) -> Baker {
+        self.work_budget = units;
         self
     }
 
@@ -490,12 +519,13 @@ impl Baker {
         p: &Placed<C>,
         grid: Grid,
         stack: &mut Vec<Block>,
-    ) -> (Classes, bool) {
+    ) -> (Classes, bool, u64) {
         let bounding = self.bounding_block(p, grid);
         let quick = self.classes.quick(bounding);
         if !quick.is_mixed() {
-            return (quick, false);
+            return (quick, false, 1);
         }
+        let mut work = 1;
         // Every texel in the footprint of a vertex or an edge midpoint is
         // read (both are points of the closed micro-triangle): when these
         // already hold both classes the micro-triangle is mixed, with no
@@ -514,8 +544,9 @@ impl Baker {
                     self.classes
                         .bounding_block((x, x), (y, y), Grid::exact((sx + 1, sy + 1)));
                 sure = sure.union(self.classes.quick(point));
+                work += 1;
                 if sure.is_mixed() {
-                    return (sure, false);
+                    return (sure, false, work);
                 }
             }
         }
@@ -524,7 +555,7 @@ impl Baker {
         let s: Search = self
             .classes
             .search(&t, grid, Classes::BOTH, self.budget, stack);
-        (s.classes, s.exhausted)
+        (s.classes, s.exhausted, work + u64::from(s.tests))
     }
 
     /// The classes of the placed triangle's bounding block of texels: a
@@ -559,7 +590,9 @@ impl Baker {
     /// resolves unknowns with `two_state` ([`UnknownPolicy::Fallback`]:
     /// by that split). Non-finite or off-grid coordinates give the special
     /// index unknown-opaque ([`TriangleStatus`]). The counts are taken
-    /// before the 2-state resolution.
+    /// before the 2-state resolution. The work is capped by the baker's
+    /// work budget ([`with_work_budget`](Self::with_work_budget)), as
+    /// [`bake_within`](Self::bake_within) says.
     pub fn bake(
         &self,
         uv: &UvTriangle,
@@ -567,10 +600,45 @@ impl Baker {
         format: Format,
         two_state: UnknownPolicy,
     ) -> Result<BakedTriangle, BakeError> {
-        self.bake_as(self.model, uv, level, format, two_state)
+        self.bake_within(uv, level, format, two_state, self.work_budget)
     }
 
-    /// [`bake`](Self::bake) under `model`.
+    /// [`bake`](Self::bake) spending at most about `max_work` work units
+    /// ([`crate::bake::work`]): once they are spent, every micro-triangle
+    /// not yet decided is unknown (sound) and the status is
+    /// [`TriangleStatus::WorkBudgetExceeded`]. [`BakedTriangle::work`] says
+    /// what it spent.
+    ///
+    /// ```
+    /// use micromap_index::bake::{Baker, Cutoff, Sampler, TriangleStatus, Unorm8Texture};
+    /// use micromap_index::micromap::{Format, State};
+    /// use micromap_index::Level;
+    /// // A checkerboard: most micro-triangles need a search.
+    /// let texels: Vec<u8> = (0..64).map(|i| if (i + i / 8) % 2 == 0 { 255 } else { 0 }).collect();
+    /// let texture = Unorm8Texture::new(8, 8, &texels).unwrap();
+    /// let baker = Baker::new(&texture, Sampler::default(), Cutoff::default()).unwrap();
+    /// let uv = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+    /// let (level, four) = (Level::new(6).unwrap(), Format::FourState);
+    /// let full = baker.bake(&uv, level, four, Default::default()).unwrap();
+    /// assert_eq!(full.status, TriangleStatus::Exact);
+    /// let cut = baker.bake_within(&uv, level, four, Default::default(), full.work / 2).unwrap();
+    /// assert_eq!(cut.status, TriangleStatus::WorkBudgetExceeded);
+    /// assert!(cut.work < full.work);
+    /// let known = |c: [u64; 4]| c[State::Opaque.bits() as usize] + c[State::Transparent.bits() as usize];
+    /// assert!(known(cut.counts) < known(full.counts));
+    /// ```
+    pub fn bake_within(
+        &self,
+        uv: &UvTriangle,
+        level: Level,
+        format: Format,
+        two_state: UnknownPolicy,
+        max_work: u64,
+    ) -> Result<BakedTriangle, BakeError> {
+        self.bake_as(self.model, uv, level, format, two_state, max_work)
+    }
+
+    /// [`bake_within`](Self::bake_within) under `model`.
     pub(crate) fn bake_as(
         &self,
         model: Model,
@@ -578,6 +646,7 @@ impl Baker {
         level: Level,
         format: Format,
         two_state: UnknownPolicy,
+        max_work: u64,
     ) -> Result<BakedTriangle, BakeError> {
         let whole_unknown = |status| {
             let mut counts = [0u64; 4];
@@ -587,6 +656,7 @@ impl Baker {
                 status,
                 counts,
                 widened: 0,
+                work: 0,
             }
         };
         let mut map = Micromap::new(level, format)?;
@@ -599,9 +669,10 @@ impl Baker {
                 // grid holds off it: then the whole exact bake's known
                 // micro-triangles are the widening's cost.
                 if model == Model::GpuBinary32 {
-                    let exact = self.bake_as(Model::Exact, uv, level, Format::FourState, two_state);
-                    let counts = exact?.counts;
-                    unknown.widened = counts[0] + counts[1];
+                    let four = Format::FourState;
+                    let exact = self.bake_as(Model::Exact, uv, level, four, two_state, max_work)?;
+                    unknown.widened = exact.counts[0] + exact.counts[1];
+                    unknown.work = exact.work;
                 }
                 return Ok(unknown);
             }
@@ -610,26 +681,24 @@ impl Baker {
         let side = 1u64 << n;
         let root = Self::place(&fx, &fy, n, [(0, 0), (side, 0), (0, side)]);
         let mut counts = [0u64; 4];
-        let (exhausted, widened) = match root.narrowed(grid) {
-            Some(narrow) => self.walk(narrow, n, grid, two_state, &mut map, &mut counts)?,
-            None => self.walk(root, n, grid, two_state, &mut map, &mut counts)?,
+        let out = (&mut map, &mut counts);
+        let spent = match root.narrowed(grid) {
+            Some(narrow) => self.walk(narrow, n, grid, two_state, max_work, out)?,
+            None => self.walk(root, n, grid, two_state, max_work, out)?,
         };
         Ok(BakedTriangle {
             opacity: BakedOpacity::Map(map),
-            status: if exhausted {
-                TriangleStatus::BudgetExceeded
-            } else {
-                TriangleStatus::Exact
-            },
+            status: spent.status,
             counts,
-            widened,
+            widened: spent.widened,
+            work: spent.work,
         })
     }
 
     /// The top-down walk of [`bake`](Self::bake) from the whole triangle
     /// `root` (on the grid of `level`), in coordinates of type `C`: fills
-    /// `map` and `counts`, and says whether a micro-triangle ran out of
-    /// budget and how many unknown ones the exact model knows. The caller picks `C` so that the walk stays in range (see
+    /// the map and counts of `out`, and says how it went and what it spent.
+    /// The caller picks `C` so that the walk stays in range (see
     /// [`NARROW_WALK_COORDINATE`]); the result is the same in every type.
     fn walk<C: GridInt>(
         &self,
@@ -637,11 +706,14 @@ impl Baker {
         level: u32,
         grid: Grid,
         two_state: UnknownPolicy,
-        map: &mut Micromap,
-        counts: &mut [u64; 4],
-    ) -> Result<(bool, u64), BakeError> {
+        max_work: u64,
+        (map, counts): (&mut Micromap, &mut [u64; 4]),
+    ) -> Result<Spent, BakeError> {
         let mut walk = Walk {
             level,
+            work: 0,
+            max_work,
+            out_of_work: false,
             grid,
             two_state,
             map,
@@ -652,7 +724,18 @@ impl Baker {
         };
         let vertices = [0, 1, 2].map(|k| (root.x[k], root.y[k]));
         self.visit(&mut walk, 0, 0, vertices, false)?;
-        Ok((walk.exhausted, walk.widened))
+        let status = if walk.out_of_work {
+            TriangleStatus::WorkBudgetExceeded
+        } else if walk.exhausted {
+            TriangleStatus::BudgetExceeded
+        } else {
+            TriangleStatus::Exact
+        };
+        Ok(Spent {
+            status,
+            work: walk.work,
+            widened: walk.widened,
+        })
     }
 
     /// One micro-triangle of the walk: its depth and index in the tree,
@@ -678,14 +761,21 @@ impl Baker {
             x: vertices.map(|v| v.0),
             y: vertices.map(|v| v.1),
         };
+        if walk.work >= walk.max_work {
+            // Out of work: this node's whole subtree is unknown (sound).
+            walk.out_of_work = true;
+            let count = 1u64 << (2 * up);
+            return self.set_unknown(walk, &p, index << (2 * up), count);
+        }
         // Above the finest level only the bounding block is read: a mixed
         // block descends, and the children decide more cheaply than an
         // exact search over a large triangle would.
-        let (classes, out_of_budget) = if depth < n {
-            (self.quick_classes(&p, walk.grid), false)
+        let (classes, out_of_budget, work) = if depth < n {
+            (self.quick_classes(&p, walk.grid), false, 1)
         } else {
             self.classify(&p, walk.grid, &mut walk.stack)
         };
+        walk.work += work;
         let known = match (classes.opaque, classes.transparent) {
             (true, false) => Some(State::Opaque),
             (false, true) => Some(State::Transparent),
@@ -713,20 +803,34 @@ impl Baker {
         // leaves pay for this second classification).
         if walk.grid.margin != (None, None) && !out_of_budget {
             let exact = Grid::exact(walk.grid.shifts);
-            let (classes, exhausted) = self.classify(&p, exact, &mut walk.stack);
+            let (classes, exhausted, work) = self.classify(&p, exact, &mut walk.stack);
+            walk.work += work;
             walk.widened += u64::from(!exhausted && classes.opaque != classes.transparent);
         }
-        let state = if self.centroid_is_opaque(&p, walk.grid.shifts) {
+        self.set_unknown(walk, &p, index, 1)
+    }
+
+    /// Marks `count` micro-triangles from `first` (the placed node `p`'s
+    /// finest-level range) unknown, split by `p`'s centroid texel, and
+    /// counts them.
+    fn set_unknown<C: GridInt>(
+        &self,
+        walk: &mut Walk<'_>,
+        p: &Placed<C>,
+        first: u64,
+        count: u64,
+    ) -> Result<(), BakeError> {
+        let state = if self.centroid_is_opaque(p, walk.grid.shifts) {
             State::UnknownOpaque
         } else {
             State::UnknownTransparent
         };
-        walk.counts[state.bits() as usize] += 1;
+        walk.counts[state.bits() as usize] += count;
         let stored = match walk.map.format() {
             Format::FourState => state,
             Format::TwoState => walk.two_state.resolve(state),
         };
-        walk.map.set(index, stored)?;
+        walk.map.fill(first, count, stored)?;
         Ok(())
     }
 
@@ -951,9 +1055,6 @@ mod tests {
     use crate::bake::{AddressMode, Filter, Unorm8Texture};
     use micromap_index_test_support::SplitMix64;
 
-    /// A walk: fills the map and counts, says (exhausted, widened).
-    type Walker<'a> = dyn Fn(&mut Micromap, &mut [u64; 4]) -> (bool, u64) + 'a;
-
     /// The `i64` walk gives the `i128` walk's micromap wherever
     /// [`Placed::narrowed`] accepts a root: roots with coordinates just
     /// below `2^59` (and some crossing zero), shifts up to 58, every
@@ -1020,18 +1121,21 @@ mod tests {
                 y: [coordinate(), coordinate(), coordinate()],
             };
             let narrow = root.narrowed(grid).unwrap();
-            let bake = |walk: &Walker<'_>| {
+            let bake = |walk: &dyn Fn(&mut Micromap, &mut [u64; 4]) -> Spent| {
                 let mut map = Micromap::new(Level(level as u8), Format::FourState).unwrap();
                 let mut counts = [0; 4];
-                let exhausted = walk(&mut map, &mut counts);
-                (map, counts, exhausted)
+                let spent = walk(&mut map, &mut counts);
+                (map, counts, spent.status, spent.work, spent.widened)
             };
             let policy = UnknownPolicy::Fallback;
-            let wide =
-                bake(&|map, counts| baker.walk(root, level, grid, policy, map, counts).unwrap());
+            let wide = bake(&|map, counts| {
+                baker
+                    .walk(root, level, grid, policy, u64::MAX, (map, counts))
+                    .unwrap()
+            });
             let narrowed = bake(&|map, counts| {
                 baker
-                    .walk(narrow, level, grid, policy, map, counts)
+                    .walk(narrow, level, grid, policy, u64::MAX, (map, counts))
                     .unwrap()
             });
             assert_eq!(narrowed, wide, "{root:?} {shifts:?} level {level}");

@@ -238,6 +238,8 @@ pub(crate) struct Search {
     /// The first block of one class found to meet the triangle, per class
     /// (`[transparent, opaque]`).
     pub(crate) witness_block: [Option<Block>; 2],
+    /// Block and texel tests made (work units, [`crate::bake::work`]).
+    pub(crate) tests: u32,
 }
 
 impl TexelClasses {
@@ -499,6 +501,7 @@ impl TexelClasses {
             }
             tests += 1;
             if tests > budget {
+                tests = budget;
                 found.exhausted = true;
                 found.classes = found.classes.union(want);
                 break;
@@ -554,6 +557,7 @@ impl TexelClasses {
                 stack.push(Block { y1: mid, ..block });
             }
         }
+        found.tests = tests;
         found
     }
 
@@ -575,6 +579,7 @@ impl TexelClasses {
             let y = block.y0 + C::from(dy);
             for dx in 0..=side(block.x0, block.x1) {
                 let x = block.x0 + C::from(dx);
+                found.tests += 1;
                 let classes = Classes::of(self.class_of(self.wrap(x, y)));
                 if found.classes.contains(classes) {
                     continue;

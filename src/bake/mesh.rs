@@ -41,7 +41,8 @@ use super::baker::{BakeError, BakedTriangle, Baker, TriangleStatus, UvTriangle};
 pub use super::mips::Mips;
 use super::mips::{bake_bounded, mip_bakers};
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
-use super::{levels_within_budget, useful_level, Model, DEFAULT_BLOCK_BUDGET};
+use super::work::{DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET};
+use super::{levels_within_budget, Model, DEFAULT_BLOCK_BUDGET};
 use crate::micromap::{
     BufferError, BuildOptions, Format, MicromapBuffers, MicromapBuffersBuilder, MicromapIndex,
     UnknownPolicy,
@@ -195,8 +196,11 @@ pub struct Mesh<'a> {
 pub enum LevelRule {
     /// One level for every triangle.
     Fixed(Level),
-    /// Each triangle's [`useful_level`] (the paper's eq. 1: edges at most
-    /// one texel long), capped at `max`.
+    /// Each triangle's [`useful_level`](super::useful_level) (the paper's eq. 1: edges at most
+    /// one texel long), capped at `max`; level 0 where micro-triangles at
+    /// that level would each hold a whole texture period
+    /// ([`level_within_periods`](super::level_within_periods); the rule as
+    /// [`LevelRule::level_of`] applies it).
     Useful {
         /// The highest level chosen.
         max: Level,
@@ -226,6 +230,13 @@ pub struct MeshOptions {
     pub budget_bytes: Option<u64>,
     /// Block tests a micro-triangle may use ([`Baker::with_block_budget`]).
     pub block_budget: u32,
+    /// Work units one triangle may spend ([`Baker::bake_within`], units in
+    /// [`crate::bake::work`]).
+    pub triangle_work_budget: u64,
+    /// Work units all triangles together may spend: each triangle gets the
+    /// smaller of [`triangle_work_budget`](Self::triangle_work_budget) and
+    /// what the triangles before it (meshes in order) left.
+    pub bake_work_budget: u64,
     /// The points known states hold for ([`Baker::with_model`]; default
     /// [`Model::GpuBinary32`]).
     pub model: Model,
@@ -237,7 +248,8 @@ pub struct MeshOptions {
 
 impl Default for MeshOptions {
     /// Useful levels up to 12, 4-state, fallback for unknowns, no byte
-    /// budget, [`DEFAULT_BLOCK_BUDGET`], the GPU model.
+    /// budget, [`DEFAULT_BLOCK_BUDGET`], [`DEFAULT_TRIANGLE_WORK_BUDGET`],
+    /// [`DEFAULT_BAKE_WORK_BUDGET`], the GPU model.
     fn default() -> Self {
         MeshOptions {
             levels: LevelRule::default(),
@@ -245,6 +257,8 @@ impl Default for MeshOptions {
             unknown: UnknownPolicy::Fallback,
             budget_bytes: None,
             block_budget: DEFAULT_BLOCK_BUDGET,
+            triangle_work_budget: DEFAULT_TRIANGLE_WORK_BUDGET,
+            bake_work_budget: DEFAULT_BAKE_WORK_BUDGET,
             model: Model::default(),
             mips: Mips::default(),
         }
@@ -262,6 +276,8 @@ pub struct StatusCounts {
     pub out_of_exact_range: usize,
     /// [`TriangleStatus::BudgetExceeded`].
     pub budget_exceeded: usize,
+    /// [`TriangleStatus::WorkBudgetExceeded`].
+    pub work_budget_exceeded: usize,
 }
 
 /// What [`bake_meshes`] found, over all meshes.
@@ -302,6 +318,12 @@ pub struct BakeReport {
     /// model). `(counts[0] + counts[1] + widened) / micro-triangles` is
     /// the known fraction the exact model would have.
     pub widened: u64,
+    /// Work units spent, all triangles together ([`crate::bake::work`]).
+    pub work: u64,
+    /// Triangles [`LevelRule::Useful`] baked at level 0 because their
+    /// micro-triangles would each hold a whole texture period
+    /// ([`level_within_periods`](super::level_within_periods)).
+    pub period_level_zero: usize,
 }
 
 /// What [`bake_meshes`] returns: the buffers, the report, and every baked
@@ -599,16 +621,18 @@ pub fn bake_meshes(
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<MeshBake, MeshBakeError> {
     let triangles = resolve_all(meshes)?;
-    let levels = levels_of(meshes, &triangles, options);
+    let (levels, period_level_zero) = levels_of(meshes, &triangles, options);
 
     let total: usize = triangles.iter().map(|t| t.len()).sum();
     let mut counts = [0u64; 4];
     let mut widened = 0u64;
     let mut status = StatusCounts::default();
+    let mut work = 0u64;
     let mut known_area = 0.0;
     let mut area = 0.0;
     let mut baked_all = Vec::with_capacity(meshes.len());
     let mut done = 0usize;
+    let mut work_left = options.bake_work_budget;
     for (m, ((mesh, triangles), mesh_levels)) in
         meshes.iter().zip(&triangles).zip(&levels).enumerate()
     {
@@ -658,14 +682,15 @@ pub fn bake_meshes(
         let mut bound_bakers: BTreeMap<(u64, u64), (Baker, Baker)> = BTreeMap::new();
         let mut baked = Vec::with_capacity(triangles.len());
         for (t, (uv, &level)) in triangles.iter().zip(mesh_levels).enumerate() {
+            let max_work = options.triangle_work_budget.min(work_left);
             let b = match vertex_alpha {
                 None if mips.is_empty() => baker
-                    .bake(uv, level, options.format, options.unknown)
+                    .bake_within(uv, level, options.format, options.unknown, max_work)
                     .map_err(MeshBakeError::Bake)?,
                 None => {
                     let mut pairs = vec![(&baker, &baker)];
                     pairs.extend(mips.iter().map(|(low, high)| (low, high)));
-                    bake_bounded(&pairs, uv, level, options.format, options.unknown)?
+                    bake_bounded(&pairs, uv, level, options.format, options.unknown, max_work)?
                 }
                 Some(alphas) => {
                     let key = vertex_range(alphas[t]);
@@ -688,7 +713,8 @@ pub fn bake_meshes(
                         slot.insert((bound(false)?, bound(true)?));
                     }
                     let (low, high) = &bound_bakers[&key];
-                    bake_bounded(&[(low, high)], uv, level, options.format, options.unknown)?
+                    let pairs = [(low, high)];
+                    bake_bounded(&pairs, uv, level, options.format, options.unknown, max_work)?
                 }
             };
             for (sum, count) in counts.iter_mut().zip(b.counts) {
@@ -704,7 +730,10 @@ pub fn bake_meshes(
                 TriangleStatus::NotFinite => status.not_finite += 1,
                 TriangleStatus::OutOfExactRange => status.out_of_exact_range += 1,
                 TriangleStatus::BudgetExceeded => status.budget_exceeded += 1,
+                TriangleStatus::WorkBudgetExceeded => status.work_budget_exceeded += 1,
             }
+            work_left = work_left.saturating_sub(b.work);
+            work = work.saturating_add(b.work);
             baked.push(b);
             done += 1;
             progress(done, total);
@@ -762,6 +791,8 @@ pub fn bake_meshes(
         bytes_paper_tree: paper_bits.div_ceil(8),
         bytes_level_order_tree: level_order_bits.div_ceil(8),
         widened,
+        work,
+        period_level_zero,
     };
     Ok(MeshBake {
         buffers,

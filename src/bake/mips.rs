@@ -292,18 +292,24 @@ pub(crate) fn combine_bounds(
         };
         map.set(i, stored)?;
     }
-    let over = pairs.iter().any(|(a, b)| {
-        a.status == TriangleStatus::BudgetExceeded || b.status == TriangleStatus::BudgetExceeded
-    });
+    let any = |status| {
+        pairs
+            .iter()
+            .any(|(a, b)| a.status == status || b.status == status)
+    };
+    let status = if any(TriangleStatus::WorkBudgetExceeded) {
+        TriangleStatus::WorkBudgetExceeded
+    } else if any(TriangleStatus::BudgetExceeded) {
+        TriangleStatus::BudgetExceeded
+    } else {
+        first.0.status
+    };
     Ok(BakedTriangle {
         opacity: BakedOpacity::Map(map),
-        status: if over {
-            TriangleStatus::BudgetExceeded
-        } else {
-            first.0.status
-        },
+        status,
         counts,
         widened: 0,
+        work: 0,
     })
 }
 
@@ -311,19 +317,32 @@ pub(crate) fn combine_bounds(
 /// `(lower, upper)` (a baker may be both), and combines them
 /// ([`combine_bounds`]) into `format`. Its `widened` is the exact model's
 /// extra known micro-triangles, from a second round of bakes under the
-/// exact model, run only when a bake of the first round widened.
+/// exact model, run only when a bake of the first round widened. The bakes
+/// of a round share `max_work` work units in order ([`Baker::bake_within`]);
+/// the result's `work` is what both rounds spent.
 pub(crate) fn bake_bounded(
     pairs: &[(&Baker, &Baker)],
     uv: &UvTriangle,
     level: Level,
     format: Format,
     two_state: UnknownPolicy,
+    max_work: u64,
 ) -> Result<BakedTriangle, MeshBakeError> {
     let round = |model: Model| -> Result<(BakedTriangle, bool), MeshBakeError> {
-        let bake = |baker: &Baker| {
-            baker
-                .bake_as(model, uv, level, Format::FourState, two_state)
-                .map_err(MeshBakeError::Bake)
+        let mut spent = 0u64;
+        let mut bake = |baker: &Baker| {
+            let b = baker
+                .bake_as(
+                    model,
+                    uv,
+                    level,
+                    Format::FourState,
+                    two_state,
+                    max_work - spent.min(max_work),
+                )
+                .map_err(MeshBakeError::Bake)?;
+            spent = spent.saturating_add(b.work);
+            Ok::<_, MeshBakeError>(b)
         };
         let mut bakes = Vec::with_capacity(pairs.len());
         for (low, high) in pairs {
@@ -336,8 +355,9 @@ pub(crate) fn bake_bounded(
             bakes.push((low_bake, high_bake));
         }
         let widened = bakes.iter().any(|(a, b)| a.widened + b.widened > 0);
-        let combined = combine_bounds(&bakes, level, format, two_state)
+        let mut combined = combine_bounds(&bakes, level, format, two_state)
             .map_err(|e| MeshBakeError::Bake(e.into()))?;
+        combined.work = spent;
         Ok((combined, widened))
     };
     let model = pairs[0].0.model();
@@ -346,6 +366,7 @@ pub(crate) fn bake_bounded(
         let (exact, _) = round(Model::Exact)?;
         let known = |c: [u64; 4]| c[0] + c[1];
         combined.widened = known(exact.counts).saturating_sub(known(combined.counts));
+        combined.work = combined.work.saturating_add(exact.work);
     }
     Ok(combined)
 }

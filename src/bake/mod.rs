@@ -55,7 +55,17 @@
 //!
 //! [`useful_level`] is the paper's eq. 1: the lowest level at which every
 //! micro-triangle edge is at most one texel long; [`levels_within_budget`]
-//! lowers the highest levels first until the micromaps fit a byte budget.
+//! lowers the highest levels first until the micromaps fit a byte budget;
+//! [`level_within_periods`] bakes at level 0 a triangle whose
+//! micro-triangles would each hold a whole texture period (no level knows
+//! more there).
+//!
+//! # Bounded work
+//!
+//! Every bake is capped in work units (texel-table lookups, [`work`]): per
+//! triangle ([`Baker::bake_within`]) and per whole bake
+//! ([`mesh::MeshOptions::bake_work_budget`]); what is left when a budget
+//! runs out is unknown, never guessed.
 //!
 //! # Whole meshes
 //!
@@ -88,6 +98,7 @@ mod gpu;
 pub mod mesh;
 mod mips;
 mod texture;
+pub mod work;
 
 pub use baker::{
     BakeError, BakedOpacity, BakedTriangle, Baker, Contradiction, TexelPoint, TriangleStatus,
@@ -97,6 +108,10 @@ pub use gpu::Model;
 pub use texture::{
     AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Sampler, SliceTexture,
     Texel, TextureError, Unorm16Texture, Unorm8Texture,
+};
+pub use work::{
+    level_within_periods, spans_whole_periods, DEFAULT_BAKE_WORK_BUDGET,
+    DEFAULT_TRIANGLE_WORK_BUDGET,
 };
 
 use crate::micromap::{Format, Micromap};

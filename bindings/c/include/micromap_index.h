@@ -320,6 +320,8 @@ typedef struct mmi_bake_stats {
     uint64_t status_out_of_exact_range;
     /** Triangles where the block budget ran out. */
     uint64_t status_budget_exceeded;
+    /** Triangles where the work budget ran out (the rest unknown). */
+    uint64_t status_work_budget_exceeded;
     /** Known micro-triangles over all micro-triangles. */
     double known_fraction;
     /** The known fraction weighted by texel area. */

@@ -147,6 +147,8 @@ pub struct mmi_bake_stats {
     pub status_out_of_exact_range: u64,
     /// Triangles where the block budget ran out.
     pub status_budget_exceeded: u64,
+    /// Triangles where the work budget ran out (the rest unknown).
+    pub status_work_budget_exceeded: u64,
     /// Known micro-triangles over all micro-triangles.
     pub known_fraction: f64,
     /// The known fraction weighted by texel area.
@@ -374,6 +376,11 @@ fn options(o: &mmi_bake_options) -> Result<MeshOptions> {
         model: model(o.model)?,
         // Level 0, the library's default (the C options have no mip rule).
         mips: micromap_index::bake::mesh::Mips::Level0,
+        // The library's defaults for the work budgets (docs/bake.md,
+        // "Bounded work"); the C options do not offer them yet, and
+        // mmi_bake_stats counts the triangles they cut.
+        triangle_work_budget: micromap_index::bake::DEFAULT_TRIANGLE_WORK_BUDGET,
+        bake_work_budget: micromap_index::bake::DEFAULT_BAKE_WORK_BUDGET,
     })
 }
 
@@ -741,6 +748,7 @@ pub unsafe extern "C" fn mmi_bake_result_stats(
             status_not_finite: r.status.not_finite as u64,
             status_out_of_exact_range: r.status.out_of_exact_range as u64,
             status_budget_exceeded: r.status.budget_exceeded as u64,
+            status_work_budget_exceeded: r.status.work_budget_exceeded as u64,
             known_fraction: r.known_fraction,
             known_area_fraction: r.known_area_fraction,
             micromaps: r.micromaps as u64,

@@ -13,6 +13,7 @@ use micromap_index::bake::mesh::{
 };
 use micromap_index::bake::{
     AddressMode, AlphaTexture, Baker, Comparison, Cutoff, Filter, Model, Sampler, UvTriangle,
+    DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET,
 };
 use micromap_index::micromap::{
     read_buffers, BufferBytes, Format, IndexWidth, MicromapIndex, ReadOptions, TriangleOpacity,
@@ -91,7 +92,8 @@ pub(crate) static BAKE: Command = Command {
                             unknown-opaque, red unknown-transparent), wrapped
                             with the job's address modes; each distinct
                             triangle once, at most 2^27 pixels of
-                            micro-triangles (summary.json counts the rest)
+                            micro-triangles (summary.json counts the rest),
+                            with a legend of the colours and the model
   DIR is locked (DIR/.micromap-index.lock) from the check to the last
   rename: a second bake into the same DIR is refused (exit 3) and never
   mixes its files with the first one's. Ctrl-C removes the temporaries,
@@ -156,6 +158,17 @@ pub(crate) static BAKE: Command = Command {
                 "N",
                 "refuse (exit 2) before baking when the output may exceed N bytes
                          (default 1073741824; the estimate counts every map before dedup)",
+            ),
+            Flag::value(
+                "--work-budget",
+                "N",
+                "work units (texel-table lookups) one triangle may spend; the rest
+                         is unknown (default 67108864)",
+            ),
+            Flag::value(
+                "--bake-work-budget",
+                "N",
+                "work units all triangles may spend together (default 17179869184)",
             ),
             Flag::switch("--force", "replace existing files in DIR"),
             Flag::switch("--no-preview", "skip preview.png"),
@@ -606,6 +619,9 @@ struct Summary {
     /// What the GPU model's widening cost this bake (zero under `exact`).
     widening: Widening,
     levels: Vec<u64>,
+    /// Auto levels lowered to 0: micro-triangles would each hold a whole
+    /// texture period.
+    period_level_zero_triangles: usize,
     micro_triangles: StateCounts,
     known_fraction: f64,
     known_area_fraction: f64,
@@ -616,6 +632,8 @@ struct Summary {
     bytes_paper_tree: u64,
     bytes_level_order_tree: u64,
     index_width_bits: usize,
+    /// Work units spent (texel-table lookups, `micromap_index::bake::work`).
+    work_units: u64,
     bake_seconds: f64,
     micro_triangles_per_second: f64,
     /// Drawing preview.png (0 with --no-preview).
@@ -642,6 +660,7 @@ struct StatusCounts {
     not_finite: usize,
     out_of_exact_range: usize,
     budget_exceeded: usize,
+    work_budget_exceeded: usize,
 }
 
 impl From<micromap_index::bake::mesh::StatusCounts> for StatusCounts {
@@ -651,6 +670,7 @@ impl From<micromap_index::bake::mesh::StatusCounts> for StatusCounts {
             not_finite: s.not_finite,
             out_of_exact_range: s.out_of_exact_range,
             budget_exceeded: s.budget_exceeded,
+            work_budget_exceeded: s.work_budget_exceeded,
         }
     }
 }
@@ -716,6 +736,14 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         })
         .transpose()?
         .unwrap_or(DEFAULT_MAX_OUTPUT_BYTES);
+    let work_budget = |flag: &str, default: u64| {
+        p.get(flag).map_or(Ok(default), |t| {
+            t.parse::<u64>()
+                .map_err(|_| Failure::Malformed(format!("{flag} {t:?}: expected a count")))
+        })
+    };
+    let triangle_work_budget = work_budget("--work-budget", DEFAULT_TRIANGLE_WORK_BUDGET)?;
+    let bake_work_budget = work_budget("--bake-work-budget", DEFAULT_BAKE_WORK_BUDGET)?;
     let width = index_width(&p)?;
     let model = model_option(&p)?;
     let mips = match p.get("--mips") {
@@ -743,14 +771,17 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     // The textures as the baker reads them, and one mesh per job.
     let textures = input.textures()?;
     let meshes = input.meshes(&textures);
+    let rule = match fixed_level {
+        Some(level) => LevelRule::Fixed(level),
+        None => LevelRule::Useful { max: max_level },
+    };
     let options = MeshOptions {
-        levels: match fixed_level {
-            Some(level) => LevelRule::Fixed(level),
-            None => LevelRule::Useful { max: max_level },
-        },
+        levels: rule,
         format,
         unknown: two_state,
         budget_bytes: budget,
+        triangle_work_budget,
+        bake_work_budget,
         model,
         mips,
         ..MeshOptions::default()
@@ -834,6 +865,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         Some(
             crate::preview::render(
                 &input.images,
+                model,
                 input.jobs.iter().zip(&baked.triangles).map(|(job, baked)| {
                     (
                         job.image,
@@ -866,6 +898,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
                 / micro.max(1) as f64,
         },
         levels: report.levels.clone(),
+        period_level_zero_triangles: report.period_level_zero,
         known_fraction: report.known_fraction,
         known_area_fraction: report.known_area_fraction,
         micro_triangles: counts,
@@ -876,6 +909,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         bytes_paper_tree: report.bytes_paper_tree,
         bytes_level_order_tree: report.bytes_level_order_tree,
         index_width_bits: width.bytes() * 8,
+        work_units: report.work,
         bake_seconds,
         micro_triangles_per_second: micro as f64 / bake_seconds.max(1e-9),
         preview_seconds,

@@ -1,8 +1,11 @@
 //! `preview.png` of a bake: each texture (side by side when there are
 //! several) in grey, every micro-triangle of every triangle tinted by its
-//! state, the mesh triangles' edges in white.
+//! state, the mesh triangles' edges in white, and under them a legend of
+//! the colours and the model ([`legend`]).
 
-use micromap_index::bake::{AddressMode, BakedTriangle, Sampler, UvTriangle};
+mod legend;
+
+use micromap_index::bake::{AddressMode, BakedTriangle, Model, Sampler, UvTriangle};
 use micromap_index::inverse::micro_triangles;
 use micromap_index::micromap::State;
 use micromap_index_assets::{AlphaImage, AlphaTexels};
@@ -50,9 +53,11 @@ impl Canvas {
     }
 }
 
-/// The picture as PNG bytes. `jobs`: (image index, triangles, their bakes).
+/// The picture as PNG bytes. `jobs`: (image index, triangles, their bakes),
+/// baked under `model` (named in the legend).
 pub(crate) fn render<'a>(
     images: &[AlphaImage],
+    model: Model,
     jobs: impl Iterator<Item = (usize, Sampler, &'a [UvTriangle], &'a [BakedTriangle])>,
 ) -> Result<Drawn, String> {
     let max_side = images
@@ -69,6 +74,10 @@ pub(crate) fn render<'a>(
         width = width.saturating_add(image.width * scale);
         height = height.max(image.height * scale);
     }
+    let tiles_height = height;
+    let (legend_width, legend_height) = legend::size(model);
+    let width = width.max(legend_width);
+    let height = height.saturating_add(legend_height);
     if u64::from(width) * u64::from(height) > 1 << 26 {
         return Err(format!(
             "the preview would be {width}x{height} pixels: use --no-preview"
@@ -152,6 +161,7 @@ pub(crate) fn render<'a>(
             }
         }
     }
+    legend::draw(&mut canvas, tiles_height, model);
     Ok(Drawn {
         png: encode(&canvas)?,
         micro_triangles: drawn,
@@ -295,6 +305,40 @@ const _: () = assert!(State::Opaque as usize == 1);
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The picture is the tiles with the legend under them (wide enough
+    /// for the legend even over a tiny texture), and the legend names the
+    /// model: the two models' pictures differ only there.
+    #[test]
+    fn the_picture_ends_in_a_legend_naming_the_model() {
+        let image = AlphaImage {
+            width: 2,
+            height: 2,
+            texels: AlphaTexels::Unorm8(vec![255, 0, 0, 255]),
+        };
+        let decode = |png: &[u8]| {
+            let decoder = png::Decoder::new(std::io::Cursor::new(png.to_vec()));
+            let mut reader = decoder.read_info().unwrap();
+            let mut rgb = vec![0; reader.output_buffer_size().unwrap()];
+            let info = reader.next_frame(&mut rgb).unwrap();
+            (info.width, info.height, rgb)
+        };
+        let draw = |model| {
+            let drawn = render(std::slice::from_ref(&image), model, std::iter::empty()).unwrap();
+            decode(&drawn.png)
+        };
+        let (width, height, gpu) = draw(Model::GpuBinary32);
+        let (legend_width, legend_height) = legend::size(Model::GpuBinary32);
+        // 2 texels at the largest scale, 8: a 16-pixel tile.
+        assert_eq!((width, height), (legend_width.max(16), 16 + legend_height));
+        let (_, exact_height, exact) = draw(Model::Exact);
+        assert_eq!(exact_height, height);
+        let (w, h) = (width as usize, height as usize);
+        let first_difference =
+            (0..w * h).find(|&i| gpu[3 * i..3 * i + 3] != exact[3 * i..3 * i + 3]);
+        let row = first_difference.expect("the model line differs") / w;
+        assert!(row >= 16, "row {row}: above the legend");
+    }
 
     /// Pixels past the tile land where the sampler reads them: repeat
     /// wraps, mirrored-repeat reflects every other period, mirror-clamp

@@ -6,40 +6,27 @@
 
 mod common;
 
+#[cfg(target_os = "linux")]
+use common::dev_full;
 use common::{binary, run, run_with_stdin, text};
 use std::fs::File;
 use std::process::Stdio;
-
-#[cfg(target_os = "linux")]
-fn dev_full() -> Stdio {
-    Stdio::from(File::options().write(true).open("/dev/full").unwrap())
-}
 
 /// `prove ... >/dev/full` and `help >/dev/full` panicked; now exit 3 with
 /// the reason on stderr, once (`prove`: `crates/lab/tests/lab_output.rs`).
 #[cfg(target_os = "linux")]
 #[test]
 fn a_full_disk_is_exit_3_with_a_message() {
-    for args in [
-        &["help"][..],
-        &["eval", "--help"][..],
-        &["help", "check"][..],
-        &["help", "prove"][..],
-        &["locate", "--level", "3", "--index", "5"][..],
-    ] {
-        let output = binary()
-            .args(args)
-            .stdin(Stdio::null())
-            .stdout(dev_full())
-            .output()
-            .unwrap();
-        let stderr = text(&output.stderr);
-        assert_eq!(output.status.code(), Some(3), "{args:?}: {stderr}");
-        assert_eq!(
-            stderr, "micromap-index: writing stdout: No space left on device (os error 28)\n",
-            "{args:?}"
-        );
-    }
+    common::assert_full_stdout_is_exit_3(
+        "micromap-index",
+        &[
+            &["help"][..],
+            &["eval", "--help"][..],
+            &["help", "check"][..],
+            &["help", "prove"][..],
+            &["locate", "--level", "3", "--index", "5"][..],
+        ],
+    );
     let output = binary()
         .args(["eval", "--variant", "spec-f32"])
         .stdin(Stdio::piped())
@@ -64,7 +51,7 @@ fn a_full_disk_is_exit_3_with_a_message() {
 #[test]
 fn a_full_or_closed_stderr_keeps_the_exit_code() {
     let spec_f32 = common::committed("spec-f32.json");
-    for (args, code) in [
+    common::assert_lost_stderr_keeps_exit_codes(&[
         (&["bogus"][..], 2),
         (&["prove", "--sample", "0", "--levels", "1"][..], 2),
         (&["locate", "--level", "33", "--index", "0"][..], 2),
@@ -72,17 +59,7 @@ fn a_full_or_closed_stderr_keeps_the_exit_code() {
             &["check", "--vectors", &spec_f32, "--answers", "/dev/null"][..],
             1,
         ),
-    ] {
-        for stderr in [dev_full(), Stdio::null()] {
-            let output = binary()
-                .args(args)
-                .stdin(Stdio::null())
-                .stderr(stderr)
-                .output()
-                .unwrap();
-            assert_eq!(output.status.code(), Some(code), "{args:?}");
-        }
-    }
+    ]);
 }
 
 /// Every code of the table, produced by a command (141 and 130 by

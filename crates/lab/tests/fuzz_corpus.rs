@@ -129,3 +129,13 @@ fn triangles_json() {
 fn gltf_asset() {
     replay_seeds("gltf_asset", fuzzing::gltf_asset);
 }
+
+#[test]
+fn bake_budgets() {
+    replay("bake_budgets", fuzzing::bake_budgets);
+}
+
+#[test]
+fn texel_tables_within() {
+    replay("texel_tables_within", fuzzing::texel_tables_within);
+}

@@ -8,14 +8,8 @@
 mod cli;
 
 use cli::{binary, close_stdout_after, run, text};
-use std::fs::File;
 use std::io::{BufRead, BufReader, Read};
 use std::process::{Command, Stdio};
-
-#[cfg(target_os = "linux")]
-fn dev_full() -> Stdio {
-    Stdio::from(File::options().write(true).open("/dev/full").unwrap())
-}
 
 fn assert_no_panic(args: &[&str], stderr: &str) {
     assert!(
@@ -67,26 +61,16 @@ fn vectors_out_into_a_closed_pipe_writes_every_file() {
 #[cfg(target_os = "linux")]
 #[test]
 fn a_full_disk_is_exit_3_with_a_message() {
-    for args in [
-        &["prove", "--levels", "0..=3"][..],
-        &["prove", "--levels", "0..=3", "--json"][..],
-        &["help"][..],
-        &["help", "prove"][..],
-        &["vectors", "--help"][..],
-    ] {
-        let output = binary()
-            .args(args)
-            .stdin(Stdio::null())
-            .stdout(dev_full())
-            .output()
-            .unwrap();
-        let stderr = text(&output.stderr);
-        assert_eq!(output.status.code(), Some(3), "{args:?}: {stderr}");
-        assert_eq!(
-            stderr, "micromap-lab: writing stdout: No space left on device (os error 28)\n",
-            "{args:?}"
-        );
-    }
+    cli::assert_full_stdout_is_exit_3(
+        "micromap-lab",
+        &[
+            &["prove", "--levels", "0..=3"][..],
+            &["prove", "--levels", "0..=3", "--json"][..],
+            &["help"][..],
+            &["help", "prove"][..],
+            &["vectors", "--help"][..],
+        ],
+    );
 }
 
 /// `bogus 2>/dev/full` panicked; a full (or closed) stderr now changes
@@ -94,21 +78,11 @@ fn a_full_disk_is_exit_3_with_a_message() {
 #[cfg(target_os = "linux")]
 #[test]
 fn a_full_or_closed_stderr_keeps_the_exit_code() {
-    for (args, code) in [
+    cli::assert_lost_stderr_keeps_exit_codes(&[
         (&["bogus"][..], 2),
         (&["prove", "--sample", "0", "--levels", "1"][..], 2),
         (&["prove", "--levels", "0..=4", "--version1"][..], 1),
-    ] {
-        for stderr in [dev_full(), Stdio::null()] {
-            let output = binary()
-                .args(args)
-                .stdin(Stdio::null())
-                .stderr(stderr)
-                .output()
-                .unwrap();
-            assert_eq!(output.status.code(), Some(code), "{args:?}");
-        }
-    }
+    ]);
 }
 
 /// The codes of the table that `micromap-lab` alone produces (1 and 3 too);

@@ -3,23 +3,21 @@
 
 #[cfg(doc)]
 use super::bake_meshes;
-use super::{
-    levels_within_budget, useful_level, LevelRule, Mesh, MeshBakeError, MeshOptions, UvTriangle,
-};
+use super::{levels_within_budget, Mesh, MeshBakeError, MeshOptions, UvTriangle};
 use crate::micromap::{IndexWidth, Micromap};
 use crate::Level;
 use alloc::borrow::Cow;
 use alloc::vec::Vec;
 
 /// Each triangle's level, mesh by mesh, as [`bake_meshes`] chooses them:
-/// the [`LevelRule`], then the byte budget over all meshes
+/// the [`LevelRule`](super::LevelRule), then the byte budget over all meshes
 /// ([`levels_within_budget`]).
 pub fn chosen_levels(
     meshes: &[Mesh<'_>],
     options: &MeshOptions,
 ) -> Result<Vec<Vec<Level>>, MeshBakeError> {
     let triangles = resolve_all(meshes)?;
-    Ok(levels_of(meshes, &triangles, options))
+    Ok(levels_of(meshes, &triangles, options).0)
 }
 
 /// An upper bound, before any micro-triangle is baked, on the bytes of
@@ -67,11 +65,14 @@ pub(super) fn resolve_all<'a>(
         .collect()
 }
 
+/// Each triangle's level ([`LevelRule::level_of`](super::LevelRule::level_of), then the byte budget),
+/// and how many triangles the period rule lowered to level 0.
 pub(super) fn levels_of(
     meshes: &[Mesh<'_>],
     triangles: &[Cow<'_, [UvTriangle]>],
     options: &MeshOptions,
-) -> Vec<Vec<Level>> {
+) -> (Vec<Vec<Level>>, usize) {
+    let mut period_level_zero = 0;
     let mut levels: Vec<Vec<Level>> = meshes
         .iter()
         .zip(triangles)
@@ -79,9 +80,10 @@ pub(super) fn levels_of(
             let size = (mesh.texture.width(), mesh.texture.height());
             triangles
                 .iter()
-                .map(|uv| match options.levels {
-                    LevelRule::Fixed(level) => level,
-                    LevelRule::Useful { max } => useful_level(uv, size, max),
+                .map(|uv| {
+                    let (level, lowered) = options.levels.level_of(uv, size, mesh.material.sampler);
+                    period_level_zero += usize::from(lowered);
+                    level
                 })
                 .collect()
         })
@@ -95,5 +97,5 @@ pub(super) fn levels_of(
             }
         }
     }
-    levels
+    (levels, period_level_zero)
 }

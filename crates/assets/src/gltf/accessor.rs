@@ -466,28 +466,15 @@ impl<'a> Reader<'a, '_> {
             || format!("{path} ({count} triangles' vertex alphas)"),
             bytes_of(count as u64, 12),
         )?;
-        let mut triangles = Vec::with_capacity(count);
-        for t in 0..count {
-            let mut triangle = [0f32; 3];
-            for (k, corner) in triangle.iter_mut().enumerate() {
-                let position = 3 * t + k;
-                let vertex = match indices {
-                    Some(indices) => indices[position] as usize,
-                    None => position,
-                };
-                *corner = *alphas.get(vertex).ok_or_else(|| {
-                    AssetError::gltf(
-                        format!("{path}.attributes.COLOR_0"),
-                        format!(
-                            "vertex {vertex} (corner {position}) is past the {} colours",
-                            alphas.len()
-                        ),
-                    )
-                })?;
-            }
-            triangles.push(triangle);
-        }
-        Ok(triangles)
+        gather_corners(alphas, indices, count, |position, vertex| {
+            AssetError::gltf(
+                format!("{path}.attributes.COLOR_0"),
+                format!(
+                    "vertex {vertex} (corner {position}) is past the {} colours",
+                    alphas.len()
+                ),
+            )
+        })
     }
 
     /// The triangles of a primitive: its UVs through its indices.
@@ -514,27 +501,44 @@ impl<'a> Reader<'a, '_> {
             || format!("{path} ({count} triangles)"),
             bytes_of(count as u64, 24),
         )?;
-        let mut triangles = Vec::with_capacity(count);
-        for t in 0..count {
-            let mut triangle = [[0f32; 2]; 3];
-            for (k, corner) in triangle.iter_mut().enumerate() {
-                let position = 3 * t + k;
-                let vertex = match indices {
-                    Some(indices) => indices[position] as usize,
-                    None => position,
-                };
-                *corner = *uvs.get(vertex).ok_or_else(|| {
-                    AssetError::gltf(
-                        format!("{path}.indices"),
-                        format!(
-                            "index {position} is {vertex}, past the {} texture coordinates",
-                            uvs.len()
-                        ),
-                    )
-                })?;
-            }
-            triangles.push(triangle);
-        }
-        Ok(triangles)
+        gather_corners(uvs, indices, count, |position, vertex| {
+            AssetError::gltf(
+                format!("{path}.indices"),
+                format!(
+                    "index {position} is {vertex}, past the {} texture coordinates",
+                    uvs.len()
+                ),
+            )
+        })
     }
+}
+
+/// The per-corner values of `count` triangles: corner `position` (`3 t +
+/// k` for corner `k` of triangle `t`) is `values[indices[position]]`, or
+/// `values[position]` without indices. The one gather of the UVs and the
+/// vertex alphas; a vertex past `values` is `past(position, vertex)`.
+/// The caller has taken the result's bytes from the asset's budget, and
+/// `indices` (if any) holds at least `3 count` entries.
+fn gather_corners<T: Copy>(
+    values: &[T],
+    indices: Option<&[u32]>,
+    count: usize,
+    past: impl Fn(usize, usize) -> AssetError,
+) -> Result<Vec<[T; 3]>, AssetError> {
+    let mut triangles = Vec::with_capacity(count);
+    for t in 0..count {
+        let corner = |k: usize| {
+            let position = 3 * t + k;
+            let vertex = match indices {
+                Some(indices) => indices[position] as usize,
+                None => position,
+            };
+            values
+                .get(vertex)
+                .copied()
+                .ok_or_else(|| past(position, vertex))
+        };
+        triangles.push([corner(0)?, corner(1)?, corner(2)?]);
+    }
+    Ok(triangles)
 }

@@ -75,6 +75,57 @@ pub fn close_stdout_after(args: &[&str], lines: usize) -> (Option<i32>, Vec<Stri
     (status.code(), read, stderr)
 }
 
+/// `/dev/full` opened for writing: a child's stdout or stderr on a full
+/// disk.
+#[cfg(target_os = "linux")]
+pub fn dev_full() -> Stdio {
+    Stdio::from(
+        std::fs::File::options()
+            .write(true)
+            .open("/dev/full")
+            .unwrap(),
+    )
+}
+
+/// Each of `commands`, with stdout on a full disk, exits 3 with exactly
+/// `PROGRAM: writing stdout: No space left on device (os error 28)` on
+/// stderr, once.
+#[cfg(target_os = "linux")]
+pub fn assert_full_stdout_is_exit_3(program: &str, commands: &[&[&str]]) {
+    for args in commands {
+        let output = binary()
+            .args(*args)
+            .stdin(Stdio::null())
+            .stdout(dev_full())
+            .output()
+            .unwrap();
+        let stderr = text(&output.stderr);
+        assert_eq!(output.status.code(), Some(3), "{args:?}: {stderr}");
+        assert_eq!(
+            stderr,
+            format!("{program}: writing stdout: No space left on device (os error 28)\n"),
+            "{args:?}"
+        );
+    }
+}
+
+/// Each command exits with its code whether stderr is a full disk or
+/// closed: a lost message changes nothing else.
+#[cfg(target_os = "linux")]
+pub fn assert_lost_stderr_keeps_exit_codes(cases: &[(&[&str], i32)]) {
+    for &(args, code) in cases {
+        for stderr in [dev_full(), Stdio::null()] {
+            let output = binary()
+                .args(args)
+                .stdin(Stdio::null())
+                .stderr(stderr)
+                .output()
+                .unwrap();
+            assert_eq!(output.status.code(), Some(code), "{args:?}");
+        }
+    }
+}
+
 /// Bytes as text, invalid UTF-8 replaced.
 pub fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()

@@ -23,6 +23,8 @@
 //! | [`succinct_tree`] | `succinct_tree` | the succinct-tree readers never panic; both layouts round-trip and agree with the flat micromap |
 //! | [`alpha_image`] | `alpha_image` | [`assets::decode_alpha_image`] never panics, stays within [`FUZZ_LIMITS`], and what it accepts has `width * height` texels |
 //! | [`triangles_json`] | `triangles_json` | [`assets::read_triangles_json`] never panics; what it accepts writes back and reads back bit for bit |
+//! | [`bake_budgets`] | `bake_budgets` | [`mesh::bake_meshes`] under work budgets never panics, spends within one micro-triangle of each budget, counts every cut triangle, and bakes only what the verifier finds sound |
+//! | [`texel_tables_within`] | `texel_tables_within` | [`Baker::new_within`] builds the texel tables only within its byte limit and otherwise answers a typed error naming the bytes and the limit (never an abort) |
 //! | [`gltf_asset`] | `gltf_asset` | [`assets::read_gltf_bytes`] (URIs served [`FUZZ_PNG`]) never panics, stays within [`FUZZ_LIMITS`], and what it accepts is consistent |
 //!
 //! ```
@@ -55,8 +57,11 @@
 //! [`assets::decode_alpha_image`]: micromap_index_assets::decode_alpha_image
 //! [`assets::read_triangles_json`]: micromap_index_assets::read_triangles_json
 //! [`assets::read_gltf_bytes`]: micromap_index_assets::read_gltf_bytes
+//! [`mesh::bake_meshes`]: micromap_index::bake::mesh::bake_meshes
+//! [`Baker::new_within`]: micromap_index::bake::Baker::new_within
 
 mod assets;
+mod bake_budgets;
 mod eval_input;
 mod exact_walk_vs_fixed;
 mod inverse_round_trip;
@@ -65,6 +70,7 @@ mod spec_vs_mirror;
 mod succinct_tree;
 mod vector_reader;
 pub use assets::{alpha_image, gltf_asset, triangles_json, FUZZ_LIMITS, FUZZ_PNG};
+pub use bake_budgets::{bake_budgets, texel_tables_within};
 pub use eval_input::eval_input;
 pub use exact_walk_vs_fixed::exact_walk_vs_fixed;
 pub use inverse_round_trip::inverse_round_trip;

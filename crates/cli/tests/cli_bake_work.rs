@@ -1,0 +1,213 @@
+//! `bake` under bounded work (issue 26): the issue's 47-byte triangle over
+//! 10^6 texture periods finishes at once at its auto level (level 0: its
+//! micro-triangles would each hold whole periods) and in bounded time at a
+//! fixed level 12 (its work budget, reported); the per-bake budget is
+//! reported the same way; the bundled assets never come near the default.
+
+mod common;
+
+use common::{run, scratch};
+use micromap_index::bake::{DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET};
+use serde_json::Value;
+use std::path::Path;
+use std::time::Instant;
+
+const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+
+fn chain() -> String {
+    format!("{ROOT}/assets/crytek-sponza/chain.png")
+}
+
+/// The issue's input: one triangle spanning 10^6 periods of the texture.
+const HUGE: &str = r#"{"triangles":[[[0,0],[1000000,0],[0,1000000]]]}"#;
+
+/// Bakes with `args` into `dir/out`, expects exit 0, returns summary.json
+/// and the seconds it took.
+fn bake(dir: &Path, args: &[&str]) -> (Value, f64) {
+    let out = dir.join("out");
+    let mut all = vec![
+        "bake",
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+        "--no-preview",
+    ];
+    all.extend_from_slice(args);
+    let start = Instant::now();
+    let output = run(&all);
+    let seconds = start.elapsed().as_secs_f64();
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{all:?}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    (serde_json::from_str(&summary).unwrap(), seconds)
+}
+
+/// verify-bake of `dir/out` against the triangles: sound (exit 0).
+fn verifies_sound(dir: &Path, texture: &str, tris: &Path) {
+    let out = dir.join("out");
+    let output = run(&[
+        "verify-bake",
+        "--texture",
+        texture,
+        "--triangles",
+        tris.to_str().unwrap(),
+        "--micromaps",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+fn count(summary: &Value, path: &[&str]) -> u64 {
+    let mut v = summary;
+    for key in path {
+        v = &v[*key];
+    }
+    v.as_u64()
+        .unwrap_or_else(|| panic!("{path:?} in {summary}"))
+}
+
+#[test]
+fn the_many_periods_triangle_bakes_at_level_0_at_once() {
+    let dir = scratch("work-auto");
+    let tris = dir.join("huge.json");
+    std::fs::write(&tris, HUGE).unwrap();
+    let (summary, seconds) = bake(
+        &dir,
+        &["--texture", &chain(), "--triangles", tris.to_str().unwrap()],
+    );
+    assert!(seconds < 10.0, "{seconds} s");
+    assert_eq!(summary["levels"], serde_json::json!([1]));
+    assert_eq!(count(&summary, &["period_level_zero_triangles"]), 1);
+    assert_eq!(count(&summary, &["status", "exact"]), 1);
+    assert!(count(&summary, &["work_units"]) < 10_000, "{summary}");
+    verifies_sound(&dir, &chain(), &tris);
+}
+
+#[test]
+fn the_many_periods_triangle_at_level_12_stops_at_its_work_budget() {
+    let dir = scratch("work-fixed");
+    let tris = dir.join("huge.json");
+    std::fs::write(&tris, HUGE).unwrap();
+    let budget = 1u64 << 20;
+    let (summary, seconds) = bake(
+        &dir,
+        &[
+            "--texture",
+            &chain(),
+            "--triangles",
+            tris.to_str().unwrap(),
+            "--level",
+            "12",
+            "--work-budget",
+            &budget.to_string(),
+        ],
+    );
+    assert!(seconds < 30.0, "{seconds} s");
+    assert_eq!(count(&summary, &["status", "work_budget_exceeded"]), 1);
+    assert_eq!(count(&summary, &["status", "exact"]), 0);
+    assert_eq!(count(&summary, &["period_level_zero_triangles"]), 0);
+    let work = count(&summary, &["work_units"]);
+    assert!((budget..budget + 5000).contains(&work), "{work}");
+    assert_eq!(count(&summary, &["micro_triangles", "opaque"]), 0);
+    verifies_sound(&dir, &chain(), &tris);
+}
+
+#[test]
+fn a_spent_bake_budget_leaves_the_rest_unknown_and_counted() {
+    let dir = scratch("work-bake");
+    let grid = format!("{ROOT}/assets/crytek-sponza/grid.tris.json");
+    let common = ["--texture", &chain(), "--triangles", &grid, "--level", "6"];
+    let (full, _) = bake(&dir, &common);
+    let triangles = count(&full, &["triangles"]);
+    assert_eq!(count(&full, &["status", "work_budget_exceeded"]), 0);
+    let half = (count(&full, &["work_units"]) / 2).to_string();
+    let mut args = common.to_vec();
+    args.extend(["--bake-work-budget", &half, "--force"]);
+    let (cut, _) = bake(&dir, &args);
+    let exceeded = count(&cut, &["status", "work_budget_exceeded"]);
+    assert!(
+        exceeded > 0 && exceeded < triangles,
+        "{exceeded} of {triangles}"
+    );
+    assert_eq!(exceeded + count(&cut, &["status", "exact"]), triangles);
+    let known = |s: &Value| {
+        count(s, &["micro_triangles", "opaque"]) + count(s, &["micro_triangles", "transparent"])
+    };
+    assert!(known(&cut) < known(&full));
+    verifies_sound(&dir, &chain(), Path::new(&grid));
+    // Nothing at all to spend: every triangle is unknown.
+    let mut args = common.to_vec();
+    args.extend(["--bake-work-budget", "0", "--force"]);
+    let (none, _) = bake(&dir, &args);
+    assert_eq!(count(&none, &["status", "work_budget_exceeded"]), triangles);
+    assert_eq!((known(&none), count(&none, &["work_units"])), (0, 0));
+}
+
+/// The bundled assets at their auto levels stay under a sixteenth of the
+/// default per-triangle budget: the default never cuts an ordinary bake.
+#[test]
+fn the_bundled_assets_stay_far_under_the_default_budget() {
+    let sixteenth = (DEFAULT_TRIANGLE_WORK_BUDGET / 16).to_string();
+    for (name, gltf) in [
+        ("cards", "assets/crytek-sponza/cards.glb"),
+        ("fern", "assets/polyhaven-fern02/fern_02.gltf"),
+    ] {
+        let dir = scratch(&format!("work-{name}"));
+        let path = format!("{ROOT}/{gltf}");
+        let (summary, _) = bake(&dir, &["--gltf", &path, "--work-budget", &sixteenth]);
+        assert_eq!(
+            count(&summary, &["status", "work_budget_exceeded"]),
+            0,
+            "{name}"
+        );
+        assert!(count(&summary, &["work_units"]) > 0, "{name}");
+    }
+}
+
+#[test]
+fn the_work_flags_show_their_defaults_and_refuse_non_numbers() {
+    let help = run(&["help", "bake"]);
+    let help = String::from_utf8_lossy(&help.stdout);
+    assert!(
+        help.contains(&format!("(default {DEFAULT_TRIANGLE_WORK_BUDGET})")),
+        "{help}"
+    );
+    assert!(
+        help.contains(&format!("(default {DEFAULT_BAKE_WORK_BUDGET})")),
+        "{help}"
+    );
+    let dir = scratch("work-flags");
+    let tris = dir.join("huge.json");
+    std::fs::write(&tris, HUGE).unwrap();
+    for flag in ["--work-budget", "--bake-work-budget"] {
+        let out = dir.join("out");
+        let output = run(&[
+            "bake",
+            "--texture",
+            &chain(),
+            "--triangles",
+            tris.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            flag,
+            "lots",
+        ]);
+        assert_eq!(output.status.code(), Some(2), "{flag}");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(
+            stderr.contains(&format!("{flag} \"lots\": expected a count")),
+            "{stderr}"
+        );
+        assert!(!out.join("summary.json").exists());
+    }
+}
