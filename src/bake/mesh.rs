@@ -55,6 +55,9 @@ use alloc::vec;
 use alloc::vec::Vec;
 use core::fmt;
 
+mod verify;
+pub use verify::{verify_mesh, MeshVerification, MeshVerifyError};
+
 /// A mesh's triangles in UV space.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum MeshTriangles<'a> {
