@@ -718,7 +718,10 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     let s = sampler_options(&p)?;
     let preview = !p.flag("--no-preview");
     let gltf_out = crate::gltf_out::GltfOut::from_options(&p)?;
-    let gltf_names = gltf_out.as_ref().map(|g| g.names()).unwrap_or_default();
+    let gltf_names = gltf_out
+        .as_ref()
+        .map(crate::gltf_out::GltfOut::names)
+        .unwrap_or_default();
     let mut outputs = OUTPUTS.to_vec();
     outputs.extend(gltf_names.iter().map(String::as_str));
     if let Err(message) = install_interrupt_handler() {

@@ -9,8 +9,8 @@ use micromap_index::bake::mesh::{verify_mesh, Mesh, MeshTriangles};
 use micromap_index::bake::Model;
 use micromap_index::micromap::{MicromapBuffers, TriangleOpacity};
 use micromap_index_assets::{
-    read_gltf_file, read_gltf_micromaps, write_gltf_micromaps, AssetError, GltfContainer,
-    GltfMicromapWrite, Limits,
+    read_gltf_file, read_gltf_micromaps, relative_uri_prefix, write_gltf_micromaps, AssetError,
+    GltfContainer, GltfMicromapWrite, Limits,
 };
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -93,7 +93,10 @@ impl GltfOut {
         let limits = Limits::default();
         let input = read_limited(asset, &limits)?;
         let from = asset.parent().unwrap_or(Path::new(""));
-        let prefix = uri_prefix(out, from)?;
+        let prefix = relative_uri_prefix(out, from).map_err(|e| match e {
+            AssetError::Io { .. } => Failure::Io(format!("cannot resolve {e}")),
+            other => Failure::Malformed(other.to_string()),
+        })?;
         let mut resolve = |uri: &str| read_asset_file(&from.join(uri), &limits);
         let written = write_gltf_micromaps(
             &input,
@@ -151,55 +154,6 @@ fn read_limited(path: &Path, limits: &Limits) -> Result<Vec<u8>, Failure> {
         AssetError::Io { .. } => Failure::Io(e.to_string()),
         other => Failure::Malformed(other.to_string()),
     })
-}
-
-/// The relative URI prefix from directory `out` to directory `from`
-/// (percent-encoded segments, each followed by `/`; empty when they are
-/// the same directory).
-fn uri_prefix(out: &Path, from: &Path) -> Result<String, Failure> {
-    let canonical = |dir: &Path| {
-        let dir = if dir.as_os_str().is_empty() {
-            Path::new(".")
-        } else {
-            dir
-        };
-        dir.canonicalize()
-            .map_err(|e| Failure::Io(format!("cannot resolve {}: {e}", dir.display())))
-    };
-    let (out, from) = (canonical(out)?, canonical(from)?);
-    let out_parts: Vec<_> = out.components().collect();
-    let from_parts: Vec<_> = from.components().collect();
-    let common = out_parts
-        .iter()
-        .zip(&from_parts)
-        .take_while(|(a, b)| a == b)
-        .count();
-    let mut prefix = "../".repeat(out_parts.len() - common);
-    for part in &from_parts[common..] {
-        let text = part.as_os_str().to_str().ok_or_else(|| {
-            Failure::Malformed(format!(
-                "{}: the asset's directory is not UTF-8, which a URI cannot name",
-                from.display()
-            ))
-        })?;
-        prefix.push_str(&percent_encode(text));
-        prefix.push('/');
-    }
-    Ok(prefix)
-}
-
-/// A path segment with the bytes outside RFC 3986's unreserved set
-/// percent-encoded.
-fn percent_encode(text: &str) -> String {
-    let mut out = String::new();
-    for byte in text.bytes() {
-        if byte.is_ascii_alphanumeric() || matches!(byte, b'-' | b'.' | b'_' | b'~') {
-            out.push(byte as char);
-        } else {
-            let _ = write!(out, "%{byte:02X}");
-        }
-    }
-    out
 }
 
 #[derive(Serialize)]

@@ -131,7 +131,8 @@ pub fn verify_mesh(
             None => baker.verify_each(uv, opacity, remaining, |c| visit(t, c)),
             Some(alphas) => {
                 let key = vertex_range(alphas[t]);
-                if !bound_bakers.contains_key(&key) {
+                if let alloc::collections::btree_map::Entry::Vacant(slot) = bound_bakers.entry(key)
+                {
                     let bound = |upper| {
                         let texture = VertexBoundTexture {
                             inner: mesh.texture,
@@ -144,7 +145,7 @@ pub fn verify_mesh(
                             .map(|b| b.with_model(model))
                             .map_err(texture_error)
                     };
-                    bound_bakers.insert(key, (bound(false)?, bound(true)?));
+                    slot.insert((bound(false)?, bound(true)?));
                 }
                 let Some((low, high)) = bound_bakers.get(&key) else {
                     continue;

@@ -123,6 +123,8 @@ pub fn read_gltf_micromaps(
     resolve: &mut dyn FnMut(&str) -> Result<Vec<u8>, AssetError>,
     limits: &Limits,
 ) -> Result<GltfMicromaps, AssetError> {
+    // A closure: the method's lifetimes are not general enough for `with_reader`.
+    #[allow(clippy::redundant_closure_for_method_calls)]
     with_reader(bytes, resolve, limits, |reader| reader.read_micromaps())
 }
 
@@ -374,12 +376,11 @@ impl Reader<'_, '_> {
 
     /// A primitive's triangle count: index count (or `POSITION` count) / 3.
     fn primitive_triangles(&self, primitive: &Obj<'_>) -> Result<usize, AssetError> {
-        let (accessor, what) = match primitive.opt_usize("indices")? {
-            Some(a) => (a, primitive.field("indices")),
-            None => {
-                let attributes = primitive.obj("attributes")?;
-                (attributes.usize("POSITION")?, attributes.field("POSITION"))
-            }
+        let (accessor, what) = if let Some(a) = primitive.opt_usize("indices")? {
+            (a, primitive.field("indices"))
+        } else {
+            let attributes = primitive.obj("attributes")?;
+            (attributes.usize("POSITION")?, attributes.field("POSITION"))
         };
         Ok(self
             .root

@@ -36,7 +36,8 @@ pub use self::micromap_ext::{
     read_gltf_micromaps, GltfMicromap, GltfMicromapPrimitive, GltfMicromaps,
 };
 pub use self::write::{
-    write_gltf_micromaps, GltfContainer, GltfFiles, GltfMicromapWrite, EXTENSION, MAX_GLTF_LEVEL,
+    relative_uri_prefix, write_gltf_micromaps, GltfContainer, GltfFiles, GltfMicromapWrite,
+    EXTENSION, MAX_GLTF_LEVEL,
 };
 
 pub(crate) use self::sampler::GltfSampler;

@@ -11,6 +11,8 @@ use micromap_index::micromap::{
 };
 use serde_json::value::RawValue;
 use serde_json::{json, Value};
+use std::fmt::Write as _;
+use std::path::Path;
 
 /// The extension's name, as it appears in `extensionsUsed` and in the
 /// `extensions` of the root and of each primitive.
@@ -441,21 +443,20 @@ fn triangle_count(
     path: &str,
     accessors: &[Box<RawValue>],
 ) -> Result<usize, AssetError> {
-    let accessor = match primitive.parse::<usize>("indices", path)? {
-        Some(a) => a,
-        None => {
-            let attributes: RawObject = primitive
-                .parse("attributes", path)?
-                .ok_or_else(|| AssetError::gltf(field(path, "attributes"), "missing"))?;
-            attributes
-                .parse::<usize>("POSITION", &field(path, "attributes"))?
-                .ok_or_else(|| {
-                    AssetError::gltf(
-                        field(path, "attributes.POSITION"),
-                        "missing (and no indices)",
-                    )
-                })?
-        }
+    let accessor = if let Some(a) = primitive.parse::<usize>("indices", path)? {
+        a
+    } else {
+        let attributes: RawObject = primitive
+            .parse("attributes", path)?
+            .ok_or_else(|| AssetError::gltf(field(path, "attributes"), "missing"))?;
+        attributes
+            .parse::<usize>("POSITION", &field(path, "attributes"))?
+            .ok_or_else(|| {
+                AssetError::gltf(
+                    field(path, "attributes.POSITION"),
+                    "missing (and no indices)",
+                )
+            })?
     };
     let accessor_path = format!("accessors[{accessor}]");
     let raw = accessors
@@ -492,16 +493,62 @@ fn index_value(index: MicromapIndex) -> Option<u64> {
 
 /// A file name as a URI path segment: bytes outside RFC 3986's unreserved
 /// set percent-encoded.
-pub(crate) fn percent_encode(name: &str) -> String {
+fn percent_encode(name: &str) -> String {
     let mut out = String::new();
     for byte in name.bytes() {
         if byte.is_ascii_alphanumeric() || matches!(byte, b'-' | b'.' | b'_' | b'~') {
             out.push(byte as char);
         } else {
-            out.push_str(&format!("%{byte:02X}"));
+            let _ = write!(out, "%{byte:02X}");
         }
     }
     out
+}
+
+/// The [`GltfMicromapWrite::uri_prefix`] for an output in `output_dir` of
+/// an asset in `asset_dir` (both must exist; an empty path is the current
+/// directory): `../` for each directory of the output below the common
+/// ancestor, then the asset's directories from there, percent-encoded,
+/// each followed by `/`; empty when both are the same directory. A
+/// directory whose name is not UTF-8 (which a URI cannot name) is
+/// [`AssetError::Uri`].
+///
+/// ```
+/// use micromap_index_assets::relative_uri_prefix;
+/// let here = std::env::current_dir().unwrap();
+/// assert_eq!(relative_uri_prefix(&here, "".as_ref()).unwrap(), "");
+/// assert_eq!(relative_uri_prefix(&here.join("src"), &here).unwrap(), "../");
+/// ```
+pub fn relative_uri_prefix(output_dir: &Path, asset_dir: &Path) -> Result<String, AssetError> {
+    let canonical = |dir: &Path| {
+        let dir = if dir.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            dir
+        };
+        dir.canonicalize().map_err(|e| AssetError::Io {
+            path: dir.display().to_string(),
+            message: e.to_string(),
+        })
+    };
+    let (out, from) = (canonical(output_dir)?, canonical(asset_dir)?);
+    let out_parts: Vec<_> = out.components().collect();
+    let from_parts: Vec<_> = from.components().collect();
+    let common = out_parts
+        .iter()
+        .zip(&from_parts)
+        .take_while(|(a, b)| a == b)
+        .count();
+    let mut prefix = "../".repeat(out_parts.len() - common);
+    for part in &from_parts[common..] {
+        let text = part.as_os_str().to_str().ok_or_else(|| AssetError::Uri {
+            uri: from.display().to_string(),
+            message: "a directory name that is not UTF-8 cannot be written in a URI".into(),
+        })?;
+        prefix.push_str(&percent_encode(text));
+        prefix.push('/');
+    }
+    Ok(prefix)
 }
 
 /// A GLB of `json` (padded with spaces) and the `BIN` chunk `bin` (padded
