@@ -19,8 +19,12 @@ use std::path::Path;
 pub const EXTENSION: &str = "EXT_mesh_opacity_micromap";
 
 /// The highest subdivision level the extension allows (records and
-/// `usageLevels`, schema `maximum: 12`).
-pub const MAX_GLTF_LEVEL: u32 = 12;
+/// `usageLevels`, schema `maximum: 12`): [`Api::max_level`] of
+/// [`Api::Gltf`].
+pub const MAX_GLTF_LEVEL: u32 = match Api::Gltf.max_level() {
+    Some(level) => level,
+    None => 12,
+};
 
 /// The container [`write_gltf_micromaps`] writes.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -80,7 +84,9 @@ pub struct GltfFiles {
 /// * a bake without any record (every triangle a special index) still
 ///   gets one level-0 record, which the draft's `minItems` require;
 /// * an existing root `micromaps` array is kept and the new micromap
-///   appended to it.
+///   appended to it; the input's own extension must then read
+///   ([`read_gltf_micromaps`](crate::read_gltf_micromaps)), or it is
+///   refused.
 ///
 /// Every primitive must exist, be `TRIANGLES`, and have as many triangles
 /// (index count, or `POSITION` count, divided by 3) as its geometry.
@@ -112,6 +118,15 @@ pub fn write_gltf_micromaps(
         (input, None)
     };
     let json = json.strip_prefix(b"\xef\xbb\xbf").unwrap_or(json);
+    // The input's own micromaps are kept: they must be valid, or the
+    // output would not be.
+    if json
+        .windows(EXTENSION.len())
+        .any(|w| w == EXTENSION.as_bytes())
+    {
+        super::read_gltf_micromaps(input, resolve, &crate::Limits::default())
+            .map_err(|e| e.within(format!("the input's own {EXTENSION}")))?;
+    }
     let mut root: RawObject = serde_json::from_slice(json).map_err(|e| AssetError::Json {
         message: e.to_string(),
     })?;
