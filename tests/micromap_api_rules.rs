@@ -57,3 +57,48 @@ fn eight_bit_indices_everywhere_but_vulkan_ext() {
         IndexWidth::U16
     );
 }
+
+#[test]
+fn khr_lossy_builds_take_4_state_records_up_to_the_lossy_cap() {
+    let four = |k: usize| {
+        Micromap::from_states(
+            Level::new(3).unwrap(),
+            Format::FourState,
+            State::ALL.into_iter().cycle().skip(k).take(64),
+        )
+        .unwrap()
+    };
+    let (a, b) = (four(0), four(1));
+    let mut two = Micromap::new(Level::new(2).unwrap(), Format::TwoState).unwrap();
+    two.set(3, State::Opaque).unwrap();
+    let fine = MicromapBuffers::build(
+        [TriangleOpacity::Micromap(&a), TriangleOpacity::Micromap(&b)],
+        BuildOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(fine.check_for_khr_lossy(IndexWidth::U8, 3), Ok(()));
+    assert_eq!(
+        fine.check_for_khr_lossy(IndexWidth::U8, 2),
+        Err(BufferError::LevelNotAllowed {
+            level: 3,
+            max: 2,
+            api: Api::VulkanKhr
+        })
+    );
+    let mixed = MicromapBuffers::build(
+        [
+            TriangleOpacity::Micromap(&a),
+            TriangleOpacity::Micromap(&two),
+        ],
+        BuildOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(mixed.check_for(Api::VulkanKhr, IndexWidth::U8), Ok(()));
+    assert_eq!(
+        mixed.check_for_khr_lossy(IndexWidth::U8, 12),
+        Err(BufferError::FormatNotAllowed {
+            record: 1,
+            format: 1
+        })
+    );
+}

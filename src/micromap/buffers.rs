@@ -455,6 +455,14 @@ pub enum BufferError {
         /// The API.
         api: Api,
     },
+    /// A record is 2-state where only 4-state is accepted (Vulkan KHR
+    /// lossy builds, [`MicromapBuffers::check_for_khr_lossy`]).
+    FormatNotAllowed {
+        /// The record.
+        record: usize,
+        /// Its format (raw API value).
+        format: u16,
+    },
     /// There is no geometry with this number.
     NoSuchGeometry {
         /// The geometry asked for.
@@ -490,6 +498,10 @@ impl fmt::Display for BufferError {
             BufferError::LevelNotAllowed { level, max, api } => write!(
                 f,
                 "subdivision level {level} is above {api}'s highest level {max}"
+            ),
+            BufferError::FormatNotAllowed { record, format } => write!(
+                f,
+                "record {record} has format {format}: a Vulkan KHR lossy build takes 4-state (2) micromaps only"
             ),
             BufferError::NoSuchGeometry { geometry, count } => {
                 write!(f, "geometry {geometry} does not exist: there are {count}")
