@@ -148,8 +148,8 @@ pub(crate) static BAKE: Command = Command {
             SAMPLER[7],
             Flag::value(
                 "--index-width",
-                "16|32",
-                "micromap-indices.bin width (default 32)",
+                "8|16|32",
+                "micromap-indices.bin width (default 32; 8: Vulkan KHR, DXR, glTF only)",
             ),
             Flag::value(
                 "--max-bytes",
@@ -221,8 +221,8 @@ pub(crate) static VERIFY_BAKE: Command = Command {
             SAMPLER[7],
             Flag::value(
                 "--index-width",
-                "16|32",
-                "micromap-indices.bin width (default 32)",
+                "8|16|32",
+                "micromap-indices.bin width (default 32; 8: Vulkan KHR, DXR, glTF only)",
             ),
             Flag::switch("--json", "the report as JSON"),
             Flag::value(
@@ -532,8 +532,10 @@ fn index_width(p: &Parsed<'_>) -> Result<IndexWidth, Failure> {
     match p.get("--index-width").unwrap_or("32") {
         "32" => Ok(IndexWidth::U32),
         "16" => Ok(IndexWidth::U16),
+        "8" => Ok(IndexWidth::U8),
         other => Err(Failure::Malformed(format!(
-            "--index-width {other:?}: expected 16 or 32 (the widths Vulkan accepts)"
+            "--index-width {other:?}: expected 8, 16 or 32 (Vulkan EXT takes 16 and 32; \
+             Vulkan KHR, DXR and glTF also 8)"
         ))),
     }
 }
