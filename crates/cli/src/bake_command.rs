@@ -719,7 +719,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     let model = model_option(&p)?;
     let s = sampler_options(&p)?;
     let preview = !p.flag("--no-preview");
-    let gltf_out = crate::gltf_out::GltfOut::from_options(&p)?;
+    let gltf_out = crate::gltf_out::GltfOut::from_options(&p, &OUTPUTS)?;
     let gltf_names = gltf_out
         .as_ref()
         .map(crate::gltf_out::GltfOut::names)

@@ -36,8 +36,12 @@ pub(crate) struct GltfOut {
 
 impl GltfOut {
     /// `--gltf-out`, if given: a bare file name ending in `.gltf` or
-    /// `.glb`, with `--gltf` and without sampler overrides.
-    pub(crate) fn from_options(p: &Parsed<'_>) -> Result<Option<GltfOut>, Failure> {
+    /// `.glb`, with `--gltf` and without sampler overrides, none of whose
+    /// files is one of `reserved` (bake's other outputs).
+    pub(crate) fn from_options(
+        p: &Parsed<'_>,
+        reserved: &[&str],
+    ) -> Result<Option<GltfOut>, Failure> {
         let Some(name) = p.get("--gltf-out") else {
             return Ok(None);
         };
@@ -63,10 +67,16 @@ impl GltfOut {
                 )))
             }
         };
-        Ok(Some(GltfOut {
+        let out = GltfOut {
             name: name.to_string(),
             container,
-        }))
+        };
+        if let Some(clash) = out.names().iter().find(|n| reserved.contains(&n.as_str())) {
+            return Err(Failure::Usage(format!(
+                "--gltf-out {name:?} would write {clash}, which bake writes too: choose another name"
+            )));
+        }
+        Ok(Some(out))
     }
 
     /// Every file this may write into DIR (for the existence check).

@@ -156,6 +156,18 @@ fn what_cannot_be_written_or_checked_is_refused() {
             "give --gltf ASSET",
         ),
         (
+            vec![
+                "bake",
+                "--gltf",
+                &asset,
+                "--out",
+                o,
+                "--gltf-out",
+                "micromap-data.gltf",
+            ],
+            "would write micromap-data.bin, which bake writes too",
+        ),
+        (
             vec!["verify-bake", "--gltf", &asset],
             "no primitive has EXT_mesh_opacity_micromap",
         ),
