@@ -61,6 +61,8 @@ use core::fmt;
 mod levels;
 pub use levels::{chosen_levels, output_bytes_bound};
 use levels::{levels_of, resolve_all};
+mod verify;
+pub use verify::{verify_mesh, MeshVerification, MeshVerifyError};
 
 /// A mesh's triangles in UV space.
 #[derive(Clone, Copy, Debug, PartialEq)]

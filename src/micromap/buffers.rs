@@ -152,7 +152,9 @@ pub fn usage_counts_to_le_bytes(usage: &[UsageCount]) -> Vec<u8> {
 /// The width of a per-triangle micromap index buffer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum IndexWidth {
-    /// 8-bit indices: Vulkan KHR, DXR and glTF only (not Vulkan EXT).
+    /// 8-bit indices: Vulkan KHR (only on Vulkan 1.4 or with
+    /// `VK_KHR_index_type_uint8` / `VK_EXT_index_type_uint8`), DXR and glTF;
+    /// never Vulkan EXT.
     U8,
     /// 16-bit indices.
     U16,
@@ -279,8 +281,10 @@ impl Api {
 
     /// Whether the API accepts index buffers of `width`: Vulkan EXT takes
     /// 16 and 32 bits only (VUID-VkAccelerationStructureTrianglesOpacityMicromapEXT-indexType-10719);
-    /// Vulkan KHR (…KHR-indexType-11570), DXR (`DXGI_FORMAT_R8_UINT` etc.)
-    /// and glTF (`UNSIGNED_BYTE`) also take 8 bits.
+    /// DXR (`DXGI_FORMAT_R8_UINT` etc.) and glTF (`UNSIGNED_BYTE`) also
+    /// take 8 bits, and so does Vulkan KHR (…KHR-indexType-11570) on a
+    /// device with Vulkan 1.4 or `VK_KHR_index_type_uint8` /
+    /// `VK_EXT_index_type_uint8` (the caller's to know; `true` here).
     #[inline]
     #[must_use]
     pub const fn allows_index_width(self, width: IndexWidth) -> bool {
@@ -288,16 +292,25 @@ impl Api {
     }
 
     /// The highest subdivision level the API accepts whatever the device:
-    /// 12 for DXR (`D3D12_RAYTRACING_OPACITY_MICROMAP_OC1_MAX_SUBDIVISION_LEVEL`);
+    /// 12 for DXR (`D3D12_RAYTRACING_OPACITY_MICROMAP_OC1_MAX_SUBDIVISION_LEVEL`)
+    /// and for glTF (the `EXT_mesh_opacity_micromap` draft at 4b95e4d3:
+    /// records and `usageLevels` in `[0, 12]`, schema `maximum: 12`);
     /// `None` for Vulkan (a device limit, `maxOpacity2StateSubdivisionLevel` /
-    /// `maxOpacity4StateSubdivisionLevel`, required to be only at least 3)
-    /// and glTF (no limit).
+    /// `maxOpacity4StateSubdivisionLevel`, and for KHR lossy builds
+    /// `maxOpacityLossy4StateSubdivisionLevel`, each required to be only at
+    /// least 3).
+    ///
+    /// ```
+    /// use micromap_index::micromap::Api;
+    /// assert_eq!(Api::Gltf.max_level(), Some(12));
+    /// assert_eq!(Api::VulkanKhr.max_level(), None);
+    /// ```
     #[inline]
     #[must_use]
     pub const fn max_level(self) -> Option<u32> {
         match self {
-            Api::Dxr => Some(12),
-            Api::VulkanExt | Api::VulkanKhr | Api::Gltf => None,
+            Api::Dxr | Api::Gltf => Some(12),
+            Api::VulkanExt | Api::VulkanKhr => None,
         }
     }
 
@@ -442,6 +455,14 @@ pub enum BufferError {
         /// The API.
         api: Api,
     },
+    /// A record is 2-state where only 4-state is accepted (Vulkan KHR
+    /// lossy builds, [`MicromapBuffers::check_for_khr_lossy`]).
+    FormatNotAllowed {
+        /// The record.
+        record: usize,
+        /// Its format (raw API value).
+        format: u16,
+    },
     /// There is no geometry with this number.
     NoSuchGeometry {
         /// The geometry asked for.
@@ -477,6 +498,10 @@ impl fmt::Display for BufferError {
             BufferError::LevelNotAllowed { level, max, api } => write!(
                 f,
                 "subdivision level {level} is above {api}'s highest level {max}"
+            ),
+            BufferError::FormatNotAllowed { record, format } => write!(
+                f,
+                "record {record} has format {format}: a Vulkan KHR lossy build takes 4-state (2) micromaps only"
             ),
             BufferError::NoSuchGeometry { geometry, count } => {
                 write!(f, "geometry {geometry} does not exist: there are {count}")

@@ -65,6 +65,7 @@
 
 #[cfg(feature = "alloc")]
 mod buffers;
+mod khr_lossy;
 #[cfg(feature = "alloc")]
 mod map;
 #[cfg(feature = "alloc")]

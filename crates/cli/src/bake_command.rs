@@ -87,6 +87,10 @@ pub(crate) static BAKE: Command = Command {
                             -1..-4 as negative values), little endian
     micromap-usage.bin      12-byte usage counts {u32 count, u32 level, u32 format}
     summary.json            states, known fraction, micromaps, sizes, time
+    NAME.gltf or NAME.glb   with --gltf-out: the asset written back with
+                            EXT_mesh_opacity_micromap on every baked primitive
+                            (.gltf: plus NAME.micromap.bin, and NAME.bin for a
+                            .glb input's BIN chunk; docs/gltf-out.md)
     preview.png             the texture with every micro-triangle coloured by
                             state (green opaque, blue transparent, yellow
                             unknown-opaque, red unknown-transparent), wrapped
@@ -111,6 +115,12 @@ pub(crate) static BAKE: Command = Command {
                 "--gltf",
                 "ASSET",
                 "a glTF 2.0 asset (.gltf or .glb): its MASK primitives",
+            ),
+            Flag::value(
+                "--gltf-out",
+                "NAME",
+                "NAME.gltf or NAME.glb: also write the asset back into DIR with
+                         the micromaps (its own samplers and cutoffs only)",
             ),
             Flag::value("--texture", "T.png", "an alpha texture (PNG or JPEG)"),
             Flag::value("--triangles", "TRIS.json", "UV triangles over --texture"),
@@ -150,8 +160,8 @@ pub(crate) static BAKE: Command = Command {
             ),
             Flag::value(
                 "--index-width",
-                "16|32",
-                "micromap-indices.bin width (default 32)",
+                "8|16|32",
+                "micromap-indices.bin width (default 32; 8: Vulkan KHR, DXR, glTF only)",
             ),
             Flag::value(
                 "--max-bytes",
@@ -180,7 +190,10 @@ pub(crate) static BAKE: Command = Command {
 /// The flag table of `verify-bake`.
 pub(crate) static VERIFY_BAKE: Command = Command {
     name: "verify-bake",
-    forms: &["--texture T.png --triangles TRIS.json --micromaps DIR [options]"],
+    forms: &[
+        "--texture T.png --triangles TRIS.json --micromaps DIR [options]",
+        "--gltf ASSET.gltf|.glb [options]",
+    ],
     about: "  Checks any baker's micromaps (DIR/micromap-data.bin, micromap-triangles.bin,
   micromap-indices.bin in bake's layout) against the texture: every
   micro-triangle with a known state whose closed area can read a texel of
@@ -198,6 +211,11 @@ pub(crate) static VERIFY_BAKE: Command = Command {
   (--lenient-layout accepts both). Each buffer file is read up to a limit
   named in its error (data 5 GiB, records and indices 1 GiB, usage counts
   1 MiB; --texture and --triangles 1 GiB).
+  With --gltf, the asset's own EXT_mesh_opacity_micromap micromaps (as bake
+  --gltf-out writes them; the extension's rules checked first) against its
+  MASK primitives' textures, samplers, cutoffs, alpha factors and vertex
+  alpha; a primitive with micromaps but no such material makes the verdict
+  INCOMPLETE.
   Exit 0 sound; 1 contradictions found or INCOMPLETE; 2 bad options or
   malformed buffers (a layout error, a file over its limit); 3 unreadable
   input.",
@@ -211,6 +229,11 @@ pub(crate) static VERIFY_BAKE: Command = Command {
                 "the UV triangles the micromaps are for",
             ),
             Flag::value("--micromaps", "DIR", "the buffers, in bake's layout"),
+            Flag::value(
+                "--gltf",
+                "ASSET",
+                "a glTF with EXT_mesh_opacity_micromap, checked against itself",
+            ),
             SAMPLER[0],
             SAMPLER[1],
             SAMPLER[2],
@@ -221,8 +244,8 @@ pub(crate) static VERIFY_BAKE: Command = Command {
             SAMPLER[7],
             Flag::value(
                 "--index-width",
-                "16|32",
-                "micromap-indices.bin width (default 32)",
+                "8|16|32",
+                "micromap-indices.bin width (default 32; 8: Vulkan KHR, DXR, glTF only)",
             ),
             Flag::switch("--json", "the report as JSON"),
             Flag::value(
@@ -278,6 +301,8 @@ pub(crate) struct Job {
     /// glTF's `POSITION` per triangle (`None` for `--texture` or without
     /// `POSITION`), for `render`.
     pub(crate) positions: Option<Vec<[[f32; 3]; 3]>>,
+    /// glTF's (mesh, primitive) (`None` for `--texture`).
+    pub(crate) gltf: Option<(usize, usize)>,
 }
 
 pub(crate) struct Input {
@@ -509,6 +534,7 @@ pub(crate) fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Fa
                     triangles: prim.triangles.clone(),
                     vertex_alpha: prim.vertex_alpha.clone(),
                     positions: prim.positions.clone(),
+                    gltf: Some((prim.mesh, prim.primitive)),
                 });
             }
             if jobs.is_empty() {
@@ -550,6 +576,7 @@ pub(crate) fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Fa
                     triangles,
                     vertex_alpha: None,
                     positions: None,
+                    gltf: None,
                 }],
                 warnings: Vec::new(),
             })
@@ -564,8 +591,10 @@ pub(crate) fn index_width(p: &Parsed<'_>) -> Result<IndexWidth, Failure> {
     match p.get("--index-width").unwrap_or("32") {
         "32" => Ok(IndexWidth::U32),
         "16" => Ok(IndexWidth::U16),
+        "8" => Ok(IndexWidth::U8),
         other => Err(Failure::Malformed(format!(
-            "--index-width {other:?}: expected 16 or 32 (the widths Vulkan accepts)"
+            "--index-width {other:?}: expected 8, 16 or 32 (Vulkan EXT takes 16 and 32; \
+             Vulkan KHR, DXR and glTF also 8)"
         ))),
     }
 }
@@ -754,6 +783,13 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     };
     let s = sampler_options(&p)?;
     let preview = !p.flag("--no-preview");
+    let gltf_out = crate::gltf_out::GltfOut::from_options(&p, &OUTPUTS)?;
+    let gltf_names = gltf_out
+        .as_ref()
+        .map(crate::gltf_out::GltfOut::names)
+        .unwrap_or_default();
+    let mut outputs = OUTPUTS.to_vec();
+    outputs.extend(gltf_names.iter().map(String::as_str));
     if let Err(message) = install_interrupt_handler() {
         report(format_args!(
             "bake: {message}; Ctrl-C may leave temporaries"
@@ -762,7 +798,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     // Held (locked) until the files are written or the bake fails; dropping
     // it removes the lock and the directories it created.
     let destination =
-        Destination::claim(&out, &OUTPUTS, p.flag("--force")).map_err(|refusal| match refusal {
+        Destination::claim(&out, &outputs, p.flag("--force")).map_err(|refusal| match refusal {
             Refusal::Refused(message) => Failure::Malformed(message),
             Refusal::Io(message) => Failure::Io(message),
         })?;
@@ -942,8 +978,20 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     }
     // Without a preview, a stale preview.png (--force) is removed with the
     // same all-or-nothing commit.
-    let stale: &[&str] = if preview { &[] } else { &["preview.png"] };
-    destination.write(&files, stale).map_err(Failure::Io)?;
+    let mut stale: Vec<&str> = if preview { vec![] } else { vec!["preview.png"] };
+    if let Some(gltf_out) = &gltf_out {
+        let asset = Path::new(p.get("--gltf").unwrap_or_default());
+        let primitives: Vec<(usize, usize)> = input.jobs.iter().filter_map(|j| j.gltf).collect();
+        files.extend(gltf_out.files(asset, &out, buffers, &primitives)?);
+        // A sidecar this run does not write (NAME.bin) is not left stale.
+        stale.extend(
+            gltf_names
+                .iter()
+                .filter(|n| !files.iter().any(|(f, _)| f == *n))
+                .map(String::as_str),
+        );
+    }
+    destination.write(&files, &stale).map_err(Failure::Io)?;
     Ok((summary_json, Exit::Success))
 }
 
@@ -989,15 +1037,6 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
     let p = VERIFY_BAKE
         .parse(options)
         .map_err(|error| Failure::Usage(error.message("verify-bake")))?;
-    let dir = PathBuf::from(
-        p.get("--micromaps")
-            .ok_or_else(|| Failure::Usage("verify-bake needs --micromaps DIR".into()))?,
-    );
-    if p.get("--texture").is_none() || p.get("--triangles").is_none() {
-        return Err(Failure::Usage(
-            "verify-bake needs --texture and --triangles".into(),
-        ));
-    }
     let max_report: usize = p
         .get("--max-report")
         .unwrap_or("20")
@@ -1009,8 +1048,20 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
             .parse()
             .map_err(|_| Failure::Malformed(format!("--max-checks {text:?}: expected a count")))?,
     };
-    let width = index_width(&p)?;
     let model = model_option(&p)?;
+    if let Some(asset) = p.get("--gltf") {
+        return crate::gltf_out::verify_gltf(&p, asset, model, max_report, max_checks);
+    }
+    let dir = PathBuf::from(
+        p.get("--micromaps")
+            .ok_or_else(|| Failure::Usage("verify-bake needs --micromaps DIR".into()))?,
+    );
+    if p.get("--texture").is_none() || p.get("--triangles").is_none() {
+        return Err(Failure::Usage(
+            "verify-bake needs --texture and --triangles".into(),
+        ));
+    }
+    let width = index_width(&p)?;
     let s = sampler_options(&p)?;
     let input = read_input(&p, &s)?;
     let job = &input.jobs[0];

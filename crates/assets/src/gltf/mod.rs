@@ -25,10 +25,21 @@ mod glb;
 mod image;
 mod json;
 mod material;
+mod micromap_ext;
 mod position;
+mod raw;
 mod sampler;
 mod transform;
 mod uri;
+mod write;
+
+pub use self::micromap_ext::{
+    read_gltf_micromaps, GltfMicromap, GltfMicromapPrimitive, GltfMicromaps,
+};
+pub use self::write::{
+    relative_uri_prefix, write_gltf_micromaps, GltfContainer, GltfFiles, GltfMicromapWrite,
+    EXTENSION, MAX_GLTF_LEVEL,
+};
 
 pub(crate) use self::sampler::GltfSampler;
 #[cfg(test)]
@@ -262,8 +273,8 @@ fn read_file(path: &Path, max_bytes: u64) -> Result<Vec<u8>, AssetError> {
 ///
 /// A required extension
 /// other than `KHR_mesh_quantization`, `KHR_texture_transform`, `KHR_materials_*` (except
-/// `KHR_materials_pbrSpecularGlossiness`), `KHR_lights_punctual` and
-/// `KHR_mesh_gpu_instancing` is an error. Accessor alignment is not checked.
+/// `KHR_materials_pbrSpecularGlossiness`), `KHR_lights_punctual`,
+/// `KHR_mesh_gpu_instancing` and `EXT_mesh_opacity_micromap` is an error. Accessor alignment is not checked.
 ///
 /// Limits: each image is decoded within [`Limits::max_pixels`]; the loaded
 /// buffers, decoded images and UV, index and triangle arrays together stay
@@ -283,6 +294,19 @@ pub fn read_gltf_bytes(
     resolve: &mut dyn FnMut(&str) -> Result<Vec<u8>, AssetError>,
     limits: &Limits,
 ) -> Result<GltfAsset, AssetError> {
+    with_reader(bytes, resolve, limits, |reader| {
+        reader.read_meshes()?;
+        Ok(std::mem::take(&mut reader.asset))
+    })
+}
+
+/// `f` on a [`Reader`] of the glTF `bytes` whose header is checked.
+fn with_reader<T>(
+    bytes: &[u8],
+    resolve: &mut dyn FnMut(&str) -> Result<Vec<u8>, AssetError>,
+    limits: &Limits,
+    f: impl FnOnce(&mut Reader<'_, '_>) -> Result<T, AssetError>,
+) -> Result<T, AssetError> {
     let mut warnings = Vec::new();
     let (json, bin) = if bytes.starts_with(b"glTF") {
         split_glb(bytes, &mut warnings)?
@@ -319,8 +343,7 @@ pub fn read_gltf_bytes(
         },
     };
     reader.check_header()?;
-    reader.read_meshes()?;
-    Ok(reader.asset)
+    f(&mut reader)
 }
 
 /// What may still be held, of [`Limits::max_bytes`].
@@ -376,6 +399,7 @@ fn supported_required(name: &str) -> bool {
             | "KHR_texture_transform"
             | "KHR_lights_punctual"
             | "KHR_mesh_gpu_instancing"
+            | "EXT_mesh_opacity_micromap"
     ) || (name.starts_with("KHR_materials_") && name != "KHR_materials_pbrSpecularGlossiness")
 }
 

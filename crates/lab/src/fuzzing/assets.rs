@@ -6,11 +6,12 @@ use micromap_index::bake::mesh::{
     bake_mesh, BakeReport, LevelRule, Mesh, MeshBakeError, MeshOptions, MeshTriangles, Mips,
 };
 use micromap_index::bake::Model;
-use micromap_index::micromap::State;
+use micromap_index::micromap::{BuildOptions, MicromapBuffersBuilder, State, TriangleOpacity};
 use micromap_index::Level;
 use micromap_index_assets::{
-    decode_alpha_image, read_gltf_bytes, read_triangles_json, AlphaSource, AlphaTexels, AssetError,
-    GltfAsset, Limits, MaskPrimitive,
+    decode_alpha_image, read_gltf_bytes, read_gltf_micromaps, read_triangles_json,
+    write_gltf_micromaps, AlphaSource, AlphaTexels, AssetError, GltfAsset, GltfContainer,
+    GltfMicromapWrite, GltfMicromaps, Limits, MaskPrimitive, MAX_GLTF_LEVEL,
 };
 
 /// The limits of the asset targets: 2^16 pixels and 16 MiB, so that no
@@ -157,8 +158,90 @@ pub fn gltf_asset(data: &[u8]) {
         }
     };
     match read_gltf_bytes(data, &mut resolve, &FUZZ_LIMITS) {
-        Ok(asset) => check_asset(&asset),
+        Ok(asset) => {
+            check_asset(&asset);
+            check_written(data, &asset, &mut resolve);
+        }
         Err(error) => check_error(&error),
+    }
+    match read_gltf_micromaps(data, &mut resolve, &FUZZ_LIMITS) {
+        Ok(found) => check_micromaps(&found),
+        Err(error) => check_error(&error),
+    }
+}
+
+/// What [`read_gltf_micromaps`] accepts is consistent: every level within
+/// the draft's 0..=12, usage counts summing to the records, every
+/// primitive's index naming a record of its micromap.
+fn check_micromaps(found: &GltfMicromaps) {
+    for m in &found.micromaps {
+        assert_eq!(m.records.len(), m.micromaps.len());
+        assert!(m
+            .records
+            .iter()
+            .all(|r| u32::from(r.subdivision_level) <= MAX_GLTF_LEVEL));
+        let total: u64 = m.usage.iter().map(|u| u64::from(u.count)).sum();
+        assert_eq!(total, m.records.len() as u64, "usage total");
+    }
+    for p in &found.primitives {
+        for t in 0..p.indices.len() {
+            assert!(
+                found.opacity(p, t).is_some(),
+                "primitive {}/{} triangle {t}",
+                p.mesh,
+                p.primitive
+            );
+        }
+    }
+}
+
+/// An accepted asset written back with one unknown-opaque special index
+/// per triangle (as a GLB) either reads back with exactly those indices on
+/// every primitive, or is refused with a one-line error.
+fn check_written(
+    data: &[u8],
+    asset: &GltfAsset,
+    resolve: &mut dyn FnMut(&str) -> Result<Vec<u8>, AssetError>,
+) {
+    if asset.primitives.is_empty() {
+        return;
+    }
+    let mut builder = MicromapBuffersBuilder::new(BuildOptions::default());
+    for p in &asset.primitives {
+        let specials = p
+            .triangles
+            .iter()
+            .map(|_| TriangleOpacity::Special(State::UnknownOpaque));
+        builder
+            .add_geometry(specials)
+            .expect("special indices always build");
+    }
+    let buffers = builder.finish().expect("special indices always build");
+    let primitives: Vec<(usize, usize)> = asset
+        .primitives
+        .iter()
+        .map(|p| (p.mesh, p.primitive))
+        .collect();
+    let write = GltfMicromapWrite {
+        buffers: &buffers,
+        primitives: &primitives,
+        uri_prefix: "",
+    };
+    let written = match write_gltf_micromaps(data, resolve, &write, &GltfContainer::Glb) {
+        Ok(files) => files,
+        Err(error) => return check_error(&error),
+    };
+    let back = read_gltf_micromaps(&written.main, resolve, &FUZZ_LIMITS)
+        .unwrap_or_else(|e| panic!("the written GLB does not read back: {e}"));
+    for (g, &(m, p)) in primitives.iter().enumerate() {
+        let found = back
+            .primitive(m, p)
+            .unwrap_or_else(|| panic!("primitive {m}/{p} lost its extension"));
+        assert_eq!(
+            found.indices,
+            buffers.geometry_indices(g).expect("geometry"),
+            "primitive {m}/{p}"
+        );
     }
 }
 

@@ -1,0 +1,591 @@
+//! [`write_gltf_micromaps`]: a glTF written back with
+//! `EXT_mesh_opacity_micromap` on the baked primitives, everything else
+//! kept (members the writer does not touch are copied as their raw text).
+
+use super::glb::{split_glb, GLB_BIN, GLB_JSON};
+use super::raw::{field, parse_raw, to_raw, RawObject};
+use super::uri::{decode_data_uri, has_scheme, percent_decode, uri_label};
+use crate::AssetError;
+use micromap_index::micromap::{
+    Api, IndexWidth, MicromapBuffers, MicromapIndex, TriangleRecord, UsageCount,
+};
+use serde_json::value::RawValue;
+use serde_json::{json, Value};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// The extension's name, as it appears in `extensionsUsed` and in the
+/// `extensions` of the root and of each primitive.
+pub const EXTENSION: &str = "EXT_mesh_opacity_micromap";
+
+/// The highest subdivision level the extension allows (records and
+/// `usageLevels`, schema `maximum: 12`): [`Api::max_level`] of
+/// [`Api::Gltf`].
+pub const MAX_GLTF_LEVEL: u32 = match Api::Gltf.max_level() {
+    Some(level) => level,
+    None => 12,
+};
+
+/// The container [`write_gltf_micromaps`] writes.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum GltfContainer {
+    /// A `.glb`: the micromap bytes are appended to buffer 0, the `BIN`
+    /// chunk (an input buffer 0 with a URI is loaded into the chunk; an
+    /// input without buffers gets one).
+    Glb,
+    /// A `.gltf`: the micromap bytes are a new last buffer, the file
+    /// `<stem>.micromap.bin` next to it; an input GLB's `BIN` chunk becomes
+    /// the file `<stem>.bin`.
+    Json {
+        /// The output's file name without `.gltf` (no directory part).
+        stem: String,
+    },
+}
+
+/// What [`write_gltf_micromaps`] adds to an asset.
+#[derive(Clone, Copy, Debug)]
+pub struct GltfMicromapWrite<'a> {
+    /// The baked buffers: one geometry per entry of `primitives`.
+    pub buffers: &'a MicromapBuffers,
+    /// The `(mesh, primitive)` each geometry of `buffers` belongs to.
+    pub primitives: &'a [(usize, usize)],
+    /// Prepended to every relative URI of `buffers` and `images` that is
+    /// kept: the way from the output's directory to the input's,
+    /// percent-encoded and ending in `/`, or empty when both are the same.
+    pub uri_prefix: &'a str,
+}
+
+/// The files [`write_gltf_micromaps`] makes.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GltfFiles {
+    /// The `.gltf` or `.glb` itself.
+    pub main: Vec<u8>,
+    /// Files next to it, by name (only for [`GltfContainer::Json`]).
+    pub sidecars: Vec<(String, Vec<u8>)>,
+}
+
+/// Writes the glTF `input` (JSON or GLB bytes) back as `container` with one
+/// new `EXT_mesh_opacity_micromap` micromap holding every record of
+/// `write.buffers`, and on each primitive of `write.primitives` the
+/// extension pointing at it, following the newest draft (KhronosGroup/glTF
+/// pull request 2623 at 4b95e4d3, `../shared/gltf-micromap-extension.md`):
+///
+/// * `EXT_mesh_opacity_micromap` in `extensionsUsed`, removed from
+///   `extensionsRequired` (the draft: SHOULD NOT be required);
+/// * the micromap's `data` and `triangles` buffer views without
+///   `byteStride`; `usageCounts`/`usageLevels`/`usageFormats` one entry per
+///   (level, format) of the records, counting them; every level at most
+///   [`MAX_GLTF_LEVEL`] (a higher one is refused);
+/// * per primitive: `micromapIndices`, an unsigned `SCALAR` accessor of
+///   the narrowest width ([`IndexWidth::narrowest`] for glTF) over its own
+///   buffer view, special indices as two's-complement patterns; or, when
+///   the primitive's triangles use consecutive records `b, b + 1, ...`, no
+///   accessor and `micromapBaseTriangle: b` (omitted when 0);
+/// * a bake without any record (every triangle a special index) still
+///   gets one level-0 record, which the draft's `minItems` require;
+/// * an existing root `micromaps` array is kept and the new micromap
+///   appended to it; the input's own extension must then read
+///   ([`read_gltf_micromaps`](crate::read_gltf_micromaps)), or it is
+///   refused.
+///
+/// Every primitive must exist, be `TRIANGLES`, and have as many triangles
+/// (index count, or `POSITION` count, divided by 3) as its geometry.
+/// `resolve` loads a percent-decoded relative URI (only for a GLB output
+/// from an input whose buffer 0 is a file). Never panics; every refusal is
+/// an [`AssetError`].
+///
+/// ```
+/// use micromap_index::micromap::{MicromapBuffers, State, TriangleOpacity};
+/// use micromap_index_assets::{write_gltf_micromaps, GltfContainer, GltfMicromapWrite};
+/// let gltf = br#"{"asset":{"version":"2.0"},"accessors":[{"count":3,"componentType":5126,"type":"VEC3"}],
+///   "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]}"#;
+/// let buffers = MicromapBuffers::build([TriangleOpacity::Special(State::Opaque)], Default::default()).unwrap();
+/// let write = GltfMicromapWrite { buffers: &buffers, primitives: &[(0, 0)], uri_prefix: "" };
+/// let mut no_files = |_: &str| unreachable!();
+/// let files = write_gltf_micromaps(gltf, &mut no_files, &write, &GltfContainer::Glb).unwrap();
+/// assert!(files.main.starts_with(b"glTF") && files.sidecars.is_empty());
+/// ```
+pub fn write_gltf_micromaps(
+    input: &[u8],
+    resolve: &mut dyn FnMut(&str) -> Result<Vec<u8>, AssetError>,
+    write: &GltfMicromapWrite<'_>,
+    container: &GltfContainer,
+) -> Result<GltfFiles, AssetError> {
+    let mut warnings = Vec::new();
+    let (json, bin) = if input.starts_with(b"glTF") {
+        split_glb(input, &mut warnings)?
+    } else {
+        (input, None)
+    };
+    let json = json.strip_prefix(b"\xef\xbb\xbf").unwrap_or(json);
+    // The input's own micromaps are kept: they must be valid, or the
+    // output would not be.
+    if json
+        .windows(EXTENSION.len())
+        .any(|w| w == EXTENSION.as_bytes())
+    {
+        super::read_gltf_micromaps(input, resolve, &crate::Limits::default())
+            .map_err(|e| e.within(format!("the input's own {EXTENSION}")))?;
+    }
+    let mut root: RawObject = serde_json::from_slice(json).map_err(|e| AssetError::Json {
+        message: e.to_string(),
+    })?;
+    let buffers = write.buffers;
+    if buffers.geometry_count() != write.primitives.len() {
+        return Err(AssetError::gltf(
+            EXTENSION,
+            format!(
+                "{} geometries for {} primitives",
+                buffers.geometry_count(),
+                write.primitives.len()
+            ),
+        ));
+    }
+
+    // The records and usage to write: a bake of special indices only gets
+    // one unused level-0 record, since the micromap needs one.
+    let (records, data, usage) = if buffers.records().is_empty() {
+        let format = 2;
+        (
+            vec![TriangleRecord {
+                data_offset: 0,
+                subdivision_level: 0,
+                format,
+            }],
+            vec![0u8],
+            vec![UsageCount {
+                count: 1,
+                subdivision_level: 0,
+                format: u32::from(format),
+            }],
+        )
+    } else {
+        (
+            buffers.records().to_vec(),
+            buffers.data().to_vec(),
+            buffers.usage_counts().to_vec(),
+        )
+    };
+    if let Some(r) = records
+        .iter()
+        .find(|r| u32::from(r.subdivision_level) > MAX_GLTF_LEVEL)
+    {
+        return Err(AssetError::gltf(
+            EXTENSION,
+            format!(
+                "a micromap of level {}: the extension allows levels 0..={MAX_GLTF_LEVEL} only, refused",
+                r.subdivision_level
+            ),
+        ));
+    }
+
+    let mut accessors: Vec<Box<RawValue>> = root.parse("accessors", "")?.unwrap_or_default();
+    let mut views: Vec<Box<RawValue>> = root.parse("bufferViews", "")?.unwrap_or_default();
+    let mut gltf_buffers: Vec<RawObject> = root.parse("buffers", "")?.unwrap_or_default();
+    let mut sidecars = Vec::new();
+
+    // Relative URIs of the input's buffers and images, seen from the output.
+    let relocate = |object: &mut RawObject, path: &str| -> Result<(), AssetError> {
+        if write.uri_prefix.is_empty() {
+            return Ok(());
+        }
+        if let Some(uri) = object.parse::<String>("uri", path)? {
+            if !uri.starts_with("data:") && !has_scheme(&uri) {
+                object.set("uri", to_raw(&format!("{}{uri}", write.uri_prefix))?);
+            }
+        }
+        Ok(())
+    };
+    let had_uri: Vec<bool> = gltf_buffers
+        .iter()
+        .map(|b| b.get("uri").is_some())
+        .collect();
+    if let Some(mut images) = root.parse::<Vec<RawObject>>("images", "")? {
+        for (i, image) in images.iter_mut().enumerate() {
+            relocate(image, &format!("images[{i}]"))?;
+        }
+        root.set("images", to_raw(&images)?);
+    }
+
+    // The host buffer the micromap bytes are appended to.
+    let byte_length = |buffer: &RawObject, b: usize| -> Result<usize, AssetError> {
+        buffer
+            .parse::<usize>("byteLength", &format!("buffers[{b}]"))?
+            .ok_or_else(|| AssetError::gltf(format!("buffers[{b}].byteLength"), "missing"))
+    };
+    let (host_index, mut host) = match container {
+        GltfContainer::Glb => {
+            if gltf_buffers.is_empty() {
+                gltf_buffers.push(RawObject::default());
+                (0, Vec::new())
+            } else {
+                let length = byte_length(&gltf_buffers[0], 0)?;
+                let bytes = match gltf_buffers[0].parse::<String>("uri", "buffers[0]")? {
+                    None => bin
+                        .ok_or_else(|| {
+                            AssetError::gltf(
+                                "buffers[0].uri",
+                                "missing, and there is no GLB BIN chunk",
+                            )
+                        })?
+                        .to_vec(),
+                    Some(uri) => load_uri(&uri, resolve)?,
+                };
+                gltf_buffers[0].remove("uri");
+                (0, exactly(bytes, length, "buffers[0]")?)
+            }
+        }
+        GltfContainer::Json { stem } => {
+            if let (Some(bin), Some(first)) = (bin, gltf_buffers.first_mut()) {
+                if first.get("uri").is_none() {
+                    let length = byte_length(first, 0)?;
+                    let name = format!("{stem}.bin");
+                    first.set("uri", to_raw(&percent_encode(&name))?);
+                    sidecars.push((name, exactly(bin.to_vec(), length, "buffers[0]")?));
+                }
+            }
+            gltf_buffers.push(RawObject::default());
+            (gltf_buffers.len() - 1, Vec::new())
+        }
+    };
+
+    // Only the input's own URIs move (the host of a GLB lost its URI).
+    for (b, buffer) in gltf_buffers.iter_mut().enumerate() {
+        if had_uri.get(b) == Some(&true) && buffer.get("uri").is_some() {
+            relocate(buffer, &format!("buffers[{b}]"))?;
+        }
+    }
+
+    let mut add_view =
+        |host: &mut Vec<u8>, bytes: &[u8], name: &str| -> Result<usize, AssetError> {
+            // 4-byte alignment: enough for every accessor component and record.
+            host.resize(host.len().next_multiple_of(4), 0);
+            let offset = host.len();
+            host.extend_from_slice(bytes);
+            views.push(to_raw(&json!({
+                "buffer": host_index,
+                "byteOffset": offset,
+                "byteLength": bytes.len(),
+                "name": name,
+            }))?);
+            Ok(views.len() - 1)
+        };
+    let data_view = add_view(&mut host, &data, "EXT_mesh_opacity_micromap data")?;
+    let records_view = add_view(
+        &mut host,
+        &micromap_index::micromap::records_to_le_bytes(&records),
+        "EXT_mesh_opacity_micromap triangles",
+    )?;
+
+    // The root extension: the new micromap appended to any already there.
+    let mut extensions: RawObject = root.parse("extensions", "")?.unwrap_or_default();
+    let mut ours: RawObject = extensions
+        .parse(EXTENSION, "extensions")?
+        .unwrap_or_default();
+    let mut micromaps: Vec<Box<RawValue>> = ours
+        .parse("micromaps", &format!("extensions.{EXTENSION}"))?
+        .unwrap_or_default();
+    let micromap = micromaps.len();
+    micromaps.push(to_raw(&json!({
+        "data": data_view,
+        "triangles": records_view,
+        "usageCounts": usage.iter().map(|u| u.count).collect::<Vec<_>>(),
+        "usageLevels": usage.iter().map(|u| u.subdivision_level).collect::<Vec<_>>(),
+        "usageFormats": usage.iter().map(|u| u.format).collect::<Vec<_>>(),
+    }))?);
+    ours.set("micromaps", to_raw(&micromaps)?);
+    extensions.set(EXTENSION, to_raw(&ours)?);
+
+    // Each primitive: checked against its geometry, then given the extension.
+    let mut meshes: Vec<Box<RawValue>> = root.parse("meshes", "")?.unwrap_or_default();
+    for (g, &(m, p)) in write.primitives.iter().enumerate() {
+        let mesh_path = format!("meshes[{m}]");
+        let raw_mesh = meshes
+            .get(m)
+            .ok_or_else(|| AssetError::gltf(&mesh_path, "does not exist"))?;
+        let mut mesh: RawObject = parse_raw(raw_mesh, &mesh_path)?;
+        let mut primitives: Vec<Box<RawValue>> =
+            mesh.parse("primitives", &mesh_path)?.unwrap_or_default();
+        let path = format!("{mesh_path}.primitives[{p}]");
+        let raw_primitive = primitives
+            .get(p)
+            .ok_or_else(|| AssetError::gltf(&path, "does not exist"))?;
+        let mut primitive: RawObject = parse_raw(raw_primitive, &path)?;
+        if let Some(mode) = primitive.parse::<u64>("mode", &path)? {
+            if mode != 4 {
+                return Err(AssetError::gltf(
+                    field(&path, "mode"),
+                    format!("{mode}: the extension applies to TRIANGLES (4) only"),
+                ));
+            }
+        }
+        let indices = buffers
+            .geometry_indices(g)
+            .map_err(|e| AssetError::gltf(&path, e.to_string()))?;
+        let triangles = triangle_count(&primitive, &path, &accessors)?;
+        if triangles != indices.len() {
+            return Err(AssetError::gltf(
+                &path,
+                format!(
+                    "{triangles} triangles, but its geometry has {} micromap indices",
+                    indices.len()
+                ),
+            ));
+        }
+        let mut extension = json!({ "micromap": micromap });
+        match consecutive_base(indices) {
+            Some(base) if base as usize + indices.len() <= records.len() => {
+                if base > 0 {
+                    extension["micromapBaseTriangle"] = Value::from(base);
+                }
+            }
+            _ => {
+                let max = indices
+                    .iter()
+                    .filter_map(|i| match i {
+                        MicromapIndex::Record(r) => Some(*r),
+                        MicromapIndex::Special(_) => None,
+                    })
+                    .max();
+                let width = IndexWidth::narrowest(max, Api::Gltf);
+                let bytes = buffers
+                    .index_bytes(g, width)
+                    .map_err(|e| AssetError::gltf(&path, e.to_string()))?;
+                let view = add_view(
+                    &mut host,
+                    &bytes,
+                    &format!("EXT_mesh_opacity_micromap indices of {path}"),
+                )?;
+                accessors.push(to_raw(&json!({
+                    "bufferView": view,
+                    "componentType": match width {
+                        IndexWidth::U8 => 5121,
+                        IndexWidth::U16 => 5123,
+                        IndexWidth::U32 => 5125,
+                    },
+                    "count": indices.len(),
+                    "type": "SCALAR",
+                }))?);
+                extension["micromapIndices"] = Value::from(accessors.len() - 1);
+            }
+        }
+        let mut primitive_extensions: RawObject =
+            primitive.parse("extensions", &path)?.unwrap_or_default();
+        primitive_extensions.set(EXTENSION, to_raw(&extension)?);
+        primitive.set("extensions", to_raw(&primitive_extensions)?);
+        primitives[p] = to_raw(&primitive)?;
+        mesh.set("primitives", to_raw(&primitives)?);
+        meshes[m] = to_raw(&mesh)?;
+    }
+
+    let host_length = host.len();
+    gltf_buffers[host_index].set("byteLength", to_raw(&host_length)?);
+    if let GltfContainer::Json { stem } = container {
+        let name = format!("{stem}.micromap.bin");
+        gltf_buffers[host_index].set("uri", to_raw(&percent_encode(&name))?);
+        sidecars.push((name, std::mem::take(&mut host)));
+    }
+    root.set("meshes", to_raw(&meshes)?);
+    root.set("accessors", to_raw(&accessors)?);
+    root.set("bufferViews", to_raw(&views)?);
+    root.set("buffers", to_raw(&gltf_buffers)?);
+    root.set("extensions", to_raw(&extensions)?);
+
+    let mut used: Vec<Value> = root.parse("extensionsUsed", "")?.unwrap_or_default();
+    if !used.iter().any(|v| v.as_str() == Some(EXTENSION)) {
+        used.push(Value::from(EXTENSION));
+    }
+    root.set("extensionsUsed", to_raw(&used)?);
+    if let Some(mut required) = root.parse::<Vec<Value>>("extensionsRequired", "")? {
+        required.retain(|v| v.as_str() != Some(EXTENSION));
+        if required.is_empty() {
+            root.remove("extensionsRequired");
+        } else {
+            root.set("extensionsRequired", to_raw(&required)?);
+        }
+    }
+
+    let json = serde_json::to_vec(&root).map_err(|e| AssetError::Json {
+        message: e.to_string(),
+    })?;
+    let main = match container {
+        GltfContainer::Json { .. } => json,
+        GltfContainer::Glb => glb(json, host)?,
+    };
+    Ok(GltfFiles { main, sidecars })
+}
+
+/// The bytes of a buffer's URI: a `data:` URI decoded, a relative one
+/// through `resolve`.
+fn load_uri(
+    uri: &str,
+    resolve: &mut dyn FnMut(&str) -> Result<Vec<u8>, AssetError>,
+) -> Result<Vec<u8>, AssetError> {
+    let error = |message: String| AssetError::Uri {
+        uri: uri_label(uri),
+        message,
+    };
+    if let Some(data) = uri.strip_prefix("data:") {
+        return decode_data_uri(data).map_err(error);
+    }
+    if has_scheme(uri) {
+        return Err(error(
+            "only relative paths and data: URIs are supported".into(),
+        ));
+    }
+    let path = percent_decode(uri.as_bytes())
+        .and_then(|b| String::from_utf8(b).map_err(|_| "percent-decodes to invalid UTF-8".into()))
+        .map_err(error)?;
+    resolve(&path)
+}
+
+/// `bytes` cut to `length`, which they must reach.
+fn exactly(mut bytes: Vec<u8>, length: usize, path: &str) -> Result<Vec<u8>, AssetError> {
+    if bytes.len() < length {
+        return Err(AssetError::gltf(
+            format!("{path}.byteLength"),
+            format!("{length}, but the data has {} bytes", bytes.len()),
+        ));
+    }
+    bytes.truncate(length);
+    Ok(bytes)
+}
+
+/// A primitive's triangle count: its index count, or its `POSITION` count,
+/// over 3 (the reader drops a remainder).
+fn triangle_count(
+    primitive: &RawObject,
+    path: &str,
+    accessors: &[Box<RawValue>],
+) -> Result<usize, AssetError> {
+    let accessor = if let Some(a) = primitive.parse::<usize>("indices", path)? {
+        a
+    } else {
+        let attributes: RawObject = primitive
+            .parse("attributes", path)?
+            .ok_or_else(|| AssetError::gltf(field(path, "attributes"), "missing"))?;
+        attributes
+            .parse::<usize>("POSITION", &field(path, "attributes"))?
+            .ok_or_else(|| {
+                AssetError::gltf(
+                    field(path, "attributes.POSITION"),
+                    "missing (and no indices)",
+                )
+            })?
+    };
+    let accessor_path = format!("accessors[{accessor}]");
+    let raw = accessors
+        .get(accessor)
+        .ok_or_else(|| AssetError::gltf(&accessor_path, "does not exist"))?;
+    let object: RawObject = parse_raw(raw, &accessor_path)?;
+    let count: usize = object
+        .parse("count", &accessor_path)?
+        .ok_or_else(|| AssetError::gltf(field(&accessor_path, "count"), "missing"))?;
+    Ok(count / 3)
+}
+
+/// `Some(b)` when the indices are the records `b, b + 1, ...` in order
+/// (then the extension needs no index accessor).
+fn consecutive_base(indices: &[MicromapIndex]) -> Option<u32> {
+    let base = match indices.first() {
+        None => return Some(0),
+        Some(MicromapIndex::Record(b)) => *b,
+        Some(MicromapIndex::Special(_)) => return None,
+    };
+    indices
+        .iter()
+        .enumerate()
+        .all(|(t, i)| u64::try_from(t).ok().map(|t| t + u64::from(base)) == index_value(*i))
+        .then_some(base)
+}
+
+fn index_value(index: MicromapIndex) -> Option<u64> {
+    match index {
+        MicromapIndex::Record(r) => Some(u64::from(r)),
+        MicromapIndex::Special(_) => None,
+    }
+}
+
+/// A file name as a URI path segment: bytes outside RFC 3986's unreserved
+/// set percent-encoded.
+fn percent_encode(name: &str) -> String {
+    let mut out = String::new();
+    for byte in name.bytes() {
+        if byte.is_ascii_alphanumeric() || matches!(byte, b'-' | b'.' | b'_' | b'~') {
+            out.push(byte as char);
+        } else {
+            let _ = write!(out, "%{byte:02X}");
+        }
+    }
+    out
+}
+
+/// The [`GltfMicromapWrite::uri_prefix`] for an output in `output_dir` of
+/// an asset in `asset_dir` (both must exist; an empty path is the current
+/// directory): `../` for each directory of the output below the common
+/// ancestor, then the asset's directories from there, percent-encoded,
+/// each followed by `/`; empty when both are the same directory. A
+/// directory whose name is not UTF-8 (which a URI cannot name) is
+/// [`AssetError::Uri`].
+///
+/// ```
+/// use micromap_index_assets::relative_uri_prefix;
+/// let here = std::env::current_dir().unwrap();
+/// assert_eq!(relative_uri_prefix(&here, "".as_ref()).unwrap(), "");
+/// assert_eq!(relative_uri_prefix(&here.join("src"), &here).unwrap(), "../");
+/// ```
+pub fn relative_uri_prefix(output_dir: &Path, asset_dir: &Path) -> Result<String, AssetError> {
+    let canonical = |dir: &Path| {
+        let dir = if dir.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            dir
+        };
+        dir.canonicalize().map_err(|e| AssetError::Io {
+            path: dir.display().to_string(),
+            message: e.to_string(),
+        })
+    };
+    let (out, from) = (canonical(output_dir)?, canonical(asset_dir)?);
+    let out_parts: Vec<_> = out.components().collect();
+    let from_parts: Vec<_> = from.components().collect();
+    let common = out_parts
+        .iter()
+        .zip(&from_parts)
+        .take_while(|(a, b)| a == b)
+        .count();
+    let mut prefix = "../".repeat(out_parts.len() - common);
+    for part in &from_parts[common..] {
+        let text = part.as_os_str().to_str().ok_or_else(|| AssetError::Uri {
+            uri: from.display().to_string(),
+            message: "a directory name that is not UTF-8 cannot be written in a URI".into(),
+        })?;
+        prefix.push_str(&percent_encode(text));
+        prefix.push('/');
+    }
+    Ok(prefix)
+}
+
+/// A GLB of `json` (padded with spaces) and the `BIN` chunk `bin` (padded
+/// with zeros), each chunk a multiple of 4 bytes.
+fn glb(mut json: Vec<u8>, mut bin: Vec<u8>) -> Result<Vec<u8>, AssetError> {
+    json.resize(json.len().next_multiple_of(4), b' ');
+    bin.resize(bin.len().next_multiple_of(4), 0);
+    let total = 12 + 8 + json.len() as u64 + 8 + bin.len() as u64;
+    let too_large = || AssetError::Glb {
+        message: format!("{total} bytes, over the 4 GiB a GLB can hold"),
+    };
+    let total32 = u32::try_from(total).map_err(|_| too_large())?;
+    let chunk32 = |n: usize| u32::try_from(n).map_err(|_| too_large());
+    let mut out = Vec::with_capacity(total32 as usize);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&total32.to_le_bytes());
+    out.extend_from_slice(&chunk32(json.len())?.to_le_bytes());
+    out.extend_from_slice(&GLB_JSON.to_le_bytes());
+    out.extend_from_slice(&json);
+    out.extend_from_slice(&chunk32(bin.len())?.to_le_bytes());
+    out.extend_from_slice(&GLB_BIN.to_le_bytes());
+    out.extend_from_slice(&bin);
+    Ok(out)
+}

@@ -1,0 +1,205 @@
+//! `bake --gltf-out` round-trips through glTF with `EXT_mesh_opacity_micromap`
+//! and `verify-bake --gltf` passes on it, from another directory than the
+//! asset's (the URIs are relocated), as `.gltf` and `.glb`; micromaps made
+//! wrong are caught (exit 1); what cannot be written is refused (exit 2)
+//! with nothing written.
+
+mod common;
+
+use common::{run, scratch, text};
+use std::path::Path;
+
+const SPONZA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/crytek-sponza");
+
+fn bake(input: &str, out: &Path, name: &str, extra: &[&str]) -> std::process::Output {
+    let asset = format!("{SPONZA}/{input}");
+    let out = out.to_str().unwrap();
+    let mut args = vec![
+        "bake",
+        "--gltf",
+        &asset,
+        "--out",
+        out,
+        "--gltf-out",
+        name,
+        "--level",
+        "4",
+        "--quiet",
+    ];
+    args.extend_from_slice(extra);
+    run(&args)
+}
+
+#[test]
+fn baked_gltf_verifies_in_every_container() {
+    for (input, name) in [
+        ("cards.gltf", "with omm.gltf"),
+        ("cards.gltf", "c.glb"),
+        ("cards.glb", "c.glb"),
+        ("cards.glb", "c.gltf"),
+    ] {
+        let dir = scratch(&format!("gltf-out-{input}-{name}"));
+        let out = dir.join("deeper");
+        let baked = bake(input, &out, name, &[]);
+        assert_eq!(baked.status.code(), Some(0), "{}", text(&baked.stderr));
+        // The raw buffers are still written.
+        for raw in [
+            "micromap-data.bin",
+            "micromap-triangles.bin",
+            "summary.json",
+        ] {
+            assert!(out.join(raw).is_file(), "{input} -> {name}: {raw}");
+        }
+        let written = out.join(name);
+        let verified = run(&["verify-bake", "--gltf", written.to_str().unwrap(), "--json"]);
+        let report = text(&verified.stdout);
+        assert_eq!(
+            verified.status.code(),
+            Some(0),
+            "{input} -> {name}: {report}{}",
+            text(&verified.stderr)
+        );
+        let json: serde_json::Value = serde_json::from_str(&report).unwrap();
+        assert_eq!(json["sound"], true);
+        let primitives = json["primitives"].as_array().unwrap();
+        assert_eq!(primitives.len(), 6, "{report}");
+        assert!(primitives.iter().all(|p| p["has_micromaps"] == true));
+        let known: u64 = primitives
+            .iter()
+            .map(|p| p["known_micro_triangles"].as_u64().unwrap())
+            .sum();
+        assert!(known > 0, "{report}");
+    }
+}
+
+/// XOR 0b01 on every 2-bit state swaps transparent and opaque (and the two
+/// unknowns): every known state becomes wrong.
+#[test]
+fn micromaps_made_wrong_are_caught() {
+    let dir = scratch("gltf-out-wrong");
+    let baked = bake("cards.gltf", &dir, "w.gltf", &[]);
+    assert_eq!(baked.status.code(), Some(0), "{}", text(&baked.stderr));
+    let gltf: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("w.gltf")).unwrap()).unwrap();
+    let ext = &gltf["extensions"]["EXT_mesh_opacity_micromap"]["micromaps"][0];
+    let view = &gltf["bufferViews"][ext["data"].as_u64().unwrap() as usize];
+    let (offset, length) = (
+        view["byteOffset"].as_u64().unwrap() as usize,
+        view["byteLength"].as_u64().unwrap() as usize,
+    );
+    let sidecar = dir.join("w.micromap.bin");
+    let mut bytes = std::fs::read(&sidecar).unwrap();
+    for b in &mut bytes[offset..offset + length] {
+        *b ^= 0x55;
+    }
+    std::fs::write(&sidecar, bytes).unwrap();
+    let verified = run(&[
+        "verify-bake",
+        "--gltf",
+        dir.join("w.gltf").to_str().unwrap(),
+    ]);
+    let report = text(&verified.stdout);
+    assert_eq!(verified.status.code(), Some(1), "{report}");
+    assert!(report.starts_with("NOT SOUND"), "{report}");
+    assert!(report.contains("mesh 0 primitive 0 triangle"), "{report}");
+}
+
+#[test]
+fn what_cannot_be_written_or_checked_is_refused() {
+    let dir = scratch("gltf-out-refused");
+    let asset = format!("{SPONZA}/cards.gltf");
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    for (args, message) in [
+        (
+            vec![
+                "bake",
+                "--gltf",
+                &asset,
+                "--out",
+                o,
+                "--gltf-out",
+                "x.gltf",
+                "--cutoff",
+                "0.4",
+            ],
+            "--cutoff with --gltf-out",
+        ),
+        (
+            vec![
+                "bake",
+                "--gltf",
+                &asset,
+                "--out",
+                o,
+                "--gltf-out",
+                "sub/x.glb",
+            ],
+            "expected a file name NAME.gltf or NAME.glb",
+        ),
+        (
+            vec!["bake", "--gltf", &asset, "--out", o, "--gltf-out", "x.obj"],
+            "expected a file name NAME.gltf or NAME.glb",
+        ),
+        (
+            vec![
+                "bake",
+                "--texture",
+                "t.png",
+                "--triangles",
+                "t.json",
+                "--out",
+                o,
+                "--gltf-out",
+                "x.glb",
+            ],
+            "give --gltf ASSET",
+        ),
+        (
+            vec![
+                "bake",
+                "--gltf",
+                &asset,
+                "--out",
+                o,
+                "--gltf-out",
+                "micromap-data.gltf",
+            ],
+            "would write micromap-data.bin, which bake writes too",
+        ),
+        (
+            vec!["verify-bake", "--gltf", &asset],
+            "no primitive has EXT_mesh_opacity_micromap",
+        ),
+        (
+            vec!["verify-bake", "--gltf", &asset, "--micromaps", o],
+            "--micromaps with --gltf",
+        ),
+        (
+            vec!["verify-bake", "--gltf", &asset, "--filter", "linear"],
+            "--filter with verify-bake --gltf",
+        ),
+    ] {
+        let output = run(&args);
+        assert_eq!(output.status.code(), Some(2), "{args:?}");
+        assert!(
+            text(&output.stderr).contains(message),
+            "{args:?}: {}",
+            text(&output.stderr)
+        );
+        assert!(
+            !out.join("x.gltf").exists() && !out.join("x.glb").exists(),
+            "{args:?}"
+        );
+    }
+    // An existing output is kept without --force, and replaced with it.
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("x.micromap.bin"), b"mine").unwrap();
+    let refused = bake("cards.gltf", &out, "x.gltf", &[]);
+    assert_eq!(refused.status.code(), Some(2), "{}", text(&refused.stderr));
+    assert_eq!(std::fs::read(out.join("x.micromap.bin")).unwrap(), b"mine");
+    assert!(!out.join("x.gltf").exists());
+    let forced = bake("cards.gltf", &out, "x.gltf", &["--force"]);
+    assert_eq!(forced.status.code(), Some(0), "{}", text(&forced.stderr));
+    assert_ne!(std::fs::read(out.join("x.micromap.bin")).unwrap(), b"mine");
+}

@@ -1,0 +1,180 @@
+//! [`verify_mesh`]: anyone's micromaps for a [`Mesh`] checked against its
+//! texture and material as [`bake_meshes`](super::bake_meshes) models them
+//! (alpha factor, vertex alpha), with [`Baker::verify_each`].
+
+use super::{
+    check_vertex_alpha, vertex_range, FactorTexture, Mesh, MeshBakeError, VertexBoundTexture,
+};
+use crate::bake::{Baker, Contradiction, Model};
+use crate::micromap::{State, TriangleOpacity};
+use alloc::collections::BTreeMap;
+use core::fmt;
+
+/// What [`verify_mesh`] found, summed over the mesh's triangles.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MeshVerification {
+    /// Triangles checked (the others have coordinates that are not finite
+    /// or off the exact grid: nothing of them was checked).
+    pub triangles_checked: usize,
+    /// Known micro-triangles checked.
+    pub known: u64,
+    /// Unknown micro-triangles (nothing to check).
+    pub unknown: u64,
+    /// Known micro-triangles the block budget could not decide (with
+    /// vertex alpha, summed over the two bounds).
+    pub undecided: u64,
+    /// Known micro-triangles past `max_known`: not checked.
+    pub unchecked: u64,
+    /// Known micro-triangles the texture contradicts.
+    pub contradictions: u64,
+}
+
+impl MeshVerification {
+    /// No contradiction, and every known micro-triangle of every triangle
+    /// was checked.
+    #[must_use]
+    pub fn is_sound(&self, triangles: usize) -> bool {
+        self.contradictions == 0 && self.unchecked == 0 && self.triangles_checked == triangles
+    }
+}
+
+/// Why [`verify_mesh`] could not run.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum MeshVerifyError {
+    /// The mesh is malformed (as [`bake_meshes`](super::bake_meshes) would
+    /// report it).
+    Mesh(MeshBakeError),
+    /// Not one opacity per triangle.
+    Count {
+        /// Opacities given.
+        opacities: usize,
+        /// Triangles of the mesh.
+        triangles: usize,
+    },
+}
+
+impl fmt::Display for MeshVerifyError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            MeshVerifyError::Mesh(e) => e.fmt(f),
+            MeshVerifyError::Count {
+                opacities,
+                triangles,
+            } => write!(f, "{opacities} opacities for {triangles} triangles"),
+        }
+    }
+}
+
+impl core::error::Error for MeshVerifyError {}
+
+/// Checks `opacities` (one per triangle of `mesh`, any baker's) against the
+/// mesh's texture under its material, as [`bake_meshes`](super::bake_meshes)
+/// models it: every known micro-triangle whose closed area can read a
+/// texel of the other class under `model` is a [`Contradiction`], passed
+/// to `visit` with its triangle. The texel's alpha is multiplied by the
+/// material's alpha factor as a GPU does; with vertex alpha, an opaque
+/// state must hold for the lowest alpha the GPU can compute over the
+/// triangle, a transparent state for the highest (the bounds the bake
+/// uses). At most `max_known` known micro-triangles are checked (the rest
+/// are counted as unchecked).
+///
+/// ```
+/// use micromap_index::bake::mesh::{verify_mesh, Material, Mesh, MeshTriangles};
+/// use micromap_index::bake::{Model, Unorm8Texture};
+/// use micromap_index::micromap::{State, TriangleOpacity};
+/// let texels = [255u8, 0, 0, 0];
+/// let texture = Unorm8Texture::new(2, 2, &texels).unwrap();
+/// let triangle = [[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]];
+/// let mesh = Mesh { triangles: MeshTriangles::Uv(&triangle), texture: &texture, material: Material::default(), vertex_alpha: None };
+/// let mut found = 0;
+/// let opaque = [TriangleOpacity::Special(State::Opaque)];
+/// let v = verify_mesh(&mesh, &opaque, Model::default(), u64::MAX, &mut |_, _| found += 1).unwrap();
+/// assert_eq!((v.contradictions, found), (1, 1));
+/// let unknown = [TriangleOpacity::Special(State::UnknownOpaque)];
+/// assert!(verify_mesh(&mesh, &unknown, Model::default(), u64::MAX, &mut |_, _| {}).unwrap().is_sound(1));
+/// ```
+pub fn verify_mesh(
+    mesh: &Mesh<'_>,
+    opacities: &[TriangleOpacity<'_>],
+    model: Model,
+    max_known: u64,
+    visit: &mut dyn FnMut(usize, Contradiction),
+) -> Result<MeshVerification, MeshVerifyError> {
+    let triangles = mesh.triangles.resolve(0).map_err(MeshVerifyError::Mesh)?;
+    if opacities.len() != triangles.len() {
+        return Err(MeshVerifyError::Count {
+            opacities: opacities.len(),
+            triangles: triangles.len(),
+        });
+    }
+    let vertex_alpha =
+        check_vertex_alpha(0, mesh, triangles.len()).map_err(MeshVerifyError::Mesh)?;
+    let material = &mesh.material;
+    let texture_error = |error| MeshVerifyError::Mesh(MeshBakeError::Texture { mesh: 0, error });
+    let factor = FactorTexture {
+        inner: mesh.texture,
+        factor: material.alpha_factor,
+    };
+    let baker = if material.alpha_factor == 1.0 {
+        Baker::new(mesh.texture, material.sampler, material.cutoff)
+    } else {
+        Baker::new(&factor, material.sampler, material.cutoff)
+    }
+    .map_err(texture_error)?
+    .with_model(model);
+    let mut bound_bakers: BTreeMap<(u64, u64), (Baker, Baker)> = BTreeMap::new();
+    let mut out = MeshVerification::default();
+    for (t, (uv, opacity)) in triangles.iter().zip(opacities).enumerate() {
+        let remaining = max_known.saturating_sub(out.known);
+        let counts = match vertex_alpha {
+            None => baker.verify_each(uv, opacity, remaining, |c| visit(t, c)),
+            Some(alphas) => {
+                let key = vertex_range(alphas[t]);
+                if let alloc::collections::btree_map::Entry::Vacant(slot) = bound_bakers.entry(key)
+                {
+                    let bound = |upper| {
+                        let texture = VertexBoundTexture {
+                            inner: mesh.texture,
+                            factor: f64::from(material.alpha_factor),
+                            low: f64::from_bits(key.0),
+                            high: f64::from_bits(key.1),
+                            upper,
+                        };
+                        Baker::new(&texture, material.sampler, material.cutoff)
+                            .map(|b| b.with_model(model))
+                            .map_err(texture_error)
+                    };
+                    slot.insert((bound(false)?, bound(true)?));
+                }
+                let Some((low, high)) = bound_bakers.get(&key) else {
+                    continue;
+                };
+                // Each bound decides the states it is the bound of.
+                let mut kept = 0;
+                let mut a = low.verify_each(uv, opacity, remaining, |c| {
+                    if c.state == State::Opaque {
+                        kept += 1;
+                        visit(t, c);
+                    }
+                });
+                let b = high.verify_each(uv, opacity, remaining, |c| {
+                    if c.state == State::Transparent {
+                        kept += 1;
+                        visit(t, c);
+                    }
+                });
+                a.contradictions = kept;
+                a.undecided += b.undecided;
+                a
+            }
+        };
+        out.triangles_checked += usize::from(counts.checked);
+        out.known += counts.known;
+        out.unknown += counts.unknown;
+        out.undecided += counts.undecided;
+        out.unchecked += counts.unchecked;
+        out.contradictions += counts.contradictions;
+    }
+    Ok(out)
+}
