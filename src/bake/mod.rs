@@ -86,6 +86,7 @@ mod classify;
 mod exact;
 mod gpu;
 pub mod mesh;
+mod parallel;
 mod texture;
 
 pub use baker::{
@@ -93,6 +94,7 @@ pub use baker::{
     UvTriangle, Verification, VerifyCounts, DEFAULT_BLOCK_BUDGET,
 };
 pub use gpu::Model;
+pub use parallel::Threads;
 pub use texture::{
     AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Sampler, SliceTexture,
     Texel, TextureError, Unorm16Texture, Unorm8Texture,

@@ -451,6 +451,14 @@ pub enum BufferError {
     },
     /// The allocator refused the buffers.
     AllocationFailed,
+    /// A [`TriangleEntry`] names a micromap this builder does not hold
+    /// (it came from another builder).
+    NoSuchEntry {
+        /// The distinct micromap it names.
+        entry: u32,
+        /// How many this builder holds.
+        count: usize,
+    },
 }
 
 impl fmt::Display for BufferError {
@@ -482,6 +490,10 @@ impl fmt::Display for BufferError {
                 write!(f, "geometry {geometry} does not exist: there are {count}")
             }
             BufferError::AllocationFailed => f.write_str("could not allocate the buffers"),
+            BufferError::NoSuchEntry { entry, count } => write!(
+                f,
+                "entry {entry} names no micromap of this builder (it holds {count})"
+            ),
         }
     }
 }
@@ -516,12 +528,21 @@ impl Default for BuildOptions {
 }
 
 /// A triangle's entry before the final order is known.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Entry {
     /// Index into the builder's distinct micromaps.
     Unique(u32),
     Special(State),
 }
+
+/// A triangle's opacity as a [`MicromapBuffersBuilder`] holds it: a
+/// distinct micromap it stores, or a special index
+/// ([`MicromapBuffersBuilder::add_micromap`],
+/// [`MicromapBuffersBuilder::special`]), meaningful for the builder that
+/// made it (another builder's entry may name another map, or none:
+/// [`BufferError::NoSuchEntry`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TriangleEntry(Entry);
 
 /// Collects the micromaps of one or more geometries, deduplicates them by
 /// content and lays out the API buffers ([`finish`](Self::finish)).
@@ -594,20 +615,102 @@ impl MicromapBuffersBuilder {
         }
     }
 
-    /// The distinct micromap equal to `map`, adding it if new.
-    fn intern(&mut self, map: &Micromap) -> Result<u32, BufferError> {
-        let hash = content_hash(map);
-        let bucket = self.buckets.entry(hash).or_default();
-        if let Some(&found) = bucket.iter().find(|&&i| self.unique[i as usize] == *map) {
-            return Ok(found);
-        }
+    /// The distinct micromap equal to `map` (`hash` its content hash).
+    fn find(&self, map: &Micromap, hash: u64) -> Option<u32> {
+        let bucket = self.buckets.get(&hash)?;
+        bucket
+            .iter()
+            .copied()
+            .find(|&i| self.unique[i as usize] == *map)
+    }
+
+    /// Stores `map`, known to be new (`hash` its content hash).
+    fn store(&mut self, map: Micromap, hash: u64) -> Result<u32, BufferError> {
         let id = self.unique.len() as u64;
         if id > u64::from(IndexWidth::U32.max_regular()) {
             return Err(BufferError::TooManyMicromaps { count: id + 1 });
         }
-        bucket.push(id as u32);
-        self.unique.push(map.clone());
+        self.unique
+            .try_reserve(1)
+            .map_err(|_| BufferError::AllocationFailed)?;
+        self.buckets.entry(hash).or_default().push(id as u32);
+        self.unique.push(map);
         Ok(id as u32)
+    }
+
+    /// The special index a uniform `map` becomes, if the options say so.
+    fn as_special(&self, map: &Micromap) -> Option<State> {
+        map.uniform().filter(|_| self.options.uniform_to_special)
+    }
+
+    /// Adds one triangle's micromap, taking it (no copy is made; a map
+    /// equal to one already added is dropped, a uniform one becomes its
+    /// special index), and returns the entry to name it by in
+    /// [`add_geometry_entries`](Self::add_geometry_entries). This is how a
+    /// baker streams its maps in as it makes them: the builder holds each
+    /// distinct map once, and [`finish`](Self::finish) moves them into the
+    /// buffers.
+    ///
+    /// ```
+    /// use micromap_index::micromap::{Format, Micromap, MicromapBuffersBuilder, MicromapIndex, State};
+    /// use micromap_index::Level;
+    /// let mut half = Micromap::new(Level::new(1).unwrap(), Format::TwoState).unwrap();
+    /// half.set(0, State::Opaque).unwrap();
+    /// let mut builder = MicromapBuffersBuilder::new(Default::default());
+    /// let a = builder.add_micromap(half.clone()).unwrap();
+    /// let b = builder.add_micromap(half).unwrap(); // equal: the same record
+    /// let c = MicromapBuffersBuilder::special(State::Opaque);
+    /// builder.add_geometry_entries([a, b, c, a]).unwrap();
+    /// let buffers = builder.finish().unwrap();
+    /// assert_eq!(buffers.records().len(), 1);
+    /// let indices = buffers.geometry_indices(0).unwrap();
+    /// assert_eq!((indices[1], indices[2]), (MicromapIndex::Record(0), MicromapIndex::Special(State::Opaque)));
+    /// ```
+    pub fn add_micromap(&mut self, map: Micromap) -> Result<TriangleEntry, BufferError> {
+        if let Some(state) = self.as_special(&map) {
+            return Ok(TriangleEntry(Entry::Special(state)));
+        }
+        let hash = content_hash(&map);
+        let id = match self.find(&map, hash) {
+            Some(id) => id,
+            None => self.store(map, hash)?,
+        };
+        Ok(TriangleEntry(Entry::Unique(id)))
+    }
+
+    /// The entry of a triangle with one state, a special index (for
+    /// [`add_geometry_entries`](Self::add_geometry_entries)).
+    #[must_use]
+    pub const fn special(state: State) -> TriangleEntry {
+        TriangleEntry(Entry::Special(state))
+    }
+
+    /// Adds a geometry from entries ([`add_micromap`](Self::add_micromap),
+    /// [`special`](Self::special)) of this builder, one per triangle in
+    /// triangle order; an entry may serve any number of triangles and
+    /// geometries. Returns the geometry's number. The buffers are those
+    /// [`add_geometry`](Self::add_geometry) gives for the maps in the order
+    /// they were added.
+    pub fn add_geometry_entries(
+        &mut self,
+        entries: impl IntoIterator<Item = TriangleEntry>,
+    ) -> Result<usize, BufferError> {
+        let mut list = Vec::new();
+        for TriangleEntry(entry) in entries {
+            if let Entry::Unique(id) = entry {
+                if id as usize >= self.unique.len() {
+                    return Err(BufferError::NoSuchEntry {
+                        entry: id,
+                        count: self.unique.len(),
+                    });
+                }
+            }
+            list.try_reserve(1)
+                .map_err(|_| BufferError::AllocationFailed)?;
+            list.push(entry);
+        }
+        self.geometries.push(list);
+        Ok(self.geometries.len() - 1)
     }
 
     /// Adds a geometry: one opacity per triangle, in triangle order. Returns
@@ -620,10 +723,17 @@ impl MicromapBuffersBuilder {
         for triangle in triangles {
             let entry = match triangle {
                 TriangleOpacity::Special(state) => Entry::Special(state),
-                TriangleOpacity::Micromap(map) => match map.uniform() {
-                    Some(state) if self.options.uniform_to_special => Entry::Special(state),
-                    _ => Entry::Unique(self.intern(map)?),
-                },
+                TriangleOpacity::Micromap(map) => {
+                    if let Some(state) = self.as_special(map) {
+                        Entry::Special(state)
+                    } else {
+                        let hash = content_hash(map);
+                        match self.find(map, hash) {
+                            Some(id) => Entry::Unique(id),
+                            None => Entry::Unique(self.store(map.clone(), hash)?),
+                        }
+                    }
+                }
             };
             entries.push(entry);
         }
@@ -667,6 +777,12 @@ impl MicromapBuffersBuilder {
             data.extend_from_slice(self.unique[id as usize].as_bytes());
         }
         let usage = histogram(records.iter().map(|r| (r.subdivision_level, r.format)));
+        // Moved, not copied, into record order.
+        let mut unique: Vec<Option<Micromap>> = self.unique.into_iter().map(Some).collect();
+        let micromaps: Vec<Micromap> = order
+            .iter()
+            .filter_map(|&id| unique[id as usize].take())
+            .collect();
         let geometries = self
             .geometries
             .iter()
@@ -691,10 +807,7 @@ impl MicromapBuffersBuilder {
         Ok(MicromapBuffers {
             data,
             records,
-            micromaps: order
-                .iter()
-                .map(|&id| self.unique[id as usize].clone())
-                .collect(),
+            micromaps,
             usage,
             geometries,
         })

@@ -817,14 +817,11 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         Some(
             crate::preview::render(
                 &input.images,
-                input.jobs.iter().zip(&baked.triangles).map(|(job, baked)| {
-                    (
-                        job.image,
-                        job.sampler,
-                        job.triangles.as_slice(),
-                        baked.as_slice(),
-                    )
-                }),
+                input
+                    .jobs
+                    .iter()
+                    .map(|job| (job.image, job.sampler, job.triangles.as_slice())),
+                &baked,
             )
             .map_err(Failure::Io)?,
         )

@@ -2,7 +2,8 @@
 //! several) in grey, every micro-triangle of every triangle tinted by its
 //! state, the mesh triangles' edges in white.
 
-use micromap_index::bake::{AddressMode, BakedTriangle, Sampler, UvTriangle};
+use micromap_index::bake::mesh::MeshBake;
+use micromap_index::bake::{AddressMode, Sampler, UvTriangle};
 use micromap_index::inverse::micro_triangles;
 use micromap_index::micromap::State;
 use micromap_index_assets::{AlphaImage, AlphaTexels};
@@ -50,10 +51,12 @@ impl Canvas {
     }
 }
 
-/// The picture as PNG bytes. `jobs`: (image index, triangles, their bakes).
+/// The picture as PNG bytes. `jobs`: (image index, sampler, triangles),
+/// job `j` being mesh `j` of `baked`.
 pub(crate) fn render<'a>(
     images: &[AlphaImage],
-    jobs: impl Iterator<Item = (usize, Sampler, &'a [UvTriangle], &'a [BakedTriangle])>,
+    jobs: impl Iterator<Item = (usize, Sampler, &'a [UvTriangle])>,
+    baked: &MeshBake,
 ) -> Result<Drawn, String> {
     let max_side = images
         .iter()
@@ -95,7 +98,7 @@ pub(crate) fn render<'a>(
     }
     let mut pixels_left = PIXEL_BUDGET;
     let (mut drawn, mut skipped) = (0u64, 0u64);
-    for (job, (image_index, sampler, triangles, baked)) in jobs.enumerate() {
+    for (job, (image_index, sampler, triangles)) in jobs.enumerate() {
         let image = &images[image_index];
         let tile = Tile {
             x0: offsets[image_index],
@@ -104,8 +107,11 @@ pub(crate) fn render<'a>(
             address: [sampler.address_u, sampler.address_v],
         };
         let mut seen = std::collections::HashSet::new();
-        for (uv, b) in triangles.iter().zip(baked) {
-            let level = b.opacity.level();
+        for (t, uv) in triangles.iter().enumerate() {
+            let Some(b) = baked.triangle(job, t) else {
+                continue;
+            };
+            let level = b.level;
             let count = 1u64 << (2 * level.get());
             if !seen.insert((job, uv.map(|c| c.map(f32::to_bits)))) {
                 skipped += count;
@@ -119,7 +125,7 @@ pub(crate) fn render<'a>(
                 continue;
             }
             for t in micro_triangles(level) {
-                let state = b.opacity.state(t.index()).unwrap_or(State::UnknownOpaque);
+                let state = b.state(t.index()).unwrap_or(State::UnknownOpaque);
                 let n = f64::from(1u32 << level.get());
                 let corners = t.vertices_scaled().map(|(a, bb)| {
                     let (a, bb) = (a as f64 / n, bb as f64 / n);
