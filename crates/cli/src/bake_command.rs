@@ -11,7 +11,8 @@ use micromap_index::bake::mesh::{
     bake_meshes, LevelRule, Material, Mesh, MeshBakeError, MeshOptions, MeshTriangles,
 };
 use micromap_index::bake::{
-    AddressMode, AlphaTexture, Baker, Comparison, Cutoff, Filter, Model, Sampler, UvTriangle,
+    AddressMode, AlphaTexture, Baker, Comparison, Cutoff, Filter, Model, Sampler, Threads,
+    UvTriangle,
 };
 use micromap_index::micromap::{
     read_buffers, BufferBytes, Format, IndexWidth, MicromapIndex, ReadOptions, TriangleOpacity,
@@ -146,6 +147,12 @@ pub(crate) static BAKE: Command = Command {
                 "N",
                 "refuse (exit 2) before baking when the output may exceed N bytes
                          (default 1073741824; the estimate counts every map before dedup)",
+            ),
+            Flag::value(
+                "--threads",
+                "N",
+                "threads to bake on (default: every core; 1: serial); the bytes are
+                         the same for every N",
             ),
             Flag::switch("--force", "replace existing files in DIR"),
             Flag::switch("--no-preview", "skip preview.png"),
@@ -410,6 +417,19 @@ fn read_file(path: &Path, limit: u64, what: &str) -> Result<Vec<u8>, Failure> {
     Ok(bytes)
 }
 
+/// `--threads N` (N >= 1); `None`: every core.
+fn threads_option(p: &Parsed<'_>) -> Result<Option<usize>, Failure> {
+    match p.get("--threads") {
+        None => Ok(None),
+        Some(text) => match text.parse::<usize>() {
+            Ok(n) if n >= 1 && text.bytes().all(|b| b.is_ascii_digit()) => Ok(Some(n)),
+            _ => Err(Failure::Malformed(format!(
+                "--threads {text:?}: expected a number of threads, at least 1"
+            ))),
+        },
+    }
+}
+
 /// `--model` (default gpu-binary32).
 fn model_option(p: &Parsed<'_>) -> Result<Model, Failure> {
     match p.get("--model") {
@@ -553,7 +573,15 @@ struct JobSummary {
 #[derive(Serialize)]
 struct Summary {
     triangles: usize,
-    format: u32,
+    /// Triangles classified: equal UVs, level and material bake once.
+    distinct_triangles: usize,
+    /// "4-state" or "2-state".
+    format: &'static str,
+    /// The APIs' value of the format (`VkOpacityMicromapFormatEXT`: 1
+    /// 2-state, 2 4-state).
+    format_api_value: u32,
+    /// The threads the bake ran on.
+    threads: usize,
     model: &'static str,
     levels: Vec<u64>,
     micro_triangles: StateCounts,
@@ -688,6 +716,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         .unwrap_or(DEFAULT_MAX_OUTPUT_BYTES);
     let width = index_width(&p)?;
     let model = model_option(&p)?;
+    let threads = threads_option(&p)?;
     let s = sampler_options(&p)?;
     let preview = !p.flag("--no-preview");
     if let Err(message) = install_interrupt_handler() {
@@ -748,8 +777,15 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         unknown: two_state,
         budget_bytes: budget,
         model,
+        threads: match threads {
+            Some(n) => Threads::Exactly(n),
+            None => Threads::All,
+        },
         ..MeshOptions::default()
     };
+    let threads_used = threads.unwrap_or_else(|| {
+        std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+    });
     let show_progress = !p.flag("--quiet") && std::io::stderr().is_terminal();
     let mut progress = |done: usize, total: usize| {
         if show_progress && (done % 64 == 0 || done == total) {
@@ -836,7 +872,13 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     let micro = counts.total();
     let summary = Summary {
         triangles: report.triangles,
-        format: u32::from(format.raw()),
+        distinct_triangles: report.distinct_triangles,
+        format: match format {
+            Format::FourState => "4-state",
+            Format::TwoState => "2-state",
+        },
+        format_api_value: u32::from(format.raw()),
+        threads: threads_used,
         model: model.name(),
         levels: report.levels.clone(),
         known_fraction: report.known_fraction,
@@ -860,23 +902,18 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     let summary_json = serde_json::to_string_pretty(&summary)
         .map_err(|e| Failure::Malformed(format!("summary: {e}")))?
         + "\n";
-    let mut files = vec![
-        ("micromap-data.bin".to_string(), buffers.data().to_vec()),
-        (
-            "micromap-triangles.bin".to_string(),
-            buffers.records_le_bytes(),
-        ),
-        ("micromap-indices.bin".to_string(), indices),
-        (
-            "micromap-usage.bin".to_string(),
-            micromap_index::micromap::usage_counts_to_le_bytes(buffers.usage_counts()),
-        ),
-        (
-            "summary.json".to_string(),
-            summary_json.clone().into_bytes(),
-        ),
+    // Borrowed where the bytes already exist: the data, the largest
+    // output, is written from the buffers without a copy.
+    let records = buffers.records_le_bytes();
+    let usage = micromap_index::micromap::usage_counts_to_le_bytes(buffers.usage_counts());
+    let mut files: Vec<(String, &[u8])> = vec![
+        ("micromap-data.bin".to_string(), buffers.data()),
+        ("micromap-triangles.bin".to_string(), &records),
+        ("micromap-indices.bin".to_string(), &indices),
+        ("micromap-usage.bin".to_string(), &usage),
+        ("summary.json".to_string(), summary_json.as_bytes()),
     ];
-    if let Some(png) = preview_png {
+    if let Some(png) = &preview_png {
         files.push(("preview.png".to_string(), png));
     }
     // Without a preview, a stale preview.png (--force) is removed with the
