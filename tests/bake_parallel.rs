@@ -17,9 +17,12 @@ use micromap_index_test_support::SplitMix64;
 
 /// A random scene: textures, and meshes whose triangles are drawn from a
 /// small pool (so that many repeat), some not finite or far outside.
+/// A mesh: its texture (by position), material, triangles, vertex alpha.
+type MeshSpec = (usize, Material, Vec<UvTriangle>, Option<Vec<[f32; 3]>>);
+
 struct Scene {
     textures: Vec<(u32, u32, Vec<u8>)>,
-    meshes: Vec<(usize, Material, Vec<UvTriangle>, Option<Vec<[f32; 3]>>)>,
+    meshes: Vec<MeshSpec>,
     options: MeshOptions,
 }
 
@@ -35,7 +38,7 @@ fn coordinate(rng: &mut SplitMix64) -> f32 {
 
 fn scene(seed: u64) -> Scene {
     let mut rng = SplitMix64::new(seed);
-    let textures = (0..1 + rng.below(2))
+    let textures = (0..=rng.below(2))
         .map(|_| {
             let (w, h) = (1 + rng.below(24) as u32, 1 + rng.below(24) as u32);
             let texels = (0..w * h)
@@ -44,7 +47,7 @@ fn scene(seed: u64) -> Scene {
             (w, h, texels)
         })
         .collect::<Vec<_>>();
-    let pool: Vec<UvTriangle> = (0..1 + rng.below(12))
+    let pool: Vec<UvTriangle> = (0..=rng.below(12))
         .map(|_| {
             [0; 3].map(|_| {
                 let u = coordinate(&mut rng);
@@ -69,7 +72,7 @@ fn scene(seed: u64) -> Scene {
             ..Material::default()
         },
     ];
-    let meshes = (0..1 + rng.below(4))
+    let meshes = (0..=rng.below(4))
         .map(|_| {
             let n = 1 + rng.below(40) as usize;
             let triangles: Vec<UvTriangle> = (0..n).map(|_| rng.pick(&pool)).collect();

@@ -44,7 +44,7 @@ use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
 use super::{levels_within_budget, useful_level, Model, DEFAULT_BLOCK_BUDGET};
 use crate::micromap::{
     BufferError, BuildOptions, Format, Micromap, MicromapBuffers, MicromapBuffersBuilder,
-    MicromapIndex, State, TriangleOpacity, UnknownPolicy,
+    MicromapIndex, State, UnknownPolicy,
 };
 use crate::succinct::{LevelOrderTree, PaperTree};
 use crate::Level;
@@ -316,7 +316,7 @@ pub struct MeshBake {
 
 /// How one triangle baked ([`MeshBake::triangle`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct TriangleBake<'a> {
+pub struct TriangleBake {
     /// The level its micromap was baked at; 0 for a triangle baked as a
     /// special index from its coordinates ([`TriangleStatus::NotFinite`],
     /// [`TriangleStatus::OutOfExactRange`]).
@@ -326,21 +326,9 @@ pub struct TriangleBake<'a> {
     /// Micro-triangles per state, indexed by [`State::bits`], before a
     /// 2-state format resolves the unknowns.
     pub counts: [u64; 4],
-    /// What its index points at in the buffers: its micromap, or its
-    /// special index (one state, also for a map that came out uniform).
-    pub opacity: TriangleOpacity<'a>,
-}
-
-impl TriangleBake<'_> {
-    /// The state of micro-triangle `i` (`i` below `4^level`): the map's,
-    /// or the special index's one state.
-    #[must_use]
-    pub fn state(&self, i: u64) -> Option<State> {
-        match self.opacity {
-            TriangleOpacity::Micromap(map) => map.get(i),
-            TriangleOpacity::Special(state) => Some(state),
-        }
-    }
+    /// Its index in the buffers: a record, or a special index (one state,
+    /// also for a map that came out uniform).
+    pub index: MicromapIndex,
 }
 
 impl MeshBake {
@@ -348,8 +336,7 @@ impl MeshBake {
     ///
     /// ```
     /// use micromap_index::bake::mesh::{bake_mesh, Material, Mesh, MeshOptions, MeshTriangles};
-    /// use micromap_index::bake::Unorm8Texture;
-    /// use micromap_index::micromap::State;
+    /// use micromap_index::bake::{BakedOpacity, Unorm8Texture};
     /// let texels: Vec<u8> = (0..64).map(|i| if (i % 8) < 3 { 255 } else { 0 }).collect();
     /// let texture = Unorm8Texture::new(8, 8, &texels).unwrap();
     /// let triangles = [[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]; 2];
@@ -357,19 +344,31 @@ impl MeshBake {
     /// let baked = bake_mesh(&mesh, &MeshOptions::default()).unwrap();
     /// // Equal UVs: classified once.
     /// assert_eq!((baked.report.triangles, baked.report.distinct_triangles), (2, 1));
-    /// let t = baked.triangle(0, 1).unwrap();
-    /// assert_eq!(t.state(0), Some(State::Opaque)); // the corner at u = 0
+    /// assert_eq!(baked.triangle(0, 0), baked.triangle(0, 1));
+    /// // Edges of 8 and 11.3 texels: level 4 (the paper's eq. 1).
+    /// assert_eq!(baked.triangle(0, 1).unwrap().level.get(), 4);
+    /// // A copy of the one map both use.
+    /// assert_eq!(baked.opacity(0, 1), baked.opacity(0, 0));
+    /// assert!(matches!(baked.opacity(0, 1), Some(BakedOpacity::Map(_))));
     /// assert!(baked.triangle(0, 2).is_none());
     /// ```
     #[must_use]
-    pub fn triangle(&self, mesh: usize, triangle: usize) -> Option<TriangleBake<'_>> {
+    pub fn triangle(&self, mesh: usize, triangle: usize) -> Option<TriangleBake> {
         let d = &self.distinct[*self.of_triangle.get(mesh)?.get(triangle)? as usize];
         Some(TriangleBake {
             level: d.level,
             status: d.status,
             counts: d.counts,
-            opacity: self.buffers.resolve(mesh, triangle)?,
+            index: *self.buffers.geometry_indices(mesh).ok()?.get(triangle)?,
         })
+    }
+
+    /// What triangle `triangle` of mesh `mesh` reads: a copy of its
+    /// micromap from the buffers, or its special index's state (also for a
+    /// map that came out uniform); `None` past the end.
+    #[must_use]
+    pub fn opacity(&self, mesh: usize, triangle: usize) -> Option<BakedOpacity> {
+        self.buffers.resolve(mesh, triangle)
     }
 }
 
@@ -795,7 +794,7 @@ pub fn bake_meshes(
     }
     let (mut paper_bits, mut level_order_bits) = (0u64, 0u64);
     for map in buffers.micromaps() {
-        if let Ok(tree) = PaperTree::from_micromap(map) {
+        if let Ok(tree) = PaperTree::from_micromap(&map) {
             paper_bits += tree.total_bits();
             level_order_bits += LevelOrderTree::from_paper(&tree).total_bits();
         }
@@ -837,9 +836,10 @@ pub fn bake_meshes(
 
 /// Micro-triangles (the cost model: [`distinct::Work::cost`]) baked
 /// between two hand-overs to the builder, per thread: enough work per
-/// thread to balance uneven triangles, little enough that the maps in
-/// flight stay small next to the output (8 MiB of 4-state data per thread).
-const CHUNK_COST_PER_THREAD: u64 = 1 << 25;
+/// thread to balance uneven triangles (64 level-8 triangles), little enough
+/// that the maps in flight stay small next to the output (1 MiB of 4-state
+/// data per thread). A chunk has at least one triangle per thread.
+const CHUNK_COST_PER_THREAD: u64 = 1 << 22;
 
 /// Work items one task takes at least: small triangles are batched until a
 /// task classifies about this many micro-triangles.
@@ -869,7 +869,8 @@ fn bake_distinct(
     progress: &mut dyn FnMut(usize),
 ) -> Result<(MicromapBuffersBuilder, Vec<Distinct>), MeshBakeError> {
     let runner = Runner::new(options.threads);
-    let chunk_cost = CHUNK_COST_PER_THREAD.saturating_mul(runner.threads() as u64);
+    let threads = runner.threads().max(1);
+    let chunk_cost = CHUNK_COST_PER_THREAD.saturating_mul(threads as u64);
     let bake = |w: &distinct::Work| -> Result<BakedTriangle, MeshBakeError> {
         match w.bound {
             None => plan.bakers[w.baker as usize]
@@ -896,7 +897,7 @@ fn bake_distinct(
     let mut start = 0;
     while start < plan.work.len() {
         let (mut end, mut cost) = (start, 0u64);
-        while end < plan.work.len() && (end == start || cost < chunk_cost) {
+        while end < plan.work.len() && (end - start < threads || cost < chunk_cost) {
             cost = cost.saturating_add(plan.work[end].cost());
             end += 1;
         }
@@ -909,7 +910,7 @@ fn bake_distinct(
             let level = b.opacity.level();
             let entry = match b.opacity {
                 BakedOpacity::Map(map) => {
-                    builder.add_micromap(map).map_err(MeshBakeError::Buffers)?
+                    builder.add_micromap(&map).map_err(MeshBakeError::Buffers)?
                 }
                 BakedOpacity::Special(state) => MicromapBuffersBuilder::special(state),
             };
@@ -1060,9 +1061,8 @@ mod tests {
             assert_eq!(a.report.counts, b.report.counts);
             assert_eq!(a.buffers, b.buffers);
             for t in 0..triangles.len() {
-                let (x, y) = (a.triangle(0, t).unwrap(), b.triangle(0, t).unwrap());
-                assert!(matches!(x.opacity, TriangleOpacity::Micromap(_)));
-                assert_eq!(x, y);
+                assert_eq!(a.triangle(0, t), b.triangle(0, t));
+                assert!(matches!(a.opacity(0, t), Some(BakedOpacity::Map(_))));
             }
         }
     }

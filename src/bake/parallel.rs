@@ -62,6 +62,7 @@ impl Runner {
     }
 
     /// The threads [`map_in_order`](Self::map_in_order) runs on.
+    #[cfg_attr(not(feature = "rayon"), allow(clippy::unused_self))]
     pub(crate) fn threads(&self) -> usize {
         #[cfg(feature = "rayon")]
         match &self.pool {
@@ -75,6 +76,7 @@ impl Runner {
     /// `items.iter().map(f).collect()`, on this runner's threads, results in
     /// the order of `items`. `min_len`: the fewest items one task takes
     /// (batches small work; ignored when serial).
+    #[cfg_attr(not(feature = "rayon"), allow(clippy::unused_self))]
     pub(crate) fn map_in_order<T: Sync, R: Send>(
         &self,
         items: &[T],

@@ -586,11 +586,27 @@ pub struct TriangleEntry(Entry);
 #[derive(Clone, Debug, Default)]
 pub struct MicromapBuffersBuilder {
     options: BuildOptions,
-    /// Distinct micromaps in order of first appearance.
-    unique: Vec<Micromap>,
+    /// Distinct micromaps in order of first appearance: their level,
+    /// format and place in `arenas`.
+    unique: Vec<Stored>,
+    /// The distinct maps' bytes, one arena per byte length, each in order
+    /// of first appearance: the data buffer in pieces (`finish` joins them
+    /// without copying the largest).
+    arenas: BTreeMap<usize, Vec<u8>>,
     /// Content hash → indices into `unique` with that hash.
     buckets: BTreeMap<u64, Vec<u32>>,
     geometries: Vec<Vec<Entry>>,
+}
+
+/// Where the builder keeps one distinct micromap.
+#[derive(Clone, Copy, Debug)]
+struct Stored {
+    level: Level,
+    format: Format,
+    /// Its byte length (its arena).
+    len: usize,
+    /// Its position in the arena, in maps.
+    slot: usize,
 }
 
 /// FNV-1a over level, format and bytes: only buckets candidates, equality
@@ -615,26 +631,49 @@ impl MicromapBuffersBuilder {
         }
     }
 
+    /// The bytes of a stored map.
+    fn bytes(&self, stored: Stored) -> &[u8] {
+        let start = stored.slot * stored.len;
+        &self.arenas[&stored.len][start..start + stored.len]
+    }
+
     /// The distinct micromap equal to `map` (`hash` its content hash).
     fn find(&self, map: &Micromap, hash: u64) -> Option<u32> {
         let bucket = self.buckets.get(&hash)?;
-        bucket
-            .iter()
-            .copied()
-            .find(|&i| self.unique[i as usize] == *map)
+        bucket.iter().copied().find(|&i| {
+            let stored = self.unique[i as usize];
+            stored.level == map.level()
+                && stored.format == map.format()
+                && self.bytes(stored) == map.as_bytes()
+        })
     }
 
-    /// Stores `map`, known to be new (`hash` its content hash).
-    fn store(&mut self, map: Micromap, hash: u64) -> Result<u32, BufferError> {
+    /// Stores a copy of `map`'s bytes, known to be new (`hash` its content
+    /// hash).
+    fn store(&mut self, map: &Micromap, hash: u64) -> Result<u32, BufferError> {
         let id = self.unique.len() as u64;
         if id > u64::from(IndexWidth::U32.max_regular()) {
             return Err(BufferError::TooManyMicromaps { count: id + 1 });
         }
+        let bytes = map.as_bytes();
+        let arena = self.arenas.entry(bytes.len()).or_default();
+        // Amortised growth (a large arena grows in place where the
+        // allocator can remap it).
+        arena
+            .try_reserve(bytes.len())
+            .map_err(|_| BufferError::AllocationFailed)?;
         self.unique
             .try_reserve(1)
             .map_err(|_| BufferError::AllocationFailed)?;
+        let slot = arena.len() / bytes.len().max(1);
+        arena.extend_from_slice(bytes);
+        self.unique.push(Stored {
+            level: map.level(),
+            format: map.format(),
+            len: bytes.len(),
+            slot,
+        });
         self.buckets.entry(hash).or_default().push(id as u32);
-        self.unique.push(map);
         Ok(id as u32)
     }
 
@@ -643,13 +682,13 @@ impl MicromapBuffersBuilder {
         map.uniform().filter(|_| self.options.uniform_to_special)
     }
 
-    /// Adds one triangle's micromap, taking it (no copy is made; a map
-    /// equal to one already added is dropped, a uniform one becomes its
-    /// special index), and returns the entry to name it by in
-    /// [`add_geometry_entries`](Self::add_geometry_entries). This is how a
-    /// baker streams its maps in as it makes them: the builder holds each
-    /// distinct map once, and [`finish`](Self::finish) moves them into the
-    /// buffers.
+    /// Adds one triangle's micromap: its bytes join the builder's data
+    /// once per content (a map equal to one already added adds nothing, a
+    /// uniform one becomes its special index), and returns the entry to
+    /// name it by in [`add_geometry_entries`](Self::add_geometry_entries).
+    /// This is how a baker streams its maps in as it makes them, freeing
+    /// each once added: the builder holds each distinct map's bytes once,
+    /// and [`finish`](Self::finish) makes them the data buffer.
     ///
     /// ```
     /// use micromap_index::micromap::{Format, Micromap, MicromapBuffersBuilder, MicromapIndex, State};
@@ -657,8 +696,8 @@ impl MicromapBuffersBuilder {
     /// let mut half = Micromap::new(Level::new(1).unwrap(), Format::TwoState).unwrap();
     /// half.set(0, State::Opaque).unwrap();
     /// let mut builder = MicromapBuffersBuilder::new(Default::default());
-    /// let a = builder.add_micromap(half.clone()).unwrap();
-    /// let b = builder.add_micromap(half).unwrap(); // equal: the same record
+    /// let a = builder.add_micromap(&half).unwrap();
+    /// let b = builder.add_micromap(&half.clone()).unwrap(); // equal: the same record
     /// let c = MicromapBuffersBuilder::special(State::Opaque);
     /// builder.add_geometry_entries([a, b, c, a]).unwrap();
     /// let buffers = builder.finish().unwrap();
@@ -666,12 +705,12 @@ impl MicromapBuffersBuilder {
     /// let indices = buffers.geometry_indices(0).unwrap();
     /// assert_eq!((indices[1], indices[2]), (MicromapIndex::Record(0), MicromapIndex::Special(State::Opaque)));
     /// ```
-    pub fn add_micromap(&mut self, map: Micromap) -> Result<TriangleEntry, BufferError> {
-        if let Some(state) = self.as_special(&map) {
+    pub fn add_micromap(&mut self, map: &Micromap) -> Result<TriangleEntry, BufferError> {
+        if let Some(state) = self.as_special(map) {
             return Ok(TriangleEntry(Entry::Special(state)));
         }
-        let hash = content_hash(&map);
-        let id = match self.find(&map, hash) {
+        let hash = content_hash(map);
+        let id = match self.find(map, hash) {
             Some(id) => id,
             None => self.store(map, hash)?,
         };
@@ -723,17 +762,7 @@ impl MicromapBuffersBuilder {
         for triangle in triangles {
             let entry = match triangle {
                 TriangleOpacity::Special(state) => Entry::Special(state),
-                TriangleOpacity::Micromap(map) => {
-                    if let Some(state) = self.as_special(map) {
-                        Entry::Special(state)
-                    } else {
-                        let hash = content_hash(map);
-                        match self.find(map, hash) {
-                            Some(id) => Entry::Unique(id),
-                            None => Entry::Unique(self.store(map.clone(), hash)?),
-                        }
-                    }
-                }
+                TriangleOpacity::Micromap(map) => self.add_micromap(map)?.0,
             };
             entries.push(entry);
         }
@@ -747,42 +776,56 @@ impl MicromapBuffersBuilder {
     /// powers of two): naturally aligned, and the data is as small as it can
     /// be. Records follow the same order; usage counts are sorted by format,
     /// then level.
-    pub fn finish(self) -> Result<MicromapBuffers, BufferError> {
-        let mut order: Vec<u32> = (0..self.unique.len() as u32).collect();
-        // Stable: equal sizes keep their first-appearance order.
-        order.sort_by_key(|&i| core::cmp::Reverse(self.unique[i as usize].as_bytes().len()));
-        let mut record_of = alloc::vec![0u32; self.unique.len()];
-        let mut records = Vec::with_capacity(order.len());
+    pub fn finish(mut self) -> Result<MicromapBuffers, BufferError> {
+        // Record order: arenas by decreasing byte length, each in order of
+        // first appearance (what a stable sort of the maps by decreasing
+        // size gives).
+        let mut first_record = BTreeMap::new();
+        let mut records = Vec::new();
+        records
+            .try_reserve_exact(self.unique.len())
+            .map_err(|_| BufferError::AllocationFailed)?;
         let mut offset: u64 = 0;
-        for (record, &id) in order.iter().enumerate() {
-            let map = &self.unique[id as usize];
-            record_of[id as usize] = record as u32;
-            let data_offset =
-                u32::try_from(offset).map_err(|_| BufferError::DataTooLarge { bytes: offset })?;
-            records.push(TriangleRecord {
-                data_offset,
-                subdivision_level: map.level().get() as u16,
-                format: map.format().raw(),
-            });
-            offset += map.as_bytes().len() as u64;
+        for (&len, arena) in self.arenas.iter().rev() {
+            first_record.insert(len, records.len() as u32);
+            for slot in 0..arena.len() / len.max(1) {
+                let data_offset = u32::try_from(offset + (slot * len) as u64)
+                    .map_err(|_| BufferError::DataTooLarge { bytes: offset })?;
+                // Placeholder level and format, set below from `unique`.
+                records.push(TriangleRecord {
+                    data_offset,
+                    subdivision_level: 0,
+                    format: 0,
+                });
+            }
+            offset += arena.len() as u64;
         }
         if offset > u64::from(u32::MAX) + 1 {
             return Err(BufferError::DataTooLarge { bytes: offset });
         }
+        let record_of: Vec<u32> = self
+            .unique
+            .iter()
+            .map(|stored| first_record[&stored.len] + stored.slot as u32)
+            .collect();
+        for (stored, &record) in self.unique.iter().zip(&record_of) {
+            let r = &mut records[record as usize];
+            r.subdivision_level = stored.level.get() as u16;
+            r.format = stored.format.raw();
+        }
+        // The data: the largest arena as it is (no copy), the others
+        // appended in decreasing length, each freed once appended.
+        let mut data = match self.arenas.pop_last() {
+            Some((_, largest)) => largest,
+            None => Vec::new(),
+        };
         let len = usize::try_from(offset).map_err(|_| BufferError::AllocationFailed)?;
-        let mut data = Vec::new();
-        data.try_reserve_exact(len)
+        data.try_reserve_exact(len - data.len())
             .map_err(|_| BufferError::AllocationFailed)?;
-        for &id in &order {
-            data.extend_from_slice(self.unique[id as usize].as_bytes());
+        while let Some((_, arena)) = self.arenas.pop_last() {
+            data.extend_from_slice(&arena);
         }
         let usage = histogram(records.iter().map(|r| (r.subdivision_level, r.format)));
-        // Moved, not copied, into record order.
-        let mut unique: Vec<Option<Micromap>> = self.unique.into_iter().map(Some).collect();
-        let micromaps: Vec<Micromap> = order
-            .iter()
-            .filter_map(|&id| unique[id as usize].take())
-            .collect();
         let geometries = self
             .geometries
             .iter()
@@ -807,7 +850,6 @@ impl MicromapBuffersBuilder {
         Ok(MicromapBuffers {
             data,
             records,
-            micromaps,
             usage,
             geometries,
         })
@@ -860,8 +902,6 @@ struct Geometry {
 pub struct MicromapBuffers {
     data: Vec<u8>,
     records: Vec<TriangleRecord>,
-    /// The micromap of each record.
-    micromaps: Vec<Micromap>,
     usage: Vec<UsageCount>,
     geometries: Vec<Geometry>,
 }
@@ -905,11 +945,33 @@ impl MicromapBuffers {
         records_to_le_bytes(&self.records)
     }
 
-    /// The micromap each record describes.
-    #[inline]
+    /// A copy of the micromap record `record` describes (read from
+    /// [`data`](Self::data)); `None` past the last record. The buffers
+    /// keep each map only once, in the data.
+    ///
+    /// ```
+    /// use micromap_index::micromap::{Format, Micromap, MicromapBuffers, State, TriangleOpacity};
+    /// use micromap_index::Level;
+    /// let map = Micromap::from_states(Level::new(1).unwrap(), Format::FourState, State::ALL).unwrap();
+    /// let buffers = MicromapBuffers::build([TriangleOpacity::Micromap(&map)], Default::default()).unwrap();
+    /// assert_eq!(buffers.micromap(0), Some(map));
+    /// assert_eq!(buffers.micromap(1), None);
+    /// ```
     #[must_use]
-    pub fn micromaps(&self) -> &[Micromap] {
-        &self.micromaps
+    pub fn micromap(&self, record: u32) -> Option<Micromap> {
+        let r = *self.records.get(record as usize)?;
+        let (level, format) = record_shape(r)?;
+        let start = r.data_offset as usize;
+        let bytes = self
+            .data
+            .get(start..start + Micromap::byte_len(level, format))?;
+        Micromap::from_bytes(level, format, bytes).ok()
+    }
+
+    /// Copies of the micromaps of every record, in record order, made one
+    /// at a time ([`micromap`](Self::micromap)).
+    pub fn micromaps(&self) -> impl Iterator<Item = Micromap> + '_ {
+        (0..self.records.len() as u32).filter_map(|r| self.micromap(r))
     }
 
     /// The array's usage counts: how many records have each level and
@@ -1028,14 +1090,14 @@ impl MicromapBuffers {
         Ok(())
     }
 
-    /// The opacity a geometry's triangle resolves to: its micromap, or its
-    /// special state; `None` past the end.
+    /// What a geometry's triangle resolves to: a copy of its micromap, or
+    /// its special state; `None` past the end.
     #[must_use]
-    pub fn resolve(&self, geometry: usize, triangle: usize) -> Option<TriangleOpacity<'_>> {
+    pub fn resolve(&self, geometry: usize, triangle: usize) -> Option<crate::bake::BakedOpacity> {
         let index = *self.geometries.get(geometry)?.indices.get(triangle)?;
         Some(match index {
-            MicromapIndex::Record(r) => TriangleOpacity::Micromap(self.micromaps.get(r as usize)?),
-            MicromapIndex::Special(state) => TriangleOpacity::Special(state),
+            MicromapIndex::Record(r) => crate::bake::BakedOpacity::Map(self.micromap(r)?),
+            MicromapIndex::Special(state) => crate::bake::BakedOpacity::Special(state),
         })
     }
 }

@@ -124,8 +124,12 @@ pub(crate) fn render<'a>(
             {
                 continue;
             }
+            // One copy of the map per drawn triangle.
+            let Some(opacity) = baked.opacity(job, t) else {
+                continue;
+            };
             for t in micro_triangles(level) {
-                let state = b.state(t.index()).unwrap_or(State::UnknownOpaque);
+                let state = opacity.state(t.index()).unwrap_or(State::UnknownOpaque);
                 let n = f64::from(1u32 << level.get());
                 let corners = t.vertices_scaled().map(|(a, bb)| {
                     let (a, bb) = (a as f64 / n, bb as f64 / n);
