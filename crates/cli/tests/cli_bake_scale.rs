@@ -45,7 +45,12 @@ fn assert_same_outputs(a: &Path, b: &Path) {
     ] {
         let (x, y) = (std::fs::read(a.join(name)), std::fs::read(b.join(name)));
         match (x, y) {
-            (Ok(x), Ok(y)) => assert!(x == y, "{name} differs between {a:?} and {b:?}"),
+            (Ok(x), Ok(y)) => assert!(
+                x == y,
+                "{name} differs between {} and {}",
+                a.display(),
+                b.display()
+            ),
             (Err(_), Err(_)) => {}
             (x, y) => panic!("{name}: {:?} vs {:?}", x.is_ok(), y.is_ok()),
         }
@@ -63,7 +68,13 @@ fn assert_same_outputs(a: &Path, b: &Path) {
         }
         s
     };
-    assert_eq!(strip(a), strip(b), "summary.json of {a:?} and {b:?}");
+    assert_eq!(
+        strip(a),
+        strip(b),
+        "summary.json of {} and {}",
+        a.display(),
+        b.display()
+    );
 }
 
 /// The fern as committed (`fern_02.gltf`: the PNG with its alpha), level 4:
