@@ -359,6 +359,10 @@ fn options(o: &mmi_bake_options) -> Result<MeshOptions> {
         // The library's default, the GPU binary32 model (docs/bake.md); the
         // C options do not offer the exact-real model yet.
         model: micromap_index::bake::Model::default(),
+        // On the caller's thread: the C API starts no threads (the library
+        // is built without its `rayon` feature here, so this is also what
+        // the default would do).
+        threads: micromap_index::bake::Threads::Exactly(1),
     })
 }
 
