@@ -56,6 +56,9 @@
 //! * `exact`: exact rational inputs (`spec::index_real`,
 //!   `uv2index::index_real`, `inverse::MicroTriangle::vertices_rational`, ...)
 //!   through `num-bigint` and `num-rational`; implies `std`.
+//! * `rayon`: the mesh bake (`bake::mesh`) on several threads
+//!   (`MeshOptions::threads`), through `rayon`; the bytes are the serial
+//!   bake's. Implies `std`.
 //! * `unstable-public-internals`: the test oracles the verification crate
 //!   needs (module `internals`: `*_ref` twins, the talk's version 1 walk, the
 //!   rounding-window predicate). Not covered by semver.

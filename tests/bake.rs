@@ -933,10 +933,7 @@ fn every_mip_level_holds_for_mips_all() {
             }
             let opacity = baked.buffers.resolve(0, 0).unwrap();
             for t in micro_triangles(case.level) {
-                let state = match &opacity {
-                    TriangleOpacity::Micromap(map) => map.get(t.index()).unwrap(),
-                    TriangleOpacity::Special(state) => *state,
-                };
+                let state = opacity.state(t.index()).unwrap();
                 if !state.is_known() {
                     continue;
                 }

@@ -186,7 +186,12 @@ fn a_bake_budget_is_spent_in_triangle_order_and_counted() {
     };
     let full = bake_meshes(&[mesh], &fixed, &mut |_, _| {}).unwrap();
     assert_eq!(full.report.status.exact, 12);
-    let per: Vec<u64> = full.triangles[0].iter().map(|t| t.work).collect();
+    let of = |baked: &micromap_index::bake::mesh::MeshBake| -> Vec<_> {
+        (0..triangles.len())
+            .map(|t| baked.triangle(0, t).unwrap())
+            .collect()
+    };
+    let per: Vec<u64> = of(&full).iter().map(|t| t.work).collect();
     assert_eq!(full.report.work, per.iter().sum::<u64>());
     // Enough for the first four and half of the fifth.
     let budget = per[..4].iter().sum::<u64>() + per[4] / 2;
@@ -199,7 +204,7 @@ fn a_bake_budget_is_spent_in_triangle_order_and_counted() {
         &mut |_, _| {},
     )
     .unwrap();
-    let statuses: Vec<TriangleStatus> = cut.triangles[0].iter().map(|t| t.status).collect();
+    let statuses: Vec<TriangleStatus> = of(&cut).iter().map(|t| t.status).collect();
     assert!(
         statuses[..4].iter().all(|&s| s == TriangleStatus::Exact),
         "{statuses:?}"
@@ -210,20 +215,13 @@ fn a_bake_budget_is_spent_in_triangle_order_and_counted() {
     assert_eq!(cut.report.status.exact, 4);
     assert_eq!(cut.report.status.work_budget_exceeded, 8);
     assert!(cut.report.work <= budget + OVERSHOOT, "{}", cut.report.work);
-    assert_eq!(
-        cut.triangles[0][4..]
-            .iter()
-            .skip(1)
-            .map(|t| t.work)
-            .sum::<u64>(),
-        0
-    );
+    assert_eq!(of(&cut)[4..].iter().skip(1).map(|t| t.work).sum::<u64>(), 0);
     assert!(known(cut.report.counts) < known(full.report.counts));
     // Sound: what is still known agrees with the verifier.
     let baker = Baker::new(&texture, Sampler::default(), Cutoff::default()).unwrap();
-    for (uv, t) in triangles.iter().zip(&cut.triangles[0]) {
+    for (t, uv) in triangles.iter().enumerate() {
         assert!(baker
-            .verify(uv, &t.opacity.as_opacity())
+            .verify(uv, &cut.opacity(0, t).unwrap().as_opacity())
             .contradictions
             .is_empty());
     }
@@ -273,9 +271,8 @@ fn auto_levels_drop_to_zero_over_whole_periods_only_when_the_texture_repeats() {
             ..MeshOptions::default()
         };
         let baked = bake_meshes(&[mesh], &options, &mut |_, _| {}).unwrap();
-        let levels: Vec<u32> = baked.triangles[0]
-            .iter()
-            .map(|t| t.opacity.level().get())
+        let levels: Vec<u32> = (0..big.len())
+            .map(|t| baked.triangle(0, t).unwrap().level.get())
             .collect();
         let expected_first = if lowered { 0 } else { 6 };
         assert_eq!(levels[0], expected_first, "{address:?}");

@@ -1,5 +1,5 @@
 //! Whole meshes: [`bake_meshes`] chooses a level per triangle, fits a byte
-//! budget, bakes every triangle exactly ([`Baker::bake`]), deduplicates the
+//! budget, bakes every triangle exactly ([`Baker::bake`](super::Baker::bake)), deduplicates the
 //! micromaps into API buffers ([`MicromapBuffers`], one geometry per mesh)
 //! and reports what it found ([`BakeReport`]).
 //!
@@ -37,9 +37,11 @@
 //! assert!(baked.report.known_fraction > 0.5 && baked.report.known_fraction < 1.0);
 //! ```
 
-use super::baker::{BakeError, BakedTriangle, Baker, TriangleStatus, UvTriangle};
+use super::baker::BakedOpacity;
+use super::baker::{BakeError, BakedTriangle, TriangleStatus, UvTriangle};
+use super::mips::bake_bounded;
 pub use super::mips::Mips;
-use super::mips::{bake_bounded, mip_bakers};
+use super::parallel::{Runner, Threads};
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
 use super::work::{DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET};
 use super::{levels_within_budget, Model, DEFAULT_BLOCK_BUDGET};
@@ -50,12 +52,14 @@ use crate::micromap::{
 use crate::succinct::{LevelOrderTree, PaperTree};
 use crate::Level;
 use alloc::borrow::Cow;
-use alloc::collections::BTreeMap;
 use alloc::format;
 use alloc::string::String;
 use alloc::vec;
 use alloc::vec::Vec;
 use core::fmt;
+use distinct::{Distinct, Plan};
+
+mod distinct;
 
 // The levels bake_meshes chooses, and the output bound callers check first.
 mod levels;
@@ -230,22 +234,26 @@ pub struct MeshOptions {
     /// all meshes together: the highest levels are lowered first
     /// ([`levels_within_budget`]). `None`: no budget.
     pub budget_bytes: Option<u64>,
-    /// Block tests a micro-triangle may use ([`Baker::with_block_budget`]).
+    /// Block tests a micro-triangle may use ([`Baker::with_block_budget`](super::Baker::with_block_budget)).
     pub block_budget: u32,
-    /// Work units one triangle may spend ([`Baker::bake_within`], units in
+    /// Work units one triangle may spend ([`Baker::bake_within`](super::Baker::bake_within), units in
     /// [`crate::bake::work`]).
     pub triangle_work_budget: u64,
     /// Work units all triangles together may spend: each triangle gets the
     /// smaller of [`triangle_work_budget`](Self::triangle_work_budget) and
     /// what the triangles before it (meshes in order) left.
     pub bake_work_budget: u64,
-    /// The points known states hold for ([`Baker::with_model`]; default
+    /// The points known states hold for ([`Baker::with_model`](super::Baker::with_model); default
     /// [`Model::GpuBinary32`]).
     pub model: Model,
     /// The mip levels the known states hold for (default
     /// [`Mips::Level0`]; the filter model of the others is in
     /// `docs/bake.md`, "Every mip level").
     pub mips: Mips,
+    /// The threads the bake may use (default [`Threads::All`]: every core
+    /// with the `rayon` feature, one without). The output is the same
+    /// bytes for every choice.
+    pub threads: Threads,
 }
 
 impl Default for MeshOptions {
@@ -263,6 +271,7 @@ impl Default for MeshOptions {
             bake_work_budget: DEFAULT_BAKE_WORK_BUDGET,
             model: Model::default(),
             mips: Mips::default(),
+            threads: Threads::default(),
         }
     }
 }
@@ -287,6 +296,10 @@ pub struct StatusCounts {
 pub struct BakeReport {
     /// Triangles baked.
     pub triangles: usize,
+    /// Distinct triangles classified: triangles with bit-for-bit equal UVs,
+    /// the same level, texture, sampler, cutoff, alpha factor and vertex
+    /// alpha range are classified once (they bake to the same states).
+    pub distinct_triangles: usize,
     /// Triangles per chosen level (`levels[n]` at level `n`), up to the
     /// highest level used (at least one entry). A triangle baked as a
     /// special index counts at the level it was given.
@@ -328,16 +341,84 @@ pub struct BakeReport {
     pub period_level_zero: usize,
 }
 
-/// What [`bake_meshes`] returns: the buffers, the report, and every baked
-/// triangle (for previews and checks).
+/// What [`bake_meshes`] returns: the buffers, the report, and how each
+/// triangle baked ([`triangle`](Self::triangle), for previews and checks).
 #[derive(Clone, Debug)]
 pub struct MeshBake {
     /// One geometry per mesh, micromaps deduplicated across all.
     pub buffers: MicromapBuffers,
     /// The statistics.
     pub report: BakeReport,
-    /// The baked triangles, per mesh, in order.
-    pub triangles: Vec<Vec<BakedTriangle>>,
+    /// Each distinct triangle's bake (its map is in the buffers).
+    distinct: Vec<Distinct>,
+    /// Per mesh, per triangle: its distinct triangle.
+    of_triangle: Vec<Vec<u32>>,
+}
+
+/// How one triangle baked ([`MeshBake::triangle`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TriangleBake {
+    /// The level its micromap was baked at; 0 for a triangle baked as a
+    /// special index from its coordinates ([`TriangleStatus::NotFinite`],
+    /// [`TriangleStatus::OutOfExactRange`]).
+    pub level: crate::Level,
+    /// How it went.
+    pub status: TriangleStatus,
+    /// Micro-triangles per state, indexed by [`State::bits`], before a
+    /// 2-state format resolves the unknowns.
+    pub counts: [u64; 4],
+    /// Of the unknown ones, those the exact model knows
+    /// ([`BakedTriangle::widened`]).
+    pub widened: u64,
+    /// Work units the bake of its distinct triangle spent (triangles that
+    /// bake alike share one bake, and this figure).
+    pub work: u64,
+    /// Its index in the buffers: a record, or a special index (one state,
+    /// also for a map that came out uniform).
+    pub index: MicromapIndex,
+}
+
+impl MeshBake {
+    /// How triangle `triangle` of mesh `mesh` baked; `None` past the end.
+    ///
+    /// ```
+    /// use micromap_index::bake::mesh::{bake_mesh, Material, Mesh, MeshOptions, MeshTriangles};
+    /// use micromap_index::bake::{BakedOpacity, Unorm8Texture};
+    /// let texels: Vec<u8> = (0..64).map(|i| if (i % 8) < 3 { 255 } else { 0 }).collect();
+    /// let texture = Unorm8Texture::new(8, 8, &texels).unwrap();
+    /// let triangles = [[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]; 2];
+    /// let mesh = Mesh { triangles: MeshTriangles::Uv(&triangles), texture: &texture, material: Material::default(), vertex_alpha: None };
+    /// let baked = bake_mesh(&mesh, &MeshOptions::default()).unwrap();
+    /// // Equal UVs: classified once.
+    /// assert_eq!((baked.report.triangles, baked.report.distinct_triangles), (2, 1));
+    /// assert_eq!(baked.triangle(0, 0), baked.triangle(0, 1));
+    /// // Edges of 8 and 11.3 texels: level 4 (the paper's eq. 1).
+    /// assert_eq!(baked.triangle(0, 1).unwrap().level.get(), 4);
+    /// // A copy of the one map both use.
+    /// assert_eq!(baked.opacity(0, 1), baked.opacity(0, 0));
+    /// assert!(matches!(baked.opacity(0, 1), Some(BakedOpacity::Map(_))));
+    /// assert!(baked.triangle(0, 2).is_none());
+    /// ```
+    #[must_use]
+    pub fn triangle(&self, mesh: usize, triangle: usize) -> Option<TriangleBake> {
+        let d = &self.distinct[*self.of_triangle.get(mesh)?.get(triangle)? as usize];
+        Some(TriangleBake {
+            level: d.level,
+            status: d.status,
+            counts: d.counts,
+            widened: d.widened,
+            work: d.work,
+            index: *self.buffers.geometry_indices(mesh).ok()?.get(triangle)?,
+        })
+    }
+
+    /// What triangle `triangle` of mesh `mesh` reads: a copy of its
+    /// micromap from the buffers, or its special index's state (also for a
+    /// map that came out uniform); `None` past the end.
+    #[must_use]
+    pub fn opacity(&self, mesh: usize, triangle: usize) -> Option<BakedOpacity> {
+        self.buffers.resolve(mesh, triangle)
+    }
 }
 
 /// Why [`bake_meshes`] failed.
@@ -345,7 +426,7 @@ pub struct MeshBake {
 #[non_exhaustive]
 pub enum MeshBakeError {
     /// Mesh `mesh`'s texture, sampler or cutoff was refused by
-    /// [`Baker::new`].
+    /// [`Baker::new`](super::Baker::new).
     Texture {
         /// The mesh, by position.
         mesh: usize,
@@ -590,13 +671,22 @@ pub fn bake_mesh(mesh: &Mesh<'_>, options: &MeshOptions) -> Result<MeshBake, Mes
 }
 
 /// Bakes every mesh: levels per triangle (the rule, then the budget over
-/// all meshes), each triangle exactly ([`Baker::bake`]: sound, see
+/// all meshes), each triangle exactly ([`Baker::bake`](super::Baker::bake): sound, see
 /// [`crate::bake`]), then the buffers, one geometry per mesh in order,
 /// micromaps deduplicated across all, and the report.
 ///
-/// `progress(done, total)` is called after each triangle (`total` over all
-/// meshes). The output depends only on the inputs: the same meshes and
-/// options give the same bytes.
+/// Triangles that must bake alike (bit-for-bit equal UVs, the same level,
+/// texture object, sampler, cutoff, alpha factor and vertex-alpha range)
+/// are classified once ([`BakeReport::distinct_triangles`]); each map goes
+/// into the buffers' builder as it is made, so memory follows the distinct
+/// output. With the `rayon` feature the distinct triangles are baked on
+/// [`MeshOptions::threads`] threads, in chunks balanced by their
+/// micro-triangle counts.
+///
+/// `progress(done, total)` is called as triangles are done (`done` counts
+/// input triangles, `total` over all meshes; the last call is
+/// `(total, total)`). The output depends only on the inputs: the same
+/// meshes and options give the same bytes, whatever the threads.
 ///
 /// ```
 /// use micromap_index::bake::mesh::{bake_meshes, LevelRule, Material, Mesh, MeshOptions, MeshTriangles};
@@ -609,9 +699,11 @@ pub fn bake_mesh(mesh: &Mesh<'_>, options: &MeshOptions) -> Result<MeshBake, Mes
 /// let triangle = [[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]];
 /// let mesh = Mesh { triangles: MeshTriangles::Uv(&triangle), texture: &texture, material: Material::default(), vertex_alpha: None };
 /// let options = MeshOptions { levels: LevelRule::Fixed(Level::new(3).unwrap()), format: Format::TwoState, ..MeshOptions::default() };
-/// let mut calls = 0;
-/// let baked = bake_meshes(&[mesh, mesh], &options, &mut |_, _| calls += 1).unwrap();
-/// assert_eq!(calls, 2);
+/// let mut last = (0, 0);
+/// let baked = bake_meshes(&[mesh, mesh], &options, &mut |done, total| last = (done, total)).unwrap();
+/// assert_eq!(last, (2, 2));
+/// // The same triangle, texture and material: classified once.
+/// assert_eq!(baked.report.distinct_triangles, 1);
 /// // All opaque: each triangle is the special index "opaque", no micromap.
 /// assert_eq!(baked.report.special_index_triangles, 2);
 /// assert_eq!((baked.report.micromaps, baked.buffers.geometry_count()), (0, 2));
@@ -626,105 +718,28 @@ pub fn bake_meshes(
     let (levels, period_level_zero) = levels_of(meshes, &triangles, options);
 
     let total: usize = triangles.iter().map(|t| t.len()).sum();
+    let plan = Plan::new(meshes, &triangles, &levels, options)?;
+    let distinct = bake_distinct(&plan, options, &mut builder_progress(progress, total))?;
+    let (mut builder, distinct) = distinct;
+
+    // The statistics, triangle by triangle in input order (the sums are
+    // the same floating-point operations in the same order as without
+    // deduplication).
     let mut counts = [0u64; 4];
     let mut widened = 0u64;
     let mut status = StatusCounts::default();
-    let mut work = 0u64;
     let mut known_area = 0.0;
     let mut area = 0.0;
-    let mut baked_all = Vec::with_capacity(meshes.len());
-    let mut done = 0usize;
-    let mut work_left = options.bake_work_budget;
-    for (m, ((mesh, triangles), mesh_levels)) in
-        meshes.iter().zip(&triangles).zip(&levels).enumerate()
-    {
-        let material = &mesh.material;
-        let vertex_alpha = check_vertex_alpha(m, mesh, triangles.len())?;
-        let texture_error = |error| MeshBakeError::Texture { mesh: m, error };
-        let baker = if material.alpha_factor == 1.0 {
-            Baker::new(mesh.texture, material.sampler, material.cutoff)
-        } else {
-            let texture = FactorTexture {
-                inner: mesh.texture,
-                factor: material.alpha_factor,
-            };
-            Baker::new(&texture, material.sampler, material.cutoff)
-        }
-        .map_err(texture_error)?
-        .with_block_budget(options.block_budget)
-        .with_model(options.model);
-        let mips = match options.mips {
-            Mips::Level0 => Vec::new(),
-            _ if vertex_alpha.is_some() => {
-                return Err(MeshBakeError::VertexAlpha {
-                    mesh: m,
-                    message: "vertex alpha with mip levels below 0 is not modelled".into(),
-                })
-            }
-            mips => {
-                let make = |texture: &dyn AlphaTexture, sampler| {
-                    Ok(Baker::new(texture, sampler, material.cutoff)?
-                        .with_block_budget(options.block_budget)
-                        .with_model(options.model))
-                };
-                let factored = FactorTexture {
-                    inner: mesh.texture,
-                    factor: material.alpha_factor,
-                };
-                let texture: &dyn AlphaTexture = if material.alpha_factor == 1.0 {
-                    mesh.texture
-                } else {
-                    &factored
-                };
-                mip_bakers(mips, texture, material.sampler, &make).map_err(texture_error)?
-            }
-        };
-        // With vertex alpha: two bakers per distinct vertex range (lower
-        // and upper bound), built once each.
-        let mut bound_bakers: BTreeMap<(u64, u64), (Baker, Baker)> = BTreeMap::new();
-        let mut baked = Vec::with_capacity(triangles.len());
-        for (t, (uv, &level)) in triangles.iter().zip(mesh_levels).enumerate() {
-            let max_work = options.triangle_work_budget.min(work_left);
-            let b = match vertex_alpha {
-                None if mips.is_empty() => baker
-                    .bake_within(uv, level, options.format, options.unknown, max_work)
-                    .map_err(MeshBakeError::Bake)?,
-                None => {
-                    let mut pairs = vec![(&baker, &baker)];
-                    pairs.extend(mips.iter().map(|(low, high)| (low, high)));
-                    bake_bounded(&pairs, uv, level, options.format, options.unknown, max_work)?
-                }
-                Some(alphas) => {
-                    let key = vertex_range(alphas[t]);
-                    if let alloc::collections::btree_map::Entry::Vacant(slot) =
-                        bound_bakers.entry(key)
-                    {
-                        let bound = |upper| -> Result<Baker, MeshBakeError> {
-                            let texture = VertexBoundTexture {
-                                inner: mesh.texture,
-                                factor: f64::from(material.alpha_factor),
-                                low: f64::from_bits(key.0),
-                                high: f64::from_bits(key.1),
-                                upper,
-                            };
-                            Ok(Baker::new(&texture, material.sampler, material.cutoff)
-                                .map_err(texture_error)?
-                                .with_block_budget(options.block_budget)
-                                .with_model(options.model))
-                        };
-                        slot.insert((bound(false)?, bound(true)?));
-                    }
-                    let (low, high) = &bound_bakers[&key];
-                    let pairs = [(low, high)];
-                    bake_bounded(&pairs, uv, level, options.format, options.unknown, max_work)?
-                }
-            };
+    for ((mesh, triangles), of_triangle) in meshes.iter().zip(&triangles).zip(&plan.of_triangle) {
+        let size = (mesh.texture.width(), mesh.texture.height());
+        for (uv, &d) in triangles.iter().zip(of_triangle) {
+            let b = &distinct[d as usize];
             for (sum, count) in counts.iter_mut().zip(b.counts) {
                 *sum += count;
             }
             widened += b.widened;
             let n = b.counts.iter().sum::<u64>().max(1) as f64;
-            let a = texel_area(uv, baker.size());
+            let a = texel_area(uv, size);
             area += a;
             known_area += a * (b.counts[0] + b.counts[1]) as f64 / n;
             match b.status {
@@ -734,20 +749,13 @@ pub fn bake_meshes(
                 TriangleStatus::BudgetExceeded => status.budget_exceeded += 1,
                 TriangleStatus::WorkBudgetExceeded => status.work_budget_exceeded += 1,
             }
-            work_left = work_left.saturating_sub(b.work);
-            work = work.saturating_add(b.work);
-            baked.push(b);
-            done += 1;
-            progress(done, total);
         }
-        baked_all.push(baked);
     }
 
     // Buffers: one geometry per mesh, deduplicated across all.
-    let mut builder = MicromapBuffersBuilder::new(BuildOptions::default());
-    for baked in &baked_all {
+    for of_triangle in &plan.of_triangle {
         builder
-            .add_geometry(baked.iter().map(|b| b.opacity.as_opacity()))
+            .add_geometry_entries(of_triangle.iter().map(|&d| distinct[d as usize].entry))
             .map_err(MeshBakeError::Buffers)?;
     }
     let buffers = builder.finish().map_err(MeshBakeError::Buffers)?;
@@ -762,7 +770,7 @@ pub fn bake_meshes(
     }
     let (mut paper_bits, mut level_order_bits) = (0u64, 0u64);
     for map in buffers.micromaps() {
-        if let Ok(tree) = PaperTree::from_micromap(map) {
+        if let Ok(tree) = PaperTree::from_micromap(&map) {
             paper_bits += tree.total_bits();
             level_order_bits += LevelOrderTree::from_paper(&tree).total_bits();
         }
@@ -780,8 +788,12 @@ pub fn bake_meshes(
         level_histogram.pop();
     }
     let micro: u64 = counts.iter().sum();
+    let work = distinct
+        .iter()
+        .fold(0u64, |sum, d| sum.saturating_add(d.work));
     let report = BakeReport {
         triangles: total,
+        distinct_triangles: distinct.len(),
         levels: level_histogram,
         counts,
         status,
@@ -799,8 +811,122 @@ pub fn bake_meshes(
     Ok(MeshBake {
         buffers,
         report,
-        triangles: baked_all,
+        distinct,
+        of_triangle: plan.of_triangle,
     })
+}
+
+/// Micro-triangles (the cost model: [`distinct::Work::cost`]) baked
+/// between two hand-overs to the builder, per thread: enough work per
+/// thread to balance uneven triangles (64 level-8 triangles), little enough
+/// that the maps in flight stay small next to the output (1 MiB of 4-state
+/// data per thread). A chunk has at least one triangle per thread.
+const CHUNK_COST_PER_THREAD: u64 = 1 << 22;
+
+/// Work items one task takes at least: small triangles are batched until a
+/// task classifies about this many micro-triangles.
+const TASK_COST: u64 = 1 << 14;
+
+/// `progress(done, total)` in triangles, from the distinct triangles baked.
+fn builder_progress(
+    progress: &mut dyn FnMut(usize, usize),
+    total: usize,
+) -> impl FnMut(usize) + '_ {
+    let mut done = 0usize;
+    move |triangles| {
+        done += triangles;
+        progress(done, total);
+    }
+}
+
+/// Bakes every distinct triangle of `plan`, in chunks of about
+/// [`CHUNK_COST_PER_THREAD`] micro-triangles per thread, each chunk on
+/// every thread and then handed to the builder in order (so the maps are
+/// added in first-appearance order, whatever the threads, and only one
+/// chunk's maps exist outside the builder). `progress` gets the triangles
+/// each chunk stands for.
+///
+/// The work budgets are those of the serial bake, whatever the threads:
+/// distinct triangle `i` (in first-appearance order) may spend
+/// `min(triangle_work_budget, what 0..i left of bake_work_budget)`. A
+/// chunk is baked in parallel with what was left at its start (at least
+/// that); a bake that spent less than its serial allowance took every
+/// budget check the serial bake takes, so it is that bake, and any other
+/// is baked again with its serial allowance (only at the chunk where the
+/// bake budget runs out).
+fn bake_distinct(
+    plan: &Plan,
+    options: &MeshOptions,
+    progress: &mut dyn FnMut(usize),
+) -> Result<(MicromapBuffersBuilder, Vec<Distinct>), MeshBakeError> {
+    let runner = Runner::new(options.threads);
+    let threads = runner.threads().max(1);
+    let chunk_cost = CHUNK_COST_PER_THREAD.saturating_mul(threads as u64);
+    let bake = |w: &distinct::Work, max_work: u64| -> Result<BakedTriangle, MeshBakeError> {
+        let (format, unknown) = (options.format, options.unknown);
+        let baker = &plan.bakers[w.baker as usize];
+        let mips = &plan.mips[w.baker as usize];
+        match w.bound {
+            None if mips.is_empty() => baker
+                .bake_within(&w.uv, w.level, format, unknown, max_work)
+                .map_err(MeshBakeError::Bake),
+            None => {
+                let mut pairs = vec![(baker, baker)];
+                pairs.extend(mips.iter().map(|(low, high)| (low, high)));
+                bake_bounded(&pairs, &w.uv, w.level, format, unknown, max_work)
+            }
+            Some(b) => {
+                let (low, high) = &plan.bounds[b as usize];
+                bake_bounded(&[(low, high)], &w.uv, w.level, format, unknown, max_work)
+            }
+        }
+    };
+    let mut builder = MicromapBuffersBuilder::new(BuildOptions::default());
+    let mut distinct = Vec::new();
+    distinct
+        .try_reserve_exact(plan.work.len())
+        .map_err(|_| MeshBakeError::Buffers(BufferError::AllocationFailed))?;
+    let mut work_left = options.bake_work_budget;
+    let mut start = 0;
+    while start < plan.work.len() {
+        let (mut end, mut cost) = (start, 0u64);
+        while end < plan.work.len() && (end - start < threads || cost < chunk_cost) {
+            cost = cost.saturating_add(plan.work[end].cost());
+            end += 1;
+        }
+        let chunk = &plan.work[start..end];
+        let min_len = (TASK_COST / (cost / chunk.len() as u64).max(1)).max(1) as usize;
+        let at_start = options.triangle_work_budget.min(work_left);
+        let baked = runner.map_in_order(chunk, min_len, |w| bake(w, at_start));
+        let mut triangles = 0;
+        for (w, b) in chunk.iter().zip(baked) {
+            let allowance = options.triangle_work_budget.min(work_left);
+            let mut b = b?;
+            if allowance < at_start && b.work >= allowance {
+                b = bake(w, allowance)?;
+            }
+            work_left = work_left.saturating_sub(b.work);
+            let level = b.opacity.level();
+            let entry = match b.opacity {
+                BakedOpacity::Map(map) => {
+                    builder.add_micromap(&map).map_err(MeshBakeError::Buffers)?
+                }
+                BakedOpacity::Special(state) => MicromapBuffersBuilder::special(state),
+            };
+            distinct.push(Distinct {
+                level,
+                status: b.status,
+                counts: b.counts,
+                widened: b.widened,
+                work: b.work,
+                entry,
+            });
+            triangles += w.triangles;
+        }
+        progress(triangles);
+        start = end;
+    }
+    Ok((builder, distinct))
 }
 
 #[cfg(test)]
@@ -837,8 +963,10 @@ mod tests {
         .unwrap();
         let b = bake_mesh(&mesh(MeshTriangles::Uv(&triangles)), &options).unwrap();
         assert_eq!(a.report, b.report);
-        assert_eq!(a.buffers.data(), b.buffers.data());
-        assert_eq!(a.triangles, b.triangles);
+        assert_eq!(a.buffers, b.buffers);
+        for t in 0..2 {
+            assert_eq!(a.triangle(0, t), b.triangle(0, t));
+        }
         // Out of range, and a bad layout.
         let bad = bake_mesh(
             &mesh(MeshTriangles::Indexed {
@@ -932,14 +1060,10 @@ mod tests {
             };
             let (a, b) = (bake(None), bake(Some(&ones)));
             assert_eq!(a.report.counts, b.report.counts);
-            for (x, y) in a.triangles[0].iter().zip(&b.triangles[0]) {
-                let (BakedOpacity::Map(x), BakedOpacity::Map(y)) = (&x.opacity, &y.opacity) else {
-                    panic!("expected maps");
-                };
-                assert_eq!(
-                    x.states().collect::<Vec<_>>(),
-                    y.states().collect::<Vec<_>>()
-                );
+            assert_eq!(a.buffers, b.buffers);
+            for t in 0..triangles.len() {
+                assert_eq!(a.triangle(0, t), b.triangle(0, t));
+                assert!(matches!(a.opacity(0, t), Some(BakedOpacity::Map(_))));
             }
         }
     }

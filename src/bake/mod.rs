@@ -97,6 +97,7 @@ mod exact;
 mod gpu;
 pub mod mesh;
 mod mips;
+mod parallel;
 mod texture;
 pub mod work;
 
@@ -105,6 +106,7 @@ pub use baker::{
     UvTriangle, Verification, VerifyCounts, DEFAULT_BLOCK_BUDGET,
 };
 pub use gpu::Model;
+pub use parallel::Threads;
 pub use texture::{
     AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Sampler, SliceTexture,
     Texel, TextureError, Unorm16Texture, Unorm8Texture,

@@ -472,6 +472,14 @@ pub enum BufferError {
     },
     /// The allocator refused the buffers.
     AllocationFailed,
+    /// A [`TriangleEntry`] names a micromap this builder does not hold
+    /// (it came from another builder).
+    NoSuchEntry {
+        /// The distinct micromap it names.
+        entry: u32,
+        /// How many this builder holds.
+        count: usize,
+    },
 }
 
 impl fmt::Display for BufferError {
@@ -507,6 +515,10 @@ impl fmt::Display for BufferError {
                 write!(f, "geometry {geometry} does not exist: there are {count}")
             }
             BufferError::AllocationFailed => f.write_str("could not allocate the buffers"),
+            BufferError::NoSuchEntry { entry, count } => write!(
+                f,
+                "entry {entry} names no micromap of this builder (it holds {count})"
+            ),
         }
     }
 }
@@ -541,12 +553,21 @@ impl Default for BuildOptions {
 }
 
 /// A triangle's entry before the final order is known.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Entry {
     /// Index into the builder's distinct micromaps.
     Unique(u32),
     Special(State),
 }
+
+/// A triangle's opacity as a [`MicromapBuffersBuilder`] holds it: a
+/// distinct micromap it stores, or a special index
+/// ([`MicromapBuffersBuilder::add_micromap`],
+/// [`MicromapBuffersBuilder::special`]), meaningful for the builder that
+/// made it (another builder's entry may name another map, or none:
+/// [`BufferError::NoSuchEntry`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TriangleEntry(Entry);
 
 /// Collects the micromaps of one or more geometries, deduplicates them by
 /// content and lays out the API buffers ([`finish`](Self::finish)).
@@ -590,11 +611,27 @@ enum Entry {
 #[derive(Clone, Debug, Default)]
 pub struct MicromapBuffersBuilder {
     options: BuildOptions,
-    /// Distinct micromaps in order of first appearance.
-    unique: Vec<Micromap>,
+    /// Distinct micromaps in order of first appearance: their level,
+    /// format and place in `arenas`.
+    unique: Vec<Stored>,
+    /// The distinct maps' bytes, one arena per byte length, each in order
+    /// of first appearance: the data buffer in pieces (`finish` joins them
+    /// without copying the largest).
+    arenas: BTreeMap<usize, Vec<u8>>,
     /// Content hash → indices into `unique` with that hash.
     buckets: BTreeMap<u64, Vec<u32>>,
     geometries: Vec<Vec<Entry>>,
+}
+
+/// Where the builder keeps one distinct micromap.
+#[derive(Clone, Copy, Debug)]
+struct Stored {
+    level: Level,
+    format: Format,
+    /// Its byte length (its arena).
+    len: usize,
+    /// Its position in the arena, in maps.
+    slot: usize,
 }
 
 /// FNV-1a over level, format and bytes: only buckets candidates, equality
@@ -619,20 +656,125 @@ impl MicromapBuffersBuilder {
         }
     }
 
-    /// The distinct micromap equal to `map`, adding it if new.
-    fn intern(&mut self, map: &Micromap) -> Result<u32, BufferError> {
-        let hash = content_hash(map);
-        let bucket = self.buckets.entry(hash).or_default();
-        if let Some(&found) = bucket.iter().find(|&&i| self.unique[i as usize] == *map) {
-            return Ok(found);
-        }
+    /// The bytes of a stored map.
+    fn bytes(&self, stored: Stored) -> &[u8] {
+        let start = stored.slot * stored.len;
+        &self.arenas[&stored.len][start..start + stored.len]
+    }
+
+    /// The distinct micromap equal to `map` (`hash` its content hash).
+    fn find(&self, map: &Micromap, hash: u64) -> Option<u32> {
+        let bucket = self.buckets.get(&hash)?;
+        bucket.iter().copied().find(|&i| {
+            let stored = self.unique[i as usize];
+            stored.level == map.level()
+                && stored.format == map.format()
+                && self.bytes(stored) == map.as_bytes()
+        })
+    }
+
+    /// Stores a copy of `map`'s bytes, known to be new (`hash` its content
+    /// hash).
+    fn store(&mut self, map: &Micromap, hash: u64) -> Result<u32, BufferError> {
         let id = self.unique.len() as u64;
         if id > u64::from(IndexWidth::U32.max_regular()) {
             return Err(BufferError::TooManyMicromaps { count: id + 1 });
         }
-        bucket.push(id as u32);
-        self.unique.push(map.clone());
+        let bytes = map.as_bytes();
+        let arena = self.arenas.entry(bytes.len()).or_default();
+        // Amortised growth (a large arena grows in place where the
+        // allocator can remap it).
+        arena
+            .try_reserve(bytes.len())
+            .map_err(|_| BufferError::AllocationFailed)?;
+        self.unique
+            .try_reserve(1)
+            .map_err(|_| BufferError::AllocationFailed)?;
+        let slot = arena.len() / bytes.len().max(1);
+        arena.extend_from_slice(bytes);
+        self.unique.push(Stored {
+            level: map.level(),
+            format: map.format(),
+            len: bytes.len(),
+            slot,
+        });
+        self.buckets.entry(hash).or_default().push(id as u32);
         Ok(id as u32)
+    }
+
+    /// The special index a uniform `map` becomes, if the options say so.
+    fn as_special(&self, map: &Micromap) -> Option<State> {
+        map.uniform().filter(|_| self.options.uniform_to_special)
+    }
+
+    /// Adds one triangle's micromap: its bytes join the builder's data
+    /// once per content (a map equal to one already added adds nothing, a
+    /// uniform one becomes its special index), and returns the entry to
+    /// name it by in [`add_geometry_entries`](Self::add_geometry_entries).
+    /// This is how a baker streams its maps in as it makes them, freeing
+    /// each once added: the builder holds each distinct map's bytes once,
+    /// and [`finish`](Self::finish) makes them the data buffer.
+    ///
+    /// ```
+    /// use micromap_index::micromap::{Format, Micromap, MicromapBuffersBuilder, MicromapIndex, State};
+    /// use micromap_index::Level;
+    /// let mut half = Micromap::new(Level::new(1).unwrap(), Format::TwoState).unwrap();
+    /// half.set(0, State::Opaque).unwrap();
+    /// let mut builder = MicromapBuffersBuilder::new(Default::default());
+    /// let a = builder.add_micromap(&half).unwrap();
+    /// let b = builder.add_micromap(&half.clone()).unwrap(); // equal: the same record
+    /// let c = MicromapBuffersBuilder::special(State::Opaque);
+    /// builder.add_geometry_entries([a, b, c, a]).unwrap();
+    /// let buffers = builder.finish().unwrap();
+    /// assert_eq!(buffers.records().len(), 1);
+    /// let indices = buffers.geometry_indices(0).unwrap();
+    /// assert_eq!((indices[1], indices[2]), (MicromapIndex::Record(0), MicromapIndex::Special(State::Opaque)));
+    /// ```
+    pub fn add_micromap(&mut self, map: &Micromap) -> Result<TriangleEntry, BufferError> {
+        if let Some(state) = self.as_special(map) {
+            return Ok(TriangleEntry(Entry::Special(state)));
+        }
+        let hash = content_hash(map);
+        let id = match self.find(map, hash) {
+            Some(id) => id,
+            None => self.store(map, hash)?,
+        };
+        Ok(TriangleEntry(Entry::Unique(id)))
+    }
+
+    /// The entry of a triangle with one state, a special index (for
+    /// [`add_geometry_entries`](Self::add_geometry_entries)).
+    #[must_use]
+    pub const fn special(state: State) -> TriangleEntry {
+        TriangleEntry(Entry::Special(state))
+    }
+
+    /// Adds a geometry from entries ([`add_micromap`](Self::add_micromap),
+    /// [`special`](Self::special)) of this builder, one per triangle in
+    /// triangle order; an entry may serve any number of triangles and
+    /// geometries. Returns the geometry's number. The buffers are those
+    /// [`add_geometry`](Self::add_geometry) gives for the maps in the order
+    /// they were added.
+    pub fn add_geometry_entries(
+        &mut self,
+        entries: impl IntoIterator<Item = TriangleEntry>,
+    ) -> Result<usize, BufferError> {
+        let mut list = Vec::new();
+        for TriangleEntry(entry) in entries {
+            if let Entry::Unique(id) = entry {
+                if id as usize >= self.unique.len() {
+                    return Err(BufferError::NoSuchEntry {
+                        entry: id,
+                        count: self.unique.len(),
+                    });
+                }
+            }
+            list.try_reserve(1)
+                .map_err(|_| BufferError::AllocationFailed)?;
+            list.push(entry);
+        }
+        self.geometries.push(list);
+        Ok(self.geometries.len() - 1)
     }
 
     /// Adds a geometry: one opacity per triangle, in triangle order. Returns
@@ -645,10 +787,7 @@ impl MicromapBuffersBuilder {
         for triangle in triangles {
             let entry = match triangle {
                 TriangleOpacity::Special(state) => Entry::Special(state),
-                TriangleOpacity::Micromap(map) => match map.uniform() {
-                    Some(state) if self.options.uniform_to_special => Entry::Special(state),
-                    _ => Entry::Unique(self.intern(map)?),
-                },
+                TriangleOpacity::Micromap(map) => self.add_micromap(map)?.0,
             };
             entries.push(entry);
         }
@@ -662,34 +801,54 @@ impl MicromapBuffersBuilder {
     /// powers of two): naturally aligned, and the data is as small as it can
     /// be. Records follow the same order; usage counts are sorted by format,
     /// then level.
-    pub fn finish(self) -> Result<MicromapBuffers, BufferError> {
-        let mut order: Vec<u32> = (0..self.unique.len() as u32).collect();
-        // Stable: equal sizes keep their first-appearance order.
-        order.sort_by_key(|&i| core::cmp::Reverse(self.unique[i as usize].as_bytes().len()));
-        let mut record_of = alloc::vec![0u32; self.unique.len()];
-        let mut records = Vec::with_capacity(order.len());
+    pub fn finish(mut self) -> Result<MicromapBuffers, BufferError> {
+        // Record order: arenas by decreasing byte length, each in order of
+        // first appearance (what a stable sort of the maps by decreasing
+        // size gives).
+        let mut first_record = BTreeMap::new();
+        let mut records = Vec::new();
+        records
+            .try_reserve_exact(self.unique.len())
+            .map_err(|_| BufferError::AllocationFailed)?;
         let mut offset: u64 = 0;
-        for (record, &id) in order.iter().enumerate() {
-            let map = &self.unique[id as usize];
-            record_of[id as usize] = record as u32;
-            let data_offset =
-                u32::try_from(offset).map_err(|_| BufferError::DataTooLarge { bytes: offset })?;
-            records.push(TriangleRecord {
-                data_offset,
-                subdivision_level: map.level().get() as u16,
-                format: map.format().raw(),
-            });
-            offset += map.as_bytes().len() as u64;
+        for (&len, arena) in self.arenas.iter().rev() {
+            first_record.insert(len, records.len() as u32);
+            for slot in 0..arena.len() / len.max(1) {
+                let data_offset = u32::try_from(offset + (slot * len) as u64)
+                    .map_err(|_| BufferError::DataTooLarge { bytes: offset })?;
+                // Placeholder level and format, set below from `unique`.
+                records.push(TriangleRecord {
+                    data_offset,
+                    subdivision_level: 0,
+                    format: 0,
+                });
+            }
+            offset += arena.len() as u64;
         }
         if offset > u64::from(u32::MAX) + 1 {
             return Err(BufferError::DataTooLarge { bytes: offset });
         }
+        let record_of: Vec<u32> = self
+            .unique
+            .iter()
+            .map(|stored| first_record[&stored.len] + stored.slot as u32)
+            .collect();
+        for (stored, &record) in self.unique.iter().zip(&record_of) {
+            let r = &mut records[record as usize];
+            r.subdivision_level = stored.level.get() as u16;
+            r.format = stored.format.raw();
+        }
+        // The data: the largest arena as it is (no copy), the others
+        // appended in decreasing length, each freed once appended.
+        let mut data = match self.arenas.pop_last() {
+            Some((_, largest)) => largest,
+            None => Vec::new(),
+        };
         let len = usize::try_from(offset).map_err(|_| BufferError::AllocationFailed)?;
-        let mut data = Vec::new();
-        data.try_reserve_exact(len)
+        data.try_reserve_exact(len - data.len())
             .map_err(|_| BufferError::AllocationFailed)?;
-        for &id in &order {
-            data.extend_from_slice(self.unique[id as usize].as_bytes());
+        while let Some((_, arena)) = self.arenas.pop_last() {
+            data.extend_from_slice(&arena);
         }
         let usage = histogram(records.iter().map(|r| (r.subdivision_level, r.format)));
         let geometries = self
@@ -716,10 +875,6 @@ impl MicromapBuffersBuilder {
         Ok(MicromapBuffers {
             data,
             records,
-            micromaps: order
-                .iter()
-                .map(|&id| self.unique[id as usize].clone())
-                .collect(),
             usage,
             geometries,
         })
@@ -772,8 +927,6 @@ struct Geometry {
 pub struct MicromapBuffers {
     data: Vec<u8>,
     records: Vec<TriangleRecord>,
-    /// The micromap of each record.
-    micromaps: Vec<Micromap>,
     usage: Vec<UsageCount>,
     geometries: Vec<Geometry>,
 }
@@ -817,11 +970,33 @@ impl MicromapBuffers {
         records_to_le_bytes(&self.records)
     }
 
-    /// The micromap each record describes.
-    #[inline]
+    /// A copy of the micromap record `record` describes (read from
+    /// [`data`](Self::data)); `None` past the last record. The buffers
+    /// keep each map only once, in the data.
+    ///
+    /// ```
+    /// use micromap_index::micromap::{Format, Micromap, MicromapBuffers, State, TriangleOpacity};
+    /// use micromap_index::Level;
+    /// let map = Micromap::from_states(Level::new(1).unwrap(), Format::FourState, State::ALL).unwrap();
+    /// let buffers = MicromapBuffers::build([TriangleOpacity::Micromap(&map)], Default::default()).unwrap();
+    /// assert_eq!(buffers.micromap(0), Some(map));
+    /// assert_eq!(buffers.micromap(1), None);
+    /// ```
     #[must_use]
-    pub fn micromaps(&self) -> &[Micromap] {
-        &self.micromaps
+    pub fn micromap(&self, record: u32) -> Option<Micromap> {
+        let r = *self.records.get(record as usize)?;
+        let (level, format) = record_shape(r)?;
+        let start = r.data_offset as usize;
+        let bytes = self
+            .data
+            .get(start..start + Micromap::byte_len(level, format))?;
+        Micromap::from_bytes(level, format, bytes).ok()
+    }
+
+    /// Copies of the micromaps of every record, in record order, made one
+    /// at a time ([`micromap`](Self::micromap)).
+    pub fn micromaps(&self) -> impl Iterator<Item = Micromap> + '_ {
+        (0..self.records.len() as u32).filter_map(|r| self.micromap(r))
     }
 
     /// The array's usage counts: how many records have each level and
@@ -940,14 +1115,14 @@ impl MicromapBuffers {
         Ok(())
     }
 
-    /// The opacity a geometry's triangle resolves to: its micromap, or its
-    /// special state; `None` past the end.
+    /// What a geometry's triangle resolves to: a copy of its micromap, or
+    /// its special state; `None` past the end.
     #[must_use]
-    pub fn resolve(&self, geometry: usize, triangle: usize) -> Option<TriangleOpacity<'_>> {
+    pub fn resolve(&self, geometry: usize, triangle: usize) -> Option<crate::bake::BakedOpacity> {
         let index = *self.geometries.get(geometry)?.indices.get(triangle)?;
         Some(match index {
-            MicromapIndex::Record(r) => TriangleOpacity::Micromap(self.micromaps.get(r as usize)?),
-            MicromapIndex::Special(state) => TriangleOpacity::Special(state),
+            MicromapIndex::Record(r) => crate::bake::BakedOpacity::Map(self.micromap(r)?),
+            MicromapIndex::Special(state) => crate::bake::BakedOpacity::Special(state),
         })
     }
 }

@@ -75,8 +75,8 @@ mod state;
 #[cfg(feature = "alloc")]
 pub use buffers::{
     records_to_le_bytes, usage_counts_to_le_bytes, Api, BufferError, BuildOptions, IndexWidth,
-    MicromapBuffers, MicromapBuffersBuilder, MicromapIndex, TriangleOpacity, TriangleRecord,
-    UsageCount,
+    MicromapBuffers, MicromapBuffersBuilder, MicromapIndex, TriangleEntry, TriangleOpacity,
+    TriangleRecord, UsageCount,
 };
 #[cfg(feature = "alloc")]
 pub use map::{MergeRule, Micromap, MicromapError, UnknownPolicy};

@@ -381,6 +381,10 @@ fn options(o: &mmi_bake_options) -> Result<MeshOptions> {
         // mmi_bake_stats counts the triangles they cut.
         triangle_work_budget: micromap_index::bake::DEFAULT_TRIANGLE_WORK_BUDGET,
         bake_work_budget: micromap_index::bake::DEFAULT_BAKE_WORK_BUDGET,
+        // On the caller's thread: the C API starts no threads (the library
+        // is built without its `rayon` feature here, so this is also what
+        // the default would do).
+        threads: micromap_index::bake::Threads::Exactly(1),
     })
 }
 

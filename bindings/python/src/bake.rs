@@ -206,7 +206,11 @@ fn result<'py>(
     status.set_item("not_finite", r.status.not_finite)?;
     status.set_item("out_of_exact_range", r.status.out_of_exact_range)?;
     status.set_item("budget_exceeded", r.status.budget_exceeded)?;
+    status.set_item("work_budget_exceeded", r.status.work_budget_exceeded)?;
     stats.set_item("status", status)?;
+    stats.set_item("distinct_triangles", r.distinct_triangles)?;
+    stats.set_item("work_units", r.work)?;
+    stats.set_item("period_level_zero_triangles", r.period_level_zero)?;
     stats.set_item("micromaps_after_dedup", r.micromaps)?;
     stats.set_item("special_index_triangles", r.special_index_triangles)?;
     stats.set_item("bytes_flat", r.bytes_flat)?;

@@ -47,7 +47,8 @@ def test_texture_and_triangles_equal_the_cli(cli_bake, options, flags):
     assert_same_files(result, files)
     s = summary(out)
     for key in ("triangles", "levels", "micromaps_after_dedup", "bytes_flat",
-                "special_index_triangles", "known_fraction", "status"):
+                "special_index_triangles", "known_fraction", "status",
+                "distinct_triangles", "work_units"):
         assert result.stats[key] == s[key], key
     assert result.stats["micro_triangles"] == s["micro_triangles"]
     assert result.indices.dtype == (np.int16 if options.get("index_width") == 16 else np.int32)

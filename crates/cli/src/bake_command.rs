@@ -12,8 +12,8 @@ use micromap_index::bake::mesh::{
     MeshTriangles, Mips,
 };
 use micromap_index::bake::{
-    AddressMode, AlphaTexture, Baker, Comparison, Cutoff, Filter, Model, Sampler, UvTriangle,
-    DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET,
+    AddressMode, AlphaTexture, Baker, Comparison, Cutoff, Filter, Model, Sampler, Threads,
+    UvTriangle, DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET,
 };
 use micromap_index::micromap::{
     read_buffers, BufferBytes, Format, IndexWidth, MicromapIndex, ReadOptions, TriangleOpacity,
@@ -179,6 +179,12 @@ pub(crate) static BAKE: Command = Command {
                 "--bake-work-budget",
                 "N",
                 "work units all triangles may spend together (default 17179869184)",
+            ),
+            Flag::value(
+                "--threads",
+                "N",
+                "threads to bake on (default: every core; 1: serial); the bytes are
+                         the same for every N",
             ),
             Flag::switch("--force", "replace existing files in DIR"),
             Flag::switch("--no-preview", "skip preview.png"),
@@ -492,6 +498,19 @@ pub(crate) fn read_file(path: &Path, limit: u64, what: &str) -> Result<Vec<u8>, 
     Ok(bytes)
 }
 
+/// `--threads N` (N >= 1); `None`: every core.
+fn threads_option(p: &Parsed<'_>) -> Result<Option<usize>, Failure> {
+    match p.get("--threads") {
+        None => Ok(None),
+        Some(text) => match text.parse::<usize>() {
+            Ok(n) if n >= 1 && text.bytes().all(|b| b.is_ascii_digit()) => Ok(Some(n)),
+            _ => Err(Failure::Malformed(format!(
+                "--threads {text:?}: expected a number of threads, at least 1"
+            ))),
+        },
+    }
+}
+
 /// `--model` (default gpu-binary32).
 pub(crate) fn model_option(p: &Parsed<'_>) -> Result<Model, Failure> {
     match p.get("--model") {
@@ -641,7 +660,15 @@ struct JobSummary {
 #[derive(Serialize)]
 struct Summary {
     triangles: usize,
-    format: u32,
+    /// Triangles classified: equal UVs, level and material bake once.
+    distinct_triangles: usize,
+    /// "4-state" or "2-state".
+    format: &'static str,
+    /// The APIs' value of the format (`VkOpacityMicromapFormatEXT`: 1
+    /// 2-state, 2 4-state).
+    format_api_value: u32,
+    /// The threads the bake ran on.
+    threads: usize,
     model: &'static str,
     /// `--mips`: `0`, `N` or `all`.
     mips: String,
@@ -781,6 +808,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
             Failure::Malformed(format!("--mips {text:?}: expected 0, a level N or all"))
         })?,
     };
+    let threads = threads_option(&p)?;
     let s = sampler_options(&p)?;
     let preview = !p.flag("--no-preview");
     let gltf_out = crate::gltf_out::GltfOut::from_options(&p, &OUTPUTS)?;
@@ -820,6 +848,10 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         bake_work_budget,
         model,
         mips,
+        threads: match threads {
+            Some(n) => Threads::Exactly(n),
+            None => Threads::All,
+        },
         ..MeshOptions::default()
     };
     // The output's size before deduplication (an upper bound: maps that
@@ -834,9 +866,14 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
              --budget or a lower --level/--max-level shrinks the output)"
         )));
     }
+    let threads_used = threads.unwrap_or_else(|| {
+        std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+    });
     let show_progress = !p.flag("--quiet") && std::io::stderr().is_terminal();
     let mut progress = |done: usize, total: usize| {
-        if show_progress && (done % 64 == 0 || done == total) {
+        // Called once per chunk of the bake (about 2^22 micro-triangles
+        // per thread), so every call is printed.
+        if show_progress {
             crate::output::to_stderr(format_args!(
                 "\rbaking: {done}/{total} triangles ({}%)",
                 done * 100 / total.max(1)
@@ -902,14 +939,11 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
             crate::preview::render(
                 &input.images,
                 model,
-                input.jobs.iter().zip(&baked.triangles).map(|(job, baked)| {
-                    (
-                        job.image,
-                        job.sampler,
-                        job.triangles.as_slice(),
-                        baked.as_slice(),
-                    )
-                }),
+                input
+                    .jobs
+                    .iter()
+                    .map(|job| (job.image, job.sampler, job.triangles.as_slice())),
+                &baked,
             )
             .map_err(Failure::Io)?,
         )
@@ -924,7 +958,13 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     let micro = counts.total();
     let summary = Summary {
         triangles: report.triangles,
-        format: u32::from(format.raw()),
+        distinct_triangles: report.distinct_triangles,
+        format: match format {
+            Format::FourState => "4-state",
+            Format::TwoState => "2-state",
+        },
+        format_api_value: u32::from(format.raw()),
+        threads: threads_used,
         model: model.name(),
         mips: mips.to_string(),
         widening: Widening {
@@ -957,32 +997,34 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     let summary_json = serde_json::to_string_pretty(&summary)
         .map_err(|e| Failure::Malformed(format!("summary: {e}")))?
         + "\n";
-    let mut files = vec![
-        ("micromap-data.bin".to_string(), buffers.data().to_vec()),
-        (
-            "micromap-triangles.bin".to_string(),
-            buffers.records_le_bytes(),
-        ),
-        ("micromap-indices.bin".to_string(), indices),
-        (
-            "micromap-usage.bin".to_string(),
-            micromap_index::micromap::usage_counts_to_le_bytes(buffers.usage_counts()),
-        ),
-        (
-            "summary.json".to_string(),
-            summary_json.clone().into_bytes(),
-        ),
+    // Borrowed where the bytes already exist: the data, the largest
+    // output, is written from the buffers without a copy.
+    let gltf_files = match &gltf_out {
+        Some(gltf_out) => {
+            let asset = Path::new(p.get("--gltf").unwrap_or_default());
+            let primitives: Vec<(usize, usize)> =
+                input.jobs.iter().filter_map(|j| j.gltf).collect();
+            gltf_out.files(asset, &out, buffers, &primitives)?
+        }
+        None => Vec::new(),
+    };
+    let records = buffers.records_le_bytes();
+    let usage = micromap_index::micromap::usage_counts_to_le_bytes(buffers.usage_counts());
+    let mut files: Vec<(String, &[u8])> = vec![
+        ("micromap-data.bin".to_string(), buffers.data()),
+        ("micromap-triangles.bin".to_string(), &records),
+        ("micromap-indices.bin".to_string(), &indices),
+        ("micromap-usage.bin".to_string(), &usage),
+        ("summary.json".to_string(), summary_json.as_bytes()),
     ];
-    if let Some(png) = preview_png {
+    if let Some(png) = &preview_png {
         files.push(("preview.png".to_string(), png));
     }
     // Without a preview, a stale preview.png (--force) is removed with the
     // same all-or-nothing commit.
     let mut stale: Vec<&str> = if preview { vec![] } else { vec!["preview.png"] };
-    if let Some(gltf_out) = &gltf_out {
-        let asset = Path::new(p.get("--gltf").unwrap_or_default());
-        let primitives: Vec<(usize, usize)> = input.jobs.iter().filter_map(|j| j.gltf).collect();
-        files.extend(gltf_out.files(asset, &out, buffers, &primitives)?);
+    if gltf_out.is_some() {
+        files.extend(gltf_files.iter().map(|(n, b)| (n.clone(), b.as_slice())));
         // A sidecar this run does not write (NAME.bin) is not left stale.
         stale.extend(
             gltf_names

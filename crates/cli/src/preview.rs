@@ -5,7 +5,8 @@
 
 mod legend;
 
-use micromap_index::bake::{AddressMode, BakedTriangle, Model, Sampler, UvTriangle};
+use micromap_index::bake::mesh::MeshBake;
+use micromap_index::bake::{AddressMode, Model, Sampler, UvTriangle};
 use micromap_index::inverse::micro_triangles;
 use micromap_index::micromap::State;
 use micromap_index_assets::{AlphaImage, AlphaTexels};
@@ -53,12 +54,14 @@ impl Canvas {
     }
 }
 
-/// The picture as PNG bytes. `jobs`: (image index, triangles, their bakes),
-/// baked under `model` (named in the legend).
+/// The picture as PNG bytes. `jobs`: (image index, sampler, triangles),
+/// job `j` being mesh `j` of `baked`, baked under `model` (named in the
+/// legend).
 pub(crate) fn render<'a>(
     images: &[AlphaImage],
     model: Model,
-    jobs: impl Iterator<Item = (usize, Sampler, &'a [UvTriangle], &'a [BakedTriangle])>,
+    jobs: impl Iterator<Item = (usize, Sampler, &'a [UvTriangle])>,
+    baked: &MeshBake,
 ) -> Result<Drawn, String> {
     let max_side = images
         .iter()
@@ -104,7 +107,7 @@ pub(crate) fn render<'a>(
     }
     let mut pixels_left = PIXEL_BUDGET;
     let (mut drawn, mut skipped) = (0u64, 0u64);
-    for (job, (image_index, sampler, triangles, baked)) in jobs.enumerate() {
+    for (job, (image_index, sampler, triangles)) in jobs.enumerate() {
         let image = &images[image_index];
         let tile = Tile {
             x0: offsets[image_index],
@@ -113,8 +116,11 @@ pub(crate) fn render<'a>(
             address: [sampler.address_u, sampler.address_v],
         };
         let mut seen = std::collections::HashSet::new();
-        for (uv, b) in triangles.iter().zip(baked) {
-            let level = b.opacity.level();
+        for (t, uv) in triangles.iter().enumerate() {
+            let Some(b) = baked.triangle(job, t) else {
+                continue;
+            };
+            let level = b.level;
             let count = 1u64 << (2 * level.get());
             if !seen.insert((job, uv.map(|c| c.map(f32::to_bits)))) {
                 skipped += count;
@@ -127,8 +133,12 @@ pub(crate) fn render<'a>(
             {
                 continue;
             }
+            // One copy of the map per drawn triangle.
+            let Some(opacity) = baked.opacity(job, t) else {
+                continue;
+            };
             for t in micro_triangles(level) {
-                let state = b.opacity.state(t.index()).unwrap_or(State::UnknownOpaque);
+                let state = opacity.state(t.index()).unwrap_or(State::UnknownOpaque);
                 let n = f64::from(1u32 << level.get());
                 let corners = t.vertices_scaled().map(|(a, bb)| {
                     let (a, bb) = (a as f64 / n, bb as f64 / n);
@@ -324,7 +334,16 @@ mod tests {
             (info.width, info.height, rgb)
         };
         let draw = |model| {
-            let drawn = render(std::slice::from_ref(&image), model, std::iter::empty()).unwrap();
+            let nothing =
+                micromap_index::bake::mesh::bake_meshes(&[], &Default::default(), &mut |_, _| {})
+                    .unwrap();
+            let drawn = render(
+                std::slice::from_ref(&image),
+                model,
+                std::iter::empty(),
+                &nothing,
+            )
+            .unwrap();
             decode(&drawn.png)
         };
         let (width, height, gpu) = draw(Model::GpuBinary32);

@@ -67,7 +67,7 @@ pub(crate) fn check_destination(dir: &Path, names: &[&str], force: bool) -> Resu
 /// Writes `files` (name, bytes) into `dir`, creating `dir` if needed: all
 /// of them, or (after an error, which the message describes) none.
 #[allow(dead_code)] // micromap-lab's vectors --out (bake stages through Destination)
-pub(crate) fn write_files(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), String> {
+pub(crate) fn write_files(dir: &Path, files: &[(String, impl AsRef<[u8]>)]) -> Result<(), String> {
     fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let staged = Mutex::new(Staged::default());
     let result = Staged::write(&staged, |s| s, dir, files, &[]);
@@ -111,7 +111,7 @@ impl Staged {
         state: &Mutex<H>,
         staged: fn(&mut H) -> &mut Staged,
         dir: &Path,
-        files: &[(String, Vec<u8>)],
+        files: &[(String, impl AsRef<[u8]>)],
         remove: &[&str],
     ) -> Result<(), String> {
         let pid = std::process::id();
@@ -128,7 +128,7 @@ impl Staged {
                 staged(&mut guard).temporaries.push(temporary.clone());
                 file
             };
-            file.write_all(bytes)
+            file.write_all(bytes.as_ref())
                 .and_then(|()| file.sync_all())
                 .map_err(|e| format!("cannot write {}: {e}", temporary.display()))?;
             pairs.push((temporary, dir.join(name)));
@@ -350,7 +350,11 @@ impl Destination {
     /// named in `remove` (outputs this run does not produce, so that no
     /// stale one is left beside the new ones): all of it, or (after an
     /// error, which the message describes) nothing.
-    pub(crate) fn write(&self, files: &[(String, Vec<u8>)], remove: &[&str]) -> Result<(), String> {
+    pub(crate) fn write(
+        &self,
+        files: &[(String, impl AsRef<[u8]>)],
+        remove: &[&str],
+    ) -> Result<(), String> {
         let dir = lock(&self.state).dir.clone();
         let result = Staged::write(&self.state, |h| &mut h.staged, &dir, files, remove);
         let mut held = lock(&self.state);

@@ -33,6 +33,7 @@ mod vulkan;
 
 use micromap_index_test_support::SplitMix64;
 
+use micromap_index::bake::BakedOpacity;
 use micromap_index::inverse::micro_triangle;
 use micromap_index::micromap::{
     Api, BuildOptions, Format, IndexWidth, Micromap, MicromapBuffers, State, TriangleOpacity,
@@ -430,9 +431,10 @@ fn flat_lookup_on_maps(gpu: &Gpu, lang: Lang) {
         for &width in widths {
             let indices = words(&buffers.index_bytes(0, width).unwrap());
             for t in 0..triangles.len() {
-                let expected_of = |i: u64| match buffers.resolve(0, t).unwrap() {
-                    TriangleOpacity::Micromap(m) => bits(m.get(i)),
-                    TriangleOpacity::Special(s) => u32::from(s.bits()),
+                let resolved = buffers.resolve(0, t).unwrap();
+                let expected_of = |i: u64| match &resolved {
+                    BakedOpacity::Map(m) => bits(m.get(i)),
+                    BakedOpacity::Special(s) => u32::from(s.bits()),
                 };
                 // Every micro-triangle and eight past the end.
                 let count = (1usize << (2 * level)) + 8;

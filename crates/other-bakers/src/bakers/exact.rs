@@ -4,12 +4,9 @@
 //! would use at run time (linear, clamp-to-edge inside [0, 1]), cutoff 0.5
 //! with glTF's `alpha >= cutoff`.
 
-use micromap_index::bake::{
-    AddressMode, Baker as ExactBaker, Cutoff, Filter, Sampler, Unorm8Texture,
-};
-use micromap_index::micromap::{
-    Format as MmFormat, IndexWidth, MicromapBuffersBuilder, UnknownPolicy,
-};
+use micromap_index::bake::mesh::{bake_mesh, LevelRule, Material, Mesh, MeshOptions, MeshTriangles};
+use micromap_index::bake::{AddressMode, Cutoff, Filter, Sampler, Threads, Unorm8Texture};
+use micromap_index::micromap::{Format as MmFormat, IndexWidth, UnknownPolicy};
 use micromap_index::Level;
 
 use super::{Baked, Baker, Conventions, Request};
@@ -37,7 +34,7 @@ impl Baker for MicromapIndex {
             comparison: "opaque when alpha >= 0.5 (glTF MASK)",
             classification: "exact: a micro-triangle is known only if every point of it, closed, reads one class",
             level_control: "forced: every triangle at level L",
-            pipeline: "uniform micromaps become special indices; identical micromaps are merged by content",
+            pipeline: "bake::mesh: triangles with equal UVs classified once; uniform micromaps become special indices; identical micromaps are merged by content",
             order: "the Vulkan space-filling curve (micromap_index::inverse)",
             references: &["src/bake/ in this repository"],
         }
@@ -56,26 +53,38 @@ impl Baker for MicromapIndex {
             address_v: AddressMode::ClampToEdge,
             border_alpha: 0.0,
         };
-        let baker =
-            ExactBaker::new(&texture, sampler, Cutoff::default()).map_err(|e| e.to_string())?;
         let level = Level::new(u32::from(request.level)).map_err(|e| e.to_string())?;
         let format = match request.format {
             Format::TwoState => MmFormat::TwoState,
             Format::FourState => MmFormat::FourState,
         };
-        let mut baked = Vec::with_capacity(request.triangles.len());
-        for uv in request.triangles {
-            baked.push(
-                baker
-                    .bake(uv, level, format, UnknownPolicy::Fallback)
-                    .map_err(|e| e.to_string())?,
-            );
-        }
-        let mut builder = MicromapBuffersBuilder::new(Default::default());
-        builder
-            .add_geometry(baked.iter().map(|b| b.opacity.as_opacity()))
-            .map_err(|e| e.to_string())?;
-        let buffers = builder.finish().map_err(|e| e.to_string())?;
+        // The library's whole-mesh bake, as the CLI runs it: equal
+        // triangles classified once, on OTHER_BAKE_THREADS threads
+        // (default 1, serial).
+        let threads = std::env::var("OTHER_BAKE_THREADS")
+            .ok()
+            .and_then(|t| t.parse::<usize>().ok())
+            .unwrap_or(1);
+        let mesh = Mesh {
+            triangles: MeshTriangles::Uv(request.triangles),
+            texture: &texture,
+            material: Material {
+                sampler,
+                cutoff: Cutoff::default(),
+                alpha_factor: 1.0,
+            },
+            vertex_alpha: None,
+        };
+        let options = MeshOptions {
+            levels: LevelRule::Fixed(level),
+            format,
+            unknown: UnknownPolicy::Fallback,
+            threads: Threads::Exactly(threads),
+            ..MeshOptions::default()
+        };
+        let buffers = bake_mesh(&mesh, &options)
+            .map_err(|e| e.to_string())?
+            .buffers;
         let indices = buffers
             .index_bytes(0, IndexWidth::U32)
             .map_err(|e| e.to_string())?

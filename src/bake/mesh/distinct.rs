@@ -1,0 +1,215 @@
+//! Exact deduplication before the bake: triangles that must bake to the
+//! same states are classified once. Two triangles do when their UVs are
+//! equal bit for bit (after every transform the caller applied), their
+//! levels are equal, and they are read through the same texture (the same
+//! object) with bit-for-bit equal sampler, cutoff and alpha factor, and the
+//! same vertex-alpha range (the range, not the alphas, is what the bake
+//! reads). [`Plan`] finds the classes in order of first appearance, so the
+//! first-appearance order of the micromaps, and with it every output byte,
+//! is what baking each triangle in turn gives.
+
+use super::{
+    check_vertex_alpha, vertex_range, FactorTexture, Mesh, MeshBakeError, MeshOptions, Mips,
+    VertexBoundTexture,
+};
+use crate::bake::baker::{Baker, TriangleStatus, UvTriangle};
+use crate::bake::mips::mip_bakers;
+use crate::bake::texture::AlphaTexture;
+use crate::micromap::TriangleEntry;
+use crate::Level;
+use alloc::collections::BTreeMap;
+use alloc::vec::Vec;
+
+/// One distinct triangle's bake, as the report and [`super::MeshBake`]
+/// keep it (its map is in the buffers' builder).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Distinct {
+    /// The baked map's level (0 for a special index from the coordinates).
+    pub(super) level: Level,
+    pub(super) status: TriangleStatus,
+    pub(super) counts: [u64; 4],
+    /// Unknown micro-triangles the exact model knows ([`crate::bake::BakedTriangle::widened`]).
+    pub(super) widened: u64,
+    /// Work units its bake spent.
+    pub(super) work: u64,
+    pub(super) entry: TriangleEntry,
+}
+
+/// One distinct triangle to bake.
+pub(super) struct Work {
+    /// Index into [`Plan::bakers`].
+    pub(super) baker: u32,
+    /// Index into [`Plan::bounds`] when the mesh has vertex alpha.
+    pub(super) bound: Option<u32>,
+    pub(super) uv: UvTriangle,
+    pub(super) level: Level,
+    /// How many input triangles it stands for.
+    pub(super) triangles: usize,
+}
+
+impl Work {
+    /// The cost model: micro-triangles classified (two bakes with vertex
+    /// alpha).
+    pub(super) fn cost(&self) -> u64 {
+        let micro = 1u64 << (2 * self.level.get().min(31));
+        if self.bound.is_some() {
+            micro.saturating_mul(2)
+        } else {
+            micro
+        }
+    }
+}
+
+/// The material as exact bits, with the texture's address: what a baker is
+/// made from.
+type BakerKey = (usize, [u32; 7]);
+
+/// The distinct triangles of all meshes and the bakers they need.
+pub(super) struct Plan {
+    /// One baker per distinct (texture, material).
+    pub(super) bakers: Vec<Baker>,
+    /// Per baker: the (lower, upper) bound bakers of the mip levels below
+    /// 0 that [`MeshOptions::mips`] asks for (empty for [`Mips::Level0`]).
+    pub(super) mips: Vec<Vec<(Baker, Baker)>>,
+    /// (lower, upper) bound bakers per distinct (baker, vertex range).
+    pub(super) bounds: Vec<(Baker, Baker)>,
+    /// The distinct triangles, in order of first appearance.
+    pub(super) work: Vec<Work>,
+    /// Per mesh, per triangle: its distinct triangle.
+    pub(super) of_triangle: Vec<Vec<u32>>,
+}
+
+impl Plan {
+    /// Groups the triangles of `meshes` (resolved to `triangles`, with
+    /// `levels`) and builds each baker once. Fails as the bake would: the
+    /// first mesh (in order) whose vertex alpha or texture is refused.
+    pub(super) fn new(
+        meshes: &[Mesh<'_>],
+        triangles: &[impl AsRef<[UvTriangle]>],
+        levels: &[Vec<Level>],
+        options: &MeshOptions,
+    ) -> Result<Plan, MeshBakeError> {
+        let mut plan = Plan {
+            bakers: Vec::new(),
+            mips: Vec::new(),
+            bounds: Vec::new(),
+            work: Vec::new(),
+            of_triangle: Vec::with_capacity(meshes.len()),
+        };
+        // Candidates by key; equal keys are checked for the same texture
+        // object (data pointer and vtable).
+        let mut bakers: BTreeMap<BakerKey, Vec<(u32, &dyn AlphaTexture)>> = BTreeMap::new();
+        let mut bounds: BTreeMap<(u32, (u64, u64)), u32> = BTreeMap::new();
+        let mut seen: BTreeMap<(u32, Option<u32>, [u32; 6], u32), u32> = BTreeMap::new();
+        for (m, ((mesh, triangles), levels)) in meshes.iter().zip(triangles).zip(levels).enumerate()
+        {
+            let triangles = triangles.as_ref();
+            let vertex_alpha = check_vertex_alpha(m, mesh, triangles.len())?;
+            if vertex_alpha.is_some() && options.mips != Mips::Level0 {
+                return Err(MeshBakeError::VertexAlpha {
+                    mesh: m,
+                    message: "vertex alpha with mip levels below 0 is not modelled".into(),
+                });
+            }
+            let material = &mesh.material;
+            let texture_error = |error| MeshBakeError::Texture { mesh: m, error };
+            let key = (
+                core::ptr::from_ref(mesh.texture).cast::<()>() as usize,
+                [
+                    material.sampler.filter as u32,
+                    material.sampler.address_u as u32,
+                    material.sampler.address_v as u32,
+                    material.sampler.border_alpha.to_bits(),
+                    material.cutoff.alpha().to_bits(),
+                    material.cutoff.comparison() as u32,
+                    material.alpha_factor.to_bits(),
+                ],
+            );
+            let candidates = bakers.entry(key).or_default();
+            let baker = if let Some(&(baker, _)) = candidates
+                .iter()
+                .find(|(_, texture)| core::ptr::eq(*texture, mesh.texture))
+            {
+                baker
+            } else {
+                let factored = FactorTexture {
+                    inner: mesh.texture,
+                    factor: material.alpha_factor,
+                };
+                let texture: &dyn AlphaTexture = if material.alpha_factor == 1.0 {
+                    mesh.texture
+                } else {
+                    &factored
+                };
+                let make = |texture: &dyn AlphaTexture, sampler| {
+                    Ok(Baker::new(texture, sampler, material.cutoff)?
+                        .with_block_budget(options.block_budget)
+                        .with_model(options.model))
+                };
+                let baker = make(texture, material.sampler).map_err(texture_error)?;
+                let mips = mip_bakers(options.mips, texture, material.sampler, &make)
+                    .map_err(texture_error)?;
+                let id = plan.bakers.len() as u32;
+                plan.bakers.push(baker);
+                plan.mips.push(mips);
+                candidates.push((id, mesh.texture));
+                id
+            };
+            let mut of_triangle = Vec::with_capacity(triangles.len());
+            for (t, (uv, &level)) in triangles.iter().zip(levels).enumerate() {
+                let bound = match vertex_alpha {
+                    None => None,
+                    Some(alphas) => {
+                        let range = vertex_range(alphas[t]);
+                        Some(if let Some(&b) = bounds.get(&(baker, range)) {
+                            b
+                        } else {
+                            let bound = |upper| -> Result<Baker, MeshBakeError> {
+                                let texture = VertexBoundTexture {
+                                    inner: mesh.texture,
+                                    factor: f64::from(material.alpha_factor),
+                                    low: f64::from_bits(range.0),
+                                    high: f64::from_bits(range.1),
+                                    upper,
+                                };
+                                Ok(Baker::new(&texture, material.sampler, material.cutoff)
+                                    .map_err(texture_error)?
+                                    .with_block_budget(options.block_budget)
+                                    .with_model(options.model))
+                            };
+                            let pair = (bound(false)?, bound(true)?);
+                            let b = plan.bounds.len() as u32;
+                            plan.bounds.push(pair);
+                            bounds.insert((baker, range), b);
+                            b
+                        })
+                    }
+                };
+                let bits = [
+                    uv[0][0].to_bits(),
+                    uv[0][1].to_bits(),
+                    uv[1][0].to_bits(),
+                    uv[1][1].to_bits(),
+                    uv[2][0].to_bits(),
+                    uv[2][1].to_bits(),
+                ];
+                let id = *seen
+                    .entry((baker, bound, bits, level.get()))
+                    .or_insert_with(|| {
+                        plan.work.push(Work {
+                            baker,
+                            bound,
+                            uv: *uv,
+                            level,
+                            triangles: 0,
+                        });
+                        (plan.work.len() - 1) as u32
+                    });
+                plan.work[id as usize].triangles += 1;
+                of_triangle.push(id);
+            }
+            plan.of_triangle.push(of_triangle);
+        }
+        Ok(plan)
+    }
+}

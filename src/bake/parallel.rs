@@ -1,0 +1,122 @@
+//! One body for the serial and the parallel bake: [`Threads`] says how many
+//! threads, [`map_in_order`] maps a slice in order on them. With the
+//! `rayon` feature off, or with one thread, it is a plain loop; with it on,
+//! rayon's `par_iter` over the same closure, collected in input order, so
+//! the results (and so the bytes built from them) never depend on the
+//! thread count.
+
+use alloc::vec::Vec;
+
+/// How many threads a bake may use.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Threads {
+    /// Every core: rayon's global pool (its `RAYON_NUM_THREADS` or the
+    /// number of logical CPUs). Without the `rayon` feature: one.
+    All,
+    /// Exactly this many (`1`, or `0`: serial, on the calling thread).
+    /// Without the `rayon` feature: one.
+    Exactly(usize),
+}
+
+impl Default for Threads {
+    /// [`Threads::All`].
+    fn default() -> Self {
+        Threads::All
+    }
+}
+
+/// Where [`map_in_order`] runs: the calling thread, or a rayon pool.
+pub(crate) struct Runner {
+    #[cfg(feature = "rayon")]
+    pool: Option<Pool>,
+}
+
+#[cfg(feature = "rayon")]
+enum Pool {
+    Global,
+    Own(rayon::ThreadPool),
+}
+
+impl Runner {
+    /// A runner for `threads`. A pool rayon cannot start (the OS refused a
+    /// thread) falls back to the calling thread: the output is the same.
+    pub(crate) fn new(threads: Threads) -> Runner {
+        #[cfg(feature = "rayon")]
+        {
+            let pool = match threads {
+                Threads::All => Some(Pool::Global),
+                Threads::Exactly(0 | 1) => None,
+                Threads::Exactly(n) => rayon::ThreadPoolBuilder::new()
+                    .num_threads(n)
+                    .build()
+                    .ok()
+                    .map(Pool::Own),
+            };
+            Runner { pool }
+        }
+        #[cfg(not(feature = "rayon"))]
+        {
+            let _ = threads;
+            Runner {}
+        }
+    }
+
+    /// The threads [`map_in_order`](Self::map_in_order) runs on.
+    #[cfg_attr(not(feature = "rayon"), allow(clippy::unused_self))]
+    pub(crate) fn threads(&self) -> usize {
+        #[cfg(feature = "rayon")]
+        match &self.pool {
+            Some(Pool::Global) => return rayon::current_num_threads(),
+            Some(Pool::Own(pool)) => return pool.current_num_threads(),
+            None => {}
+        }
+        1
+    }
+
+    /// `items.iter().map(f).collect()`, on this runner's threads, results in
+    /// the order of `items`. `min_len`: the fewest items one task takes
+    /// (batches small work; ignored when serial).
+    #[cfg_attr(not(feature = "rayon"), allow(clippy::unused_self))]
+    pub(crate) fn map_in_order<T: Sync, R: Send>(
+        &self,
+        items: &[T],
+        min_len: usize,
+        f: impl Fn(&T) -> R + Sync + Send,
+    ) -> Vec<R> {
+        #[cfg(feature = "rayon")]
+        {
+            use rayon::prelude::*;
+            let run = || {
+                items
+                    .par_iter()
+                    .with_min_len(min_len.max(1))
+                    .map(&f)
+                    .collect()
+            };
+            match &self.pool {
+                Some(Pool::Global) => return run(),
+                Some(Pool::Own(pool)) => return pool.install(run),
+                None => {}
+            }
+        }
+        let _ = min_len;
+        items.iter().map(f).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_thread_count_keeps_the_order() {
+        let items: Vec<u64> = (0..10_000).collect();
+        let serial = Runner::new(Threads::Exactly(1)).map_in_order(&items, 1, |x| x * x);
+        for threads in [Threads::All, Threads::Exactly(0), Threads::Exactly(3)] {
+            for min_len in [1, 7, 5000] {
+                let got = Runner::new(threads).map_in_order(&items, min_len, |x| x * x);
+                assert_eq!(got, serial, "{threads:?} min_len {min_len}");
+            }
+        }
+    }
+}
