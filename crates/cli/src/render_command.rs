@@ -17,8 +17,7 @@ use micromap_index::bake::mesh::{bake_meshes, LevelRule, MeshOptions};
 use micromap_index::micromap::Format;
 use micromap_index_render::{
     classify, Camera, Classified, Faults, Frame, Method, Micromaps, RenderError, Renderer, Scene,
-    Tracer,
-    SceneMesh, SceneTexture,
+    SceneMesh, SceneTexture, Tracer,
 };
 use serde_json::{json, Value};
 use std::fmt::Write as _;
@@ -556,37 +555,37 @@ fn render(options: &[&str]) -> Result<(String, Exit), Failure> {
     )?;
     let mut traced: Vec<(Frame, Vec<Classified>, Option<f64>, f64)> = Vec::new();
     for &tracer in &tracers {
-    for &method in &methods {
-        let mut best: Option<Frame> = None;
-        let (mut cpu, mut wall) = (None::<f64>, f64::INFINITY);
-        for _ in 0..frames {
-            let frame = renderer
-                .render(tracer, method, &camera, size, faults, max_report)
-                .map_err(render_failure)?;
-            cpu = match (cpu, frame.cpu_seconds) {
-                (Some(a), Some(b)) => Some(a.min(b)),
-                (a, b) => a.or(b),
-            };
-            wall = wall.min(frame.wall_seconds);
-            if let Some(previous) = &best {
-                if previous.hits != frame.hits || previous.counters != frame.counters {
-                    return Err(Failure::Failed(format!(
+        for &method in &methods {
+            let mut best: Option<Frame> = None;
+            let (mut cpu, mut wall) = (None::<f64>, f64::INFINITY);
+            for _ in 0..frames {
+                let frame = renderer
+                    .render(tracer, method, &camera, size, faults, max_report)
+                    .map_err(render_failure)?;
+                cpu = match (cpu, frame.cpu_seconds) {
+                    (Some(a), Some(b)) => Some(a.min(b)),
+                    (a, b) => a.or(b),
+                };
+                wall = wall.min(frame.wall_seconds);
+                if let Some(previous) = &best {
+                    if previous.hits != frame.hits || previous.counters != frame.counters {
+                        return Err(Failure::Failed(format!(
                         "{} {}: two frames of the same method differ (the device is not deterministic)",
                         tracer.name(),
                         method.name()
                     )));
+                    }
                 }
+                best = Some(frame);
             }
-            best = Some(frame);
+            let frame = best.expect("at least one frame");
+            let classified = frame
+                .contradictions
+                .iter()
+                .filter_map(|c| classify(&scene, &maps, c))
+                .collect();
+            traced.push((frame, classified, cpu, wall));
         }
-        let frame = best.expect("at least one frame");
-        let classified = frame
-            .contradictions
-            .iter()
-            .filter_map(|c| classify(&scene, &maps, c))
-            .collect();
-        traced.push((frame, classified, cpu, wall));
-    }
     }
     let reference = traced[0].0.clone();
     let reference_rgb = picture(&reference, &scene);
@@ -602,7 +601,15 @@ fn render(options: &[&str]) -> Result<(String, Exit), Failure> {
     let _ = writeln!(
         text,
         "{:<8} {:<17} {:>10} {:>10} {:>9} {:>10} {:>8} {:>9} {:>10}",
-        "tracer", "method", "candidates", "fetches", "known", "unknown", "contra", "differ", "cpu ms"
+        "tracer",
+        "method",
+        "candidates",
+        "fetches",
+        "known",
+        "unknown",
+        "contra",
+        "differ",
+        "cpu ms"
     );
     let mut failures = Vec::new();
     let encode = |rgb: &[u8]| {

@@ -567,13 +567,7 @@ impl Renderer {
             };
             let cpu0 = vulkan::process_cpu_seconds();
             let wall0 = Instant::now();
-            d.trace(
-                pipeline,
-                structures,
-                &storage,
-                &push,
-                (width, height),
-            )?;
+            d.trace(pipeline, structures, &storage, &push, (width, height))?;
             let wall_seconds = wall0.elapsed().as_secs_f64();
             let cpu_seconds = match (cpu0, vulkan::process_cpu_seconds()) {
                 (Some(a), Some(b)) => Some(b - a),

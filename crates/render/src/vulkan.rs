@@ -215,8 +215,8 @@ impl Device {
         if pipelines {
             extensions.push(vk::KHR_RAY_TRACING_PIPELINE_NAME.as_ptr());
         }
-        let mut pipeline_features = vk::PhysicalDeviceRayTracingPipelineFeaturesKHR::default()
-            .ray_tracing_pipeline(true);
+        let mut pipeline_features =
+            vk::PhysicalDeviceRayTracingPipelineFeaturesKHR::default().ray_tracing_pipeline(true);
         let mut v12 = vk::PhysicalDeviceVulkan12Features::default().buffer_device_address(true);
         let mut accel_features = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default()
             .acceleration_structure(true);
@@ -754,8 +754,9 @@ impl Device {
                     None,
                 )
             }
-            .map_err(|(_, e)| RenderError::Vulkan(format!("vkCreateRayTracingPipelinesKHR: {e}")))?
-                [0];
+            .map_err(|(_, e)| {
+                RenderError::Vulkan(format!("vkCreateRayTracingPipelinesKHR: {e}"))
+            })?[0];
             let group_count = groups.len() as u32;
             // SAFETY: a ray tracing pipeline of this device with these groups.
             let handles = unsafe {
