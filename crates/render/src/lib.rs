@@ -410,7 +410,9 @@ fn tree_buffers(micromaps: &Micromaps) -> Result<(Vec<u32>, Vec<u32>), RenderErr
 }
 
 impl Renderer {
-    /// Opens the first Vulkan device with ray queries and puts `scene` and
+    /// Opens the first Vulkan device with ray queries (and builds the
+    /// [`Tracer::Pipeline`] tracer where it has `VK_KHR_ray_tracing_pipeline`:
+    /// [`Renderer::tracers`]) and puts `scene` and
     /// `micromaps` (one index per scene triangle; `None`: only
     /// [`Method::AlphaTest`] can be traced) on it.
     pub fn new(scene: &Scene, micromaps: Option<&Micromaps>) -> Result<Renderer, RenderError> {

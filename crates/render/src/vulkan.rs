@@ -1,8 +1,10 @@
 //! The Vulkan host: one device with `VK_KHR_acceleration_structure` and
 //! `VK_KHR_ray_query`, a BLAS of the scene's triangles (not opaque, so every
 //! candidate reaches the shader), a TLAS with one instance (facing culling
-//! off: glTF's masked cards are double sided), and the tracer's compute
-//! pipeline. The loader is opened at run time (`ash`'s `loaded` feature);
+//! off: glTF's masked cards are double sided), and the tracers: the ray
+//! query compute pipeline and, where the device has
+//! `VK_KHR_ray_tracing_pipeline`, the ray tracing pipeline with its shader
+//! binding table. The loader is opened at run time (`ash`'s `loaded` feature);
 //! nothing links Vulkan at build time.
 //!
 //! Vulkan calls are FFI and `unsafe`: this module is the only place of the
