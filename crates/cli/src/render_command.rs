@@ -17,7 +17,7 @@ use micromap_index::bake::mesh::{bake_meshes, LevelRule, MeshOptions};
 use micromap_index::micromap::Format;
 use micromap_index_render::{
     classify, Camera, Classified, Faults, Frame, Method, Micromaps, RenderError, Renderer, Scene,
-    SceneMesh, SceneTexture,
+    SceneMesh, SceneTexture, Tracer,
 };
 use serde_json::{json, Value};
 use std::fmt::Write as _;
@@ -30,10 +30,12 @@ pub(crate) static RENDER: Command = Command {
         "(--gltf ASSET.gltf|.glb | --texture T.png --triangles TRIS.json)
                            [--micromaps DIR] --out DIR [options]",
     ],
-    about: "  The render check: traces one primary ray per pixel with GL_EXT_ray_query on
-  a Vulkan device (Mesa's lavapipe on a CPU) against a BLAS of the asset's
-  alpha-masked triangles (not opaque: every candidate reaches the shader) and
-  decides each candidate in the rayQueryProceedEXT loop by each method:
+    about: "  The render check: traces one primary ray per pixel on a Vulkan device (Mesa's
+  lavapipe on a CPU) against a BLAS of the asset's alpha-masked triangles (not
+  opaque: every candidate reaches the shader) with each tracer: query
+  (GL_EXT_ray_query, decisions in the rayQueryProceedEXT loop) and pipeline
+  (VK_KHR_ray_tracing_pipeline, decisions in the any-hit shader; the same
+  shader code decides), and decides each candidate by each method:
     alpha-test        the alpha test only (the reference picture)
     flat-4-state      the flat micromap: known states decide, unknown -> alpha test
     flat-2-state      the same micromap forced to 2 states (no texture fetch)
@@ -48,11 +50,13 @@ pub(crate) static RENDER: Command = Command {
   explained exactly on the host from its binary32 barycentrics: micromap-wrong
   (the exact hit point's alpha test disagrees) or binary32-rounding (the
   shader's texture coordinate crossed a texel boundary). Writes into DIR, all
-  or nothing: METHOD.png per method, METHOD-diff.png (magenta: pixels that
-  differ from alpha-test.png) and render.json (counters per method, CPU time
-  per frame with the device's name, the contradictions).
-  --check: exit 0 only if every 4-state method's picture equals the alpha
-  test's pixel for pixel and no 4-state candidate is contradicted.
+  or nothing: METHOD.png per method (pipeline-METHOD.png for the pipeline
+  tracer), METHOD-diff.png (magenta: pixels that differ from the first
+  tracer's alpha-test picture) and render.json (counters per tracer and
+  method, CPU time per frame with the device's name, the contradictions).
+  --check: exit 0 only if, under every tracer, the alpha test and every
+  4-state method render the first tracer's alpha-test picture pixel for pixel
+  (the same primitive and t bits) and no 4-state candidate is contradicted.
   Exit 0 rendered (and checked); 1 the check failed (the first contradictions
   on stdout); 2 bad options or input (nothing written); 3 unreadable input,
   unwritable DIR or a Vulkan call failing; 4 no Vulkan device with ray
@@ -104,6 +108,11 @@ pub(crate) static RENDER: Command = Command {
                 "--methods",
                 "LIST",
                 "comma-separated methods (default all; alpha-test always runs)",
+            ),
+            Flag::value(
+                "--tracer",
+                "T",
+                "query, pipeline or both (default both: the check needs both to agree)",
             ),
             Flag::value(
                 "--frames",
@@ -197,6 +206,25 @@ fn camera(p: &Parsed<'_>, scene: &Scene, (w, h): (u32, u32)) -> Result<Camera, F
         _ => Err(Failure::Malformed(format!(
             "--camera {text:?}: expected six or seven finite numbers EX,EY,EZ,TX,TY,TZ[,FOV]"
         ))),
+    }
+}
+
+fn tracers(p: &Parsed<'_>) -> Result<Vec<Tracer>, Failure> {
+    match p.get("--tracer") {
+        None | Some("both") => Ok(Tracer::ALL.to_vec()),
+        Some(name) => Tracer::from_name(name).map(|t| vec![t]).ok_or_else(|| {
+            Failure::Malformed(format!(
+                "--tracer {name:?}: expected query, pipeline or both"
+            ))
+        }),
+    }
+}
+
+/// The name of `method`'s picture under `tracer` (`suffix` "" or "-diff").
+fn picture_name(tracer: Tracer, method: Method, suffix: &str) -> String {
+    match tracer {
+        Tracer::Query => format!("{}{suffix}.png", method.name()),
+        Tracer::Pipeline => format!("pipeline-{}{suffix}.png", method.name()),
     }
 }
 
@@ -423,7 +451,7 @@ fn contradiction_json(c: &Classified) -> Value {
     })
 }
 
-fn contradiction_line(method: Method, c: &Classified) -> String {
+fn contradiction_line(label: &str, c: &Classified) -> String {
     let r = &c.contradiction;
     let texels: Vec<String> = c
         .texels
@@ -432,7 +460,7 @@ fn contradiction_line(method: Method, c: &Classified) -> String {
         .collect();
     format!(
         "{}: pixel ({}, {}) triangle {} micro-triangle {} (level {}) known {} at b1 = {}, b2 = {}: {}; exact point ({}, {}) texels reads {} -> {}",
-        method.name(),
+        label,
         r.x,
         r.y,
         r.triangle,
@@ -470,6 +498,7 @@ fn render(options: &[&str]) -> Result<(String, Exit), Failure> {
     );
     let size = size(&p)?;
     let methods = methods(&p)?;
+    let tracers = tracers(&p)?;
     let frames = count(&p, "--frames", 1, 1000)?;
     let max_report = p
         .get("--max-report")
@@ -496,10 +525,12 @@ fn render(options: &[&str]) -> Result<(String, Exit), Failure> {
     };
     let s = sampler_options(&p)?;
     let mut names: Vec<String> = vec!["render.json".into()];
-    for m in &methods {
-        names.push(format!("{}.png", m.name()));
-        if *m != Method::AlphaTest {
-            names.push(format!("{}-diff.png", m.name()));
+    for (i, &t) in tracers.iter().enumerate() {
+        for &m in &methods {
+            names.push(picture_name(t, m, ""));
+            if i > 0 || m != Method::AlphaTest {
+                names.push(picture_name(t, m, "-diff"));
+            }
         }
     }
     let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
@@ -508,6 +539,13 @@ fn render(options: &[&str]) -> Result<(String, Exit), Failure> {
     let camera = camera(&p, &scene, size)?;
     let (maps, source) = micromaps(&p, &input)?;
     let renderer = Renderer::new(&scene, Some(&maps)).map_err(render_failure)?;
+    if let Some(missing) = tracers.iter().find(|t| !renderer.tracers().contains(t)) {
+        return Err(render_failure(RenderError::NoDevice(format!(
+            "{}: no VK_KHR_ray_tracing_pipeline for the {} tracer (--tracer query traces without it)",
+            renderer.device_name(),
+            missing.name()
+        ))));
+    }
     // Claimed once the device is there: exit 4 leaves DIR untouched.
     let destination = Destination::claim(&out, &name_refs, p.flag("--force")).map_err(
         |refusal| match refusal {
@@ -516,35 +554,38 @@ fn render(options: &[&str]) -> Result<(String, Exit), Failure> {
         },
     )?;
     let mut traced: Vec<(Frame, Vec<Classified>, Option<f64>, f64)> = Vec::new();
-    for &method in &methods {
-        let mut best: Option<Frame> = None;
-        let (mut cpu, mut wall) = (None::<f64>, f64::INFINITY);
-        for _ in 0..frames {
-            let frame = renderer
-                .render(method, &camera, size, faults, max_report)
-                .map_err(render_failure)?;
-            cpu = match (cpu, frame.cpu_seconds) {
-                (Some(a), Some(b)) => Some(a.min(b)),
-                (a, b) => a.or(b),
-            };
-            wall = wall.min(frame.wall_seconds);
-            if let Some(previous) = &best {
-                if previous.hits != frame.hits || previous.counters != frame.counters {
-                    return Err(Failure::Failed(format!(
-                        "{}: two frames of the same method differ (the device is not deterministic)",
+    for &tracer in &tracers {
+        for &method in &methods {
+            let mut best: Option<Frame> = None;
+            let (mut cpu, mut wall) = (None::<f64>, f64::INFINITY);
+            for _ in 0..frames {
+                let frame = renderer
+                    .render(tracer, method, &camera, size, faults, max_report)
+                    .map_err(render_failure)?;
+                cpu = match (cpu, frame.cpu_seconds) {
+                    (Some(a), Some(b)) => Some(a.min(b)),
+                    (a, b) => a.or(b),
+                };
+                wall = wall.min(frame.wall_seconds);
+                if let Some(previous) = &best {
+                    if previous.hits != frame.hits || previous.counters != frame.counters {
+                        return Err(Failure::Failed(format!(
+                        "{} {}: two frames of the same method differ (the device is not deterministic)",
+                        tracer.name(),
                         method.name()
                     )));
+                    }
                 }
+                best = Some(frame);
             }
-            best = Some(frame);
+            let frame = best.expect("at least one frame");
+            let classified = frame
+                .contradictions
+                .iter()
+                .filter_map(|c| classify(&scene, &maps, c))
+                .collect();
+            traced.push((frame, classified, cpu, wall));
         }
-        let frame = best.expect("at least one frame");
-        let classified = frame
-            .contradictions
-            .iter()
-            .filter_map(|c| classify(&scene, &maps, c))
-            .collect();
-        traced.push((frame, classified, cpu, wall));
     }
     let reference = traced[0].0.clone();
     let reference_rgb = picture(&reference, &scene);
@@ -559,33 +600,54 @@ fn render(options: &[&str]) -> Result<(String, Exit), Failure> {
     );
     let _ = writeln!(
         text,
-        "{:<17} {:>10} {:>10} {:>9} {:>10} {:>8} {:>9} {:>10}",
-        "method", "candidates", "fetches", "known", "unknown", "contra", "differ", "cpu ms"
+        "{:<8} {:<17} {:>10} {:>10} {:>9} {:>10} {:>8} {:>9} {:>10}",
+        "tracer",
+        "method",
+        "candidates",
+        "fetches",
+        "known",
+        "unknown",
+        "contra",
+        "differ",
+        "cpu ms"
     );
     let mut failures = Vec::new();
     let encode = |rgb: &[u8]| {
         encode_rgb(size.0, size.1, rgb).map_err(|e| Failure::Io(format!("render: PNG: {e}")))
     };
-    for (frame, classified, cpu, wall) in &traced {
-        let method = frame.method;
-        let rgb = if method == Method::AlphaTest {
+    for (i, (frame, classified, cpu, wall)) in traced.iter().enumerate() {
+        let (tracer, method) = (frame.tracer, frame.method);
+        // The label in messages: the method, with the tracer when both run.
+        let label = if tracers.len() > 1 {
+            format!("{} {}", tracer.name(), method.name())
+        } else {
+            method.name().to_string()
+        };
+        let rgb = if i == 0 {
             reference_rgb.clone()
         } else {
             picture(frame, &scene)
         };
-        files.push((format!("{}.png", method.name()), encode(&rgb)?));
+        files.push((picture_name(tracer, method, ""), encode(&rgb)?));
         let mut differing = 0;
-        if method != Method::AlphaTest {
+        if i > 0 {
             let (diff, n) = difference(frame, &reference, &reference_rgb);
             differing = n;
-            files.push((format!("{}-diff.png", method.name()), encode(&diff)?));
+            files.push((picture_name(tracer, method, "-diff"), encode(&diff)?));
         }
         let c = frame.counters;
         let ratio = |a: u64, b: u64| if b == 0 { 0.0 } else { a as f64 / b as f64 };
-        let fetches_saved = 1.0 - ratio(c.texture_fetches, reference.counters.texture_fetches);
+        // Against the same tracer's alpha test (the candidates it sees
+        // depend on its traversal).
+        let alpha_fetches = traced
+            .iter()
+            .find(|(f, ..)| f.tracer == tracer && f.method == Method::AlphaTest)
+            .map_or(0, |(f, ..)| f.counters.texture_fetches);
+        let fetches_saved = 1.0 - ratio(c.texture_fetches, alpha_fetches);
         let _ = writeln!(
             text,
-            "{:<17} {:>10} {:>10} {:>9} {:>10} {:>8} {:>9} {:>10}",
+            "{:<8} {:<17} {:>10} {:>10} {:>9} {:>10} {:>8} {:>9} {:>10}",
+            tracer.name(),
             method.name(),
             c.candidates,
             c.texture_fetches,
@@ -595,31 +657,30 @@ fn render(options: &[&str]) -> Result<(String, Exit), Failure> {
             differing,
             cpu.map_or("-".into(), |s| format!("{:.1}", 1e3 * s))
         );
+        // The other tracer's alpha test must render the same picture too.
+        if (method.is_four_state() || method == Method::AlphaTest) && differing > 0 {
+            failures.push(format!(
+                "{label}: {differing} pixels differ from {} (see {})",
+                picture_name(reference.tracer, Method::AlphaTest, ""),
+                picture_name(tracer, method, "-diff")
+            ));
+        }
         if method.is_four_state() {
-            if differing > 0 {
-                failures.push(format!(
-                    "{}: {differing} pixels differ from alpha-test.png (see {}-diff.png)",
-                    method.name(),
-                    method.name()
-                ));
-            }
             if c.contradicted > 0 {
                 failures.push(format!(
-                    "{}: {} contradicted candidates",
-                    method.name(),
+                    "{label}: {} contradicted candidates",
                     c.contradicted
                 ));
                 failures.extend(
                     classified
                         .iter()
                         .take(5)
-                        .map(|x| contradiction_line(method, x)),
+                        .map(|x| contradiction_line(&label, x)),
                 );
             }
             if c.invalid > 0 {
                 failures.push(format!(
-                    "{}: {} lookups returned the invalid state",
-                    method.name(),
+                    "{label}: {} lookups returned the invalid state",
                     c.invalid
                 ));
             }
@@ -630,6 +691,7 @@ fn render(options: &[&str]) -> Result<(String, Exit), Failure> {
             *e = json!(e.as_u64().unwrap_or(0) + 1);
         }
         method_json.push(json!({
+            "tracer": tracer.name(),
             "method": method.name(),
             "four_state": method.is_four_state(),
             "rays": c.rays,
@@ -658,6 +720,7 @@ fn render(options: &[&str]) -> Result<(String, Exit), Failure> {
         "triangles": scene.triangle_count(),
         "micromaps": source,
         "fault": p.get("--fault"),
+        "tracers": tracers.iter().map(|t| t.name()).collect::<Vec<_>>(),
         "methods": method_json,
         "check": {"passed": passed, "failures": failures},
     });
@@ -678,7 +741,7 @@ fn render(options: &[&str]) -> Result<(String, Exit), Failure> {
         if p.flag("--check") {
             let _ = writeln!(
                 text,
-                "check: passed (every 4-state method renders the alpha test's picture; no contradicted candidate)"
+                "check: passed (under every tracer, every 4-state method renders the alpha test's picture; no contradicted candidate)"
             );
         }
         Exit::Success

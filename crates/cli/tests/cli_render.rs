@@ -82,13 +82,22 @@ fn check(name: &str, args: &[&str]) -> (Output, Option<Value>) {
     (o, json)
 }
 
-fn method<'a>(json: &'a Value, name: &str) -> &'a Value {
+/// Both tracers, as render.json names them (`render` traces both by
+/// default).
+const TRACERS: [&str; 2] = ["query", "pipeline"];
+
+fn traced<'a>(json: &'a Value, tracer: &str, name: &str) -> &'a Value {
     json["methods"]
         .as_array()
         .unwrap()
         .iter()
-        .find(|m| m["method"] == name)
-        .unwrap_or_else(|| panic!("no {name} in render.json"))
+        .find(|m| m["method"] == name && m["tracer"] == tracer)
+        .unwrap_or_else(|| panic!("no {tracer} {name} in render.json"))
+}
+
+/// The query tracer's entry of `name`.
+fn method<'a>(json: &'a Value, name: &str) -> &'a Value {
+    traced(json, "query", name)
 }
 
 fn describe(o: &Output) -> String {
@@ -107,22 +116,38 @@ fn assert_passes(name: &str, args: &[&str]) {
     assert_eq!(o.status.code(), Some(0), "{name}: {}", describe(&o));
     let json = json.unwrap();
     assert_eq!(json["check"]["passed"], true, "{name}");
-    let alpha = method(&json, "alpha-test");
-    assert_eq!(alpha["known"], 0);
-    assert_eq!(alpha["texture_fetches"], alpha["candidates"]);
-    for m in ["flat-4-state", "level-order-tree", "paper-tree"] {
-        let m = method(&json, m);
-        assert_eq!(m["contradicted"], 0, "{name}");
-        assert_eq!(m["pixels_differing_from_alpha_test"], 0, "{name}");
-        // Every candidate is decided once: by a known state or a fetch.
-        let (known, unknown) = (m["known"].as_u64().unwrap(), m["unknown"].as_u64().unwrap());
-        assert_eq!(known + unknown, m["candidates"].as_u64().unwrap(), "{name}");
-        assert_eq!(m["texture_fetches"], m["unknown"], "{name}");
-    }
-    // The three 4-state lookups read the same states.
-    let flat = method(&json, "flat-4-state");
-    for m in ["level-order-tree", "paper-tree"] {
-        assert_eq!(method(&json, m)["known"], flat["known"], "{name} {m}");
+    assert_eq!(json["tracers"], serde_json::json!(TRACERS), "{name}");
+    for tracer in TRACERS {
+        let alpha = traced(&json, tracer, "alpha-test");
+        assert_eq!(alpha["known"], 0);
+        assert_eq!(alpha["texture_fetches"], alpha["candidates"]);
+        // The pipeline's alpha test renders the query's picture.
+        assert_eq!(
+            alpha["pixels_differing_from_alpha_test"], 0,
+            "{name} {tracer}"
+        );
+        for m in ["flat-4-state", "level-order-tree", "paper-tree"] {
+            let m = traced(&json, tracer, m);
+            assert_eq!(m["contradicted"], 0, "{name} {tracer}");
+            assert_eq!(m["pixels_differing_from_alpha_test"], 0, "{name} {tracer}");
+            // Every candidate is decided once: by a known state or a fetch.
+            let (known, unknown) = (m["known"].as_u64().unwrap(), m["unknown"].as_u64().unwrap());
+            assert_eq!(
+                known + unknown,
+                m["candidates"].as_u64().unwrap(),
+                "{name} {tracer}"
+            );
+            assert_eq!(m["texture_fetches"], m["unknown"], "{name} {tracer}");
+        }
+        // The three 4-state lookups read the same states.
+        let flat = traced(&json, tracer, "flat-4-state");
+        for m in ["level-order-tree", "paper-tree"] {
+            assert_eq!(
+                traced(&json, tracer, m)["known"],
+                flat["known"],
+                "{name} {tracer} {m}"
+            );
+        }
     }
     assert!(json["device"].as_str().unwrap().len() > 3);
 }
@@ -232,9 +257,12 @@ fn swapped_barycentrics_and_flipped_states_fail() {
                 "--gltf", &cards, "--level", "6", "--size", "192x64", "--fault", fault,
             ],
         );
-        for m in ["flat-4-state", "level-order-tree", "paper-tree"] {
-            let m = method(&json, m);
-            assert!(m["contradicted"].as_u64().unwrap() > 0, "{fault}");
+        for (tracer, m) in TRACERS
+            .iter()
+            .flat_map(|t| ["flat-4-state", "level-order-tree", "paper-tree"].map(|m| (*t, m)))
+        {
+            let m = traced(&json, tracer, m);
+            assert!(m["contradicted"].as_u64().unwrap() > 0, "{fault} {tracer}");
             // The exact hit point disagrees with what the shader decided.
             let first = &m["contradictions"][0];
             assert_eq!(first["class"], "micromap-wrong", "{fault}: {first}");
@@ -290,9 +318,14 @@ fn a_nearest_bake_sampled_linearly_fails() {
         "nearest-as-linear",
         &[&input[..], &["--filter", "linear"], &rest[..]].concat(),
     );
-    let flat = method(&json, "flat-4-state");
-    assert!(flat["contradicted"].as_u64().unwrap() > 0);
-    assert_eq!(flat["contradictions"][0]["class"], "micromap-wrong");
+    for tracer in TRACERS {
+        let flat = traced(&json, tracer, "flat-4-state");
+        assert!(flat["contradicted"].as_u64().unwrap() > 0, "{tracer}");
+        assert_eq!(
+            flat["contradictions"][0]["class"], "micromap-wrong",
+            "{tracer}"
+        );
+    }
 }
 
 #[test]
@@ -323,16 +356,62 @@ fn the_committed_meshoptimizer_bakes_fail() {
                     "128x128",
                 ],
             );
-            let flat = method(&json, "flat-4-state");
-            assert!(
-                flat["contradicted"].as_u64().unwrap() > 0,
-                "{baker} {level}"
-            );
-            assert_eq!(
-                flat["contradictions"][0]["class"], "micromap-wrong",
-                "{baker} {level}"
-            );
+            for tracer in TRACERS {
+                let flat = traced(&json, tracer, "flat-4-state");
+                assert!(
+                    flat["contradicted"].as_u64().unwrap() > 0,
+                    "{baker} {level} {tracer}"
+                );
+                assert_eq!(
+                    flat["contradictions"][0]["class"], "micromap-wrong",
+                    "{baker} {level} {tracer}"
+                );
+            }
         }
+    }
+}
+
+#[test]
+fn each_tracer_alone_renders_the_same_and_names_its_pictures() {
+    if !device("one-tracer") {
+        return;
+    }
+    let cards = asset("assets/crytek-sponza/cards.gltf");
+    let args = ["--gltf", &cards, "--level", "4", "--size", "96x32"];
+    let (both, both_json) = check("tracer-both", &args);
+    assert_eq!(both.status.code(), Some(0), "{}", describe(&both));
+    let both_json = both_json.unwrap();
+    for (tracer, own, other) in [
+        ("query", "alpha-test.png", "pipeline-alpha-test.png"),
+        ("pipeline", "pipeline-alpha-test.png", "alpha-test.png"),
+    ] {
+        let name = format!("tracer-{tracer}");
+        let (o, json) = check(&name, &[&args[..], &["--tracer", tracer]].concat());
+        assert_eq!(o.status.code(), Some(0), "{tracer}: {}", describe(&o));
+        let json = json.unwrap();
+        assert_eq!(json["tracers"], serde_json::json!([tracer]));
+        let tmp = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
+        let dir = tmp.join(format!("render-{name}"));
+        assert!(
+            dir.join(own).exists() && !dir.join(other).exists(),
+            "{tracer}"
+        );
+        // Alone, each tracer sees what it saw next to the other.
+        for m in ["alpha-test", "flat-4-state", "flat-2-state", "paper-tree"] {
+            for counter in ["candidates", "known", "unknown", "contradicted"] {
+                assert_eq!(
+                    traced(&json, tracer, m)[counter],
+                    traced(&both_json, tracer, m)[counter],
+                    "{tracer} {m} {counter}"
+                );
+            }
+        }
+        // The pictures are the same bytes.
+        assert_eq!(
+            std::fs::read(dir.join(own)).unwrap(),
+            std::fs::read(tmp.join("render-tracer-both").join(own)).unwrap(),
+            "{tracer}"
+        );
     }
 }
 
@@ -348,6 +427,7 @@ fn bad_input_exits_2_and_writes_nothing() {
         (vec!["--size", "5000x5000"], "--size"),
         (vec!["--fault", "nonsense"], "--fault"),
         (vec!["--methods", "alpha-test,nope"], "--methods"),
+        (vec!["--tracer", "query,pipeline"], "--tracer"),
         (vec!["--camera", "1,2,3"], "--camera"),
         (vec!["--level", "13"], "--level"),
         // 128 indices for the 144 triangles of cards.gltf.

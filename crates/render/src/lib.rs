@@ -2,9 +2,11 @@
 //! ray tracer. A [`Renderer`] puts a [`Scene`] (alpha-masked triangles,
 //! their textures and materials) and optionally [`Micromaps`] (the buffers
 //! `micromap-index bake` writes) on a Vulkan device with
-//! `VK_KHR_ray_query`, then traces one primary ray per pixel with
-//! `GL_EXT_ray_query`, deciding every candidate in the `rayQueryProceedEXT`
-//! loop by a [`Method`]: the alpha test alone, or a micromap emulated in
+//! `VK_KHR_ray_query`, then traces one primary ray per pixel with a
+//! [`Tracer`]: `GL_EXT_ray_query`, deciding every candidate in the
+//! `rayQueryProceedEXT` loop, or a `VK_KHR_ray_tracing_pipeline` pipeline,
+//! deciding it in the any-hit shader (both by the same shader code,
+//! `shaders/render_common.glsl`), by a [`Method`]: the alpha test alone, or a micromap emulated in
 //! software (flat 4-state, flat forced 2-state, the level-order tree, the
 //! paper's Algorithm 3), using the shader library in `shaders/glsl`.
 //!
@@ -19,8 +21,9 @@
 //! (docs/render.md).
 //!
 //! ```
-//! use micromap_index_render::{Camera, Method};
+//! use micromap_index_render::{Camera, Method, Tracer};
 //! assert_eq!(Method::ALL.len(), 5);
+//! assert_eq!(Tracer::from_name("pipeline"), Some(Tracer::Pipeline));
 //! assert!(Method::Flat4.is_four_state() && !Method::Flat2.is_four_state());
 //! let camera = Camera::framing([[0.0, 0.0, 0.0], [1.0, 1.0, 0.0]], 1.0);
 //! assert!(camera.eye[2] > 0.0);
@@ -38,6 +41,39 @@ use micromap_index::succinct::{LevelOrderTree, PaperTree};
 use std::fmt;
 use std::time::Instant;
 use vulkan::{Buffer, Device, Pipeline, Structures, STORAGE_BINDINGS};
+
+/// How the rays are traced; both decide candidates by the same shader code
+/// (`shaders/render_common.glsl`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Tracer {
+    /// A compute shader with `GL_EXT_ray_query`: decisions in the
+    /// `rayQueryProceedEXT` loop.
+    Query,
+    /// A ray tracing pipeline (`VK_KHR_ray_tracing_pipeline`: raygen,
+    /// any-hit, closest-hit, miss, a shader binding table): decisions in
+    /// the any-hit shader.
+    Pipeline,
+}
+
+impl Tracer {
+    /// Both tracers, the ray query first.
+    pub const ALL: [Tracer; 2] = [Tracer::Query, Tracer::Pipeline];
+
+    /// The tracer's name in the CLI and `render.json`: `query`, `pipeline`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Tracer::Query => "query",
+            Tracer::Pipeline => "pipeline",
+        }
+    }
+
+    /// The tracer named `name` ([`Tracer::name`]).
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<Tracer> {
+        Tracer::ALL.into_iter().find(|t| t.name() == name)
+    }
+}
 
 /// How a candidate hit is decided.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -260,6 +296,8 @@ pub struct Contradiction {
 /// One traced frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Frame {
+    /// The tracer that traced it.
+    pub tracer: Tracer,
     /// The method it was traced with.
     pub method: Method,
     /// Pixels per row.
@@ -294,6 +332,8 @@ pub struct Renderer {
     // Dropped last (fields drop in order): everything below was made on it.
     device: Device,
     pipeline: Option<Pipeline>,
+    /// The ray tracing pipeline, where the device has one.
+    ray_tracing: Option<Pipeline>,
     structures: Option<Structures>,
     /// Bindings 1..=9 (scene and micromaps).
     inputs: Vec<Buffer>,
@@ -309,7 +349,7 @@ impl Drop for Renderer {
         if let Some(s) = &self.structures {
             self.device.free_structures(s);
         }
-        if let Some(p) = &self.pipeline {
+        for p in self.pipeline.iter().chain(&self.ray_tracing) {
             self.device.free_pipeline(p);
         }
     }
@@ -370,7 +410,9 @@ fn tree_buffers(micromaps: &Micromaps) -> Result<(Vec<u32>, Vec<u32>), RenderErr
 }
 
 impl Renderer {
-    /// Opens the first Vulkan device with ray queries and puts `scene` and
+    /// Opens the first Vulkan device with ray queries (and builds the
+    /// [`Tracer::Pipeline`] tracer where it has `VK_KHR_ray_tracing_pipeline`:
+    /// [`Renderer::tracers`]) and puts `scene` and
     /// `micromaps` (one index per scene triangle; `None`: only
     /// [`Method::AlphaTest`] can be traced) on it.
     pub fn new(scene: &Scene, micromaps: Option<&Micromaps>) -> Result<Renderer, RenderError> {
@@ -381,12 +423,16 @@ impl Renderer {
         let mut renderer = Renderer {
             device,
             pipeline: None,
+            ray_tracing: None,
             structures: None,
             inputs: Vec::new(),
             has_micromaps: micromaps.is_some(),
             index_width: micromaps.map_or(4, Micromaps::index_width_bytes),
         };
         renderer.pipeline = Some(renderer.device.pipeline()?);
+        if renderer.device.has_ray_tracing_pipeline() {
+            renderer.ray_tracing = Some(renderer.device.ray_tracing_pipeline()?);
+        }
         let vertices: Vec<[f32; 3]> = scene.positions().iter().flatten().copied().collect();
         renderer.structures = Some(renderer.device.structures(&vertices)?);
         let (trees, dir) = match micromaps {
@@ -417,15 +463,18 @@ impl Renderer {
             renderer.inputs.push(b);
             written?;
         }
-        // lavapipe compiles the pipeline at its first dispatch: one pixel
+        // lavapipe compiles a pipeline at its first dispatch: one pixel
         // here keeps that out of every frame's time.
-        renderer.render(
-            Method::AlphaTest,
-            &Camera::framing(scene.bounds().unwrap_or_default(), 1.0),
-            (1, 1),
-            Faults::default(),
-            0,
-        )?;
+        for tracer in renderer.tracers() {
+            renderer.render(
+                tracer,
+                Method::AlphaTest,
+                &Camera::framing(scene.bounds().unwrap_or_default(), 1.0),
+                (1, 1),
+                Faults::default(),
+                0,
+            )?;
+        }
         Ok(renderer)
     }
 
@@ -436,10 +485,23 @@ impl Renderer {
         &self.device.name
     }
 
-    /// Traces one `width x height` frame with `method`, keeping the first
-    /// `max_records` contradictions.
+    /// The tracers this device has: [`Tracer::Query`] always, and
+    /// [`Tracer::Pipeline`] where it has `VK_KHR_ray_tracing_pipeline`.
+    #[must_use]
+    pub fn tracers(&self) -> Vec<Tracer> {
+        let mut t = vec![Tracer::Query];
+        if self.ray_tracing.is_some() {
+            t.push(Tracer::Pipeline);
+        }
+        t
+    }
+
+    /// Traces one `width x height` frame with `tracer` and `method`,
+    /// keeping the first `max_records` contradictions;
+    /// [`RenderError::NoDevice`] for a tracer not in [`Renderer::tracers`].
     pub fn render(
         &self,
+        tracer: Tracer,
         method: Method,
         camera: &Camera,
         (width, height): (u32, u32),
@@ -452,6 +514,17 @@ impl Renderer {
                 method.name()
             )));
         }
+        let chosen = match tracer {
+            Tracer::Query => self.pipeline.as_ref(),
+            Tracer::Pipeline => self.ray_tracing.as_ref(),
+        };
+        let Some(pipeline) = chosen else {
+            return Err(RenderError::NoDevice(format!(
+                "{}: no {} tracer (VK_KHR_ray_tracing_pipeline is missing)",
+                self.device.name,
+                tracer.name()
+            )));
+        };
         let pixels = u64::from(width) * u64::from(height);
         if width == 0 || height == 0 || pixels > MAX_PIXELS {
             return Err(RenderError::Input(format!(
@@ -491,18 +564,12 @@ impl Renderer {
             .flat_map(|w| w.to_le_bytes())
             .collect();
             push.extend(basis.iter().flatten().flat_map(|x| x.to_le_bytes()));
-            let (Some(pipeline), Some(structures)) = (&self.pipeline, &self.structures) else {
+            let Some(structures) = &self.structures else {
                 return Err(RenderError::Vulkan("the renderer is not set up".into()));
             };
             let cpu0 = vulkan::process_cpu_seconds();
             let wall0 = Instant::now();
-            d.trace(
-                pipeline,
-                structures,
-                &storage,
-                &push,
-                (width.div_ceil(8), height.div_ceil(8)),
-            )?;
+            d.trace(pipeline, structures, &storage, &push, (width, height))?;
             let wall_seconds = wall0.elapsed().as_secs_f64();
             let cpu_seconds = match (cpu0, vulkan::process_cpu_seconds()) {
                 (Some(a), Some(b)) => Some(b - a),
@@ -526,6 +593,7 @@ impl Renderer {
                 })
                 .collect();
             Ok(Frame {
+                tracer,
                 method,
                 width,
                 height,

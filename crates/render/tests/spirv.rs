@@ -1,7 +1,8 @@
-//! The committed SPIR-V (`shaders/render_query.spv`) is what
-//! `shaders/compile.sh` makes from `shaders/render_query.comp` and the
-//! shader library it includes (`shaders/glsl`): a changed include or
-//! tracer without a regenerated SPIR-V fails here.
+//! The committed SPIR-V of both tracers (`shaders/render_query.spv`, the
+//! ray tracing pipeline's `shaders/render_pipeline_{rgen,rahit,rchit,rmiss}.spv`)
+//! is what `shaders/compile.sh` makes from their GLSL, `render_common.glsl`
+//! and the shader library they include (`shaders/glsl`): a changed include
+//! or tracer without a regenerated SPIR-V fails here.
 //!
 //! Without `glslangValidator`/`spirv-val` on `PATH` the test prints
 //! `SKIPPED: ...` and passes, unless `MICROMAP_REQUIRE_VULKAN=1` (the CI
@@ -42,12 +43,20 @@ fn committed_spirv_is_current() {
         .status()
         .unwrap();
     assert!(status.success(), "shaders/compile.sh failed");
-    let fresh = std::fs::read(out.join("render_query.spv")).unwrap();
-    let committed = std::fs::read(here.join("shaders/render_query.spv")).unwrap();
-    assert!(
-        fresh == committed,
-        "shaders/render_query.spv is stale: run crates/render/shaders/compile.sh ({} bytes fresh, {} committed)",
-        fresh.len(),
-        committed.len()
-    );
+    for name in [
+        "render_query.spv",
+        "render_pipeline_rgen.spv",
+        "render_pipeline_rahit.spv",
+        "render_pipeline_rchit.spv",
+        "render_pipeline_rmiss.spv",
+    ] {
+        let fresh = std::fs::read(out.join(name)).unwrap();
+        let committed = std::fs::read(here.join("shaders").join(name)).unwrap();
+        assert!(
+            fresh == committed,
+            "shaders/{name} is stale: run crates/render/shaders/compile.sh ({} bytes fresh, {} committed)",
+            fresh.len(),
+            committed.len()
+        );
+    }
 }
