@@ -221,7 +221,8 @@ pub(crate) struct TexelClasses {
     pub(crate) height: u32,
     /// `prefix[y * (width + 1) + x]`: opaque texels in `[0, x) x [0, y)`.
     prefix: Vec<u32>,
-    /// One byte per texel: 1 opaque, 0 transparent (row-major).
+    /// One byte per texel: 0 transparent, any other value (1 from the
+    /// library's textures) opaque (row-major).
     opaque: Vec<u8>,
     pub(crate) sampler: Sampler,
     border_opaque: bool,
@@ -307,15 +308,26 @@ impl TexelClasses {
         let mut sums: Vec<u32> = Vec::new();
         sums.try_reserve_exact(stride).map_err(|_| failed)?;
         sums.resize(stride, 0);
-        for y in 0..height {
-            opaque.extend((0..width).map(|x| u8::from(texture.is_opaque(x, y, &cutoff))));
-        }
-        // `sums`: the row of sums being built, from the one above, in place.
+        // One pass, row by row: the row's classes (one call per row, so a
+        // `dyn` texture costs one dynamic call a row, not a texel), then
+        // its sums while the row is still in cache. `sums`: the row of
+        // sums being built, from the one above, in place.
         prefix.extend_from_slice(&sums);
-        for row in opaque.chunks_exact(width as usize) {
+        for y in 0..height {
+            let start = opaque.len();
+            texture.extend_opaque_row(y, &cutoff, &mut opaque);
+            // A texture whose row is not `width` bytes breaks its contract;
+            // refuse it rather than build tables that lie.
+            if opaque.len() != start + width as usize {
+                return Err(TextureError::WrongLength {
+                    expected: u64::from(width),
+                    got: opaque.len() - start,
+                });
+            }
             let mut run = 0u32;
-            for (sum, &texel) in sums[1..].iter_mut().zip(row) {
-                run += u32::from(texel);
+            for (sum, &texel) in sums[1..].iter_mut().zip(&opaque[start..]) {
+                // Any byte but 0 is opaque, here and in `class_of`.
+                run += u32::from(texel != 0);
                 *sum += run;
             }
             prefix.extend_from_slice(&sums);
@@ -353,7 +365,7 @@ impl TexelClasses {
     /// The classes of a texel, or of the border (`None`).
     pub(crate) fn class_of(&self, texel: Option<(u32, u32)>) -> bool {
         match texel {
-            Some((x, y)) => self.opaque[y as usize * self.width as usize + x as usize] == 1,
+            Some((x, y)) => self.opaque[y as usize * self.width as usize + x as usize] != 0,
             None => self.border_opaque,
         }
     }
