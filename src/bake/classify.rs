@@ -755,4 +755,44 @@ mod tests {
             }
         }
     }
+
+    /// A texture whose rows are not `width` bytes (a broken
+    /// `extend_opaque_row`) is refused, never tabled; bytes other than 0
+    /// and 1 count as opaque in both the counts and the texel reads.
+    #[test]
+    fn rows_of_the_wrong_length_are_refused_and_any_nonzero_byte_is_opaque() {
+        struct Rows(usize, u8);
+        impl AlphaTexture for Rows {
+            fn width(&self) -> u32 {
+                3
+            }
+            fn height(&self) -> u32 {
+                2
+            }
+            fn alpha(&self, _: u32, _: u32) -> f64 {
+                0.0
+            }
+            fn extend_opaque_row(&self, _: u32, _: &Cutoff, out: &mut Vec<u8>) {
+                out.extend(core::iter::repeat(self.1).take(self.0));
+            }
+        }
+        let (sampler, cutoff) = (Sampler::default(), Cutoff::default());
+        for len in [0, 2, 4] {
+            assert_eq!(
+                TexelClasses::new(&Rows(len, 1), sampler, cutoff).unwrap_err(),
+                TextureError::WrongLength {
+                    expected: 3,
+                    got: len
+                }
+            );
+        }
+        for byte in [1, 2, 255] {
+            let classes = TexelClasses::new(&Rows(3, byte), sampler, cutoff).unwrap();
+            assert_eq!(classes.opaque_count((0, 2), (0, 1)), 6, "byte {byte}");
+            assert!(classes.class_of(Some((2, 1))), "byte {byte}");
+        }
+        let classes = TexelClasses::new(&Rows(3, 0), sampler, cutoff).unwrap();
+        assert_eq!(classes.opaque_count((0, 2), (0, 1)), 0);
+        assert!(!classes.class_of(Some((0, 0))));
+    }
 }
