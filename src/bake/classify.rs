@@ -221,7 +221,8 @@ pub(crate) struct TexelClasses {
     pub(crate) height: u32,
     /// `prefix[y * (width + 1) + x]`: opaque texels in `[0, x) x [0, y)`.
     prefix: Vec<u32>,
-    /// One byte per texel: 1 opaque, 0 transparent (row-major).
+    /// One byte per texel: 0 transparent, any other value (1 from the
+    /// library's textures) opaque (row-major).
     opaque: Vec<u8>,
     pub(crate) sampler: Sampler,
     border_opaque: bool,
@@ -307,15 +308,26 @@ impl TexelClasses {
         let mut sums: Vec<u32> = Vec::new();
         sums.try_reserve_exact(stride).map_err(|_| failed)?;
         sums.resize(stride, 0);
-        for y in 0..height {
-            opaque.extend((0..width).map(|x| u8::from(texture.is_opaque(x, y, &cutoff))));
-        }
-        // `sums`: the row of sums being built, from the one above, in place.
+        // One pass, row by row: the row's classes (one call per row, so a
+        // `dyn` texture costs one dynamic call a row, not a texel), then
+        // its sums while the row is still in cache. `sums`: the row of
+        // sums being built, from the one above, in place.
         prefix.extend_from_slice(&sums);
-        for row in opaque.chunks_exact(width as usize) {
+        for y in 0..height {
+            let start = opaque.len();
+            texture.extend_opaque_row(y, &cutoff, &mut opaque);
+            // A texture whose row is not `width` bytes breaks its contract;
+            // refuse it rather than build tables that lie.
+            if opaque.len() != start + width as usize {
+                return Err(TextureError::WrongLength {
+                    expected: u64::from(width),
+                    got: opaque.len() - start,
+                });
+            }
             let mut run = 0u32;
-            for (sum, &texel) in sums[1..].iter_mut().zip(row) {
-                run += u32::from(texel);
+            for (sum, &texel) in sums[1..].iter_mut().zip(&opaque[start..]) {
+                // Any byte but 0 is opaque, here and in `class_of`.
+                run += u32::from(texel != 0);
                 *sum += run;
             }
             prefix.extend_from_slice(&sums);
@@ -353,7 +365,7 @@ impl TexelClasses {
     /// The classes of a texel, or of the border (`None`).
     pub(crate) fn class_of(&self, texel: Option<(u32, u32)>) -> bool {
         match texel {
-            Some((x, y)) => self.opaque[y as usize * self.width as usize + x as usize] == 1,
+            Some((x, y)) => self.opaque[y as usize * self.width as usize + x as usize] != 0,
             None => self.border_opaque,
         }
     }
@@ -742,5 +754,45 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A texture whose rows are not `width` bytes (a broken
+    /// `extend_opaque_row`) is refused, never tabled; bytes other than 0
+    /// and 1 count as opaque in both the counts and the texel reads.
+    #[test]
+    fn rows_of_the_wrong_length_are_refused_and_any_nonzero_byte_is_opaque() {
+        struct Rows(usize, u8);
+        impl AlphaTexture for Rows {
+            fn width(&self) -> u32 {
+                3
+            }
+            fn height(&self) -> u32 {
+                2
+            }
+            fn alpha(&self, _: u32, _: u32) -> f64 {
+                0.0
+            }
+            fn extend_opaque_row(&self, _: u32, _: &Cutoff, out: &mut Vec<u8>) {
+                out.extend(core::iter::repeat(self.1).take(self.0));
+            }
+        }
+        let (sampler, cutoff) = (Sampler::default(), Cutoff::default());
+        for len in [0, 2, 4] {
+            assert_eq!(
+                TexelClasses::new(&Rows(len, 1), sampler, cutoff).unwrap_err(),
+                TextureError::WrongLength {
+                    expected: 3,
+                    got: len
+                }
+            );
+        }
+        for byte in [1, 2, 255] {
+            let classes = TexelClasses::new(&Rows(3, byte), sampler, cutoff).unwrap();
+            assert_eq!(classes.opaque_count((0, 2), (0, 1)), 6, "byte {byte}");
+            assert!(classes.class_of(Some((2, 1))), "byte {byte}");
+        }
+        let classes = TexelClasses::new(&Rows(3, 0), sampler, cutoff).unwrap();
+        assert_eq!(classes.opaque_count((0, 2), (0, 1)), 0);
+        assert!(!classes.class_of(Some((0, 0))));
     }
 }

@@ -26,6 +26,24 @@ pub trait AlphaTexture {
     fn is_opaque(&self, x: u32, y: u32, cutoff: &Cutoff) -> bool {
         cutoff.is_opaque(self.alpha(x, y))
     }
+
+    /// Appends row `y`'s classes to `out`, one byte per texel, `x = 0`
+    /// first: 1 where [`is_opaque`](Self::is_opaque) is true, else 0. By
+    /// default it asks `is_opaque` texel by texel; an implementation may
+    /// answer faster (the bake classifies the whole texture through this,
+    /// one call per row), never differently.
+    ///
+    /// ```
+    /// use micromap_index::bake::{AlphaTexture, Cutoff, Unorm8Texture};
+    /// let texels = [0u8, 255, 128, 127, 1, 200];
+    /// let texture = Unorm8Texture::new(3, 2, &texels).unwrap();
+    /// let mut row = Vec::new();
+    /// texture.extend_opaque_row(1, &Cutoff::default(), &mut row);
+    /// assert_eq!(row, [0, 0, 1]); // 127 and 1 are below 0.5, 200 is not
+    /// ```
+    fn extend_opaque_row(&self, y: u32, cutoff: &Cutoff, out: &mut Vec<u8>) {
+        out.extend((0..self.width()).map(|x| u8::from(self.is_opaque(x, y, cutoff))));
+    }
 }
 
 /// Why a texture view or a sampler was refused.
@@ -34,7 +52,9 @@ pub trait AlphaTexture {
 pub enum TextureError {
     /// Width or height is zero.
     Empty,
-    /// `texels.len()` is not `width * height`.
+    /// `texels.len()` is not `width * height`, or an
+    /// [`AlphaTexture::extend_opaque_row`] gave `got` bytes for a row of
+    /// `expected` texels.
     WrongLength {
         /// `width * height`.
         expected: u64,
@@ -197,6 +217,13 @@ impl<T: Texel> AlphaTexture for SliceTexture<'_, T> {
     }
     fn is_opaque(&self, x: u32, y: u32, cutoff: &Cutoff) -> bool {
         self.texels[y as usize * self.width as usize + x as usize].is_opaque(cutoff)
+    }
+    /// One loop over the row's slice, specialised for `T` (no per-texel
+    /// indexing or dynamic call: the compiler vectorises it for `u8`).
+    fn extend_opaque_row(&self, y: u32, cutoff: &Cutoff, out: &mut Vec<u8>) {
+        let width = self.width as usize;
+        let row = &self.texels[y as usize * width..][..width];
+        out.extend(row.iter().map(|&texel| u8::from(texel.is_opaque(cutoff))));
     }
 }
 
@@ -432,5 +459,54 @@ mod tests {
             Cutoff::default(),
             Cutoff::new(0.5, Comparison::AtLeast).unwrap()
         );
+    }
+
+    /// The slice textures' row loop gives, byte for byte, what the
+    /// trait's per-texel default gives (every row of textures of each
+    /// texel type, odd widths, codes on both sides of the cutoffs).
+    #[test]
+    fn slice_rows_equal_the_per_texel_default() {
+        /// Only the required methods: `extend_opaque_row` is the default.
+        struct PerTexel<'a, T>(SliceTexture<'a, T>);
+        impl<T: Texel> AlphaTexture for PerTexel<'_, T> {
+            fn width(&self) -> u32 {
+                self.0.width()
+            }
+            fn height(&self) -> u32 {
+                self.0.height()
+            }
+            fn alpha(&self, x: u32, y: u32) -> f64 {
+                self.0.alpha(x, y)
+            }
+        }
+        fn check<T: Texel + core::fmt::Debug>(width: u32, texels: &[T]) {
+            let height = texels.len() as u32 / width;
+            let fast = SliceTexture::new(width, height, texels).unwrap();
+            let slow = PerTexel(fast);
+            for alpha in [0.0f32, 0.25, 0.5, 0.75, 1.0] {
+                for comparison in [Comparison::AtLeast, Comparison::Above] {
+                    let cutoff = Cutoff::new(alpha, comparison).unwrap();
+                    for y in 0..height {
+                        let (mut a, mut b) = (vec![9u8], vec![9u8]);
+                        fast.extend_opaque_row(y, &cutoff, &mut a);
+                        slow.extend_opaque_row(y, &cutoff, &mut b);
+                        assert_eq!(
+                            a, b,
+                            "row {y} of {width} wide, cutoff {alpha} {comparison:?}"
+                        );
+                        assert_eq!(a.len(), width as usize + 1);
+                    }
+                }
+            }
+        }
+        let codes: alloc::vec::Vec<u8> = (0..=255u8).chain(0..=255).take(37 * 13).collect();
+        check(37, &codes);
+        let wide: alloc::vec::Vec<u16> = (0..7 * 11).map(|c| (c * 853) as u16).collect();
+        check(7, &wide);
+        let floats: alloc::vec::Vec<f32> = (0..5 * 9)
+            .map(|c| c as f32 / 40.0 - 0.05)
+            .chain([f32::NAN, -0.0])
+            .collect();
+        check(47, &floats);
     }
 }

@@ -215,6 +215,15 @@ impl AlphaTexture for ImageTexture<'_> {
             ImageTexture::Float(t) => t.is_opaque(x, y, cutoff),
         }
     }
+    // The slice textures' row loop: without it the bake's texel
+    // classification asks `is_opaque` (through this match) per texel.
+    fn extend_opaque_row(&self, y: u32, cutoff: &Cutoff, out: &mut Vec<u8>) {
+        match self {
+            ImageTexture::Unorm8(t) => t.extend_opaque_row(y, cutoff, out),
+            ImageTexture::Unorm16(t) => t.extend_opaque_row(y, cutoff, out),
+            ImageTexture::Float(t) => t.extend_opaque_row(y, cutoff, out),
+        }
+    }
 }
 
 /// Bounds on what a reader may decode or hold.
