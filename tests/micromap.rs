@@ -409,7 +409,7 @@ proptest! {
         uniform_to_special in any::<bool>(),
     ) {
         let triangles = opacities(&pool, &picks);
-        let buffers = MicromapBuffers::build(triangles.iter().copied(), BuildOptions { uniform_to_special }).unwrap();
+        let buffers = MicromapBuffers::build(triangles.iter().copied(), BuildOptions { uniform_to_special, ..BuildOptions::default() }).unwrap();
         check_layout(&buffers);
         let indices = buffers.geometry_indices(0).unwrap();
         prop_assert_eq!(indices.len(), triangles.len());
@@ -470,6 +470,61 @@ proptest! {
             prop_assert_eq!(read.micromaps, buffers.micromaps().collect::<Vec<_>>());
             prop_assert_eq!(read.indices.as_deref(), Some(buffers.geometry_indices(g).unwrap()));
         }
+    }
+
+    #[test]
+    fn no_mixed_special_indices_unmixes_with_shared_level_zero_records_and_same_states(
+        geometries in proptest::collection::vec(any_geometry(), 1..4),
+        uniform_to_special in any::<bool>(),
+    ) {
+        let build = |no_mixed_special_indices| {
+            let mut builder = MicromapBuffersBuilder::new(BuildOptions { uniform_to_special, no_mixed_special_indices });
+            for (pool, picks) in &geometries {
+                builder.add_geometry(opacities(pool, picks)).unwrap();
+            }
+            builder.finish().unwrap()
+        };
+        let (mixed, unmixed) = (build(false), build(true));
+        check_layout(&unmixed);
+        let four_state = mixed.records().iter().any(|r| r.format == Format::FourState.raw());
+        let mut added = BTreeSet::new();
+        for g in 0..mixed.geometry_count() {
+            prop_assert!(!unmixed.is_mixed(g).unwrap(), "geometry {}", g);
+            let before = mixed.geometry_indices(g).unwrap();
+            let after = unmixed.geometry_indices(g).unwrap();
+            prop_assert_eq!(before.len(), after.len());
+            let all_special = before.iter().all(|i| matches!(i, MicromapIndex::Special(_)));
+            prop_assert_eq!(mixed.is_mixed(g).unwrap(), !all_special
+                && before.iter().any(|i| matches!(i, MicromapIndex::Special(_))));
+            for t in 0..before.len() {
+                // Every micro-triangle reads the same state as before.
+                let (was, now) = (mixed.resolve(g, t).unwrap(), unmixed.resolve(g, t).unwrap());
+                match (was, now, after[t]) {
+                    (BakedOpacity::Map(a), BakedOpacity::Map(b), _) => prop_assert_eq!(a, b),
+                    (BakedOpacity::Special(a), BakedOpacity::Special(b), _) => {
+                        prop_assert!(all_special);
+                        prop_assert_eq!(a, b);
+                    }
+                    (BakedOpacity::Special(s), BakedOpacity::Map(m), MicromapIndex::Record(r)) => {
+                        prop_assert!(!all_special);
+                        prop_assert_eq!(m.level().get(), 0);
+                        prop_assert_eq!(m.uniform(), Some(s));
+                        let format = if four_state || !s.is_known() { Format::FourState } else { Format::TwoState };
+                        prop_assert_eq!(m.format(), format);
+                        added.insert((r, m));
+                    }
+                    other => prop_assert!(false, "triangle {} of geometry {}: {:?}", t, g, other),
+                }
+            }
+        }
+        // At most one shared record per state, and no more records than
+        // those (fewer when an equal level-0 map was already there).
+        let added: BTreeSet<Micromap> = added.into_iter().map(|(_, m)| m).collect();
+        prop_assert!(added.len() <= 4);
+        let before: BTreeSet<Micromap> = mixed.micromaps().collect();
+        prop_assert_eq!(unmixed.records().len(), mixed.records().len() + added.difference(&before).count());
+        let distinct: BTreeSet<_> = unmixed.micromaps().collect();
+        prop_assert_eq!(distinct.len(), unmixed.records().len());
     }
 
     #[test]
