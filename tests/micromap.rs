@@ -1084,3 +1084,131 @@ fn fill_equals_setting_each_index() {
         }
     }
 }
+
+/// `bytes` as `element`-byte elements `stride` bytes apart, the gaps filled
+/// with `fill` (so a reader that looks at them gets them wrong), ending
+/// with whole strides or right after the last element.
+fn spread(bytes: &[u8], element: usize, stride: usize, fill: u8, whole: bool) -> Vec<u8> {
+    let mut out = Vec::new();
+    for chunk in bytes.chunks_exact(element) {
+        out.extend_from_slice(chunk);
+        out.resize(out.len() + stride - element, fill);
+    }
+    if !whole && !out.is_empty() {
+        out.truncate(out.len() - (stride - element));
+    }
+    out
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    #[test]
+    fn strided_records_and_indices_read_as_the_packed_buffers(
+        (pool, picks) in any_geometry(),
+        record_extra in 0usize..5,
+        index_factor in 1usize..4,
+        fill in any::<u8>(),
+        whole in any::<bool>(),
+        api in prop_oneof![Just(Api::VulkanKhr), Just(Api::Dxr)],
+    ) {
+        let buffers = MicromapBuffers::build(opacities(&pool, &picks), BuildOptions::default()).unwrap();
+        let width = IndexWidth::narrowest(buffers.max_record_index(), api);
+        let (records, indices) = (buffers.records_le_bytes(), buffers.index_bytes(0, width).unwrap());
+        let usage = usage_counts_to_le_bytes(buffers.usage_counts());
+        let read = |records: &[u8], indices: &[u8], options: &ReadOptions| read_buffers(
+            &BufferBytes { records, data: buffers.data(), usage_counts: Some(&usage), indices: Some((indices, width)) },
+            options,
+        );
+        let packed = read(&records, &indices, &ReadOptions::default()).unwrap();
+        let (record_stride, index_stride) = (8 + 4 * record_extra, width.bytes() * index_factor);
+        let options = ReadOptions { record_stride, index_stride: Some(index_stride), ..ReadOptions::default() };
+        let strided_records = spread(&records, 8, record_stride, fill, whole);
+        let strided_indices = spread(&indices, width.bytes(), index_stride, fill, whole);
+        prop_assert_eq!(&read(&strided_records, &strided_indices, &options).unwrap(), &packed);
+        // One byte too many or too few after the last element: refused
+        // (a byte more with a tight stride is a partial element).
+        if !strided_records.is_empty() {
+            let short = &strided_records[..strided_records.len() - 1];
+            prop_assert!(read(short, &strided_indices, &options).is_err());
+        }
+        if !strided_indices.is_empty() && index_stride > width.bytes() {
+            let mut long = strided_indices.clone();
+            long.push(fill);
+            // Unless the byte completes one more 8-bit index or stride.
+            let rem = long.len() % index_stride;
+            if rem != 0 && rem != width.bytes() {
+                prop_assert!(read(&strided_records, &long, &options).is_err());
+            }
+        }
+    }
+}
+
+#[test]
+fn read_options_refuse_strides_the_apis_do_not_allow() {
+    let input = BufferBytes {
+        records: &[0, 0, 0, 0, 0, 0, 1, 0],
+        data: &[0xff],
+        usage_counts: None,
+        indices: Some((&[0, 0], IndexWidth::U16)),
+    };
+    let with = |record_stride, index_stride| {
+        read_buffers(
+            &input,
+            &ReadOptions {
+                record_stride,
+                index_stride,
+                ..ReadOptions::default()
+            },
+        )
+    };
+    assert!(with(8, None).is_ok());
+    assert!(with(12, Some(4)).is_ok());
+    for stride in [0, 4, 7, 9, 10, 14] {
+        assert_eq!(
+            with(stride, None),
+            Err(ReadError::RecordStride { stride }),
+            "{stride}"
+        );
+    }
+    for stride in [0, 1, 3, 5] {
+        assert_eq!(
+            with(8, Some(stride)),
+            Err(ReadError::IndexStride {
+                stride,
+                width: IndexWidth::U16
+            }),
+            "{stride}"
+        );
+    }
+    // 12 bytes at stride 16: neither one whole stride nor one record.
+    let mut twelve = input;
+    twelve.records = &[0, 0, 0, 0, 0, 0, 1, 0, 9, 9, 9, 9];
+    assert_eq!(
+        read_buffers(
+            &twelve,
+            &ReadOptions {
+                record_stride: 16,
+                ..ReadOptions::default()
+            }
+        ),
+        Err(ReadError::StridedLength {
+            len: 12,
+            stride: 16,
+            element: 8
+        })
+    );
+    assert_eq!(
+        read_buffers(
+            &twelve,
+            &ReadOptions {
+                record_stride: 12,
+                ..ReadOptions::default()
+            }
+        )
+        .unwrap()
+        .records
+        .len(),
+        1
+    );
+}
