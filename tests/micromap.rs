@@ -496,10 +496,10 @@ proptest! {
             let all_special = before.iter().all(|i| matches!(i, MicromapIndex::Special(_)));
             prop_assert_eq!(mixed.is_mixed(g).unwrap(), !all_special
                 && before.iter().any(|i| matches!(i, MicromapIndex::Special(_))));
-            for t in 0..before.len() {
+            for (t, &index) in after.iter().enumerate() {
                 // Every micro-triangle reads the same state as before.
                 let (was, now) = (mixed.resolve(g, t).unwrap(), unmixed.resolve(g, t).unwrap());
-                match (was, now, after[t]) {
+                match (was, now, index) {
                     (BakedOpacity::Map(a), BakedOpacity::Map(b), _) => prop_assert_eq!(a, b),
                     (BakedOpacity::Special(a), BakedOpacity::Special(b), _) => {
                         prop_assert!(all_special);

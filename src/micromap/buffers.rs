@@ -917,26 +917,25 @@ impl MicromapBuffersBuilder {
                     continue;
                 };
                 let slot = (state.special_index() + 4) as usize;
-                let id = match shared[slot] {
-                    Some(id) => id,
-                    None => {
-                        let format = if any_four_state || !state.is_known() {
-                            Format::FourState
-                        } else {
-                            Format::TwoState
-                        };
-                        // Level 0 is valid and the format holds the state,
-                        // so only the one-byte allocation can fail.
-                        let map = Micromap::uniform_map(Level(0), format, state)
-                            .map_err(|_| BufferError::AllocationFailed)?;
-                        let hash = content_hash(&map);
-                        let id = match self.find(&map, hash) {
-                            Some(id) => id,
-                            None => self.store(&map, hash)?,
-                        };
-                        shared[slot] = Some(id);
-                        id
-                    }
+                let id = if let Some(id) = shared[slot] {
+                    id
+                } else {
+                    let format = if any_four_state || !state.is_known() {
+                        Format::FourState
+                    } else {
+                        Format::TwoState
+                    };
+                    // Level 0 is valid and the format holds the state,
+                    // so only the one-byte allocation can fail.
+                    let map = Micromap::uniform_map(Level(0), format, state)
+                        .map_err(|_| BufferError::AllocationFailed)?;
+                    let hash = content_hash(&map);
+                    let id = match self.find(&map, hash) {
+                        Some(id) => id,
+                        None => self.store(&map, hash)?,
+                    };
+                    shared[slot] = Some(id);
+                    id
                 };
                 self.geometries[g][t] = Entry::Unique(id);
             }

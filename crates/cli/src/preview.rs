@@ -334,9 +334,12 @@ mod tests {
             (info.width, info.height, rgb)
         };
         let draw = |model| {
-            let nothing =
-                micromap_index::bake::mesh::bake_meshes(&[], &Default::default(), &mut |_, _| {})
-                    .unwrap();
+            let nothing = micromap_index::bake::mesh::bake_meshes(
+                &[],
+                &micromap_index::bake::mesh::MeshOptions::default(),
+                &mut |_, _| {},
+            )
+            .unwrap();
             let drawn = render(
                 std::slice::from_ref(&image),
                 model,
