@@ -409,7 +409,7 @@ proptest! {
         uniform_to_special in any::<bool>(),
     ) {
         let triangles = opacities(&pool, &picks);
-        let buffers = MicromapBuffers::build(triangles.iter().copied(), BuildOptions { uniform_to_special }).unwrap();
+        let buffers = MicromapBuffers::build(triangles.iter().copied(), BuildOptions { uniform_to_special, ..BuildOptions::default() }).unwrap();
         check_layout(&buffers);
         let indices = buffers.geometry_indices(0).unwrap();
         prop_assert_eq!(indices.len(), triangles.len());
@@ -470,6 +470,61 @@ proptest! {
             prop_assert_eq!(read.micromaps, buffers.micromaps().collect::<Vec<_>>());
             prop_assert_eq!(read.indices.as_deref(), Some(buffers.geometry_indices(g).unwrap()));
         }
+    }
+
+    #[test]
+    fn no_mixed_special_indices_unmixes_with_shared_level_zero_records_and_same_states(
+        geometries in proptest::collection::vec(any_geometry(), 1..4),
+        uniform_to_special in any::<bool>(),
+    ) {
+        let build = |no_mixed_special_indices| {
+            let mut builder = MicromapBuffersBuilder::new(BuildOptions { uniform_to_special, no_mixed_special_indices });
+            for (pool, picks) in &geometries {
+                builder.add_geometry(opacities(pool, picks)).unwrap();
+            }
+            builder.finish().unwrap()
+        };
+        let (mixed, unmixed) = (build(false), build(true));
+        check_layout(&unmixed);
+        let four_state = mixed.records().iter().any(|r| r.format == Format::FourState.raw());
+        let mut added = BTreeSet::new();
+        for g in 0..mixed.geometry_count() {
+            prop_assert!(!unmixed.is_mixed(g).unwrap(), "geometry {}", g);
+            let before = mixed.geometry_indices(g).unwrap();
+            let after = unmixed.geometry_indices(g).unwrap();
+            prop_assert_eq!(before.len(), after.len());
+            let all_special = before.iter().all(|i| matches!(i, MicromapIndex::Special(_)));
+            prop_assert_eq!(mixed.is_mixed(g).unwrap(), !all_special
+                && before.iter().any(|i| matches!(i, MicromapIndex::Special(_))));
+            for (t, &index) in after.iter().enumerate() {
+                // Every micro-triangle reads the same state as before.
+                let (was, now) = (mixed.resolve(g, t).unwrap(), unmixed.resolve(g, t).unwrap());
+                match (was, now, index) {
+                    (BakedOpacity::Map(a), BakedOpacity::Map(b), _) => prop_assert_eq!(a, b),
+                    (BakedOpacity::Special(a), BakedOpacity::Special(b), _) => {
+                        prop_assert!(all_special);
+                        prop_assert_eq!(a, b);
+                    }
+                    (BakedOpacity::Special(s), BakedOpacity::Map(m), MicromapIndex::Record(r)) => {
+                        prop_assert!(!all_special);
+                        prop_assert_eq!(m.level().get(), 0);
+                        prop_assert_eq!(m.uniform(), Some(s));
+                        let format = if four_state || !s.is_known() { Format::FourState } else { Format::TwoState };
+                        prop_assert_eq!(m.format(), format);
+                        added.insert((r, m));
+                    }
+                    other => prop_assert!(false, "triangle {} of geometry {}: {:?}", t, g, other),
+                }
+            }
+        }
+        // At most one shared record per state, and no more records than
+        // those (fewer when an equal level-0 map was already there).
+        let added: BTreeSet<Micromap> = added.into_iter().map(|(_, m)| m).collect();
+        prop_assert!(added.len() <= 4);
+        let before: BTreeSet<Micromap> = mixed.micromaps().collect();
+        prop_assert_eq!(unmixed.records().len(), mixed.records().len() + added.difference(&before).count());
+        let distinct: BTreeSet<_> = unmixed.micromaps().collect();
+        prop_assert_eq!(distinct.len(), unmixed.records().len());
     }
 
     #[test]
@@ -1028,4 +1083,132 @@ fn fill_equals_setting_each_index() {
             }
         }
     }
+}
+
+/// `bytes` as `element`-byte elements `stride` bytes apart, the gaps filled
+/// with `fill` (so a reader that looks at them gets them wrong), ending
+/// with whole strides or right after the last element.
+fn spread(bytes: &[u8], element: usize, stride: usize, fill: u8, whole: bool) -> Vec<u8> {
+    let mut out = Vec::new();
+    for chunk in bytes.chunks_exact(element) {
+        out.extend_from_slice(chunk);
+        out.resize(out.len() + stride - element, fill);
+    }
+    if !whole && !out.is_empty() {
+        out.truncate(out.len() - (stride - element));
+    }
+    out
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    #[test]
+    fn strided_records_and_indices_read_as_the_packed_buffers(
+        (pool, picks) in any_geometry(),
+        record_extra in 0usize..5,
+        index_factor in 1usize..4,
+        fill in any::<u8>(),
+        whole in any::<bool>(),
+        api in prop_oneof![Just(Api::VulkanKhr), Just(Api::Dxr)],
+    ) {
+        let buffers = MicromapBuffers::build(opacities(&pool, &picks), BuildOptions::default()).unwrap();
+        let width = IndexWidth::narrowest(buffers.max_record_index(), api);
+        let (records, indices) = (buffers.records_le_bytes(), buffers.index_bytes(0, width).unwrap());
+        let usage = usage_counts_to_le_bytes(buffers.usage_counts());
+        let read = |records: &[u8], indices: &[u8], options: &ReadOptions| read_buffers(
+            &BufferBytes { records, data: buffers.data(), usage_counts: Some(&usage), indices: Some((indices, width)) },
+            options,
+        );
+        let packed = read(&records, &indices, &ReadOptions::default()).unwrap();
+        let (record_stride, index_stride) = (8 + 4 * record_extra, width.bytes() * index_factor);
+        let options = ReadOptions { record_stride, index_stride: Some(index_stride), ..ReadOptions::default() };
+        let strided_records = spread(&records, 8, record_stride, fill, whole);
+        let strided_indices = spread(&indices, width.bytes(), index_stride, fill, whole);
+        prop_assert_eq!(&read(&strided_records, &strided_indices, &options).unwrap(), &packed);
+        // One byte too many or too few after the last element: refused
+        // (a byte more with a tight stride is a partial element).
+        if !strided_records.is_empty() {
+            let short = &strided_records[..strided_records.len() - 1];
+            prop_assert!(read(short, &strided_indices, &options).is_err());
+        }
+        if !strided_indices.is_empty() && index_stride > width.bytes() {
+            let mut long = strided_indices.clone();
+            long.push(fill);
+            // Unless the byte completes one more 8-bit index or stride.
+            let rem = long.len() % index_stride;
+            if rem != 0 && rem != width.bytes() {
+                prop_assert!(read(&strided_records, &long, &options).is_err());
+            }
+        }
+    }
+}
+
+#[test]
+fn read_options_refuse_strides_the_apis_do_not_allow() {
+    let input = BufferBytes {
+        records: &[0, 0, 0, 0, 0, 0, 1, 0],
+        data: &[0xff],
+        usage_counts: None,
+        indices: Some((&[0, 0], IndexWidth::U16)),
+    };
+    let with = |record_stride, index_stride| {
+        read_buffers(
+            &input,
+            &ReadOptions {
+                record_stride,
+                index_stride,
+                ..ReadOptions::default()
+            },
+        )
+    };
+    assert!(with(8, None).is_ok());
+    assert!(with(12, Some(4)).is_ok());
+    for stride in [0, 4, 7, 9, 10, 14] {
+        assert_eq!(
+            with(stride, None),
+            Err(ReadError::RecordStride { stride }),
+            "{stride}"
+        );
+    }
+    for stride in [0, 1, 3, 5] {
+        assert_eq!(
+            with(8, Some(stride)),
+            Err(ReadError::IndexStride {
+                stride,
+                width: IndexWidth::U16
+            }),
+            "{stride}"
+        );
+    }
+    // 12 bytes at stride 16: neither one whole stride nor one record.
+    let mut twelve = input;
+    twelve.records = &[0, 0, 0, 0, 0, 0, 1, 0, 9, 9, 9, 9];
+    assert_eq!(
+        read_buffers(
+            &twelve,
+            &ReadOptions {
+                record_stride: 16,
+                ..ReadOptions::default()
+            }
+        ),
+        Err(ReadError::StridedLength {
+            len: 12,
+            stride: 16,
+            element: 8
+        })
+    );
+    assert_eq!(
+        read_buffers(
+            &twelve,
+            &ReadOptions {
+                record_stride: 12,
+                ..ReadOptions::default()
+            }
+        )
+        .unwrap()
+        .records
+        .len(),
+        1
+    );
 }

@@ -254,6 +254,11 @@ pub struct MeshOptions {
     /// with the `rayon` feature, one without). The output is the same
     /// bytes for every choice.
     pub threads: Threads,
+    /// How the API buffers are laid out (default: uniform maps become
+    /// special indices, which may mix with records; set
+    /// [`BuildOptions::no_mixed_special_indices`] for Vulkan KHR's
+    /// no-mixed pipelines).
+    pub buffers: BuildOptions,
 }
 
 impl Default for MeshOptions {
@@ -272,6 +277,7 @@ impl Default for MeshOptions {
             model: Model::default(),
             mips: Mips::default(),
             threads: Threads::default(),
+            buffers: BuildOptions::default(),
         }
     }
 }
@@ -881,7 +887,7 @@ fn bake_distinct(
             }
         }
     };
-    let mut builder = MicromapBuffersBuilder::new(BuildOptions::default());
+    let mut builder = MicromapBuffersBuilder::new(options.buffers);
     let mut distinct = Vec::new();
     distinct
         .try_reserve_exact(plan.work.len())

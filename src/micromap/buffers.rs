@@ -542,12 +542,25 @@ pub struct BuildOptions {
     /// micromap takes no data. DXR recommends it ("it is preferable to
     /// signal this explicitly").
     pub uniform_to_special: bool,
+    /// Never mix special indices with records in one geometry (default
+    /// `false`): in a geometry that references any record, each special
+    /// index is replaced by a shared level-0 record of its state (at most
+    /// four extra records of one byte, deduplicated with equal maps). A
+    /// geometry of special indices only keeps them. For Vulkan KHR
+    /// pipelines created with
+    /// `VK_PIPELINE_CREATE_2_OPACITY_MICROMAP_DISALLOW_MIXED_SPECIAL_INDEX_BIT_KHR`
+    /// (VUID-{cmd}-micromap-11638); [`MicromapBuffers::is_mixed`] checks it.
+    /// The shared records are 4-state for the unknown states or when the
+    /// builder holds any 4-state map, else 2-state, so a single-format
+    /// bake stays single-format.
+    pub no_mixed_special_indices: bool,
 }
 
 impl Default for BuildOptions {
     fn default() -> Self {
         BuildOptions {
             uniform_to_special: true,
+            no_mixed_special_indices: false,
         }
     }
 }
@@ -802,6 +815,9 @@ impl MicromapBuffersBuilder {
     /// be. Records follow the same order; usage counts are sorted by format,
     /// then level.
     pub fn finish(mut self) -> Result<MicromapBuffers, BufferError> {
+        if self.options.no_mixed_special_indices {
+            self.unmix_special_indices()?;
+        }
         // Record order: arenas by decreasing byte length, each in order of
         // first appearance (what a stable sort of the maps by decreasing
         // size gives).
@@ -878,6 +894,53 @@ impl MicromapBuffersBuilder {
             usage,
             geometries,
         })
+    }
+}
+
+impl MicromapBuffersBuilder {
+    /// [`BuildOptions::no_mixed_special_indices`]: the special entries of
+    /// every geometry that also has records become shared level-0 records.
+    fn unmix_special_indices(&mut self) -> Result<(), BufferError> {
+        let any_four_state = self.unique.iter().any(|s| s.format == Format::FourState);
+        // One record per state, made on first use (index: the state's
+        // special index value + 4, 0..=3).
+        let mut shared: [Option<u32>; 4] = [None; 4];
+        for g in 0..self.geometries.len() {
+            let entries = &self.geometries[g];
+            let has_record = entries.iter().any(|e| matches!(e, Entry::Unique(_)));
+            let has_special = entries.iter().any(|e| matches!(e, Entry::Special(_)));
+            if !(has_record && has_special) {
+                continue;
+            }
+            for t in 0..self.geometries[g].len() {
+                let Entry::Special(state) = self.geometries[g][t] else {
+                    continue;
+                };
+                let slot = (state.special_index() + 4) as usize;
+                let id = if let Some(id) = shared[slot] {
+                    id
+                } else {
+                    let format = if any_four_state || !state.is_known() {
+                        Format::FourState
+                    } else {
+                        Format::TwoState
+                    };
+                    // Level 0 is valid and the format holds the state,
+                    // so only the one-byte allocation can fail.
+                    let map = Micromap::uniform_map(Level(0), format, state)
+                        .map_err(|_| BufferError::AllocationFailed)?;
+                    let hash = content_hash(&map);
+                    let id = match self.find(&map, hash) {
+                        Some(id) => id,
+                        None => self.store(&map, hash)?,
+                    };
+                    shared[slot] = Some(id);
+                    id
+                };
+                self.geometries[g][t] = Entry::Unique(id);
+            }
+        }
+        Ok(())
     }
 }
 
@@ -1035,6 +1098,39 @@ impl MicromapBuffers {
     /// index are not counted), sorted by format, then level.
     pub fn geometry_usage_counts(&self, geometry: usize) -> Result<&[UsageCount], BufferError> {
         Ok(&self.geometry(geometry)?.usage)
+    }
+
+    /// Whether the geometry's index buffer holds both special indices and
+    /// records: what a Vulkan KHR pipeline created with
+    /// `VK_PIPELINE_CREATE_2_OPACITY_MICROMAP_DISALLOW_MIXED_SPECIAL_INDEX_BIT_KHR`
+    /// must not trace (VUID-{cmd}-micromap-11638; all-special geometry is
+    /// allowed). Never true under [`BuildOptions::no_mixed_special_indices`].
+    ///
+    /// ```
+    /// use micromap_index::micromap::{
+    ///     BuildOptions, Format, Micromap, MicromapBuffers, MicromapIndex, State, TriangleOpacity,
+    /// };
+    /// use micromap_index::Level;
+    /// let map = Micromap::from_states(Level::new(1).unwrap(), Format::FourState, State::ALL).unwrap();
+    /// let triangles = [TriangleOpacity::Micromap(&map), TriangleOpacity::Special(State::Opaque)];
+    /// let mixed = MicromapBuffers::build(triangles, BuildOptions::default()).unwrap();
+    /// assert!(mixed.is_mixed(0).unwrap());
+    /// let options = BuildOptions { no_mixed_special_indices: true, ..BuildOptions::default() };
+    /// let unmixed = MicromapBuffers::build(triangles, options).unwrap();
+    /// assert!(!unmixed.is_mixed(0).unwrap());
+    /// // The special index became a shared level-0 record of its state.
+    /// assert_eq!(unmixed.geometry_indices(0).unwrap()[1], MicromapIndex::Record(1));
+    /// assert_eq!(unmixed.micromap(1).unwrap().uniform(), Some(State::Opaque));
+    /// ```
+    pub fn is_mixed(&self, geometry: usize) -> Result<bool, BufferError> {
+        let indices = &self.geometry(geometry)?.indices;
+        let special = indices
+            .iter()
+            .any(|i| matches!(i, MicromapIndex::Special(_)));
+        let record = indices
+            .iter()
+            .any(|i| matches!(i, MicromapIndex::Record(_)));
+        Ok(special && record)
     }
 
     /// The largest record number any geometry's index buffer holds, or

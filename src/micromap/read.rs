@@ -55,6 +55,16 @@ pub struct ReadOptions {
     /// `baseTriangle`, DXR's `OpacityMicromapBaseLocation` and glTF's
     /// `micromapBaseTriangle` (default 0).
     pub base_triangle: u32,
+    /// Bytes from one triangle record to the next (default 8, packed):
+    /// Vulkan's `triangleArrayStride`, at least 8 and a multiple of 4; the
+    /// bytes between records are ignored. The record buffer holds either
+    /// whole strides or ends right after its last record.
+    pub record_stride: usize,
+    /// Bytes from one index to the next (default `None`: the index width,
+    /// packed): Vulkan's `indexStride` and glTF's `byteStride`, a multiple
+    /// of the width; the bytes between indices are ignored. The index
+    /// buffer holds either whole strides or ends right after its last index.
+    pub index_stride: Option<usize>,
 }
 
 impl Default for ReadOptions {
@@ -63,8 +73,21 @@ impl Default for ReadOptions {
             overlap: Overlap::Forbid,
             max_level: Micromap::MAX_LEVEL,
             base_triangle: 0,
+            record_stride: TriangleRecord::SIZE,
+            index_stride: None,
         }
     }
+}
+
+/// Splits `bytes` into `element`-byte elements `stride` bytes apart
+/// (`stride >= element`): `None` unless the bytes are whole strides or
+/// end right after the last element (one reading only, as the two counts
+/// differ unless `stride == element`).
+fn strided(bytes: &[u8], stride: usize, element: usize) -> Option<impl Iterator<Item = &[u8]>> {
+    let rem = bytes.len() % stride;
+    let count = bytes.len() / stride + usize::from(rem != 0);
+    (rem == 0 || rem == element)
+        .then(|| (0..count).map(move |i| &bytes[i * stride..i * stride + element]))
 }
 
 /// What [`read_buffers`] found wrong. Record, entry and triangle numbers
@@ -76,6 +99,29 @@ pub enum ReadError {
     RecordsLength {
         /// The length given.
         len: usize,
+    },
+    /// [`ReadOptions::record_stride`] is below 8 or not a multiple of 4.
+    RecordStride {
+        /// The stride given.
+        stride: usize,
+    },
+    /// [`ReadOptions::index_stride`] is not a positive multiple of the
+    /// index width.
+    IndexStride {
+        /// The stride given.
+        stride: usize,
+        /// The index width.
+        width: IndexWidth,
+    },
+    /// A strided buffer neither holds whole strides nor ends right after
+    /// its last element.
+    StridedLength {
+        /// The buffer's length.
+        len: usize,
+        /// The stride.
+        stride: usize,
+        /// The element's size.
+        element: usize,
     },
     /// More records than 32-bit indices can address.
     TooManyRecords {
@@ -191,6 +237,18 @@ impl fmt::Display for ReadError {
             ReadError::RecordsLength { len } => {
                 write!(f, "{len} bytes of triangle records are not a multiple of 8")
             }
+            ReadError::RecordStride { stride } => write!(
+                f,
+                "record stride {stride}: Vulkan's triangleArrayStride is at least 8 and a multiple of 4"
+            ),
+            ReadError::IndexStride { stride, width } => write!(
+                f,
+                "index stride {stride} is not a positive multiple of the {width} index size"
+            ),
+            ReadError::StridedLength { len, stride, element } => write!(
+                f,
+                "{len} bytes are neither whole {stride}-byte strides nor end right after a {element}-byte element"
+            ),
             ReadError::TooManyRecords { count } => {
                 write!(f, "{count} triangle records are more than 32-bit indices address")
             }
@@ -309,7 +367,7 @@ pub fn read_buffers(
     input: &BufferBytes<'_>,
     options: &ReadOptions,
 ) -> Result<ReadBuffers, ReadError> {
-    let records = read_records(input.records)?;
+    let records = read_records(input.records, options.record_stride)?;
     // Check every record and compute its block before decoding any.
     let max_level = options.max_level.min(Micromap::MAX_LEVEL);
     let mut blocks = Vec::with_capacity(records.len());
@@ -350,6 +408,7 @@ pub fn read_buffers(
         Some((bytes, width)) => Some(read_indices(
             bytes,
             width,
+            options.index_stride.unwrap_or(width.bytes()),
             records.len(),
             options.base_triangle,
         )?),
@@ -383,12 +442,22 @@ pub fn read_buffers(
 type Block = (usize, usize, Level, Format);
 
 /// The records of `bytes` (a multiple of 8, fewer than `2^32 - 5`).
-fn read_records(bytes: &[u8]) -> Result<Vec<TriangleRecord>, ReadError> {
-    let chunks = bytes.chunks_exact(TriangleRecord::SIZE);
-    if !chunks.remainder().is_empty() {
-        return Err(ReadError::RecordsLength { len: bytes.len() });
+fn read_records(bytes: &[u8], stride: usize) -> Result<Vec<TriangleRecord>, ReadError> {
+    if stride < TriangleRecord::SIZE || stride % 4 != 0 {
+        return Err(ReadError::RecordStride { stride });
     }
-    let count = bytes.len() / TriangleRecord::SIZE;
+    let Some(chunks) = strided(bytes, stride, TriangleRecord::SIZE) else {
+        return Err(if stride == TriangleRecord::SIZE {
+            ReadError::RecordsLength { len: bytes.len() }
+        } else {
+            ReadError::StridedLength {
+                len: bytes.len(),
+                stride,
+                element: TriangleRecord::SIZE,
+            }
+        });
+    };
+    let count = bytes.len().div_ceil(stride);
     if count as u64 > u64::from(IndexWidth::U32.max_regular()) + 1 {
         return Err(ReadError::TooManyRecords { count });
     }
@@ -479,16 +548,27 @@ fn check_usage(bytes: &[u8], records: &[TriangleRecord]) -> Result<(), ReadError
 fn read_indices(
     bytes: &[u8],
     width: IndexWidth,
+    stride: usize,
     records: usize,
     base_triangle: u32,
 ) -> Result<Vec<MicromapIndex>, ReadError> {
-    let chunks = bytes.chunks_exact(width.bytes());
-    if !chunks.remainder().is_empty() {
-        return Err(ReadError::IndexBufferLength {
-            len: bytes.len(),
-            width,
-        });
+    if stride == 0 || stride % width.bytes() != 0 {
+        return Err(ReadError::IndexStride { stride, width });
     }
+    let Some(chunks) = strided(bytes, stride, width.bytes()) else {
+        return Err(if stride == width.bytes() {
+            ReadError::IndexBufferLength {
+                len: bytes.len(),
+                width,
+            }
+        } else {
+            ReadError::StridedLength {
+                len: bytes.len(),
+                stride,
+                element: width.bytes(),
+            }
+        });
+    };
     chunks
         .enumerate()
         .map(|(triangle, chunk)| {

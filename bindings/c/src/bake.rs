@@ -385,6 +385,8 @@ fn options(o: &mmi_bake_options) -> Result<MeshOptions> {
         // is built without its `rayon` feature here, so this is also what
         // the default would do).
         threads: micromap_index::bake::Threads::Exactly(1),
+        // Special indices as the library writes them by default.
+        buffers: micromap_index::micromap::BuildOptions::default(),
     })
 }
 

@@ -242,6 +242,8 @@ pub unsafe extern "C" fn mmi_validate_buffers(
                 },
                 max_level: o.max_level,
                 base_triangle: o.base_triangle,
+                // The C API reads packed buffers.
+                ..ReadOptions::default()
             }
         };
         // SAFETY: forwarded.

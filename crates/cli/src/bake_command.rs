@@ -16,8 +16,8 @@ use micromap_index::bake::{
     UvTriangle, DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET,
 };
 use micromap_index::micromap::{
-    read_buffers, BufferBytes, Format, IndexWidth, MicromapIndex, ReadOptions, TriangleOpacity,
-    UnknownPolicy,
+    read_buffers, BufferBytes, BuildOptions, Format, IndexWidth, MicromapIndex, ReadOptions,
+    TriangleOpacity, UnknownPolicy,
 };
 use micromap_index::Level;
 use micromap_index_assets::{
@@ -86,6 +86,9 @@ pub(crate) static BAKE: Command = Command {
     micromap-indices.bin    one index per input triangle (special indices
                             -1..-4 as negative values), little endian
     micromap-usage.bin      12-byte usage counts {u32 count, u32 level, u32 format}
+    micromap-geometry-usage.bin
+                            Vulkan EXT's per-geometry usage counts: per job,
+                            u32 n then n usage counts (docs/cli.md)
     summary.json            states, known fraction, micromaps, sizes, time
     NAME.gltf or NAME.glb   with --gltf-out: the asset written back with
                             EXT_mesh_opacity_micromap on every baked primitive
@@ -186,6 +189,11 @@ pub(crate) static BAKE: Command = Command {
                 "threads to bake on (default: every core; 1: serial); the bytes are
                          the same for every N",
             ),
+            Flag::switch(
+                "--no-mixed-special",
+                "no job mixes special indices with records: shared level-0 records
+                         instead (Vulkan KHR no-mixed pipelines)",
+            ),
             Flag::switch("--force", "replace existing files in DIR"),
             Flag::switch("--no-preview", "skip preview.png"),
             Flag::switch("--quiet", "no progress on stderr"),
@@ -216,7 +224,8 @@ pub(crate) static VERIFY_BAKE: Command = Command {
   records, no two blocks overlapping and no data after the last block
   (--lenient-layout accepts both). Each buffer file is read up to a limit
   named in its error (data 5 GiB, records and indices 1 GiB, usage counts
-  1 MiB; --texture and --triangles 1 GiB).
+  1 MiB; --texture and --triangles 1 GiB). DIR/micromap-geometry-usage.bin,
+  when present, must hold one geometry whose counts match the indices.
   With --gltf, the asset's own EXT_mesh_opacity_micromap micromaps (as bake
   --gltf-out writes them; the extension's rules checked first) against its
   MASK primitives' textures, samplers, cutoffs, alpha factors and vertex
@@ -277,11 +286,12 @@ pub(crate) static VERIFY_BAKE: Command = Command {
 };
 
 /// Output file names, in the order written.
-const OUTPUTS: [&str; 6] = [
+const OUTPUTS: [&str; 7] = [
     "micromap-data.bin",
     "micromap-triangles.bin",
     "micromap-indices.bin",
     "micromap-usage.bin",
+    crate::geometry_usage::FILE,
     "summary.json",
     "preview.png",
 ];
@@ -655,6 +665,11 @@ struct JobSummary {
     triangles: usize,
     /// Index of this job's first triangle in micromap-indices.bin.
     first_index: usize,
+    /// Vulkan EXT's usage counts of this job's geometry (as in
+    /// micromap-geometry-usage.bin).
+    geometry_usage_counts: Vec<crate::geometry_usage::UsageJson>,
+    /// Whether the job's indices hold both special indices and records.
+    mixed_special_indices: bool,
 }
 
 #[derive(Serialize)]
@@ -852,6 +867,10 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
             Some(n) => Threads::Exactly(n),
             None => Threads::All,
         },
+        buffers: BuildOptions {
+            no_mixed_special_indices: p.flag("--no-mixed-special"),
+            ..BuildOptions::default()
+        },
         ..MeshOptions::default()
     };
     // The output's size before deduplication (an upper bound: maps that
@@ -904,7 +923,8 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     let jobs = input
         .jobs
         .iter()
-        .map(|job| {
+        .enumerate()
+        .map(|(g, job)| {
             let image = &input.images[job.image];
             let summary = JobSummary {
                 name: job.name.clone(),
@@ -924,11 +944,15 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
                 },
                 triangles: job.triangles.len(),
                 first_index,
+                geometry_usage_counts: crate::geometry_usage::to_json(buffers, g)?,
+                mixed_special_indices: buffers
+                    .is_mixed(g)
+                    .map_err(|e| Failure::Malformed(e.to_string()))?,
             };
             first_index += job.triangles.len();
-            summary
+            Ok(summary)
         })
-        .collect();
+        .collect::<Result<_, Failure>>()?;
     // The preview before the summary, which times it.
     let preview_started = Instant::now();
     let drawn = if preview {
@@ -1010,11 +1034,13 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     };
     let records = buffers.records_le_bytes();
     let usage = micromap_index::micromap::usage_counts_to_le_bytes(buffers.usage_counts());
+    let geometry_usage = crate::geometry_usage::to_le_bytes(buffers)?;
     let mut files: Vec<(String, &[u8])> = vec![
         ("micromap-data.bin".to_string(), buffers.data()),
         ("micromap-triangles.bin".to_string(), &records),
         ("micromap-indices.bin".to_string(), &indices),
         ("micromap-usage.bin".to_string(), &usage),
+        (crate::geometry_usage::FILE.to_string(), &geometry_usage),
         ("summary.json".to_string(), summary_json.as_bytes()),
     ];
     if let Some(png) = &preview_png {
@@ -1053,6 +1079,8 @@ struct ContradictionJson {
     texel_alpha: f64,
 }
 
+// A JSON report: its flags are separate answers, not a state machine.
+#[allow(clippy::struct_excessive_bools)]
 #[derive(Serialize)]
 struct VerifyJson {
     model: &'static str,
@@ -1070,6 +1098,8 @@ struct VerifyJson {
     first_contradictions: Vec<ContradictionJson>,
     /// Whether `micromap-usage.bin` was checked (not with `--no-usage`).
     usage_counts_checked: bool,
+    /// Whether `micromap-geometry-usage.bin` was there and checked.
+    geometry_usage_counts_checked: bool,
     /// Data after the last block (only accepted with `--lenient-layout`).
     trailing_data_bytes: u64,
     sound: bool,
@@ -1180,6 +1210,7 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
             job.triangles.len()
         )));
     }
+    let geometry_usage_checked = crate::geometry_usage::verify_in(&dir, &indices, &read.records)?;
     let image = &input.images[job.image];
     // The texture path has no alpha factor.
     let texture = image
@@ -1201,6 +1232,7 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
         contradictions: 0,
         first_contradictions: Vec::new(),
         usage_counts_checked: usage.is_some(),
+        geometry_usage_counts_checked: geometry_usage_checked,
         trailing_data_bytes,
         sound: true,
     };

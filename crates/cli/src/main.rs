@@ -29,6 +29,7 @@ mod args;
 mod bake_command;
 mod check_command;
 mod eval_command;
+mod geometry_usage;
 mod gltf_out;
 mod help;
 mod input;

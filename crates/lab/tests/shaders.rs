@@ -417,6 +417,7 @@ fn flat_lookup_on_maps(gpu: &Gpu, lang: Lang) {
             triangles.iter().copied(),
             BuildOptions {
                 uniform_to_special: false,
+                ..BuildOptions::default()
             },
         )
         .unwrap();

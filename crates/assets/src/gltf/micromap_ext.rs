@@ -270,6 +270,7 @@ impl Reader<'_, '_> {
                 overlap: Overlap::Forbid,
                 max_level: MAX_GLTF_LEVEL,
                 base_triangle: 0,
+                ..ReadOptions::default()
             },
         )
         .map_err(|e| AssetError::gltf(&entry.path, e.to_string()))?;

@@ -102,6 +102,7 @@ pub fn micromap_buffers(data: &[u8]) {
     };
     let mut builder = MicromapBuffersBuilder::new(BuildOptions {
         uniform_to_special: false,
+        ..BuildOptions::default()
     });
     let rebuilt = builder
         .add_geometry(triangles.iter().map(|&t| opacity(t)))
