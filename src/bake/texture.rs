@@ -1,5 +1,6 @@
 //! Alpha textures, the sampler model and the alpha cutoff.
 
+use alloc::vec::Vec;
 use core::fmt;
 
 /// An alpha texture the baker reads: `width x height` texels, row `y = 0`

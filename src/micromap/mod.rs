@@ -65,6 +65,7 @@
 
 #[cfg(feature = "alloc")]
 mod buffers;
+#[cfg(feature = "alloc")]
 mod khr_lossy;
 #[cfg(feature = "alloc")]
 mod map;
