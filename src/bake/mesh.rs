@@ -370,7 +370,7 @@ pub struct TriangleBake {
     pub level: crate::Level,
     /// How it went.
     pub status: TriangleStatus,
-    /// Micro-triangles per state, indexed by [`State::bits`], before a
+    /// Micro-triangles per state, indexed by [`State::bits`](crate::micromap::State::bits), before a
     /// 2-state format resolves the unknowns.
     pub counts: [u64; 4],
     /// Of the unknown ones, those the exact model knows
