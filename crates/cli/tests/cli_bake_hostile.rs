@@ -227,6 +227,7 @@ fn force_without_preview_removes_a_stale_preview() {
         listing(&out),
         [
             "micromap-data.bin",
+            "micromap-geometry-usage.bin",
             "micromap-indices.bin",
             "micromap-triangles.bin",
             "micromap-usage.bin",
@@ -296,7 +297,7 @@ fn ctrl_c_removes_temporaries_backups_and_the_lock() {
     let started = Instant::now();
     loop {
         let names = listing(&out);
-        if names.iter().filter(|n| is_backup(n)).count() == 6 {
+        if names.iter().filter(|n| is_backup(n)).count() == 7 {
             assert!(names.iter().any(|n| is_temporary(n)), "{names:?}");
             break;
         }
@@ -363,7 +364,7 @@ fn a_full_stdout_after_the_files_exits_3_with_the_files_complete() {
         .unwrap();
     assert_eq!(result.status.code(), Some(3), "{}", stderr(&result));
     assert!(stderr(&result).contains("writing stdout"));
-    assert_eq!(listing(&out).len(), 6);
+    assert_eq!(listing(&out).len(), 7);
     let help = run(&["bake", "--help"]);
     let help = String::from_utf8_lossy(&help.stdout)
         .split_whitespace()
