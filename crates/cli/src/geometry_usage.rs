@@ -146,9 +146,9 @@ pub(crate) fn check(
     ))
 }
 
-/// `verify-bake` on DIR: when DIR holds the file, it must hold one
-/// geometry (verify-bake checks one job) whose counts match `indices`.
-/// Returns whether the file was there.
+/// `verify-bake` on DIR: when DIR holds the file, its geometries' counts,
+/// summed (verify-bake reads the jobs' indices as one buffer, in order),
+/// must match `indices`. Returns whether the file was there.
 pub(crate) fn verify_in(
     dir: &Path,
     indices: &[MicromapIndex],
@@ -158,18 +158,13 @@ pub(crate) fn verify_in(
     if !path.exists() {
         return Ok(false);
     }
-    // One geometry of at most 26 entries is 316 bytes; a little more
-    // room so a wrong file is reported by what it holds.
+    // One geometry of at most 26 entries is 316 bytes; the limit leaves room
+    // for thousands, and a wrong file is reported by what it holds.
     let bytes = crate::bake_command::read_file(&path, 1 << 20, "per-geometry usage counts")?;
     let malformed = |message: String| Failure::Malformed(format!("{}: {message}", path.display()));
     let geometries = parse(&bytes).map_err(malformed)?;
-    let [usage] = geometries.as_slice() else {
-        return Err(malformed(format!(
-            "{} geometries; verify-bake checks one job's",
-            geometries.len()
-        )));
-    };
-    check(usage, indices, records).map_err(malformed)?;
+    let all: Vec<UsageCount> = geometries.iter().flatten().copied().collect();
+    check(&all, indices, records).map_err(malformed)?;
     Ok(true)
 }
 
