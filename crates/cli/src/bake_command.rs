@@ -225,7 +225,7 @@ pub(crate) static VERIFY_BAKE: Command = Command {
   (--lenient-layout accepts both). Each buffer file is read up to a limit
   named in its error (data 5 GiB, records and indices 1 GiB, usage counts
   1 MiB; --texture and --triangles 1 GiB). DIR/micromap-geometry-usage.bin,
-  when present, must hold one geometry whose counts match the indices.
+  when present, its geometries' counts, summed, must match the indices.
   With --gltf, the asset's own EXT_mesh_opacity_micromap micromaps (as bake
   --gltf-out writes them; the extension's rules checked first) against its
   MASK primitives' textures, samplers, cutoffs, alpha factors and vertex
