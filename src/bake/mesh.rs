@@ -49,7 +49,7 @@ use crate::micromap::{
     BufferError, BuildOptions, Format, MicromapBuffers, MicromapBuffersBuilder, MicromapIndex,
     UnknownPolicy,
 };
-use crate::succinct::{LevelOrderTree, PaperTree};
+use crate::succinct::packed_tree_sizes;
 use crate::Level;
 use alloc::borrow::Cow;
 use alloc::format;
@@ -330,9 +330,10 @@ pub struct BakeReport {
     /// Bytes of packed micromap data ([`MicromapBuffers::data`]).
     pub bytes_flat: usize,
     /// Bytes the distinct micromaps take as the paper's succinct trees
-    /// ([`PaperTree`]).
+    /// ([`PaperTree`](crate::succinct::PaperTree)).
     pub bytes_paper_tree: u64,
-    /// Bytes they take as level-order trees ([`LevelOrderTree`]).
+    /// Bytes they take as level-order trees
+    /// ([`LevelOrderTree`](crate::succinct::LevelOrderTree)).
     pub bytes_level_order_tree: u64,
     /// Unknown micro-triangles the exact model knows: the GPU model's
     /// widening cost ([`BakedTriangle::widened`]; 0 under the exact
@@ -775,10 +776,13 @@ pub fn bake_meshes(
             .count();
     }
     let (mut paper_bits, mut level_order_bits) = (0u64, 0u64);
-    for map in buffers.micromaps() {
-        if let Ok(tree) = PaperTree::from_micromap(&map) {
-            paper_bits += tree.total_bits();
-            level_order_bits += LevelOrderTree::from_paper(&tree).total_bits();
+    for record in 0..buffers.records().len() as u32 {
+        let sizes = buffers
+            .record_bytes(record)
+            .and_then(|(level, format, bytes)| packed_tree_sizes(level, format, bytes).ok());
+        if let Some(sizes) = sizes {
+            paper_bits += sizes.paper_bits;
+            level_order_bits += sizes.level_order_bits;
         }
     }
     // Levels 0..=12 (those DXR allows), more if used.

@@ -1047,13 +1047,20 @@ impl MicromapBuffers {
     /// ```
     #[must_use]
     pub fn micromap(&self, record: u32) -> Option<Micromap> {
+        let (level, format, bytes) = self.record_bytes(record)?;
+        Micromap::from_bytes(level, format, bytes).ok()
+    }
+
+    /// A record's level, format and packed data, borrowed (`None` as for
+    /// [`micromap`](Self::micromap)).
+    pub(crate) fn record_bytes(&self, record: u32) -> Option<(Level, Format, &[u8])> {
         let r = *self.records.get(record as usize)?;
         let (level, format) = record_shape(r)?;
         let start = r.data_offset as usize;
         let bytes = self
             .data
             .get(start..start + Micromap::byte_len(level, format))?;
-        Micromap::from_bytes(level, format, bytes).ok()
+        Some((level, format, bytes))
     }
 
     /// Copies of the micromaps of every record, in record order, made one

@@ -150,6 +150,17 @@ impl RankBits {
         64 * self.blocks.len() as u64
     }
 
+    /// Bits the directory of a `len`-bit vector takes (what
+    /// [`directory_bits`](Self::directory_bits) gives once it is built):
+    /// one entry per started block, none up to 128 bits.
+    pub(crate) fn directory_bits_for(len: u64) -> u64 {
+        if len > 128 {
+            64 * len.div_ceil(RANK_BLOCK_BITS as u64)
+        } else {
+            0
+        }
+    }
+
     /// Bit `p` and the number of ones before it (`rank1(p)`), from one
     /// directory entry and two words of one pair. `p` must be below
     /// `len()`; past the end the answer is `(false, count_ones())`.

@@ -83,6 +83,25 @@ const TOP_LEAF: u16 = 1 << 15;
 /// The top table's deepest depth: 16,384 entries, 32 KiB.
 const TOP_MAX_DEPTH: u32 = 7;
 
+/// The top table's depth for a tree of `internal_bits` internal/leaf bits
+/// (before [`clamped_top_depth`]): the deepest table (16 bits per entry)
+/// within 1/32 of the internal bits, which keeps the layout within 1.1x of
+/// the paper's bits.
+fn default_top_depth(internal_bits: u64) -> u32 {
+    let mut depth = 0;
+    while (16u64 << (2 * (depth + 1))) * 32 <= internal_bits {
+        depth += 1;
+    }
+    depth
+}
+
+/// A top table's depth as a tree of `level` can have it: at most
+/// `TOP_MAX_DEPTH`, and one below the map's level (the table covers only
+/// nodes that have a bit).
+fn clamped_top_depth(depth: u32, level: u32) -> u32 {
+    depth.min(TOP_MAX_DEPTH).min(level.saturating_sub(1))
+}
+
 /// The nodes of the depth below the `count` nodes from position `start`:
 /// they begin where those end, four per internal node among them (the
 /// positions must lie within the bits).
@@ -128,12 +147,7 @@ impl LevelOrderTree {
     /// The tree from its parts, with the default top table: the bits are
     /// a tree of `level` (checked by every caller).
     fn assemble(level: Level, format: Format, internal: RankBits, data: PackedStates) -> Self {
-        // The deepest table (16 bits per entry) within 1/32 of the internal
-        // bits, which keeps the layout within 1.1x of the paper's bits.
-        let mut depth = 0;
-        while (16u64 << (2 * (depth + 1))) * 32 <= internal.len() as u64 {
-            depth += 1;
-        }
+        let depth = default_top_depth(internal.len() as u64);
         LevelOrderTree {
             level,
             format,
@@ -144,6 +158,15 @@ impl LevelOrderTree {
             top: Vec::new(),
         }
         .with_top_depth(depth)
+    }
+
+    /// The bits of a tree's lookup directory (rank directory and default
+    /// top table) for a map of `level` with `internal_bits` internal/leaf
+    /// bits: [`directory_bits`](Self::directory_bits) without the tree.
+    pub(crate) fn directory_bits_for(level: u32, internal_bits: u64) -> u64 {
+        let top = clamped_top_depth(default_top_depth(internal_bits), level);
+        let entries = if top == 0 { 0 } else { 1u64 << (2 * top) };
+        RankBits::directory_bits_for(internal_bits) + 16 * entries
     }
 
     /// The same tree with a top table of depth `depth`: one read resolves
@@ -173,9 +196,7 @@ impl LevelOrderTree {
     /// ```
     #[must_use]
     pub fn with_top_depth(mut self, depth: u32) -> Self {
-        let depth = depth
-            .min(TOP_MAX_DEPTH)
-            .min(self.level.get().saturating_sub(1));
+        let depth = clamped_top_depth(depth, self.level.get());
         let (mut start, mut count) = (0usize, 1usize);
         for _ in 0..depth {
             (start, count) = next_depth(&self.internal, start, count);

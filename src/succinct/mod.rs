@@ -91,9 +91,12 @@ mod bytes;
 mod level_order;
 mod merge;
 mod paper;
+mod sizes;
 
 pub use level_order::LevelOrderTree;
 pub use paper::PaperTree;
+pub(crate) use sizes::packed_tree_sizes;
+pub use sizes::{tree_sizes, TreeSizes};
 
 use crate::micromap::{Format, Micromap, MicromapError, State};
 use crate::Level;
