@@ -298,6 +298,17 @@ fn floor_third(q: i128) -> i128 {
     }
 }
 
+/// Sets `count` states of `map` from `first`: one leaf (most calls) by
+/// [`Micromap::set`], a range by [`Micromap::fill`].
+#[inline]
+fn put(map: &mut Micromap, first: u64, count: u64, state: State) -> Result<(), MicromapError> {
+    if count == 1 {
+        map.set(first, state)
+    } else {
+        map.fill(first, count, state)
+    }
+}
+
 /// What the walk of [`Baker::bake`] carries from node to node: the level,
 /// the frames' shifts, the 2-state policy, the map and counts it fills,
 /// whether a micro-triangle ran out of budget, and the search's stack.
@@ -513,7 +524,8 @@ impl Baker {
     }
 
     /// The classes a placed micro-triangle samples: the bounding block
-    /// first (most micro-triangles end there), the exact search if mixed.
+    /// first (most micro-triangles end there), then the footprints of its
+    /// vertices and edge midpoints, then the exact search if still mixed.
     fn classify<C: GridInt>(
         &self,
         p: &Placed<C>,
@@ -525,7 +537,79 @@ impl Baker {
         if !quick.is_mixed() {
             return (quick, false, 1);
         }
-        let mut work = 1;
+        let (classes, exhausted, work) = self.classify_mixed_block(p, grid, bounding, true, stack);
+        (classes, exhausted, 1 + work)
+    }
+
+    /// A leaf of the walk: `(classes, exhausted, work, widened)` (see
+    /// [`classify_dilated_leaf`](Self::classify_dilated_leaf)).
+    fn classify_leaf<C: GridInt>(
+        &self,
+        p: &Placed<C>,
+        grid: Grid,
+        stack: &mut Vec<Block>,
+    ) -> (Classes, bool, u64, bool) {
+        if grid.margin == (None, None) {
+            let (classes, exhausted, work) = self.classify(p, grid, stack);
+            (classes, exhausted, work, false)
+        } else {
+            self.classify_dilated_leaf(p, grid, stack)
+        }
+    }
+
+    /// A leaf under a dilating grid (the GPU model), with the widening's
+    /// cost: `(classes, exhausted, work, widened)`, where `widened` says
+    /// the leaf is unknown here but known to the exact model on the same
+    /// grid. The exact model's region is inside the dilated one, so when
+    /// it already reads both classes the leaf is unknown under both and
+    /// the dilated search is skipped (most unknown leaves end there); only
+    /// the rest are classified under both models.
+    fn classify_dilated_leaf<C: GridInt>(
+        &self,
+        p: &Placed<C>,
+        grid: Grid,
+        stack: &mut Vec<Block>,
+    ) -> (Classes, bool, u64, bool) {
+        let bounding = self.bounding_block(p, grid);
+        let quick = self.classes.quick(bounding);
+        if !quick.is_mixed() {
+            return (quick, false, 1, false);
+        }
+        // The exact model's bounding block is inside this one, and mostly
+        // the same block (the margin is a small part of a texel): then it
+        // is mixed too, and is not read again.
+        let exact_grid = Grid::exact(grid.shifts);
+        let exact_bounding = self.bounding_block(p, exact_grid);
+        let (exact, exact_exhausted, exact_work) = if exact_bounding == bounding {
+            self.classify_mixed_block(p, exact_grid, exact_bounding, true, stack)
+        } else {
+            self.classify(p, exact_grid, stack)
+        };
+        if exact.is_mixed() && !exact_exhausted {
+            return (Classes::BOTH, false, 1 + exact_work, false);
+        }
+        // The points read there are the same here (undilated): skip them.
+        let (classes, exhausted, work) = self.classify_mixed_block(p, grid, bounding, false, stack);
+        let unknown = classes.opaque == classes.transparent;
+        let exact_known = exact.opaque != exact.transparent;
+        let widened = unknown && !exhausted && !exact_exhausted && exact_known;
+        (classes, exhausted, 1 + exact_work + work, widened)
+    }
+
+    /// [`classify`](Self::classify) of a micro-triangle whose bounding
+    /// block `bounding` holds both classes: the vertex and midpoint
+    /// footprints (when `points`), then the exact search. Returns the
+    /// classes, whether the search ran out of budget, and the work after
+    /// the bounding block.
+    fn classify_mixed_block<C: GridInt>(
+        &self,
+        p: &Placed<C>,
+        grid: Grid,
+        bounding: Block<C>,
+        points: bool,
+        stack: &mut Vec<Block>,
+    ) -> (Classes, bool, u64) {
+        let mut work = 0;
         // Every texel in the footprint of a vertex or an edge midpoint is
         // read (both are points of the closed micro-triangle): when these
         // already hold both classes the micro-triangle is mixed, with no
@@ -534,7 +618,7 @@ impl Baker {
         // is the search's. A midpoint `(a + b) / 2` is a grid point of the
         // twice finer grid (shift + 1).
         // (Points of the micro-triangle are points of its dilation too.)
-        if is_small(bounding) {
+        if points && is_small(bounding) {
             let (sx, sy) = grid.shifts;
             let mut sure = Classes::default();
             for k in 0..6 {
@@ -770,12 +854,13 @@ impl Baker {
         // Above the finest level only the bounding block is read: a mixed
         // block descends, and the children decide more cheaply than an
         // exact search over a large triangle would.
-        let (classes, out_of_budget, work) = if depth < n {
-            (self.quick_classes(&p, walk.grid), false, 1)
+        let (classes, out_of_budget, work, widened) = if depth < n {
+            (self.quick_classes(&p, walk.grid), false, 1, false)
         } else {
-            self.classify(&p, walk.grid, &mut walk.stack)
+            self.classify_leaf(&p, walk.grid, &mut walk.stack)
         };
         walk.work += work;
+        walk.widened += u64::from(widened);
         let known = match (classes.opaque, classes.transparent) {
             (true, false) => Some(State::Opaque),
             (false, true) => Some(State::Transparent),
@@ -784,7 +869,7 @@ impl Baker {
         if let Some(state) = known {
             let count = 1u64 << (2 * up);
             walk.counts[state.bits() as usize] += count;
-            walk.map.fill(index << (2 * up), count, state)?;
+            put(walk.map, index << (2 * up), count, state)?;
             return Ok(());
         }
         if depth < n {
@@ -798,15 +883,6 @@ impl Baker {
             return Ok(());
         }
         walk.exhausted |= out_of_budget;
-        // The widening's cost: would the exact model know it? The same
-        // points on the same grid, without the margin (only unknown
-        // leaves pay for this second classification).
-        if walk.grid.margin != (None, None) && !out_of_budget {
-            let exact = Grid::exact(walk.grid.shifts);
-            let (classes, exhausted, work) = self.classify(&p, exact, &mut walk.stack);
-            walk.work += work;
-            walk.widened += u64::from(!exhausted && classes.opaque != classes.transparent);
-        }
         self.set_unknown(walk, &p, index, 1)
     }
 
@@ -830,7 +906,7 @@ impl Baker {
             Format::FourState => state,
             Format::TwoState => walk.two_state.resolve(state),
         };
-        walk.map.fill(first, count, stored)?;
+        put(walk.map, first, count, stored)?;
         Ok(())
     }
 
