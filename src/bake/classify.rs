@@ -324,13 +324,21 @@ impl TexelClasses {
                     got: opaque.len() - start,
                 });
             }
+            // The row of sums, written to the table as it is made (one
+            // pass, no copy).
             let mut run = 0u32;
-            for (sum, &texel) in sums[1..].iter_mut().zip(&opaque[start..]) {
-                // Any byte but 0 is opaque, here and in `class_of`.
-                run += u32::from(texel != 0);
-                *sum += run;
-            }
-            prefix.extend_from_slice(&sums);
+            prefix.push(0);
+            prefix.extend(
+                sums[1..]
+                    .iter_mut()
+                    .zip(&opaque[start..])
+                    .map(|(sum, &texel)| {
+                        // Any byte but 0 is opaque, here and in `class_of`.
+                        run += u32::from(texel != 0);
+                        *sum += run;
+                        *sum
+                    }),
+            );
         }
         Ok(TexelClasses {
             width,
@@ -354,6 +362,27 @@ impl TexelClasses {
     /// range), from their opaque count.
     #[inline]
     fn rectangle_classes(&self, xr: (u32, u32), yr: (u32, u32)) -> Classes {
+        // A linear or nearest footprint of one point (2 x 2 texels at most):
+        // its class bytes, from two rows, not four prefix sums.
+        if xr.1 - xr.0 <= 1 && yr.1 - yr.0 <= 1 {
+            let w = self.width as usize;
+            let dx = (xr.1 - xr.0) as usize;
+            let (top, bottom) = (
+                yr.0 as usize * w + xr.0 as usize,
+                yr.1 as usize * w + xr.0 as usize,
+            );
+            let class = |i: usize| self.opaque[i] != 0;
+            let (a, b, c, d) = (
+                class(top),
+                class(top + dx),
+                class(bottom),
+                class(bottom + dx),
+            );
+            return Classes {
+                opaque: a | b | c | d,
+                transparent: !(a & b & c & d),
+            };
+        }
         let area = u64::from(xr.1 - xr.0 + 1) * u64::from(yr.1 - yr.0 + 1);
         let opaque = self.opaque_count(xr, yr);
         Classes {
