@@ -753,6 +753,44 @@ mod tests {
         assert!(met[0] > 100 && met[1] > 100, "{met:?}");
     }
 
+    /// Footprints of up to 2 x 2 texels (read from the class bytes) get
+    /// the classes the prefix sums give, everywhere on a random texture,
+    /// edges and corners included.
+    #[test]
+    fn small_footprints_read_what_the_prefix_sums_count() {
+        let mut rng = SplitMix64::new(0x2b2);
+        let (w, h) = (7u32, 5u32);
+        for round in 0..50 {
+            let texels: Vec<u8> = (0..w * h)
+                .map(|_| (rng.next_u64() % 3 * 127) as u8)
+                .collect();
+            let texture = Unorm8Texture::new(w, h, &texels).unwrap();
+            let classes =
+                TexelClasses::new(&texture, Sampler::default(), Cutoff::default()).unwrap();
+            for x0 in 0..w {
+                for y0 in 0..h {
+                    for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                        let (x1, y1) = (x0 + dx, y0 + dy);
+                        if x1 >= w || y1 >= h {
+                            continue;
+                        }
+                        let area = u64::from((dx + 1) * (dy + 1));
+                        let opaque = classes.opaque_count((x0, x1), (y0, y1));
+                        let counted = Classes {
+                            opaque: opaque > 0,
+                            transparent: opaque < area,
+                        };
+                        assert_eq!(
+                            classes.rectangle_classes((x0, x1), (y0, y1)),
+                            counted,
+                            "round {round}: [{x0}, {x1}] x [{y0}, {y1}]"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
     /// Every address mode's image of every short range equals the set of
     /// wrapped values, computed one coordinate at a time.
     #[test]
