@@ -80,7 +80,7 @@ fn main() -> ExitCode {
         ("check", options) => check_command::run(options).into(),
         ("tree", options) => tree_command::run(options).into(),
         ("bake", options) => bake_command::run_bake(options).into(),
-        ("verify-bake", options) => bake_command::run_verify(options).into(),
+        ("verify-bake", options) => bake_command::verify::run(options).into(),
         ("render", options) => render_command::run(options).into(),
         (moved, _) if help::MOVED.contains(&moved) => {
             output::report(help::moved_note(moved));

@@ -6,7 +6,7 @@
 //! picture with no contradicted candidate.
 
 use crate::args::{Command, Flag, Parsed};
-use crate::bake_command::{
+use crate::bake_command::inputs::{
     index_width, model_option, parse_level, read_file, read_input, sampler_flags, sampler_options,
     Input, DATA_FILE_LIMIT, RECORD_FILE_LIMIT,
 };
@@ -137,10 +137,7 @@ pub(crate) static RENDER: Command = Command {
 };
 
 pub(crate) fn run(options: &[&str]) -> Exit {
-    match render(options) {
-        Ok((text, exit)) => print_then(&text, exit),
-        Err(failure) => failure.exit(),
-    }
+    crate::output::finish(render(options).map(|(text, exit)| print_then(&text, exit)))
 }
 
 fn count(p: &Parsed<'_>, name: &str, default: u32, max: u32) -> Result<u32, Failure> {
