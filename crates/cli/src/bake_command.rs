@@ -10,11 +10,10 @@ pub(crate) mod inputs;
 mod summary;
 pub(crate) mod verify;
 
-use crate::args::Parsed;
-use crate::args::{Command, Flag};
+use crate::args::{Command, Flag, Parsed};
 use crate::output::{print_then, report, Exit, Failure};
 use crate::write_all_or_nothing::{install_interrupt_handler, Destination, Refusal};
-use inputs::{index_width, model_option, parse_level, read_input, sampler_flags, sampler_options};
+use inputs::{flags, index_width, model_option, parse_level, read_input, sampler_options};
 use micromap_index::bake::mesh::{
     bake_meshes, output_bytes_bound, LevelRule, MeshBakeError, MeshOptions, Mips,
 };
@@ -68,92 +67,81 @@ pub(crate) static BAKE: Command = Command {
   written (DIR complete); 130 interrupted (nothing written); 141 stdout
   closed (DIR complete).",
     flags: &{
-        const SAMPLER: [Flag; 8] = sampler_flags!();
-        [
-            Flag::value(
-                "--gltf",
-                "ASSET",
-                "a glTF 2.0 asset (.gltf or .glb): its MASK primitives",
-            ),
-            Flag::value(
-                "--gltf-out",
-                "NAME",
-                "NAME.gltf or NAME.glb: also write the asset back into DIR with
+        const GROUPS: &[&[Flag]] = &[
+            &[
+                flags::GLTF,
+                Flag::value(
+                    "--gltf-out",
+                    "NAME",
+                    "NAME.gltf or NAME.glb: also write the asset back into DIR with
                          the micromaps (its own samplers and cutoffs only)",
-            ),
-            Flag::value("--texture", "T.png", "an alpha texture (PNG or JPEG)"),
-            Flag::value("--triangles", "TRIS.json", "UV triangles over --texture"),
-            Flag::value("--out", "DIR", "the output directory"),
-            Flag::value(
-                "--level",
-                "L|auto",
-                "fixed level 0..=12, or the paper's eq. 1 per triangle (default auto)",
-            ),
-            Flag::value("--max-level", "L", "cap for auto (default 12)"),
-            Flag::value(
-                "--budget",
-                "BYTES",
-                "auto: lower the highest levels until the data fits",
-            ),
-            Flag::value("--format", "2|4", "micromap format (default 4)"),
-            Flag::value(
-                "--unknown-as",
-                "U",
-                "2-state: what unknowns become: fallback (default: the texel under
+                ),
+                flags::TEXTURE,
+                flags::TRIANGLES,
+                flags::OUT,
+                Flag::value(
+                    "--level",
+                    "L|auto",
+                    "fixed level 0..=12, or the paper's eq. 1 per triangle (default auto)",
+                ),
+                flags::MAX_LEVEL,
+                Flag::value(
+                    "--budget",
+                    "BYTES",
+                    "auto: lower the highest levels until the data fits",
+                ),
+                Flag::value("--format", "2|4", "micromap format (default 4)"),
+                Flag::value(
+                    "--unknown-as",
+                    "U",
+                    "2-state: what unknowns become: fallback (default: the texel under
                          the micro-triangle's centroid), opaque or transparent",
-            ),
-            SAMPLER[0],
-            SAMPLER[1],
-            SAMPLER[2],
-            SAMPLER[3],
-            SAMPLER[4],
-            SAMPLER[5],
-            SAMPLER[6],
-            SAMPLER[7],
-            Flag::value(
-                "--mips",
-                "0|N|all",
-                "the mip levels known states hold for: 0 (default: level 0, which ray
+                ),
+            ],
+            &flags::SAMPLER,
+            &[
+                Flag::value(
+                    "--mips",
+                    "0|N|all",
+                    "the mip levels known states hold for: 0 (default: level 0, which ray
                          tracing shaders sample), 0..=N or all, each level the box filter of
                          the one above, under either filter (docs/bake.md)",
-            ),
-            Flag::value(
-                "--index-width",
-                "8|16|32",
-                "micromap-indices.bin width (default 32; 8: Vulkan KHR, DXR, glTF only)",
-            ),
-            Flag::value(
-                "--max-bytes",
-                "N",
-                "refuse (exit 2) before baking when the output may exceed N bytes
+                ),
+                flags::INDEX_WIDTH,
+                Flag::value(
+                    "--max-bytes",
+                    "N",
+                    "refuse (exit 2) before baking when the output may exceed N bytes
                          (default 1073741824; the estimate counts every map before dedup)",
-            ),
-            Flag::value(
-                "--work-budget",
-                "N",
-                "work units (texel-table lookups) one triangle may spend; the rest
+                ),
+                Flag::value(
+                    "--work-budget",
+                    "N",
+                    "work units (texel-table lookups) one triangle may spend; the rest
                          is unknown (default 67108864)",
-            ),
-            Flag::value(
-                "--bake-work-budget",
-                "N",
-                "work units all triangles may spend together (default 17179869184)",
-            ),
-            Flag::value(
-                "--threads",
-                "N",
-                "threads to bake on (default: every core; 1: serial); the bytes are
+                ),
+                Flag::value(
+                    "--bake-work-budget",
+                    "N",
+                    "work units all triangles may spend together (default 17179869184)",
+                ),
+                Flag::value(
+                    "--threads",
+                    "N",
+                    "threads to bake on (default: every core; 1: serial); the bytes are
                          the same for every N",
-            ),
-            Flag::switch(
-                "--no-mixed-special",
-                "no job mixes special indices with records: shared level-0 records
+                ),
+                Flag::switch(
+                    "--no-mixed-special",
+                    "no job mixes special indices with records: shared level-0 records
                          instead (Vulkan KHR no-mixed pipelines)",
-            ),
-            Flag::switch("--force", "replace existing files in DIR"),
-            Flag::switch("--no-preview", "skip preview.png"),
-            Flag::switch("--quiet", "no progress on stderr"),
-        ]
+                ),
+                flags::FORCE,
+                Flag::switch("--no-preview", "skip preview.png"),
+                Flag::switch("--quiet", "no progress on stderr"),
+            ],
+        ];
+        crate::args::concat::<{ crate::args::total(GROUPS) }>(GROUPS)
     },
 };
 

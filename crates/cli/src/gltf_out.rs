@@ -4,6 +4,7 @@
 //! own textures and materials, by `bake::mesh::verify_mesh`).
 
 use crate::args::Parsed;
+use crate::bake_command::inputs::flags;
 use crate::output::{Exit, Failure};
 use micromap_index::bake::mesh::{verify_mesh, Mesh, MeshTriangles};
 use micromap_index::bake::Model;
@@ -15,18 +16,6 @@ use micromap_index_assets::{
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Component, Path, PathBuf};
-
-/// The sampler and cutoff flags, which would bake (or check) micromaps for
-/// another sampling than the one the asset's renderer does.
-const OVERRIDES: [&str; 7] = [
-    "--filter",
-    "--address",
-    "--address-u",
-    "--address-v",
-    "--border",
-    "--cutoff",
-    "--opaque-above",
-];
 
 /// `--gltf-out NAME`: the file name and its container, checked.
 pub(crate) struct GltfOut {
@@ -125,9 +114,15 @@ impl GltfOut {
     }
 }
 
-/// Sampler and cutoff flags are refused with `what`.
+/// The sampler and cutoff flags (every sampler flag but `--model`) are
+/// refused with `what`: they would bake (or check) micromaps for another
+/// sampling than the one the asset's renderer does.
 fn refuse_overrides(p: &Parsed<'_>, what: &str) -> Result<(), Failure> {
-    if let Some(flag) = OVERRIDES.iter().find(|f| p.get(f).is_some() || p.flag(f)) {
+    let mut overrides = flags::SAMPLER
+        .iter()
+        .map(|flag| flag.name)
+        .filter(|&name| name != "--model");
+    if let Some(flag) = overrides.find(|f| p.get(f).is_some() || p.flag(f)) {
         return Err(Failure::Usage(format!(
             "{flag} with {what}: the micromaps must match the asset's own samplers and \
              alphaCutoff, which the renderer uses"

@@ -3,8 +3,8 @@
 //! checked against the texture under the sampler model.
 
 use super::inputs::{
-    index_width, model_option, read_file, read_input, sampler_flags, sampler_options,
-    DATA_FILE_LIMIT, RECORD_FILE_LIMIT,
+    flags, index_width, model_option, read_file, read_input, sampler_options, DATA_FILE_LIMIT,
+    RECORD_FILE_LIMIT,
 };
 use crate::args::{Command, Flag};
 use crate::output::{print_then, Exit, Failure};
@@ -50,53 +50,46 @@ pub(crate) static VERIFY_BAKE: Command = Command {
   malformed buffers (a layout error, a file over its limit); 3 unreadable
   input.",
     flags: &{
-        const SAMPLER: [Flag; 8] = sampler_flags!();
-        [
-            Flag::value("--texture", "T.png", "the alpha texture (PNG or JPEG)"),
-            Flag::value(
-                "--triangles",
-                "TRIS.json",
-                "the UV triangles the micromaps are for",
-            ),
-            Flag::value("--micromaps", "DIR", "the buffers, in bake's layout"),
-            Flag::value(
-                "--gltf",
-                "ASSET",
-                "a glTF with EXT_mesh_opacity_micromap, checked against itself",
-            ),
-            SAMPLER[0],
-            SAMPLER[1],
-            SAMPLER[2],
-            SAMPLER[3],
-            SAMPLER[4],
-            SAMPLER[5],
-            SAMPLER[6],
-            SAMPLER[7],
-            Flag::value(
-                "--index-width",
-                "8|16|32",
-                "micromap-indices.bin width (default 32; 8: Vulkan KHR, DXR, glTF only)",
-            ),
-            Flag::switch("--json", "the report as JSON"),
-            Flag::value(
-                "--max-report",
-                "N",
-                "contradictions kept and listed (default 20)",
-            ),
-            Flag::value(
-                "--max-checks",
-                "N",
-                "known micro-triangles checked at most (default: all)",
-            ),
-            Flag::switch(
-                "--no-usage",
-                "no micromap-usage.bin to check (other bakers' outputs)",
-            ),
-            Flag::switch(
-                "--lenient-layout",
-                "accept overlapping blocks and trailing data",
-            ),
-        ]
+        const GROUPS: &[&[Flag]] = &[
+            &[
+                Flag::value("--texture", "T.png", "the alpha texture (PNG or JPEG)"),
+                Flag::value(
+                    "--triangles",
+                    "TRIS.json",
+                    "the UV triangles the micromaps are for",
+                ),
+                Flag::value("--micromaps", "DIR", "the buffers, in bake's layout"),
+                Flag::value(
+                    "--gltf",
+                    "ASSET",
+                    "a glTF with EXT_mesh_opacity_micromap, checked against itself",
+                ),
+            ],
+            &flags::SAMPLER,
+            &[
+                flags::INDEX_WIDTH,
+                Flag::switch("--json", "the report as JSON"),
+                Flag::value(
+                    "--max-report",
+                    "N",
+                    "contradictions kept and listed (default 20)",
+                ),
+                Flag::value(
+                    "--max-checks",
+                    "N",
+                    "known micro-triangles checked at most (default: all)",
+                ),
+                Flag::switch(
+                    "--no-usage",
+                    "no micromap-usage.bin to check (other bakers' outputs)",
+                ),
+                Flag::switch(
+                    "--lenient-layout",
+                    "accept overlapping blocks and trailing data",
+                ),
+            ],
+        ];
+        crate::args::concat::<{ crate::args::total(GROUPS) }>(GROUPS)
     },
 };
 
