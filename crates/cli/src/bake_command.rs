@@ -13,7 +13,9 @@ pub(crate) mod verify;
 use crate::args::{Command, Flag, Parsed};
 use crate::output::{print_then, report, Exit, Failure};
 use crate::write_all_or_nothing::{install_interrupt_handler, Destination, Refusal};
-use inputs::{flags, index_width, model_option, parse_level, read_input, sampler_options};
+use inputs::{
+    flags, format_option, index_width, model_option, parse_level, read_input, sampler_options,
+};
 use micromap_index::bake::mesh::{
     bake_meshes, output_bytes_bound, LevelRule, MeshBakeError, MeshOptions, Mips,
 };
@@ -185,15 +187,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         p.get("--out")
             .ok_or_else(|| Failure::Usage("bake needs --out DIR".into()))?,
     );
-    let format = match p.get("--format").unwrap_or("4") {
-        "4" => Format::FourState,
-        "2" => Format::TwoState,
-        other => {
-            return Err(Failure::Malformed(format!(
-                "--format {other:?}: expected 2 or 4"
-            )))
-        }
-    };
+    let format = format_option(&p)?;
     let two_state = match p.get("--unknown-as").unwrap_or("fallback") {
         "fallback" => UnknownPolicy::Fallback,
         "opaque" => UnknownPolicy::Opaque,

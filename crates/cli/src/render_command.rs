@@ -7,14 +7,13 @@
 
 use crate::args::{Command, Flag, Parsed};
 use crate::bake_command::inputs::{
-    flags, index_width, model_option, parse_level, read_file, read_input, sampler_options, Input,
-    DATA_FILE_LIMIT, RECORD_FILE_LIMIT,
+    flags, format_option, index_width, model_option, parse_level, read_buffer_files, read_input,
+    sampler_options, Input,
 };
 use crate::output::{print_then, report, Exit, Failure};
 use crate::preview::encode_rgb;
 use crate::write_all_or_nothing::{Destination, Refusal};
 use micromap_index::bake::mesh::{bake_meshes, LevelRule, MeshOptions};
-use micromap_index::micromap::Format;
 use micromap_index_render::{
     classify, Camera, Classified, Faults, Frame, Method, Micromaps, RenderError, Renderer, Scene,
     SceneMesh, SceneTexture, Tracer,
@@ -309,34 +308,12 @@ fn micromaps(p: &Parsed<'_>, input: &Input) -> Result<(Micromaps, String), Failu
             }
         }
         let dir = PathBuf::from(dir);
-        let data = read_file(
-            &dir.join("micromap-data.bin"),
-            DATA_FILE_LIMIT,
-            "micromap data",
-        )?;
-        let records = read_file(
-            &dir.join("micromap-triangles.bin"),
-            RECORD_FILE_LIMIT,
-            "triangle records",
-        )?;
-        let indices = read_file(
-            &dir.join("micromap-indices.bin"),
-            RECORD_FILE_LIMIT,
-            "indices",
-        )?;
-        let maps = Micromaps::from_bytes(data, records, indices, index_width(p)?)
+        let files = read_buffer_files(&dir)?;
+        let maps = Micromaps::from_bytes(files.data, files.records, files.indices, index_width(p)?)
             .map_err(|e| Failure::Malformed(format!("{}: {e}", dir.display())))?;
         return Ok((maps, dir.display().to_string()));
     }
-    let format = match p.get("--format").unwrap_or("4") {
-        "4" => Format::FourState,
-        "2" => Format::TwoState,
-        other => {
-            return Err(Failure::Malformed(format!(
-                "--format {other:?}: expected 2 or 4"
-            )))
-        }
-    };
+    let format = format_option(p)?;
     let max = parse_level("--max-level", p.get("--max-level").unwrap_or("12"))?;
     let levels = match p.get("--level").unwrap_or("auto") {
         "auto" => LevelRule::Useful { max },

@@ -6,7 +6,7 @@ use crate::args::Parsed;
 use crate::output::Failure;
 use micromap_index::bake::mesh::{Material, Mesh, MeshTriangles};
 use micromap_index::bake::{AddressMode, Comparison, Cutoff, Filter, Model, Sampler, UvTriangle};
-use micromap_index::micromap::IndexWidth;
+use micromap_index::micromap::{Format, IndexWidth};
 use micromap_index::Level;
 use micromap_index_assets::{
     decode_alpha_image, read_gltf_file, read_triangles_json, AlphaImage, AssetError, ImageTexture,
@@ -252,7 +252,7 @@ const INPUT_FILE_LIMIT: u64 = 1 << 30;
 pub(crate) const DATA_FILE_LIMIT: u64 = (1 << 32) + (1 << 30);
 /// The most bytes `micromap-triangles.bin` and `micromap-indices.bin` may
 /// hold (2^27 records or 2^28 32-bit indices).
-pub(crate) const RECORD_FILE_LIMIT: u64 = 1 << 30;
+const RECORD_FILE_LIMIT: u64 = 1 << 30;
 
 /// `path`'s bytes, refused past `limit` bytes (read at most `limit + 1`, so
 /// `/dev/zero` or an endless pipe cannot exhaust memory): exit 2 with a
@@ -281,6 +281,49 @@ pub(crate) fn read_file(path: &Path, limit: u64, what: &str) -> Result<Vec<u8>, 
         return Err(too_large());
     }
     Ok(bytes)
+}
+
+/// The buffer files in bake's layout, each read under its limit.
+pub(crate) struct BufferFiles {
+    /// `micromap-data.bin`.
+    pub(crate) data: Vec<u8>,
+    /// `micromap-triangles.bin`.
+    pub(crate) records: Vec<u8>,
+    /// `micromap-indices.bin`.
+    pub(crate) indices: Vec<u8>,
+}
+
+/// `dir`'s data, records and indices (in that order: the first that
+/// fails is reported), as [`read_file`] reads each.
+pub(crate) fn read_buffer_files(dir: &Path) -> Result<BufferFiles, Failure> {
+    Ok(BufferFiles {
+        data: read_file(
+            &dir.join("micromap-data.bin"),
+            DATA_FILE_LIMIT,
+            "micromap data",
+        )?,
+        records: read_file(
+            &dir.join("micromap-triangles.bin"),
+            RECORD_FILE_LIMIT,
+            "triangle records",
+        )?,
+        indices: read_file(
+            &dir.join("micromap-indices.bin"),
+            RECORD_FILE_LIMIT,
+            "indices",
+        )?,
+    })
+}
+
+/// `--format` (default 4).
+pub(crate) fn format_option(p: &Parsed<'_>) -> Result<Format, Failure> {
+    match p.get("--format").unwrap_or("4") {
+        "4" => Ok(Format::FourState),
+        "2" => Ok(Format::TwoState),
+        other => Err(Failure::Malformed(format!(
+            "--format {other:?}: expected 2 or 4"
+        ))),
+    }
 }
 
 /// `--model` (default gpu-binary32).

@@ -3,8 +3,8 @@
 //! checked against the texture under the sampler model.
 
 use super::inputs::{
-    flags, index_width, model_option, read_file, read_input, sampler_options, DATA_FILE_LIMIT,
-    RECORD_FILE_LIMIT,
+    flags, index_width, model_option, read_buffer_files, read_file, read_input, sampler_options,
+    BufferFiles, DATA_FILE_LIMIT,
 };
 use crate::args::{Command, Flag};
 use crate::output::{print_then, Exit, Failure};
@@ -171,21 +171,11 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
     let s = sampler_options(&p)?;
     let input = read_input(&p, &s)?;
     let job = &input.jobs[0];
-    let data = read_file(
-        &dir.join("micromap-data.bin"),
-        DATA_FILE_LIMIT,
-        "micromap data",
-    )?;
-    let records = read_file(
-        &dir.join("micromap-triangles.bin"),
-        RECORD_FILE_LIMIT,
-        "triangle records",
-    )?;
-    let index_bytes = read_file(
-        &dir.join("micromap-indices.bin"),
-        RECORD_FILE_LIMIT,
-        "indices",
-    )?;
+    let BufferFiles {
+        data,
+        records,
+        indices: index_bytes,
+    } = read_buffer_files(&dir)?;
     let lenient = p.flag("--lenient-layout");
     let usage_path = dir.join("micromap-usage.bin");
     let usage = if p.flag("--no-usage") {
