@@ -5,6 +5,7 @@
 
 use crate::args::Parsed;
 use crate::bake_command::inputs::flags;
+use crate::bake_command::verify::{verdict, witness_and_texel, witness_texel_space};
 use crate::output::{Exit, Failure};
 use micromap_index::bake::mesh::{verify_mesh, Mesh, MeshTriangles};
 use micromap_index::bake::Model;
@@ -312,9 +313,7 @@ pub(crate) fn verify_gltf(
                         triangle: t,
                         micro_triangle: c.micro_triangle,
                         state: c.state.to_string(),
-                        witness_texel_space: c
-                            .witness
-                            .map(|w| [(w.x.to_string(), w.shift_x), (w.y.to_string(), w.shift_y)]),
+                        witness_texel_space: witness_texel_space(c.witness),
                         texel: c.texel.map(|(x, y)| [x, y]),
                     });
                 }
@@ -370,13 +369,7 @@ pub(crate) fn verify_gltf(
 }
 
 fn render_text(report: &GltfVerifyReport) -> String {
-    let verdict = if report.sound {
-        "sound"
-    } else if report.contradictions == 0 {
-        "INCOMPLETE"
-    } else {
-        "NOT SOUND"
-    };
+    let verdict = verdict(report.sound, report.contradictions);
     let with = report.primitives.iter().filter(|p| p.has_micromaps).count();
     let known: u64 = report
         .primitives
@@ -409,14 +402,7 @@ fn render_text(report: &GltfVerifyReport) -> String {
     }
     let _ = writeln!(text, "contradictions: {}", report.contradictions);
     for c in &report.first_contradictions {
-        let witness = match &c.witness_texel_space {
-            Some([(x, sx), (y, sy)]) => format!("texel-space point ({x}/2^{sx}, {y}/2^{sy})"),
-            None => "no exact point (block search)".into(),
-        };
-        let texel = match c.texel {
-            Some([x, y]) => format!("texel ({x}, {y})"),
-            None => "the border".into(),
-        };
+        let (witness, texel) = witness_and_texel(c.witness_texel_space.as_ref(), c.texel);
         let _ = writeln!(
             text,
             "  mesh {} primitive {} triangle {} micro-triangle {} is {} but {witness} reads {texel}",

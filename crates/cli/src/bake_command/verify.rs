@@ -8,7 +8,7 @@ use super::inputs::{
 };
 use crate::args::{Command, Flag};
 use crate::output::{print_then, Exit, Failure};
-use micromap_index::bake::{AlphaTexture, Baker};
+use micromap_index::bake::{AlphaTexture, Baker, TexelPoint};
 use micromap_index::micromap::{
     read_buffers, BufferBytes, MicromapIndex, ReadOptions, TriangleOpacity,
 };
@@ -277,9 +277,7 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
                 triangle: t,
                 micro_triangle: c.micro_triangle,
                 state: c.state.to_string(),
-                witness_texel_space: c
-                    .witness
-                    .map(|w| [(w.x.to_string(), w.shift_x), (w.y.to_string(), w.shift_y)]),
+                witness_texel_space: witness_texel_space(c.witness),
                 witness_uv: c.witness.map(|w| {
                     let (u, v) = w.uv_f64(image.width, image.height);
                     [u, v]
@@ -312,13 +310,7 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
     } else {
         let mut text = format!(
             "{}: {} triangles ({} checked), {} known and {} unknown micro-triangles (unknown fraction {:.4}), {} undecided\n",
-            if out.sound {
-                "sound"
-            } else if out.contradictions == 0 {
-                "INCOMPLETE"
-            } else {
-                "NOT SOUND"
-            },
+            verdict(out.sound, out.contradictions),
             out.triangles,
             out.triangles_checked,
             out.known_micro_triangles,
@@ -335,18 +327,10 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
         }
         let _ = writeln!(text, "contradictions: {}", out.contradictions);
         for c in &out.first_contradictions {
-            let witness = match &c.witness_texel_space {
-                Some([(x, sx), (y, sy)]) => format!(
-                    "texel-space point ({x}/2^{sx}, {y}/2^{sy}) = uv ({:.9}, {:.9})",
-                    c.witness_uv.unwrap_or_default()[0],
-                    c.witness_uv.unwrap_or_default()[1]
-                ),
-                None => "no exact point (block search)".into(),
-            };
-            let texel = match c.texel {
-                Some([x, y]) => format!("texel ({x}, {y})"),
-                None => "the border".into(),
-            };
+            let (mut witness, texel) = witness_and_texel(c.witness_texel_space.as_ref(), c.texel);
+            if let Some([u, v]) = c.witness_uv {
+                let _ = write!(witness, " = uv ({u:.9}, {v:.9})");
+            }
             let _ = writeln!(
                 text,
                 "  triangle {} micro-triangle {} is {} but {witness} reads {texel} with alpha {}",
@@ -356,4 +340,39 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
         text
     };
     Ok((text, exit))
+}
+
+/// The verdict's word: `sound`, `INCOMPLETE` (nothing contradicted, but not
+/// everything checked) or `NOT SOUND`.
+pub(crate) fn verdict(sound: bool, contradictions: u64) -> &'static str {
+    if sound {
+        "sound"
+    } else if contradictions == 0 {
+        "INCOMPLETE"
+    } else {
+        "NOT SOUND"
+    }
+}
+
+/// A contradiction's exact witness in texel space, as the JSON reports give
+/// it: (numerator, log2 denominator) per axis.
+pub(crate) fn witness_texel_space(witness: Option<TexelPoint>) -> Option<[(String, u32); 2]> {
+    witness.map(|w| [(w.x.to_string(), w.shift_x), (w.y.to_string(), w.shift_y)])
+}
+
+/// A contradiction's witness (as [`witness_texel_space`] gives it) and
+/// texel, as the text reports name them.
+pub(crate) fn witness_and_texel(
+    witness: Option<&[(String, u32); 2]>,
+    texel: Option<[u32; 2]>,
+) -> (String, String) {
+    let witness = match witness {
+        Some([(x, sx), (y, sy)]) => format!("texel-space point ({x}/2^{sx}, {y}/2^{sy})"),
+        None => "no exact point (block search)".into(),
+    };
+    let texel = match texel {
+        Some([x, y]) => format!("texel ({x}, {y})"),
+        None => "the border".into(),
+    };
+    (witness, texel)
 }
