@@ -12,6 +12,7 @@ pub(crate) mod verify;
 
 use crate::args::{Command, Flag, Parsed};
 use crate::output::{print_then, report, Exit, Failure};
+use crate::progress::{clear_on_interrupt, Progress};
 use crate::write_all_or_nothing::{install_interrupt_handler, Destination, Refusal};
 use inputs::{
     flags, format_option, index_width, model_option, parse_level, read_input, sampler_options,
@@ -21,7 +22,6 @@ use micromap_index::bake::mesh::{
 };
 use micromap_index::bake::{Threads, DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET};
 use micromap_index::micromap::{BuildOptions, Format, UnknownPolicy};
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use summary::{StateCounts, StatusCounts, Summary, Widening};
@@ -250,7 +250,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         .unwrap_or_default();
     let mut outputs = OUTPUTS.to_vec();
     outputs.extend(gltf_names.iter().map(String::as_str));
-    if let Err(message) = install_interrupt_handler() {
+    if let Err(message) = install_interrupt_handler(clear_on_interrupt) {
         report(format_args!(
             "bake: {message}; Ctrl-C may leave temporaries"
         ));
@@ -305,28 +305,20 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     let threads_used = threads.unwrap_or_else(|| {
         std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
     });
-    let show_progress = !p.flag("--quiet") && std::io::stderr().is_terminal();
-    let mut progress = |done: usize, total: usize| {
-        // Called once per chunk of the bake (about 2^22 micro-triangles
-        // per thread), so every call is printed.
-        if show_progress {
-            crate::output::to_stderr(format_args!(
-                "\rbaking: {done}/{total} triangles ({}%)",
-                done * 100 / total.max(1)
-            ));
-        }
-    };
+    let total = input.jobs.iter().map(|job| job.triangles.len()).sum();
+    let progress = Progress::on_stderr("baking", "triangles", total, p.flag("--quiet"));
     let started = Instant::now();
-    let baked = bake_meshes(&meshes, &options, &mut progress).map_err(|e| match e {
+    let baked = bake_meshes(&meshes, &options, &mut |done, total| {
+        progress.update(done, total);
+    })
+    .map_err(|e| match e {
         MeshBakeError::Texture { mesh, error } => {
             Failure::Malformed(format!("{}: {error}", input.jobs[mesh].name))
         }
         other => Failure::Malformed(other.to_string()),
     })?;
     let bake_seconds = started.elapsed().as_secs_f64();
-    if show_progress {
-        crate::output::to_stderr("\n");
-    }
+    progress.finish();
     let (buffers, report) = (&baked.buffers, &baked.report);
     let mut indices = Vec::new();
     for g in 0..buffers.geometry_count() {
@@ -340,9 +332,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     // The preview before the summary, which times it.
     let preview_started = Instant::now();
     let drawn = if preview {
-        if show_progress {
-            crate::output::to_stderr("drawing preview.png\n");
-        }
+        progress.note("drawing preview.png");
         Some(
             crate::preview::render(
                 &input.images,
