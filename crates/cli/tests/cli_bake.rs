@@ -492,25 +492,16 @@ fn mips_option_names_its_rule_and_knows_less_per_level() {
 /// escape codes and no partial lines.
 #[test]
 fn a_bake_through_a_pipe_writes_nothing_to_stderr() {
-    let dir = scratch("pipe");
-    std::fs::create_dir_all(&dir).unwrap();
-    let tris = dir.join("tris.json");
-    write(
-        &tris,
-        r#"{"triangles": [[[0, 0], [1, 0], [0, 1]], [[1, 0], [1, 1], [0, 1]]]}"#,
-    );
-    let out = dir.join("out");
-    let texture = format!("{ASSETS}/chain.png");
+    let out = scratch("pipe");
+    let asset = format!("{ASSETS}/cards.glb");
     let result = run(&[
         "bake",
-        "--texture",
-        &texture,
-        "--triangles",
-        tris.to_str().unwrap(),
+        "--gltf",
+        &asset,
         "--out",
         out.to_str().unwrap(),
         "--level",
-        "4",
+        "3",
     ]);
     assert_eq!(
         result.status.code(),
@@ -522,5 +513,5 @@ fn a_bake_through_a_pipe_writes_nothing_to_stderr() {
     // The whole bake ran, the preview step included.
     assert!(!result.stdout.is_empty());
     assert!(out.join("preview.png").is_file());
-    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(&out);
 }
