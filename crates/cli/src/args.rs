@@ -107,6 +107,39 @@ pub(crate) struct Command {
     pub(crate) flags: &'static [Flag],
 }
 
+/// How many flags `groups` hold together: the length of their [`concat`].
+#[allow(dead_code)] // used by micromap-index's bake, verify-bake and render
+pub(crate) const fn total(groups: &[&[Flag]]) -> usize {
+    let (mut total, mut g) = (0, 0);
+    while g < groups.len() {
+        total += groups[g].len();
+        g += 1;
+    }
+    total
+}
+
+/// The flags of `groups`, in order, as one table: a command's table made of
+/// groups of flags it shares with other commands (each flag still defined
+/// once): `flags: &concat::<{ total(GROUPS) }>(GROUPS)`. `N` must be
+/// [`total`]`(groups)` (checked when the table is evaluated, at compile
+/// time for a `static`).
+#[allow(dead_code)] // used by micromap-index's bake, verify-bake and render
+pub(crate) const fn concat<const N: usize>(groups: &[&[Flag]]) -> [Flag; N] {
+    assert!(total(groups) == N, "N is the groups' total");
+    let mut table = [Flag::switch("", ""); N];
+    let (mut n, mut g) = (0, 0);
+    while g < groups.len() {
+        let mut i = 0;
+        while i < groups[g].len() {
+            table[n] = groups[g][i];
+            n += 1;
+            i += 1;
+        }
+        g += 1;
+    }
+    table
+}
+
 /// Why a command line does not fit its table.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub(crate) enum ArgError<'a> {
@@ -344,6 +377,17 @@ mod tests {
             DEMO.parse(&["--level", "-1"]).unwrap().get("--level"),
             Some("-1")
         );
+    }
+
+    #[test]
+    fn concatenates_groups_in_order() {
+        const SHARED: [Flag; 2] = [Flag::switch("--a", "a"), Flag::switch("--b", "b")];
+        const LEVEL: Flag = Flag::value("--level", "L", "the level");
+        const GROUPS: &[&[Flag]] = &[&[Flag::switch("--x", "x")], &SHARED, &[], &[LEVEL]];
+        let table: [Flag; total(GROUPS)] = concat(GROUPS);
+        let names: Vec<&str> = table.iter().map(|flag| flag.name).collect();
+        assert_eq!(names, ["--x", "--a", "--b", "--level"]);
+        assert_eq!(table[3], LEVEL);
     }
 
     #[test]

@@ -160,7 +160,8 @@ pub(crate) fn verify_in(
     }
     // One geometry of at most 26 entries is 316 bytes; the limit leaves room
     // for thousands, and a wrong file is reported by what it holds.
-    let bytes = crate::bake_command::read_file(&path, 1 << 20, "per-geometry usage counts")?;
+    let bytes =
+        crate::bake_command::inputs::read_file(&path, 1 << 20, "per-geometry usage counts")?;
     let malformed = |message: String| Failure::Malformed(format!("{}: {message}", path.display()));
     let geometries = parse(&bytes).map_err(malformed)?;
     let all: Vec<UsageCount> = geometries.iter().flatten().copied().collect();

@@ -4,6 +4,8 @@
 //! own textures and materials, by `bake::mesh::verify_mesh`).
 
 use crate::args::Parsed;
+use crate::bake_command::inputs::flags;
+use crate::bake_command::verify::{verdict, witness_and_texel, witness_texel_space};
 use crate::output::{Exit, Failure};
 use micromap_index::bake::mesh::{verify_mesh, Mesh, MeshTriangles};
 use micromap_index::bake::Model;
@@ -15,18 +17,6 @@ use micromap_index_assets::{
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Component, Path, PathBuf};
-
-/// The sampler and cutoff flags, which would bake (or check) micromaps for
-/// another sampling than the one the asset's renderer does.
-const OVERRIDES: [&str; 7] = [
-    "--filter",
-    "--address",
-    "--address-u",
-    "--address-v",
-    "--border",
-    "--cutoff",
-    "--opaque-above",
-];
 
 /// `--gltf-out NAME`: the file name and its container, checked.
 pub(crate) struct GltfOut {
@@ -125,9 +115,15 @@ impl GltfOut {
     }
 }
 
-/// Sampler and cutoff flags are refused with `what`.
+/// The sampler and cutoff flags (every sampler flag but `--model`) are
+/// refused with `what`: they would bake (or check) micromaps for another
+/// sampling than the one the asset's renderer does.
 fn refuse_overrides(p: &Parsed<'_>, what: &str) -> Result<(), Failure> {
-    if let Some(flag) = OVERRIDES.iter().find(|f| p.get(f).is_some() || p.flag(f)) {
+    let mut overrides = flags::SAMPLER
+        .iter()
+        .map(|flag| flag.name)
+        .filter(|&name| name != "--model");
+    if let Some(flag) = overrides.find(|f| p.get(f).is_some() || p.flag(f)) {
         return Err(Failure::Usage(format!(
             "{flag} with {what}: the micromaps must match the asset's own samplers and \
              alphaCutoff, which the renderer uses"
@@ -317,9 +313,7 @@ pub(crate) fn verify_gltf(
                         triangle: t,
                         micro_triangle: c.micro_triangle,
                         state: c.state.to_string(),
-                        witness_texel_space: c
-                            .witness
-                            .map(|w| [(w.x.to_string(), w.shift_x), (w.y.to_string(), w.shift_y)]),
+                        witness_texel_space: witness_texel_space(c.witness),
                         texel: c.texel.map(|(x, y)| [x, y]),
                     });
                 }
@@ -375,13 +369,7 @@ pub(crate) fn verify_gltf(
 }
 
 fn render_text(report: &GltfVerifyReport) -> String {
-    let verdict = if report.sound {
-        "sound"
-    } else if report.contradictions == 0 {
-        "INCOMPLETE"
-    } else {
-        "NOT SOUND"
-    };
+    let verdict = verdict(report.sound, report.contradictions);
     let with = report.primitives.iter().filter(|p| p.has_micromaps).count();
     let known: u64 = report
         .primitives
@@ -414,14 +402,7 @@ fn render_text(report: &GltfVerifyReport) -> String {
     }
     let _ = writeln!(text, "contradictions: {}", report.contradictions);
     for c in &report.first_contradictions {
-        let witness = match &c.witness_texel_space {
-            Some([(x, sx), (y, sy)]) => format!("texel-space point ({x}/2^{sx}, {y}/2^{sy})"),
-            None => "no exact point (block search)".into(),
-        };
-        let texel = match c.texel {
-            Some([x, y]) => format!("texel ({x}, {y})"),
-            None => "the border".into(),
-        };
+        let (witness, texel) = witness_and_texel(c.witness_texel_space.as_ref(), c.texel);
         let _ = writeln!(
             text,
             "  mesh {} primitive {} triangle {} micro-triangle {} is {} but {witness} reads {texel}",

@@ -34,7 +34,7 @@ pub(crate) static COMMANDS: [(&str, Usage); 7] = [
     ("bake", Usage::Tables(&[&crate::bake_command::BAKE], "")),
     (
         "verify-bake",
-        Usage::Tables(&[&crate::bake_command::VERIFY_BAKE], ""),
+        Usage::Tables(&[&crate::bake_command::verify::VERIFY_BAKE], ""),
     ),
     (
         "render",

@@ -3,7 +3,8 @@
 //! command lives in its own module with its flag table (`args`: one table
 //! per command, which both parses and renders the usage); `help` renders
 //! the usage texts, `output` is the one output layer (stdout and stderr
-//! writers that never panic), the exit-code table and the one failure type.
+//! writers that never panic), the exit-code table and the one failure type;
+//! `progress` draws a long step's progress bar (on a terminal only).
 //!
 //! `prove` and `vectors` moved to the lab's binary, `micromap-lab`
 //! (`crates/lab`); here they exit 2 with a one-line note saying so
@@ -36,6 +37,7 @@ mod input;
 mod locate_command;
 mod output;
 mod preview;
+mod progress;
 mod render_command;
 mod tree_command;
 mod write_all_or_nothing;
@@ -80,7 +82,7 @@ fn main() -> ExitCode {
         ("check", options) => check_command::run(options).into(),
         ("tree", options) => tree_command::run(options).into(),
         ("bake", options) => bake_command::run_bake(options).into(),
-        ("verify-bake", options) => bake_command::run_verify(options).into(),
+        ("verify-bake", options) => bake_command::verify::run(options).into(),
         ("render", options) => render_command::run(options).into(),
         (moved, _) if help::MOVED.contains(&moved) => {
             output::report(help::moved_note(moved));

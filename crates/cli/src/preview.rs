@@ -194,23 +194,23 @@ fn bounding_pixels(p: &[(f64, f64); 3]) -> u64 {
     }
 }
 
-/// Where a pixel `i` of a `size`-pixel axis lands in the tile under `mode`
-/// (the texture's own wrapping), or `None` where the texture is not
-/// repeated (clamped axes draw only the tile itself).
-fn wrap(mode: AddressMode, i: i64, size: i64) -> Option<i64> {
-    let period = i.div_euclid(size);
-    let r = i.rem_euclid(size);
-    match mode {
-        AddressMode::Repeat => Some(r),
-        AddressMode::MirroredRepeat => Some(if period % 2 == 0 { r } else { size - 1 - r }),
-        AddressMode::MirrorClampToEdge => match period {
-            0 => Some(r),
-            -1 => Some(size - 1 - r),
-            _ => None,
-        },
+/// Where a pixel `i` of a `size`-pixel axis lands in the tile under `mode`:
+/// where the sampler reads it (`AddressMode::wrap`) on the periods the
+/// texture is repeated on, `None` elsewhere (clamped axes draw only the
+/// tile itself, mirror-clamp-to-edge the tile and its one mirror image).
+fn wrap(mode: AddressMode, i: i64, size: u32) -> Option<i64> {
+    let period = i.div_euclid(i64::from(size.max(1)));
+    let repeated = match mode {
+        AddressMode::Repeat | AddressMode::MirroredRepeat => true,
+        AddressMode::MirrorClampToEdge => period == 0 || period == -1,
         // Clamp-to-edge, clamp-to-border and modes added later: only the
         // tile itself.
-        _ => (period == 0).then_some(r),
+        _ => period == 0,
+    };
+    if repeated {
+        mode.wrap(i, size).map(i64::from)
+    } else {
+        None
     }
 }
 
@@ -229,8 +229,8 @@ impl Tile {
     /// repeat the texture).
     fn put(&self, canvas: &mut Canvas, x: i64, y: i64, colour: [u8; 3], weight: f32) {
         let (Some(x), Some(y)) = (
-            wrap(self.address[0], x, i64::from(self.width)),
-            wrap(self.address[1], y, i64::from(self.height)),
+            wrap(self.address[0], x, self.width),
+            wrap(self.address[1], y, self.height),
         ) else {
             return;
         };

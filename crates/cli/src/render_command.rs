@@ -6,15 +6,14 @@
 //! picture with no contradicted candidate.
 
 use crate::args::{Command, Flag, Parsed};
-use crate::bake_command::{
-    index_width, model_option, parse_level, read_file, read_input, sampler_flags, sampler_options,
-    Input, DATA_FILE_LIMIT, RECORD_FILE_LIMIT,
+use crate::bake_command::inputs::{
+    flags, format_option, index_width, model_option, parse_level, read_buffer_files, read_input,
+    sampler_options, Input,
 };
 use crate::output::{print_then, report, Exit, Failure};
 use crate::preview::encode_rgb;
 use crate::write_all_or_nothing::{Destination, Refusal};
 use micromap_index::bake::mesh::{bake_meshes, LevelRule, MeshOptions};
-use micromap_index::micromap::Format;
 use micromap_index_render::{
     classify, Camera, Classified, Faults, Frame, Method, Micromaps, RenderError, Renderer, Scene,
     SceneMesh, SceneTexture, Tracer,
@@ -62,85 +61,75 @@ pub(crate) static RENDER: Command = Command {
   unwritable DIR or a Vulkan call failing; 4 no Vulkan device with ray
   queries (nothing written).",
     flags: &{
-        const SAMPLER: [Flag; 8] = sampler_flags!();
-        [
-            Flag::value(
-                "--gltf",
-                "ASSET",
-                "a glTF 2.0 asset (.gltf or .glb): its MASK primitives",
-            ),
-            Flag::value("--texture", "T.png", "an alpha texture (PNG or JPEG)"),
-            Flag::value("--triangles", "TRIS.json", "UV triangles over --texture"),
-            Flag::value(
-                "--micromaps",
-                "DIR",
-                "the micromaps, in bake's layout (default: bake them here)",
-            ),
-            Flag::value("--out", "DIR", "the output directory"),
-            Flag::value(
-                "--level",
-                "L|auto",
-                "without --micromaps: fixed level 0..=12 or auto (default auto)",
-            ),
-            Flag::value("--max-level", "L", "cap for auto (default 12)"),
-            Flag::value("--format", "2|4", "without --micromaps (default 4)"),
-            SAMPLER[0],
-            SAMPLER[1],
-            SAMPLER[2],
-            SAMPLER[3],
-            SAMPLER[4],
-            SAMPLER[5],
-            SAMPLER[6],
-            SAMPLER[7],
-            Flag::value(
-                "--index-width",
-                "16|32",
-                "micromap-indices.bin width (default 32)",
-            ),
-            Flag::value("--size", "WxH", "pixels (default 256x256; at most 2^22)"),
-            Flag::value(
-                "--camera",
-                "EX,EY,EZ,TX,TY,TZ[,FOV]",
-                "eye, target and vertical field of view in degrees (default: one that
+        const GROUPS: &[&[Flag]] = &[
+            &[
+                flags::GLTF,
+                flags::TEXTURE,
+                flags::TRIANGLES,
+                Flag::value(
+                    "--micromaps",
+                    "DIR",
+                    "the micromaps, in bake's layout (default: bake them here)",
+                ),
+                flags::OUT,
+                Flag::value(
+                    "--level",
+                    "L|auto",
+                    "without --micromaps: fixed level 0..=12 or auto (default auto)",
+                ),
+                flags::MAX_LEVEL,
+                Flag::value("--format", "2|4", "without --micromaps (default 4)"),
+            ],
+            &flags::SAMPLER,
+            &[
+                Flag::value(
+                    "--index-width",
+                    "16|32",
+                    "micromap-indices.bin width (default 32)",
+                ),
+                Flag::value("--size", "WxH", "pixels (default 256x256; at most 2^22)"),
+                Flag::value(
+                    "--camera",
+                    "EX,EY,EZ,TX,TY,TZ[,FOV]",
+                    "eye, target and vertical field of view in degrees (default: one that
                          frames the asset from the front and above, 40 degrees)",
-            ),
-            Flag::value(
-                "--methods",
-                "LIST",
-                "comma-separated methods (default all; alpha-test always runs)",
-            ),
-            Flag::value(
-                "--tracer",
-                "T",
-                "query, pipeline or both (default both: the check needs both to agree)",
-            ),
-            Flag::value(
-                "--frames",
-                "N",
-                "frames per method; the CPU time is the least per frame (default 1)",
-            ),
-            Flag::value(
-                "--fault",
-                "F",
-                "a negative control: swap-barycentrics (look up at (b2, b1)) or
+                ),
+                Flag::value(
+                    "--methods",
+                    "LIST",
+                    "comma-separated methods (default all; alpha-test always runs)",
+                ),
+                Flag::value(
+                    "--tracer",
+                    "T",
+                    "query, pipeline or both (default both: the check needs both to agree)",
+                ),
+                Flag::value(
+                    "--frames",
+                    "N",
+                    "frames per method; the CPU time is the least per frame (default 1)",
+                ),
+                Flag::value(
+                    "--fault",
+                    "F",
+                    "a negative control: swap-barycentrics (look up at (b2, b1)) or
                          flip-known (flip every known state)",
-            ),
-            Flag::value(
-                "--max-report",
-                "N",
-                "contradictions kept per method (default 20)",
-            ),
-            Flag::switch("--check", "exit 1 unless the 4-state methods match"),
-            Flag::switch("--force", "replace existing files in DIR"),
-        ]
+                ),
+                Flag::value(
+                    "--max-report",
+                    "N",
+                    "contradictions kept per method (default 20)",
+                ),
+                Flag::switch("--check", "exit 1 unless the 4-state methods match"),
+                flags::FORCE,
+            ],
+        ];
+        crate::args::concat::<{ crate::args::total(GROUPS) }>(GROUPS)
     },
 };
 
 pub(crate) fn run(options: &[&str]) -> Exit {
-    match render(options) {
-        Ok((text, exit)) => print_then(&text, exit),
-        Err(failure) => failure.exit(),
-    }
+    crate::output::finish(render(options).map(|(text, exit)| print_then(&text, exit)))
 }
 
 fn count(p: &Parsed<'_>, name: &str, default: u32, max: u32) -> Result<u32, Failure> {
@@ -319,34 +308,12 @@ fn micromaps(p: &Parsed<'_>, input: &Input) -> Result<(Micromaps, String), Failu
             }
         }
         let dir = PathBuf::from(dir);
-        let data = read_file(
-            &dir.join("micromap-data.bin"),
-            DATA_FILE_LIMIT,
-            "micromap data",
-        )?;
-        let records = read_file(
-            &dir.join("micromap-triangles.bin"),
-            RECORD_FILE_LIMIT,
-            "triangle records",
-        )?;
-        let indices = read_file(
-            &dir.join("micromap-indices.bin"),
-            RECORD_FILE_LIMIT,
-            "indices",
-        )?;
-        let maps = Micromaps::from_bytes(data, records, indices, index_width(p)?)
+        let files = read_buffer_files(&dir)?;
+        let maps = Micromaps::from_bytes(files.data, files.records, files.indices, index_width(p)?)
             .map_err(|e| Failure::Malformed(format!("{}: {e}", dir.display())))?;
         return Ok((maps, dir.display().to_string()));
     }
-    let format = match p.get("--format").unwrap_or("4") {
-        "4" => Format::FourState,
-        "2" => Format::TwoState,
-        other => {
-            return Err(Failure::Malformed(format!(
-                "--format {other:?}: expected 2 or 4"
-            )))
-        }
-    };
+    let format = format_option(p)?;
     let max = parse_level("--max-level", p.get("--max-level").unwrap_or("12"))?;
     let levels = match p.get("--level").unwrap_or("auto") {
         "auto" => LevelRule::Useful { max },

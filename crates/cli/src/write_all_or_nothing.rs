@@ -377,9 +377,12 @@ impl Drop for Destination {
 /// destination is rolled back and released (temporaries, backups, the lock,
 /// the directories created), then the process exits 130. The handler takes
 /// each destination's lock, so it runs between two steps of a write, and
-/// never gives it back (it exits), so no step follows it.
-pub(crate) fn install_interrupt_handler() -> Result<(), String> {
-    ctrlc::set_handler(|| {
+/// never gives it back (it exits), so no step follows it. `first` runs
+/// before anything else (`bake` clears its progress bar, so that the
+/// message starts on a clean line).
+pub(crate) fn install_interrupt_handler(first: fn()) -> Result<(), String> {
+    ctrlc::set_handler(move || {
+        first();
         let held = lock(&HELD);
         let mut guards: Vec<_> = held.iter().map(|h| lock(h)).collect();
         for guard in &mut guards {

@@ -485,3 +485,33 @@ fn mips_option_names_its_rule_and_knows_less_per_level() {
         assert!(!out.exists());
     }
 }
+
+/// Without `--quiet` but with stderr a pipe (not a terminal), a bake that
+/// succeeds writes nothing at all to stderr: the progress bar and the
+/// "drawing preview.png" line are for a terminal only, so a log gets no
+/// escape codes and no partial lines.
+#[test]
+fn a_bake_through_a_pipe_writes_nothing_to_stderr() {
+    let out = scratch("pipe");
+    let asset = format!("{ASSETS}/cards.glb");
+    let result = run(&[
+        "bake",
+        "--gltf",
+        &asset,
+        "--out",
+        out.to_str().unwrap(),
+        "--level",
+        "3",
+    ]);
+    assert_eq!(
+        result.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    assert_eq!(String::from_utf8_lossy(&result.stderr), "");
+    // The whole bake ran, the preview step included.
+    assert!(!result.stdout.is_empty());
+    assert!(out.join("preview.png").is_file());
+    let _ = std::fs::remove_dir_all(&out);
+}
