@@ -1195,7 +1195,10 @@ fn read_options_refuse_strides_the_apis_do_not_allow() {
         width: IndexWidth::U16,
     };
     assert_eq!(read_buffers(&broken, &bad_index), Err(expected.clone()));
-    assert_eq!(bad_index.check_strides(Some(IndexWidth::U16)), Err(expected));
+    assert_eq!(
+        bad_index.check_strides(Some(IndexWidth::U16)),
+        Err(expected)
+    );
     // Without an index buffer the index stride is not looked at.
     broken.indices = None;
     assert_eq!(bad_index.check_strides(None), Ok(()));
