@@ -70,12 +70,10 @@ pub fn strided_buffers(data: &[u8]) {
     let allowed = raw.check_strides(width);
     let read = read_buffers(&input.bytes, &raw);
     match (&allowed, &read) {
-        (Err(refused), read) => {
-            if read.as_ref().err() != Some(refused) {
-                fail(&format!(
-                    "check_strides refused ({refused}) but read_buffers said {read:?}"
-                ));
-            }
+        (Err(refused), read) if read.as_ref().err() != Some(refused) => {
+            fail(&format!(
+                "check_strides refused ({refused}) but read_buffers said {read:?}"
+            ));
         }
         (Ok(()), Err(e @ (ReadError::RecordStride { .. } | ReadError::IndexStride { .. }))) => {
             fail(&format!(
