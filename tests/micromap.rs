@@ -1181,6 +1181,31 @@ fn read_options_refuse_strides_the_apis_do_not_allow() {
             "{stride}"
         );
     }
+    // The strides are checked before any byte: a bad index stride is
+    // reported even when the records are malformed too, and
+    // `check_strides` answers the same.
+    let mut broken = input;
+    broken.records = &[0, 0, 0];
+    let bad_index = ReadOptions {
+        index_stride: Some(3),
+        ..ReadOptions::default()
+    };
+    let expected = ReadError::IndexStride {
+        stride: 3,
+        width: IndexWidth::U16,
+    };
+    assert_eq!(read_buffers(&broken, &bad_index), Err(expected.clone()));
+    assert_eq!(
+        bad_index.check_strides(Some(IndexWidth::U16)),
+        Err(expected)
+    );
+    // Without an index buffer the index stride is not looked at.
+    broken.indices = None;
+    assert_eq!(bad_index.check_strides(None), Ok(()));
+    assert_eq!(
+        read_buffers(&broken, &bad_index),
+        Err(ReadError::RecordsLength { len: 3 })
+    );
     // 12 bytes at stride 16: neither one whole stride nor one record.
     let mut twelve = input;
     twelve.records = &[0, 0, 0, 0, 0, 0, 1, 0, 9, 9, 9, 9];

@@ -1,6 +1,9 @@
 #!/usr/bin/env python3
 """Writes hand-made seeds for the micromap_buffers target into
-fuzz/corpus/micromap_buffers/seed-*.
+fuzz/corpus/micromap_buffers/seed-*, and for the strided_buffers target
+(each seed behind a record stride, an index stride, a junk byte and a flags
+byte: bit 0 strided buffers end with a whole stride) into
+fuzz/corpus/strided_buffers/seed-*.
 
 Run from the repository root: python3 fuzz/seeds/make_micromap_seeds.py
 The encoding follows the decoder documented in src/micromap/fuzz_body.rs:
@@ -11,7 +14,21 @@ usage counts, indices), the three slices, then the data.
 import os
 import struct
 
-ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "corpus", "micromap_buffers")
+CORPUS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "corpus")
+ROOT = os.path.join(CORPUS, "micromap_buffers")
+STRIDED = os.path.join(CORPUS, "strided_buffers")
+# (name, record stride, index stride (0: tight), junk, flags): allowed
+# strides, both endings, and strides the APIs refuse.
+STRIDES = [
+    ("tight", 8, 0, 0x00, 0),
+    ("r12-i2x-whole", 12, 1, 0xEE, 1),
+    ("r16-i4x-end", 16, 3, 0x5A, 0),
+    ("r7-refused", 7, 1, 0xFF, 0),
+    ("r10-refused", 10, 2, 0x11, 1),
+    ("i3-refused", 8, 3, 0x22, 0),
+    ("r36-tight-indices", 36, 0, 0x33, 1),
+    ("r0-refused", 0, 4, 0x44, 0),
+]
 
 
 def rec(offset, level, fmt):
@@ -28,6 +45,11 @@ def seed(name, flags, records=b"", usage_counts=b"", indices=b"", data=b""):
     body += records + usage_counts + indices + data
     with open(os.path.join(ROOT, "seed-" + name), "wb") as f:
         f.write(body)
+    os.makedirs(STRIDED, exist_ok=True)
+    for variant, record_stride, index_stride, junk, bits in STRIDES:
+        head = bytes([record_stride, index_stride, junk, bits])
+        with open(os.path.join(STRIDED, f"seed-{name}-{variant}"), "wb") as f:
+            f.write(head + body)
 
 
 U8, U16, U32, USAGE, ALLOW = 1, 2, 3, 4, 8

@@ -79,6 +79,42 @@ impl Default for ReadOptions {
     }
 }
 
+impl ReadOptions {
+    /// Checks [`record_stride`](Self::record_stride) and, for an index
+    /// buffer of `width`, [`index_stride`](Self::index_stride), as
+    /// [`read_buffers`] does before it reads anything: the record stride at
+    /// least 8 and a multiple of 4 ([`ReadError::RecordStride`]), the index
+    /// stride a positive multiple of the width ([`ReadError::IndexStride`]).
+    /// Without an index buffer (`width` `None`) the index stride is not
+    /// looked at.
+    ///
+    /// ```
+    /// use micromap_index::micromap::{IndexWidth, ReadError, ReadOptions};
+    ///
+    /// let options = ReadOptions { record_stride: 12, index_stride: Some(6), ..ReadOptions::default() };
+    /// assert_eq!(options.check_strides(Some(IndexWidth::U16)), Ok(()));
+    /// assert_eq!(
+    ///     options.check_strides(Some(IndexWidth::U32)),
+    ///     Err(ReadError::IndexStride { stride: 6, width: IndexWidth::U32 })
+    /// );
+    /// let options = ReadOptions { record_stride: 10, ..ReadOptions::default() };
+    /// assert_eq!(options.check_strides(None), Err(ReadError::RecordStride { stride: 10 }));
+    /// ```
+    pub fn check_strides(&self, width: Option<IndexWidth>) -> Result<(), ReadError> {
+        let stride = self.record_stride;
+        if stride < TriangleRecord::SIZE || stride % 4 != 0 {
+            return Err(ReadError::RecordStride { stride });
+        }
+        if let Some(width) = width {
+            let stride = self.index_stride.unwrap_or(width.bytes());
+            if stride == 0 || stride % width.bytes() != 0 {
+                return Err(ReadError::IndexStride { stride, width });
+            }
+        }
+        Ok(())
+    }
+}
+
 /// Splits `bytes` into `element`-byte elements `stride` bytes apart
 /// (`stride >= element`): `None` unless the bytes are whole strides or
 /// end right after the last element (one reading only, as the two counts
@@ -329,7 +365,9 @@ pub struct ReadBuffers {
 /// index buffer) from untrusted bytes, checking everything the APIs
 /// require and the micromaps need:
 ///
-/// 1. record bytes a multiple of 8, at most `2^32 - 5` records;
+/// 1. the strides ([`ReadOptions::check_strides`]); record bytes a
+///    multiple of 8 (whole strides, or ending right after the last
+///    record), at most `2^32 - 5` records;
 /// 2. each record's format 1 or 2 and level at most
 ///    [`ReadOptions::max_level`];
 /// 3. each block (`ceil(4^level * bits / 8)` bytes at `data_offset`) inside
@@ -340,7 +378,7 @@ pub struct ReadBuffers {
 ///    counts at least 1, and for every level and format the sum of the
 ///    counts equal to the number of records (so their total is the record
 ///    count, as glTF requires);
-/// 6. indices, if given: a whole number of indices; each a special index
+/// 6. indices, if given: a whole number of indices (or strides); each a special index
 ///    (-1..-4 as two's complement at the width), or a regular index whose
 ///    sum with the base triangle names a record; the pattern of -5 is
 ///    refused.
@@ -367,6 +405,7 @@ pub fn read_buffers(
     input: &BufferBytes<'_>,
     options: &ReadOptions,
 ) -> Result<ReadBuffers, ReadError> {
+    options.check_strides(input.indices.map(|(_, width)| width))?;
     let records = read_records(input.records, options.record_stride)?;
     // Check every record and compute its block before decoding any.
     let max_level = options.max_level.min(Micromap::MAX_LEVEL);

@@ -67,7 +67,8 @@ typedef int32_t mmi_result;
  * written to *len. */
 #define MMI_ERROR_BUFFER_TOO_SMALL 5
 /** A value out of range: an index past the end, a NaN cutoff, an empty
- * texture, a stride below 8 bytes, an index width the buffers cannot use. */
+ * texture, a stride the function does not allow (UV, vertex alpha, record,
+ * index), an index width the buffers cannot use. */
 #define MMI_ERROR_INVALID_ARGUMENT 6
 /** Bytes refused by the buffer validator or the tree reader. */
 #define MMI_ERROR_MALFORMED 7
@@ -297,6 +298,14 @@ typedef struct mmi_bake_options {
     uint32_t model;
     /** Padding, 0. */
     uint32_t reserved;
+    /** Non-zero: no geometry mixes special indices with records (Vulkan
+     * KHR's "no mixed special indices", `micromap-index bake
+     * --no-mixed-special`): in a geometry that references any record, each
+     * special index becomes a shared level-0 record of its state. 0 (the
+     * default): special indices wherever a triangle is uniform. */
+    uint32_t no_mixed_special_indices;
+    /** Padding, 0. */
+    uint32_t reserved2;
 } mmi_bake_options;
 
 /** What mmi_bake found over all meshes. */
@@ -345,8 +354,8 @@ typedef struct mmi_bake_stats {
 typedef struct mmi_bake_result mmi_bake_result;
 
 /** The defaults: MMI_LEVEL_AUTO up to 12, 4-state, fallback for unknowns,
- * no byte budget, the library's block budget (micromap-index bake's
- * defaults). */
+ * no byte budget, the library's block budget, the GPU binary32 model,
+ * special indices mixed with records (micromap-index bake's defaults). */
 mmi_result mmi_bake_options_default(mmi_bake_options *options);
 
 /** The default material: nearest, repeat on both axes, border alpha 0,
@@ -381,6 +390,15 @@ mmi_result mmi_bake_result_usage_counts(const mmi_bake_result *result, const uin
 /** The number of geometries (one per baked mesh). */
 mmi_result mmi_bake_result_geometry_count(const mmi_bake_result *result, size_t *count);
 
+/** Whether geometry's index buffer holds both special indices and records:
+ * *mixed receives 1 if so, else 0. A Vulkan KHR pipeline created with
+ * VK_PIPELINE_CREATE_2_OPACITY_MICROMAP_DISALLOW_MIXED_SPECIAL_INDEX_BIT_KHR
+ * must not trace a mixed geometry; never 1 after a bake with
+ * no_mixed_special_indices. A geometry past the last is
+ * MMI_ERROR_INVALID_ARGUMENT. */
+mmi_result mmi_bake_result_is_mixed(const mmi_bake_result *result, size_t geometry,
+                                    uint32_t *mixed);
+
 /** The per-triangle index buffer of `geometry` (or of all, concatenated,
  * with MMI_ALL_GEOMETRIES: micromap-indices.bin) at width_bits 8, 16 or
  * 32, little endian, special indices -1..-4 as two's complement. *len
@@ -403,7 +421,9 @@ void mmi_bake_result_free(mmi_bake_result *result);
 /* Validating and verifying buffers                                    */
 /* ------------------------------------------------------------------ */
 
-/** Micromap buffers in the caller's memory (API layouts, little endian). */
+/** Micromap buffers in the caller's memory (API layouts, little endian;
+ * records and indices tight or at the strides given). Zero-initialise it:
+ * strides 0 are tight. */
 typedef struct mmi_buffers_view {
     /** The packed micromap data. */
     const uint8_t *data;
@@ -411,7 +431,8 @@ typedef struct mmi_buffers_view {
     size_t data_len;
     /** The 8-byte triangle records. */
     const uint8_t *records;
-    /** Their length in bytes (a multiple of 8). */
+    /** Their length in bytes (a multiple of 8 when tight; see
+     * record_stride). */
     size_t records_len;
     /** The 12-byte usage counts, or NULL: not checked. */
     const uint8_t *usage_counts;
@@ -423,6 +444,18 @@ typedef struct mmi_buffers_view {
     size_t indices_len;
     /** The index width in bits: 8, 16 or 32 (ignored without indices). */
     uint32_t index_width_bits;
+    /** Bytes from one triangle record to the next (Vulkan's
+     * triangleArrayStride): 0 means 8 (tight); otherwise at least 8 and a
+     * multiple of 4 (MMI_ERROR_INVALID_ARGUMENT if not). The bytes between
+     * records are ignored; records_len covers whole strides or ends right
+     * after the last record (MMI_ERROR_MALFORMED if not). */
+    size_t record_stride;
+    /** Bytes from one index to the next (Vulkan's indexStride): 0 means the
+     * index width (tight); otherwise a multiple of the width
+     * (MMI_ERROR_INVALID_ARGUMENT if not). The bytes between indices are
+     * ignored; indices_len covers whole strides or ends right after the
+     * last index (MMI_ERROR_MALFORMED if not). Ignored without indices. */
+    size_t index_stride;
 } mmi_buffers_view;
 
 /** Options of mmi_validate_buffers; start from mmi_read_options_default. */
@@ -516,9 +549,11 @@ mmi_result mmi_read_options_default(mmi_read_options *options);
 
 /** Checks untrusted micromap buffers as the APIs require (record layout,
  * formats and levels, blocks in bounds and disjoint unless allowed, usage
- * counts matching the records, indices naming records or special):
- * MMI_OK, or MMI_ERROR_MALFORMED with the first problem as the message.
- * options may be NULL (the defaults); info may be NULL. */
+ * counts matching the records, indices naming records or special, at the
+ * view's strides): MMI_OK, or MMI_ERROR_MALFORMED with the first problem
+ * as the message; MMI_ERROR_INVALID_ARGUMENT for a stride the APIs do not
+ * allow (checked first). options may be NULL (the defaults); info may be
+ * NULL. */
 mmi_result mmi_validate_buffers(const mmi_buffers_view *buffers, const mmi_read_options *options,
                                 mmi_buffers_info *info);
 
@@ -534,8 +569,9 @@ mmi_result mmi_verify(const mmi_mesh *mesh, const mmi_buffers_view *buffers,
  * a contradiction. Records may share data. The first witness_capacity
  * contradictions are written to witnesses (NULL allowed with capacity 0);
  * report counts them all. MMI_OK whether or not contradictions were found;
- * MMI_ERROR_MALFORMED for buffers the validator refuses; MMI_ERROR_LENGTH
- * when the index count is not the triangle count; MMI_ERROR_INVALID_ENUM
+ * MMI_ERROR_MALFORMED for buffers the validator refuses;
+ * MMI_ERROR_INVALID_ARGUMENT for a stride the APIs do not allow
+ * (mmi_buffers_view); MMI_ERROR_LENGTH when the index count is not the triangle count; MMI_ERROR_INVALID_ENUM
  * for an unknown model; MMI_ERROR_UNSUPPORTED for an alpha factor other
  * than 1 or a vertex alpha. */
 mmi_result mmi_verify_with_model(const mmi_mesh *mesh, const mmi_buffers_view *buffers,

@@ -122,6 +122,14 @@ pub struct mmi_bake_options {
     pub model: u32,
     /// Padding, 0.
     pub reserved: u32,
+    /// Non-zero: no geometry mixes special indices with records (Vulkan
+    /// KHR's "no mixed special indices", `micromap-index bake
+    /// --no-mixed-special`): in a geometry that references any record,
+    /// each special index becomes a shared level-0 record of its state. 0
+    /// (the default): special indices wherever a triangle is uniform.
+    pub no_mixed_special_indices: u32,
+    /// Padding, 0.
+    pub reserved2: u32,
 }
 
 /// What `mmi_bake` found, over all meshes.
@@ -385,8 +393,12 @@ fn options(o: &mmi_bake_options) -> Result<MeshOptions> {
         // is built without its `rayon` feature here, so this is also what
         // the default would do).
         threads: micromap_index::bake::Threads::Exactly(1),
-        // Special indices as the library writes them by default.
-        buffers: micromap_index::micromap::BuildOptions::default(),
+        // Special indices as the library writes them by default, unless
+        // the caller's pipeline disallows mixing them with records.
+        buffers: micromap_index::micromap::BuildOptions {
+            no_mixed_special_indices: o.no_mixed_special_indices != 0,
+            ..micromap_index::micromap::BuildOptions::default()
+        },
     })
 }
 
@@ -486,7 +498,8 @@ impl<'a> Triangles<'a> {
 
 /// The defaults: level `MMI_LEVEL_AUTO` up to 12, 4-state, fallback for
 /// unknowns, no byte budget, the library's block budget, the GPU binary32
-/// model (the CLI's `micromap-index bake` defaults).
+/// model, special indices mixed with records (the CLI's `micromap-index
+/// bake` defaults).
 ///
 /// # Safety
 /// `options` must be NULL or writable.
@@ -503,6 +516,8 @@ pub unsafe extern "C" fn mmi_bake_options_default(options: *mut mmi_bake_options
             budget_bytes: 0,
             model: MMI_MODEL_GPU_BINARY32,
             reserved: 0,
+            no_mixed_special_indices: 0,
+            reserved2: 0,
         };
         // SAFETY: the caller's promise about `options`.
         unsafe { write(options, value, "options") }
@@ -678,6 +693,33 @@ pub unsafe extern "C" fn mmi_bake_result_geometry_count(
                 "count",
             )
         }
+    })
+}
+
+/// Whether `geometry`'s index buffer holds both special indices and
+/// records (`micromap::MicromapBuffers::is_mixed`): `*mixed` receives 1 if
+/// so, else 0. A Vulkan KHR pipeline created with
+/// `VK_PIPELINE_CREATE_2_OPACITY_MICROMAP_DISALLOW_MIXED_SPECIAL_INDEX_BIT_KHR`
+/// must not trace a mixed geometry; never 1 after a bake with
+/// `no_mixed_special_indices`. A geometry past the last one is
+/// `MMI_ERROR_INVALID_ARGUMENT`.
+///
+/// # Safety
+/// `result` must be NULL or a live handle; `mixed` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn mmi_bake_result_is_mixed(
+    result: *const mmi_bake_result,
+    geometry: usize,
+    mixed: *mut u32,
+) -> mmi_result {
+    guard(|| {
+        // SAFETY: the caller's promise about `result`.
+        let buffers = &unsafe { handle(result) }?.bake.buffers;
+        let value = buffers
+            .is_mixed(geometry)
+            .map_err(|e| Error::new(MMI_ERROR_INVALID_ARGUMENT, e.to_string()))?;
+        // SAFETY: the caller's promise about `mixed`.
+        unsafe { write(mixed, u32::from(value), "mixed") }
     })
 }
 

@@ -34,8 +34,9 @@ mod vertex_alpha;
 pub use bake::{
     mmi_bake, mmi_bake_options, mmi_bake_options_default, mmi_bake_result, mmi_bake_result_data,
     mmi_bake_result_free, mmi_bake_result_geometry_count, mmi_bake_result_indices,
-    mmi_bake_result_stats, mmi_bake_result_triangle_records, mmi_bake_result_usage_counts,
-    mmi_bake_stats, mmi_material, mmi_material_default, mmi_mesh, mmi_sampler, mmi_texture,
+    mmi_bake_result_is_mixed, mmi_bake_result_stats, mmi_bake_result_triangle_records,
+    mmi_bake_result_usage_counts, mmi_bake_stats, mmi_material, mmi_material_default, mmi_mesh,
+    mmi_sampler, mmi_texture,
 };
 pub use ffi::{
     mmi_last_error_message, mmi_result, mmi_version, mmi_version_string, MMI_ERROR_BAKE,

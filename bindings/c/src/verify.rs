@@ -12,11 +12,11 @@ use micromap_index::bake::mesh::MeshTriangles;
 use micromap_index::bake::{Baker, UvTriangle};
 use micromap_index::micromap::{
     read_buffers, BufferBytes, IndexWidth, Micromap, MicromapIndex, Overlap, ReadBuffers,
-    ReadOptions, TriangleOpacity,
+    ReadOptions, TriangleOpacity, TriangleRecord,
 };
 
 /// Micromap buffers in the caller's memory, in the API layouts (little
-/// endian, tight strides).
+/// endian; records and indices tight or at the strides given).
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct mmi_buffers_view {
@@ -26,7 +26,8 @@ pub struct mmi_buffers_view {
     pub data_len: usize,
     /// The 8-byte triangle records.
     pub records: *const u8,
-    /// Their length in bytes (a multiple of 8).
+    /// Their length in bytes (a multiple of 8 when tight; see
+    /// `record_stride`).
     pub records_len: usize,
     /// The 12-byte usage counts, or NULL: not checked.
     pub usage_counts: *const u8,
@@ -38,6 +39,19 @@ pub struct mmi_buffers_view {
     pub indices_len: usize,
     /// The index width in bits: 8, 16 or 32 (ignored without indices).
     pub index_width_bits: u32,
+    /// Bytes from one triangle record to the next (Vulkan's
+    /// `triangleArrayStride`): 0 means 8 (tight); otherwise at least 8 and
+    /// a multiple of 4 (`MMI_ERROR_INVALID_ARGUMENT` if not). The bytes
+    /// between records are ignored; `records_len` covers whole strides or
+    /// ends right after the last record (`MMI_ERROR_MALFORMED` if not).
+    pub record_stride: usize,
+    /// Bytes from one index to the next (Vulkan's `indexStride`): 0 means
+    /// the index width (tight); otherwise a multiple of the width
+    /// (`MMI_ERROR_INVALID_ARGUMENT` if not). The bytes between indices
+    /// are ignored; `indices_len` covers whole strides or ends right after
+    /// the last index (`MMI_ERROR_MALFORMED` if not). Ignored without
+    /// indices.
+    pub index_stride: usize,
 }
 
 /// Options of `mmi_validate_buffers` (`micromap::ReadOptions`).
@@ -146,6 +160,11 @@ fn width(bits: u32) -> Result<IndexWidth> {
     }
 }
 
+/// Reads the view's buffers at its strides (0: tight) under `options`,
+/// whose strides are replaced; a stride the APIs do not allow is
+/// `MMI_ERROR_INVALID_ARGUMENT` (`ReadOptions::check_strides`), checked
+/// before any byte is read, and every other refusal `MMI_ERROR_MALFORMED`.
+///
 /// # Safety
 /// The view's pointers must each be NULL or point to their lengths in bytes.
 unsafe fn read(view: &mmi_buffers_view, options: &ReadOptions) -> Result<ReadBuffers> {
@@ -175,6 +194,17 @@ unsafe fn read(view: &mmi_buffers_view, options: &ReadOptions) -> Result<ReadBuf
         let bytes = unsafe { slice(view.indices, view.indices_len, "buffers.indices") }?;
         Some((bytes, width(view.index_width_bits)?))
     };
+    let options = ReadOptions {
+        record_stride: match view.record_stride {
+            0 => TriangleRecord::SIZE,
+            stride => stride,
+        },
+        index_stride: (view.index_stride != 0).then_some(view.index_stride),
+        ..*options
+    };
+    options
+        .check_strides(indices.map(|(_, width)| width))
+        .map_err(|e| Error::new(MMI_ERROR_INVALID_ARGUMENT, e.to_string()))?;
     read_buffers(
         &BufferBytes {
             records,
@@ -182,7 +212,7 @@ unsafe fn read(view: &mmi_buffers_view, options: &ReadOptions) -> Result<ReadBuf
             usage_counts,
             indices,
         },
-        options,
+        &options,
     )
     .map_err(|e| Error::new(MMI_ERROR_MALFORMED, e.to_string()))
 }
@@ -211,9 +241,10 @@ pub unsafe extern "C" fn mmi_read_options_default(options: *mut mmi_read_options
 /// Checks untrusted micromap buffers as the APIs require
 /// (`micromap::read_buffers`: record layout, formats and levels, blocks in
 /// bounds and disjoint unless allowed, usage counts matching the records,
-/// indices naming records or special): `MMI_OK`, or `MMI_ERROR_MALFORMED`
-/// with the first problem as the message. `options` may be NULL (the
-/// defaults); `info` may be NULL.
+/// indices naming records or special, at the view's strides): `MMI_OK`,
+/// or `MMI_ERROR_MALFORMED` with the first problem as the message;
+/// `MMI_ERROR_INVALID_ARGUMENT` for a stride the APIs do not allow.
+/// `options` may be NULL (the defaults); `info` may be NULL.
 ///
 /// # Safety
 /// `buffers` must be readable and its pointers satisfy `mmi_buffers_view`;
@@ -242,7 +273,7 @@ pub unsafe extern "C" fn mmi_validate_buffers(
                 },
                 max_level: o.max_level,
                 base_triangle: o.base_triangle,
-                // The C API reads packed buffers.
+                // The strides are the view's (`read`).
                 ..ReadOptions::default()
             }
         };
@@ -304,7 +335,8 @@ pub unsafe extern "C" fn mmi_verify(
 /// be NULL when the capacity is 0); `report` counts them all. Returns
 /// `MMI_OK` whether or not contradictions were found
 /// (`report->contradictions` says); `MMI_ERROR_MALFORMED` for buffers the
-/// validator refuses, `MMI_ERROR_LENGTH` when the index count is not the
+/// validator refuses, `MMI_ERROR_INVALID_ARGUMENT` for a stride the APIs
+/// do not allow (`mmi_buffers_view`), `MMI_ERROR_LENGTH` when the index count is not the
 /// triangle count, `MMI_ERROR_INVALID_ENUM` for an unknown model,
 /// `MMI_ERROR_UNSUPPORTED` for an alpha factor other than 1 or a vertex
 /// alpha.

@@ -368,6 +368,142 @@ static void bake_and_verify(void) {
     mmi_bake_result_free(result);
 }
 
+/* `element`-byte elements of `in` laid `stride` bytes apart into `out`,
+ * the gaps filled with junk, ending right after the last element; the
+ * length written. */
+static size_t spread(const uint8_t *in, size_t len, size_t element, size_t stride, uint8_t *out) {
+    size_t n = 0, i, k;
+    for (i = 0; i < len; i += element) {
+        if (i > 0) {
+            for (k = element; k < stride; ++k) {
+                out[n++] = (uint8_t)(0xa5 ^ k);
+            }
+        }
+        memcpy(out + n, in + i, element);
+        n += element;
+    }
+    return n;
+}
+
+/* No mixed special indices, and strided buffers: the quad's texture with
+ * three triangles, the third inside the transparent columns (a special
+ * index unless the option is on). */
+static void no_mixed_and_strides(void) {
+    static const float uvs[] = {0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 1.0f, 1.0f, 1.0f, 0.0f,
+                                1.0f, 1.0f, 0.0f, 0.5f, 0.2f, 0.9f, 0.2f, 0.5f, 0.6f};
+    mmi_mesh mesh;
+    mmi_bake_options options;
+    mmi_bake_result *result = NULL;
+    mmi_buffers_view tight, strided;
+    mmi_buffers_info tight_info, strided_info;
+    mmi_verify_report tight_report, strided_report;
+    const uint8_t *data = NULL, *records = NULL;
+    size_t data_len = 0, records_len = 0, len = 0, plain_records = 0;
+    uint8_t indices[12], spread_records[16 * 8], spread_indices[12 * 3];
+    uint32_t mixed = 9;
+    int16_t narrow[3];
+    int i;
+
+    quad_mesh(&mesh);
+    mesh.uvs = uvs;
+    mesh.uv_stride = 0;
+    mesh.vertex_count = 9;
+    mesh.indices = NULL;
+    mesh.index_count = 0;
+    EXPECT(mmi_bake_options_default(&options), MMI_OK);
+    CHECK(options.no_mixed_special_indices == 0);
+    options.level = 3;
+
+    /* Default: the third triangle is special index -1, beside records. */
+    EXPECT(mmi_bake(&mesh, 1, &options, &result), MMI_OK);
+    EXPECT(mmi_bake_result_is_mixed(result, 0, &mixed), MMI_OK);
+    CHECK(mixed == 1);
+    EXPECT(mmi_bake_result_indices(result, 0, 16, (uint8_t *)narrow, sizeof narrow, &len), MMI_OK);
+    CHECK(len == 6 && narrow[2] == -1);
+    EXPECT(mmi_bake_result_triangle_records(result, &records, &plain_records), MMI_OK);
+    EXPECT(mmi_bake_result_is_mixed(result, 1, &mixed), MMI_ERROR_INVALID_ARGUMENT);
+    EXPECT(mmi_bake_result_is_mixed(result, 0, NULL), MMI_ERROR_NULL_POINTER);
+    EXPECT(mmi_bake_result_is_mixed(NULL, 0, &mixed), MMI_ERROR_NULL_POINTER);
+    mmi_bake_result_free(result);
+
+    /* On: a shared level-0 record instead, and not mixed. */
+    options.no_mixed_special_indices = 1;
+    EXPECT(mmi_bake(&mesh, 1, &options, &result), MMI_OK);
+    EXPECT(mmi_bake_result_is_mixed(result, 0, &mixed), MMI_OK);
+    CHECK(mixed == 0);
+    EXPECT(mmi_bake_result_data(result, &data, &data_len), MMI_OK);
+    EXPECT(mmi_bake_result_triangle_records(result, &records, &records_len), MMI_OK);
+    CHECK(records_len == plain_records + 8 && records_len <= 16 * 8 / 2);
+    EXPECT(mmi_bake_result_indices(result, 0, 32, indices, sizeof indices, &len), MMI_OK);
+    CHECK(len == 12);
+    for (i = 0; i < 3; ++i) {
+        CHECK(indices[4 * i + 3] < 0x80); /* no special index */
+    }
+
+    /* The tight view verifies sound... */
+    memset(&tight, 0, sizeof tight);
+    tight.data = data;
+    tight.data_len = data_len;
+    tight.records = records;
+    tight.records_len = records_len;
+    tight.indices = indices;
+    tight.indices_len = len;
+    tight.index_width_bits = 32;
+    EXPECT(mmi_validate_buffers(&tight, NULL, &tight_info), MMI_OK);
+    CHECK(tight_info.indices == 3 && tight_info.special_indices == 0);
+    EXPECT(mmi_verify(&mesh, &tight, &tight_report, NULL, 0), MMI_OK);
+    CHECK(tight_report.triangles_checked == 3 && tight_report.contradictions == 0);
+
+    /* ... and the same buffers at record stride 16 and index stride 12,
+     * junk in the gaps, read and verify the same. */
+    strided = tight;
+    strided.records = spread_records;
+    strided.records_len = spread(records, records_len, 8, 16, spread_records);
+    strided.record_stride = 16;
+    strided.indices = spread_indices;
+    strided.indices_len = spread(indices, len, 4, 12, spread_indices);
+    strided.index_stride = 12;
+    CHECK(strided.records_len == 16 * (records_len / 8) - 8 && strided.indices_len == 28);
+    memset(&strided_info, 0xff, sizeof strided_info);
+    EXPECT(mmi_validate_buffers(&strided, NULL, &strided_info), MMI_OK);
+    CHECK(memcmp(&strided_info, &tight_info, sizeof tight_info) == 0);
+    memset(&strided_report, 0xff, sizeof strided_report);
+    EXPECT(mmi_verify(&mesh, &strided, &strided_report, NULL, 0), MMI_OK);
+    CHECK(memcmp(&strided_report, &tight_report, sizeof tight_report) == 0);
+    /* Read tightly, the junk is refused. */
+    {
+        mmi_buffers_view as_tight = strided;
+        as_tight.record_stride = 0;
+        as_tight.index_stride = 0;
+        EXPECT(mmi_validate_buffers(&as_tight, NULL, NULL), MMI_ERROR_MALFORMED);
+    }
+
+    /* Strides the APIs do not allow: refused before any byte is read. */
+    {
+        mmi_buffers_view bad = strided;
+        bad.record_stride = 4;
+        EXPECT(mmi_validate_buffers(&bad, NULL, NULL), MMI_ERROR_INVALID_ARGUMENT);
+        CHECK(says("record stride 4"));
+        EXPECT(mmi_verify(&mesh, &bad, &strided_report, NULL, 0), MMI_ERROR_INVALID_ARGUMENT);
+        bad.record_stride = 18;
+        EXPECT(mmi_validate_buffers(&bad, NULL, NULL), MMI_ERROR_INVALID_ARGUMENT);
+        bad = strided;
+        bad.index_stride = 6;
+        EXPECT(mmi_validate_buffers(&bad, NULL, NULL), MMI_ERROR_INVALID_ARGUMENT);
+        CHECK(says("index stride 6"));
+        EXPECT(mmi_verify(&mesh, &bad, &strided_report, NULL, 0), MMI_ERROR_INVALID_ARGUMENT);
+        /* Without indices the index stride is not looked at. */
+        bad.indices = NULL;
+        EXPECT(mmi_validate_buffers(&bad, NULL, NULL), MMI_OK);
+        /* A strided length that is neither whole strides nor ends after
+         * an element is malformed. */
+        bad = strided;
+        bad.records_len -= 1;
+        EXPECT(mmi_validate_buffers(&bad, NULL, NULL), MMI_ERROR_MALFORMED);
+    }
+    mmi_bake_result_free(result);
+}
+
 static void tree(void) {
     uint8_t states[16], decoded[16], state = 9, bytes[256], small[4];
     size_t len = 0, i;
@@ -452,6 +588,7 @@ int main(void) {
     layout();
     index_and_inverse();
     bake_and_verify();
+    no_mixed_and_strides();
     tree();
     if (failures) {
         fprintf(stderr, "%d of %d checks failed\n", failures, checks);

@@ -1,13 +1,15 @@
 //! The C entry points called from Rust: texel formats and row pitches give
 //! the library's bytes, handles are shared across threads, the last error
-//! is per thread, and the budget, 2-state, model and vertex-alpha options
-//! reach the library.
+//! is per thread, the budget, 2-state, model, vertex-alpha and no-mixed
+//! options reach the library, and strided buffers read as tight ones.
 
 use micromap_index::bake::mesh::{
     bake_mesh, LevelRule, Material, Mesh, MeshOptions, MeshTriangles,
 };
 use micromap_index::bake::{Model, Unorm8Texture};
-use micromap_index::micromap::{Format, UnknownPolicy};
+use micromap_index::micromap::{
+    BuildOptions, Format, IndexWidth, ReadOptions, TriangleRecord, UnknownPolicy,
+};
 use micromap_index::Level;
 use micromap_index_capi::constants::*;
 use micromap_index_capi::*;
@@ -373,6 +375,8 @@ fn the_model_reaches_the_library() {
         index_width_bits: 32,
         usage_counts: ptr::null(),
         usage_counts_len: 0,
+        record_stride: 0,
+        index_stride: 0,
     };
     let verify = |model: u32| {
         let mut report = mmi_verify_report::default();
@@ -496,6 +500,8 @@ fn vertex_alpha_reaches_the_library() {
         index_width_bits: 32,
         usage_counts: ptr::null(),
         usage_counts_len: 0,
+        record_stride: 0,
+        index_stride: 0,
     };
     let mut report = mmi_verify_report::default();
     // SAFETY: valid pointers; the arrays outlive the call.
@@ -565,4 +571,252 @@ fn empty_inputs_are_fine() {
         mmi_bake_result_free(result);
     }
     assert_eq!(count, 0);
+}
+
+/// The disc's two triangles and a third in its transparent corner
+/// (texels (0, 7), (0, 8), (1, 8) and, across the repeat, (0, 0) are all
+/// further than 6 texels from the disc's centre, so alpha 0): at a fixed
+/// level the third is uniform, a special index.
+const CORNER_UVS: [f32; 18] = [
+    0.05, 0.1, 0.9, 0.0, 0.95, 0.85, 0.1, 0.95, 0.5, 0.5, 0.2, 0.7, 0.01, 0.9, 0.06, 0.9, 0.01,
+    0.98,
+];
+
+/// What `mmi_bake_result_is_mixed` says of geometry 0.
+fn mixed(mesh: &mmi_mesh, options: &mmi_bake_options) -> u32 {
+    let mut result = ptr::null_mut();
+    let mut mixed = 9;
+    // SAFETY: valid pointers; the mesh's arrays outlive the call.
+    unsafe {
+        assert_eq!(mmi_bake(mesh, 1, options, &mut result), MMI_OK);
+        assert_eq!(mmi_bake_result_is_mixed(result, 0, &mut mixed), MMI_OK);
+        mmi_bake_result_free(result);
+    }
+    mixed
+}
+
+/// `mmi_bake_options::no_mixed_special_indices` reaches the library: the
+/// same bytes as `bake_mesh` with `BuildOptions::no_mixed_special_indices`
+/// off and on, the corner's special index becoming a record when on, and
+/// `mmi_bake_result_is_mixed` answering `MicromapBuffers::is_mixed`.
+#[test]
+fn no_mixed_special_indices_reach_the_library() {
+    let t8 = texels();
+    let texture = Unorm8Texture::new(W, H, &t8).unwrap();
+    let view = mmi_texture {
+        texels: t8.as_ptr().cast(),
+        width: W,
+        height: H,
+        row_pitch: 0,
+        format: MMI_TEXEL_U8,
+    };
+    let triangles: Vec<[[f32; 2]; 3]> = CORNER_UVS
+        .chunks_exact(6)
+        .map(|c| [[c[0], c[1]], [c[2], c[3]], [c[4], c[5]]])
+        .collect();
+    let mut m = mesh(view, material());
+    m.uvs = CORNER_UVS.as_ptr();
+    m.vertex_count = 9;
+    let mut o = options(4, MMI_FORMAT_4_STATE);
+    assert_eq!(o.no_mixed_special_indices, 0, "the default");
+    let mut records_by_option = Vec::new();
+    for no_mixed in [false, true] {
+        let library = bake_mesh(
+            &Mesh {
+                triangles: MeshTriangles::Uv(&triangles),
+                texture: &texture,
+                material: Material::default(),
+                vertex_alpha: None,
+            },
+            &MeshOptions {
+                levels: LevelRule::Fixed(Level::new(4).unwrap()),
+                buffers: BuildOptions {
+                    no_mixed_special_indices: no_mixed,
+                    ..BuildOptions::default()
+                },
+                ..MeshOptions::default()
+            },
+        )
+        .unwrap();
+        o.no_mixed_special_indices = u32::from(no_mixed);
+        let (data, records, indices) = bake(&m, &o);
+        assert_eq!(
+            (&data[..], &records, &indices),
+            (
+                library.buffers.data(),
+                &library.buffers.records_le_bytes(),
+                &library.buffers.index_bytes(0, IndexWidth::U32).unwrap()
+            ),
+            "no_mixed {no_mixed}"
+        );
+        assert_eq!(library.buffers.is_mixed(0).unwrap(), !no_mixed);
+        assert_eq!(mixed(&m, &o), u32::from(!no_mixed));
+        // The corner: special index -1 (transparent), else a record.
+        let corner = i32::from_le_bytes(indices[8..12].try_into().unwrap());
+        assert_eq!(corner < 0, !no_mixed, "corner index {corner}");
+        records_by_option.push(records.len() / 8);
+    }
+    // One shared level-0 record more: the transparent one.
+    assert_eq!(records_by_option[1], records_by_option[0] + 1);
+    // Any non-zero value is on.
+    o.no_mixed_special_indices = 7;
+    assert_eq!(mixed(&m, &o), 0);
+    // Misuse of the query.
+    let mut result = ptr::null_mut();
+    let mut flag = 0;
+    // SAFETY: valid pointers or NULL, as each case says.
+    unsafe {
+        assert_eq!(mmi_bake(&m, 1, &o, &mut result), MMI_OK);
+        assert_eq!(
+            mmi_bake_result_is_mixed(result, 1, &mut flag),
+            MMI_ERROR_INVALID_ARGUMENT
+        );
+        assert_eq!(
+            mmi_bake_result_is_mixed(result, 0, ptr::null_mut()),
+            MMI_ERROR_NULL_POINTER
+        );
+        assert_eq!(
+            mmi_bake_result_is_mixed(ptr::null(), 0, &mut flag),
+            MMI_ERROR_NULL_POINTER
+        );
+        mmi_bake_result_free(result);
+    }
+}
+
+/// `element`-byte elements of `bytes` laid `stride` bytes apart, the gaps
+/// filled with junk, ending with a whole stride or right after the last
+/// element.
+fn spread(bytes: &[u8], element: usize, stride: usize, whole: bool) -> Vec<u8> {
+    let mut out = Vec::new();
+    for chunk in bytes.chunks_exact(element) {
+        out.extend_from_slice(chunk);
+        out.extend((0..stride - element).map(|i| 0xa5 ^ i as u8));
+    }
+    if !whole && !out.is_empty() {
+        out.truncate(out.len() - (stride - element));
+    }
+    out
+}
+
+/// `mmi_verify`'s report as comparable numbers.
+fn report_numbers(r: &mmi_verify_report) -> [u64; 7] {
+    [
+        r.triangles,
+        r.triangles_checked,
+        r.known,
+        r.unknown,
+        r.undecided,
+        r.contradictions,
+        r.witnesses_written,
+    ]
+}
+
+/// `mmi_buffers_view::record_stride` and `index_stride`: every record
+/// stride 0..=40 and index stride 0..=20 (32-bit indices) is refused with
+/// `MMI_ERROR_INVALID_ARGUMENT` exactly when `ReadOptions::check_strides`
+/// refuses it (0 meaning tight), by `mmi_validate_buffers` and
+/// `mmi_verify` alike; at every accepted pair the buffers re-laid with
+/// junk in the gaps read as the tight ones (the same info and the same
+/// verification report), whether they end with a whole stride or right
+/// after the last element, and a byte short is `MMI_ERROR_MALFORMED`.
+#[test]
+fn strided_buffers_read_as_tight_ones() {
+    let t8 = texels();
+    let view = mmi_texture {
+        texels: t8.as_ptr().cast(),
+        width: W,
+        height: H,
+        row_pitch: 0,
+        format: MMI_TEXEL_U8,
+    };
+    let mut m = mesh(view, material());
+    m.uvs = CORNER_UVS.as_ptr();
+    m.vertex_count = 9;
+    let (data, records, indices) = bake(&m, &options(4, MMI_FORMAT_4_STATE));
+    let tight = mmi_buffers_view {
+        data: data.as_ptr(),
+        data_len: data.len(),
+        records: records.as_ptr(),
+        records_len: records.len(),
+        usage_counts: ptr::null(),
+        usage_counts_len: 0,
+        indices: indices.as_ptr(),
+        indices_len: indices.len(),
+        index_width_bits: 32,
+        record_stride: 0,
+        index_stride: 0,
+    };
+    let validate = |v: &mmi_buffers_view| {
+        let mut info = mmi_buffers_info::default();
+        // SAFETY: the view's arrays outlive the call.
+        let code = unsafe { mmi_validate_buffers(v, ptr::null(), &mut info) };
+        (code, [info.records, info.indices, info.special_indices])
+    };
+    let verify = |v: &mmi_buffers_view| {
+        let mut report = mmi_verify_report::default();
+        // SAFETY: the mesh's and the view's arrays outlive the call.
+        let code = unsafe { mmi_verify(&m, v, &mut report, ptr::null_mut(), 0) };
+        (code, report_numbers(&report))
+    };
+    let expected_info = validate(&tight);
+    let expected_report = verify(&tight);
+    assert_eq!(expected_info.0, MMI_OK);
+    assert_eq!(expected_info.1[2], 1, "the corner's special index");
+    assert_eq!(expected_report.0, MMI_OK);
+    assert_eq!(expected_report.1[5], 0, "the bake is sound");
+    let mut accepted = 0;
+    for record_stride in 0..=40 {
+        for index_stride in 0..=20 {
+            let library = ReadOptions {
+                record_stride: if record_stride == 0 {
+                    TriangleRecord::SIZE
+                } else {
+                    record_stride
+                },
+                index_stride: (index_stride != 0).then_some(index_stride),
+                ..ReadOptions::default()
+            }
+            .check_strides(Some(IndexWidth::U32));
+            let (rs, is) = (record_stride.max(8), index_stride.max(4));
+            if library.is_err() {
+                // The stride is refused before any byte is read.
+                let v = mmi_buffers_view {
+                    record_stride,
+                    index_stride,
+                    ..tight
+                };
+                assert_eq!(validate(&v).0, MMI_ERROR_INVALID_ARGUMENT);
+                assert!(last_error().contains("stride"), "{}", last_error());
+                assert_eq!(verify(&v).0, MMI_ERROR_INVALID_ARGUMENT);
+                continue;
+            }
+            accepted += 1;
+            for whole in [false, true] {
+                let r = spread(&records, 8, rs, whole);
+                let i = spread(&indices, 4, is, whole);
+                let v = mmi_buffers_view {
+                    records: r.as_ptr(),
+                    records_len: r.len(),
+                    indices: i.as_ptr(),
+                    indices_len: i.len(),
+                    record_stride,
+                    index_stride,
+                    ..tight
+                };
+                let case = format!("strides {record_stride} {index_stride} whole {whole}");
+                assert_eq!(validate(&v), expected_info, "{case}");
+                assert_eq!(verify(&v), expected_report, "{case}");
+                if rs > 8 {
+                    let short = mmi_buffers_view {
+                        records_len: r.len() - 1,
+                        ..v
+                    };
+                    assert_eq!(validate(&short).0, MMI_ERROR_MALFORMED, "{case}");
+                    assert_eq!(verify(&short).0, MMI_ERROR_MALFORMED, "{case}");
+                }
+            }
+        }
+    }
+    // 0 and 8..=40 by 4 for records, 0 and 4..=20 by 4 for indices.
+    assert_eq!(accepted, 10 * 6);
 }

@@ -11,7 +11,7 @@ use micromap_index::bake::mesh::{
 use micromap_index::bake::{
     AlphaTexture, F32Texture, Sampler, TextureError, Unorm16Texture, Unorm8Texture, UvTriangle,
 };
-use micromap_index::micromap::{usage_counts_to_le_bytes, IndexWidth};
+use micromap_index::micromap::{usage_counts_to_le_bytes, BuildOptions, IndexWidth};
 
 use micromap_index_assets::{read_gltf_file, AssetError, Limits};
 use pyo3::exceptions::{PyOSError, PyTypeError, PyValueError};
@@ -120,6 +120,7 @@ fn common(
     budget: Option<i64>,
     index_width: i64,
     max_bytes: i64,
+    no_mixed_special: bool,
 ) -> PyResult<Common> {
     let fixed = options::level_or_auto(level)?;
     let max = options::bake_level(max_level, "max_level")?;
@@ -136,6 +137,10 @@ fn common(
             unknown: options::unknown(unknown)?,
             budget_bytes: budget,
             model: options::model(model)?,
+            buffers: BuildOptions {
+                no_mixed_special_indices: no_mixed_special,
+                ..BuildOptions::default()
+            },
             ..MeshOptions::default()
         },
         width: options::index_width(index_width)?,
@@ -219,7 +224,7 @@ fn result<'py>(
     out.set_item("stats", stats)?;
     let list = PyList::empty(py);
     let mut first_index = 0;
-    for m in meshes {
+    for (geometry, m) in meshes.iter().enumerate() {
         let d = PyDict::new(py);
         d.set_item("name", &m.name)?;
         d.set_item("texture", (m.size.0, m.size.1))?;
@@ -241,6 +246,11 @@ fn result<'py>(
         d.set_item("alpha_factor", m.alpha_factor)?;
         d.set_item("triangles", m.triangles)?;
         d.set_item("first_index", first_index)?;
+        // The CLI's `mixed_special_indices` of the job (summary.json).
+        d.set_item(
+            "mixed_special_indices",
+            buffers.is_mixed(geometry).map_err(value_error)?,
+        )?;
         first_index += m.triangles;
         list.append(d)?;
     }
@@ -272,7 +282,8 @@ fn bake_error(e: MeshBakeError, names: &[MeshInfo]) -> PyErr {
 /// `bake --texture --triangles`); the Python layer documents the options.
 #[pyfunction]
 #[pyo3(signature = (alpha, uvs, *, level, max_level, format, unknown, filter, address,
-    border_alpha, cutoff, opaque_above, model, budget, index_width, alpha_factor, max_bytes))]
+    border_alpha, cutoff, opaque_above, model, budget, index_width, alpha_factor, max_bytes,
+    no_mixed_special))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn bake<'py>(
     py: Python<'py>,
@@ -292,6 +303,7 @@ pub(crate) fn bake<'py>(
     index_width: i64,
     alpha_factor: f32,
     max_bytes: i64,
+    no_mixed_special: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let alpha = Alpha::new(alpha)?;
     let triangles = uv_triangles(uvs)?;
@@ -304,6 +316,7 @@ pub(crate) fn bake<'py>(
         budget,
         index_width,
         max_bytes,
+        no_mixed_special,
     )?;
     let sampler = options::sampler(
         options::filter(filter)?,
@@ -348,7 +361,8 @@ pub(crate) fn bake<'py>(
 /// own when given.
 #[pyfunction]
 #[pyo3(signature = (path, *, level, max_level, format, unknown, filter, address,
-    border_alpha, cutoff, opaque_above, model, budget, index_width, max_bytes))]
+    border_alpha, cutoff, opaque_above, model, budget, index_width, max_bytes,
+    no_mixed_special))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn bake_gltf<'py>(
     py: Python<'py>,
@@ -366,6 +380,7 @@ pub(crate) fn bake_gltf<'py>(
     budget: Option<i64>,
     index_width: i64,
     max_bytes: i64,
+    no_mixed_special: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let c = common(
         level,
@@ -376,6 +391,7 @@ pub(crate) fn bake_gltf<'py>(
         budget,
         index_width,
         max_bytes,
+        no_mixed_special,
     )?;
     let filter = filter.map(options::filter).transpose()?;
     let address = address.map(options::address_pair).transpose()?;

@@ -7,7 +7,7 @@ use crate::bake::{uv_triangles, Alpha};
 use crate::options::{self, value_error};
 use micromap_index::bake::{Baker, Contradiction};
 use micromap_index::micromap::{
-    read_buffers, BufferBytes, MicromapIndex, Overlap, ReadOptions, TriangleOpacity,
+    read_buffers, BufferBytes, MicromapIndex, Overlap, ReadOptions, TriangleOpacity, TriangleRecord,
 };
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -21,7 +21,7 @@ const MAX_DECODED_BYTES: u64 = (1 << 32) + (1 << 30);
 #[pyfunction]
 #[pyo3(signature = (alpha, uvs, *, data, triangles, indices, index_width, usage, filter,
     address, border_alpha, cutoff, opaque_above, model, max_report, max_checks,
-    lenient_layout))]
+    lenient_layout, record_stride, index_stride))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn verify<'py>(
     py: Python<'py>,
@@ -41,10 +41,37 @@ pub(crate) fn verify<'py>(
     max_report: i64,
     max_checks: Option<i64>,
     lenient_layout: bool,
+    record_stride: Option<i64>,
+    index_stride: Option<i64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let alpha = Alpha::new(alpha)?;
     let uv = uv_triangles(uvs)?;
     let width = options::index_width(index_width)?;
+    let stride = |value: i64, what: &str| {
+        usize::try_from(options::count(value, what)?)
+            .map_err(|_| value_error(format!("{what} {value} does not fit in memory")))
+    };
+    let read_options = ReadOptions {
+        overlap: if lenient_layout {
+            Overlap::Allow {
+                max_decoded_bytes: MAX_DECODED_BYTES,
+            }
+        } else {
+            Overlap::Forbid
+        },
+        record_stride: record_stride
+            .map(|s| stride(s, "record_stride"))
+            .transpose()?
+            .unwrap_or(TriangleRecord::SIZE),
+        index_stride: index_stride
+            .map(|s| stride(s, "index_stride"))
+            .transpose()?,
+        ..ReadOptions::default()
+    };
+    // A stride the APIs do not allow, before anything is read.
+    read_options
+        .check_strides(Some(width))
+        .map_err(value_error)?;
     let sampler = options::sampler(
         options::filter(filter)?,
         options::address_pair(address)?,
@@ -66,16 +93,7 @@ pub(crate) fn verify<'py>(
                 usage_counts: usage.as_deref(),
                 indices: Some((&indices, width)),
             },
-            &ReadOptions {
-                overlap: if lenient_layout {
-                    Overlap::Allow {
-                        max_decoded_bytes: MAX_DECODED_BYTES,
-                    }
-                } else {
-                    Overlap::Forbid
-                },
-                ..ReadOptions::default()
-            },
+            &read_options,
         )
         .map_err(|e| e.to_string())?;
         let index = read.indices.unwrap_or_default();

@@ -161,3 +161,40 @@ def test_max_bytes_refuses_where_the_cli_does(cli_bake, tmp_path):
         mmi.bake(alpha, uvs, level=16)
     with pytest.raises(ValueError, match="max_bytes"):
         mmi.bake_gltf(SPONZA / "cards.gltf", level=16)
+
+
+def test_no_mixed_special_equals_the_cli(cli_bake):
+    """``no_mixed_special=True`` is ``bake --no-mixed-special``, byte for
+    byte, on a bake that mixes special indices with records without it
+    (at level 1 some of the grid's triangles are uniform)."""
+    alpha = mmi.read_alpha(THORN)
+    uvs = mmi.read_triangles(GRID)
+    mixed = mmi.bake(alpha, uvs, level=1)
+    assert mixed.meshes[0]["mixed_special_indices"], "the option has nothing to do"
+    assert (mixed.indices < 0).any()
+    result = mmi.bake(alpha, uvs, level=1, no_mixed_special=True)
+    assert not result.meshes[0]["mixed_special_indices"]
+    assert (result.indices >= 0).all()
+    assert len(result.triangles) > len(mixed.triangles)
+    files, out = cli_bake("--texture", THORN, "--triangles", GRID, "--level", "1",
+                          "--no-mixed-special")
+    assert_same_files(result, files)
+    jobs = summary(out)["jobs"]
+    assert [m["mixed_special_indices"] for m in result.meshes] == [
+        j["mixed_special_indices"] for j in jobs
+    ]
+    assert mmi.verify(alpha, uvs, result).sound
+
+
+@pytest.mark.parametrize("no_mixed", [False, True], ids=["mixed", "no-mixed"])
+def test_gltf_no_mixed_special_equals_the_cli(cli_bake, no_mixed):
+    # The fern's primitives mix special indices with records by default.
+    asset = ROOT / "assets" / "polyhaven-fern02" / "fern_02.gltf"
+    flags = ["--no-mixed-special"] if no_mixed else []
+    result = mmi.bake_gltf(asset, max_level=6, no_mixed_special=no_mixed)
+    files, out = cli_bake("--gltf", asset, "--max-level", "6", *flags)
+    assert_same_files(result, files)
+    assert [m["mixed_special_indices"] for m in result.meshes] == [
+        j["mixed_special_indices"] for j in summary(out)["jobs"]
+    ]
+    assert any(m["mixed_special_indices"] for m in result.meshes) != no_mixed

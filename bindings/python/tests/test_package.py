@@ -1,6 +1,7 @@
 """The installed package: its stubs, marker and docstrings."""
 
 import ast
+import inspect
 from pathlib import Path
 
 import micromap_index as mmi
@@ -32,3 +33,16 @@ def test_every_public_name_is_documented():
     for method in ("encode", "from_bytes", "to_bytes", "lookup", "state_at", "decode"):
         assert getattr(mmi.Tree, method).__doc__.strip(), method
     assert mmi.__version__ == "0.1.0"
+
+
+def test_stub_signatures_match_the_functions():
+    here = Path(mmi.__file__).parent
+    stub = ast.parse((here / "__init__.pyi").read_text())
+    checked = set()
+    for node in stub.body:
+        if isinstance(node, ast.FunctionDef):
+            a = node.args
+            stubbed = [x.arg for x in a.posonlyargs + a.args + a.kwonlyargs]
+            assert stubbed == list(inspect.signature(getattr(mmi, node.name)).parameters), node.name
+            checked.add(node.name)
+    assert {"bake", "bake_gltf", "verify"} <= checked

@@ -111,6 +111,11 @@ fn micromap_buffers() {
 }
 
 #[test]
+fn strided_buffers() {
+    replay("strided_buffers", fuzzing::strided_buffers);
+}
+
+#[test]
 fn succinct_tree() {
     replay("succinct_tree", fuzzing::succinct_tree);
 }

@@ -95,7 +95,8 @@ class BakeResult:
     ``summary.json`` (``triangles``, ``levels``, ``micro_triangles``,
     ``known_fraction``, ``status``, ``micromaps_after_dedup``, ...).
     ``meshes``: per mesh its name, texture size, sampler, cutoff, triangle
-    count and ``first_index`` into ``indices``.
+    count, ``first_index`` into ``indices`` and ``mixed_special_indices``
+    (whether its geometry mixes special indices with records).
     ``warnings``: what the glTF reader warned about (empty for :func:`bake`).
     """
 
@@ -152,6 +153,7 @@ def bake(
     index_width: int = 32,
     alpha_factor: float = 1.0,
     max_bytes: int = 1 << 30,
+    no_mixed_special: bool = False,
 ) -> BakeResult:
     """Bakes opacity micromaps for ``uvs`` over the alpha texture ``alpha``.
 
@@ -175,7 +177,13 @@ def bake(
     ``alpha_factor`` multiplies every texel's alpha (glTF's
     ``baseColorFactor[3]``); ``max_bytes`` (default 1 GiB, as the CLI's
     ``--max-bytes``) refuses, before baking, a bake whose output may exceed
-    it (a ``ValueError``).
+    it (a ``ValueError``); ``no_mixed_special`` (``--no-mixed-special``): no
+    geometry mixes special indices with records -- in a geometry that
+    references any record each special index becomes a shared level-0
+    record of its state, for Vulkan KHR pipelines created with
+    ``VK_PIPELINE_CREATE_2_OPACITY_MICROMAP_DISALLOW_MIXED_SPECIAL_INDEX_BIT_KHR``
+    (``meshes[i]["mixed_special_indices"]`` says whether a geometry mixes
+    them).
 
     Releases the GIL while baking. Raises ``TypeError`` / ``ValueError``.
     """
@@ -197,6 +205,7 @@ def bake(
             index_width=index_width,
             alpha_factor=alpha_factor,
             max_bytes=max_bytes,
+            no_mixed_special=no_mixed_special,
         )
     )
 
@@ -217,6 +226,7 @@ def bake_gltf(
     budget: Optional[int] = None,
     index_width: int = 32,
     max_bytes: int = 1 << 30,
+    no_mixed_special: bool = False,
 ) -> BakeResult:
     """Bakes every alpha-masked primitive of a glTF 2.0 asset (``.gltf`` or
     ``.glb``), as ``micromap-index bake --gltf``: one geometry per primitive,
@@ -241,6 +251,7 @@ def bake_gltf(
             budget=budget,
             index_width=index_width,
             max_bytes=max_bytes,
+            no_mixed_special=no_mixed_special,
         )
     )
 
@@ -310,6 +321,8 @@ def verify(
     max_report: int = 20,
     max_checks: Optional[int] = None,
     lenient_layout: bool = False,
+    record_stride: Optional[int] = None,
+    index_stride: Optional[int] = None,
 ) -> VerifyReport:
     """Checks micromap buffers -- a :class:`BakeResult`, or ``data``,
     ``triangles``, ``indices`` and (optionally) ``usage`` from any baker, as
@@ -321,10 +334,18 @@ def verify(
     witness point; ``max_checks`` caps the known micro-triangles checked
     (then ``complete`` is false). ``lenient_layout`` accepts overlapping
     records. ``index_width`` defaults to the ``indices`` array's (16 for
-    2-byte dtypes) or 32. Releases the GIL while checking."""
+    2-byte dtypes) or 32. ``record_stride`` and ``index_stride`` are the
+    bytes from one triangle record (Vulkan's ``triangleArrayStride``) or
+    index (``indexStride``) to the next in ``triangles`` and ``indices``
+    (``None``: tight): a record stride is at least 8 and a multiple of 4, an
+    index stride a multiple of the index width (else a ``ValueError``); the
+    bytes between elements are ignored and a buffer holds whole strides or
+    ends right after its last element. Releases the GIL while checking."""
     if buffers is not None:
         if any(x is not None for x in (data, triangles, indices, usage)):
             raise TypeError("give either a BakeResult or data/triangles/indices/usage, not both")
+        if record_stride is not None or index_stride is not None:
+            raise TypeError("a BakeResult is tight: strides go with data/triangles/indices")
         data, triangles, indices, usage = (
             buffers.data,
             buffers.triangles,
@@ -352,5 +373,7 @@ def verify(
         max_report=max_report,
         max_checks=max_checks,
         lenient_layout=lenient_layout,
+        record_stride=record_stride,
+        index_stride=index_stride,
     )
     return VerifyReport(**raw)

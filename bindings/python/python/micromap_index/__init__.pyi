@@ -71,6 +71,7 @@ def bake(
     index_width: int = ...,
     alpha_factor: float = ...,
     max_bytes: int = ...,
+    no_mixed_special: bool = ...,
 ) -> BakeResult: ...
 def bake_gltf(
     path: Union[str, "os.PathLike[str]"],
@@ -88,6 +89,7 @@ def bake_gltf(
     budget: Optional[int] = ...,
     index_width: int = ...,
     max_bytes: int = ...,
+    no_mixed_special: bool = ...,
 ) -> BakeResult: ...
 def verify(
     alpha: _Alpha,
@@ -108,4 +110,6 @@ def verify(
     max_report: int = ...,
     max_checks: Optional[int] = ...,
     lenient_layout: bool = ...,
+    record_stride: Optional[int] = ...,
+    index_stride: Optional[int] = ...,
 ) -> VerifyReport: ...

@@ -7,9 +7,9 @@ use micromap_index::micromap::{
 };
 
 /// The decoded fuzz input: the four byte slices and the options.
-struct Input<'a> {
-    bytes: BufferBytes<'a>,
-    options: ReadOptions,
+pub(super) struct Input<'a> {
+    pub(super) bytes: BufferBytes<'a>,
+    pub(super) options: ReadOptions,
 }
 
 /// Splits `data` as: a flags byte (bits 0-1: index width none/u8/u16/u32;
@@ -18,7 +18,7 @@ struct Input<'a> {
 /// lengths (records, usage counts, indices, each cut to what is left),
 /// then those slices in that order; the rest is the data. Missing bytes
 /// read as zero.
-fn decode(data: &[u8]) -> Input<'_> {
+pub(super) fn decode(data: &[u8]) -> Input<'_> {
     let byte = |i: usize| data.get(i).copied().unwrap_or(0);
     let flags = byte(0);
     let len = |i: usize| usize::from(u16::from_le_bytes([byte(i), byte(i + 1)]));
@@ -58,7 +58,7 @@ fn decode(data: &[u8]) -> Input<'_> {
     }
 }
 
-fn hex(bytes: &[u8]) -> String {
+pub(super) fn hex(bytes: &[u8]) -> String {
     use std::fmt::Write;
     bytes.iter().fold(String::new(), |mut hex, b| {
         let _ = write!(hex, "{b:02x}");

@@ -20,6 +20,7 @@
 //! | [`eval_input`] | `eval_input` | [`eval::eval_line_bytes`] never panics and writes one JSON object line; [`Value::parse`] round-trips |
 //! | [`vector_reader`] | `vector_reader` | [`vectors::parse_vector_file`] and [`vectors::parse_answers`] never panic; what they accept round-trips; [`vectors::check`] adds up |
 //! | [`micromap_buffers`] | `micromap_buffers` | `micromap::read_buffers` never panics; what it accepts is consistent and rebuilds |
+//! | [`strided_buffers`] | `strided_buffers` | `micromap::read_buffers` at any record and index strides never panics, refuses exactly the strides `ReadOptions::check_strides` refuses, and reads buffers re-laid at allowed strides (junk in the gaps) as the tight ones |
 //! | [`succinct_tree`] | `succinct_tree` | the succinct-tree readers never panic; both layouts round-trip and agree with the flat micromap |
 //! | [`alpha_image`] | `alpha_image` | [`assets::decode_alpha_image`] never panics, stays within [`FUZZ_LIMITS`], and what it accepts has `width * height` texels |
 //! | [`triangles_json`] | `triangles_json` | [`assets::read_triangles_json`] never panics; what it accepts writes back and reads back bit for bit |
@@ -67,6 +68,7 @@ mod exact_walk_vs_fixed;
 mod inverse_round_trip;
 mod micromap_buffers;
 mod spec_vs_mirror;
+mod strided_buffers;
 mod succinct_tree;
 mod vector_reader;
 pub use assets::{alpha_image, gltf_asset, triangles_json, FUZZ_LIMITS, FUZZ_PNG};
@@ -76,6 +78,7 @@ pub use exact_walk_vs_fixed::exact_walk_vs_fixed;
 pub use inverse_round_trip::inverse_round_trip;
 pub use micromap_buffers::micromap_buffers;
 pub use spec_vs_mirror::{spec_vs_mirror, SpecCase};
+pub use strided_buffers::strided_buffers;
 pub use succinct_tree::succinct_tree;
 pub use vector_reader::vector_reader;
 
