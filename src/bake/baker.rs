@@ -298,6 +298,18 @@ fn floor_third(q: i128) -> i128 {
     }
 }
 
+/// Sets a node aside at the split depth (see [`Baker::walk`]); out of the
+/// walk's hot path.
+#[cold]
+#[inline(never)]
+fn set_aside<C>(walk: &mut Walk<'_, C>, index: u64, vertices: [(C, C); 3], top_flip: bool) {
+    walk.frontier.push(Node {
+        index,
+        vertices,
+        top_flip,
+    });
+}
+
 /// Sets `count` states of `map` from `first`: one leaf (most calls) by
 /// [`Micromap::set`], a range by [`Micromap::fill`].
 #[inline]
@@ -312,7 +324,7 @@ fn put(map: &mut Micromap, first: u64, count: u64, state: State) -> Result<(), M
 /// What the walk of [`Baker::bake`] carries from node to node: the level,
 /// the frames' shifts, the 2-state policy, the map and counts it fills,
 /// whether a micro-triangle ran out of budget, and the search's stack.
-struct Walk<'a> {
+struct Walk<'a, C> {
     level: u32,
     /// Work units spent and allowed ([`crate::bake::work`]).
     work: u64,
@@ -326,7 +338,87 @@ struct Walk<'a> {
     /// Unknown leaves the exact model knows (see [`BakedTriangle::widened`]).
     widened: u64,
     stack: Vec<Block>,
+    /// While the top of a split walk is walked ([`SPLIT_FROM_LEVEL`]):
+    /// the depth whose nodes are set aside for walks of their own
+    /// (`u32::MAX` otherwise), and those nodes.
+    split_depth: u32,
+    frontier: Vec<Node<C>>,
 }
+
+impl<'a, C> Walk<'a, C> {
+    /// A walk of `level` on `grid` with `max_work` units, filling `map`
+    /// and `counts`, not split.
+    fn new(
+        level: u32,
+        grid: Grid,
+        two_state: UnknownPolicy,
+        max_work: u64,
+        map: &'a mut Micromap,
+        counts: &'a mut [u64; 4],
+    ) -> Self {
+        Walk {
+            level,
+            work: 0,
+            max_work,
+            out_of_work: false,
+            grid,
+            two_state,
+            map,
+            counts,
+            exhausted: false,
+            widened: 0,
+            stack: Vec::new(),
+            split_depth: u32::MAX,
+            frontier: Vec::new(),
+        }
+    }
+
+    /// How it went.
+    fn spent(&self) -> Spent {
+        let status = if self.out_of_work {
+            TriangleStatus::WorkBudgetExceeded
+        } else if self.exhausted {
+            TriangleStatus::BudgetExceeded
+        } else {
+            TriangleStatus::Exact
+        };
+        Spent {
+            status,
+            work: self.work,
+            widened: self.widened,
+        }
+    }
+}
+
+/// What one subtree of a split walk made and found.
+struct Subtree {
+    map: Micromap,
+    counts: [u64; 4],
+    work: u64,
+    widened: u64,
+    exhausted: bool,
+    out_of_work: bool,
+}
+
+/// A node of the walk set aside at the split depth: its index at that
+/// depth, its grid vertices and its `top_flip`.
+#[derive(Clone, Copy, Debug)]
+struct Node<C> {
+    index: u64,
+    vertices: [(C, C); 3],
+    top_flip: bool,
+}
+
+/// A triangle baked at this level or above, on more than one thread, is
+/// split: the walk's top levels run first, and the subtrees of
+/// [`SPLIT_SUBTREE_LEVEL`] below them (4^8 micro-triangles each) are
+/// walked in parallel, each into a map of its own, copied in after (see
+/// [`Baker::walk`]). One level-12 triangle is 16M micro-triangles: one
+/// thread's work for seconds otherwise.
+const SPLIT_FROM_LEVEL: u32 = 10;
+
+/// The level of the subtrees a split walk hands out.
+const SPLIT_SUBTREE_LEVEL: u32 = 8;
 
 /// How a walk went: its status and the work units it spent.
 struct Spent {
@@ -719,10 +811,27 @@ impl Baker {
         two_state: UnknownPolicy,
         max_work: u64,
     ) -> Result<BakedTriangle, BakeError> {
-        self.bake_as(self.model, uv, level, format, two_state, max_work)
+        self.bake_as(self.model, uv, level, format, two_state, max_work, false)
     }
 
-    /// [`bake_within`](Self::bake_within) under `model`.
+    /// [`bake_within`](Self::bake_within), with a triangle of
+    /// [`SPLIT_FROM_LEVEL`] or above walked on the current thread pool's
+    /// threads when `split` (the same result: see [`walk`](Self::walk)).
+    pub(crate) fn bake_split(
+        &self,
+        uv: &UvTriangle,
+        level: Level,
+        format: Format,
+        two_state: UnknownPolicy,
+        max_work: u64,
+        split: bool,
+    ) -> Result<BakedTriangle, BakeError> {
+        self.bake_as(self.model, uv, level, format, two_state, max_work, split)
+    }
+
+    /// [`bake_within`](Self::bake_within) under `model`, split as
+    /// [`bake_split`](Self::bake_split) says.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn bake_as(
         &self,
         model: Model,
@@ -731,6 +840,7 @@ impl Baker {
         format: Format,
         two_state: UnknownPolicy,
         max_work: u64,
+        split: bool,
     ) -> Result<BakedTriangle, BakeError> {
         let whole_unknown = |status| {
             let mut counts = [0u64; 4];
@@ -754,7 +864,8 @@ impl Baker {
                 // micro-triangles are the widening's cost.
                 if model == Model::GpuBinary32 {
                     let four = Format::FourState;
-                    let exact = self.bake_as(Model::Exact, uv, level, four, two_state, max_work)?;
+                    let exact =
+                        self.bake_as(Model::Exact, uv, level, four, two_state, max_work, split)?;
                     unknown.widened = exact.counts[0] + exact.counts[1];
                     unknown.work = exact.work;
                 }
@@ -766,9 +877,10 @@ impl Baker {
         let root = Self::place(&fx, &fy, n, [(0, 0), (side, 0), (0, side)]);
         let mut counts = [0u64; 4];
         let out = (&mut map, &mut counts);
+        let split = split && n >= SPLIT_FROM_LEVEL;
         let spent = match root.narrowed(grid) {
-            Some(narrow) => self.walk(narrow, n, grid, two_state, max_work, out)?,
-            None => self.walk(root, n, grid, two_state, max_work, out)?,
+            Some(narrow) => self.walk(narrow, n, grid, two_state, max_work, split, out)?,
+            None => self.walk(root, n, grid, two_state, max_work, split, out)?,
         };
         Ok(BakedTriangle {
             opacity: BakedOpacity::Map(map),
@@ -784,6 +896,15 @@ impl Baker {
     /// the map and counts of `out`, and says how it went and what it spent.
     /// The caller picks `C` so that the walk stays in range (see
     /// [`NARROW_WALK_COORDINATE`]); the result is the same in every type.
+    ///
+    /// A `split` walk runs the levels above [`SPLIT_SUBTREE_LEVEL`] first,
+    /// setting the nodes it reaches there aside, then walks those subtrees
+    /// in parallel, each into a map of its own with the work left after
+    /// the top, and copies them in. Counts, widening and work are sums,
+    /// so the result is the serial walk's, unless the work budget could
+    /// have cut the serial walk (a subtree ran out, or all of them together
+    /// reached the budget): then the serial walk runs, from scratch.
+    #[allow(clippy::too_many_arguments)]
     fn walk<C: GridInt>(
         &self,
         root: Placed<C>,
@@ -791,34 +912,82 @@ impl Baker {
         grid: Grid,
         two_state: UnknownPolicy,
         max_work: u64,
+        split: bool,
         (map, counts): (&mut Micromap, &mut [u64; 4]),
     ) -> Result<Spent, BakeError> {
-        let mut walk = Walk {
-            level,
-            work: 0,
-            max_work,
-            out_of_work: false,
-            grid,
-            two_state,
+        let vertices = [0, 1, 2].map(|k| (root.x[k], root.y[k]));
+        let top = Node {
+            index: 0,
+            vertices,
+            top_flip: false,
+        };
+        if split {
+            let split_depth = level - SPLIT_SUBTREE_LEVEL;
+            let mut walk = Walk::new(level, grid, two_state, max_work, map, counts);
+            walk.split_depth = split_depth;
+            self.visit(&mut walk, 0, top.index, top.vertices, top.top_flip)?;
+            let nodes = core::mem::take(&mut walk.frontier);
+            if !walk.out_of_work {
+                let left = max_work - walk.work;
+                let subtrees = super::parallel::map_on_current_pool(&nodes, |node| {
+                    self.walk_subtree(node, split_depth, &walk, left)
+                });
+                let mut spent = 0u64;
+                let mut within = true;
+                for subtree in &subtrees {
+                    let subtree = subtree.as_ref().map_err(Clone::clone)?;
+                    spent = spent.saturating_add(subtree.work);
+                    within &= !subtree.out_of_work;
+                }
+                if within && spent < left {
+                    for (node, subtree) in nodes.iter().zip(subtrees) {
+                        let subtree = subtree?;
+                        let first = node.index << (2 * SPLIT_SUBTREE_LEVEL);
+                        walk.map.copy_aligned(first, &subtree.map)?;
+                        for (sum, count) in walk.counts.iter_mut().zip(subtree.counts) {
+                            *sum += count;
+                        }
+                        walk.widened += subtree.widened;
+                        walk.exhausted |= subtree.exhausted;
+                    }
+                    walk.work += spent;
+                    return Ok(walk.spent());
+                }
+            }
+            // The budget could have cut the serial walk: walk it.
+            let (level, format) = (walk.map.level(), walk.map.format());
+            *walk.map = Micromap::new(level, format)?;
+            *walk.counts = [0; 4];
+        }
+        let mut walk = Walk::new(level, grid, two_state, max_work, map, counts);
+        self.visit(&mut walk, 0, top.index, top.vertices, top.top_flip)?;
+        Ok(walk.spent())
+    }
+
+    /// One subtree of a split walk (see [`walk`](Self::walk)): `node` at
+    /// `depth`, walked into a map of [`SPLIT_SUBTREE_LEVEL`] (its own
+    /// indices) with `max_work` units, on the grid and policy of `top`.
+    fn walk_subtree<C: GridInt>(
+        &self,
+        node: &Node<C>,
+        depth: u32,
+        top: &Walk<'_, C>,
+        max_work: u64,
+    ) -> Result<Subtree, BakeError> {
+        let mut map = Micromap::new(Level(SPLIT_SUBTREE_LEVEL as u8), top.map.format())?;
+        let mut counts = [0u64; 4];
+        let (level, grid, two_state) = (top.level, top.grid, top.two_state);
+        let mut walk = Walk::new(level, grid, two_state, max_work, &mut map, &mut counts);
+        self.visit(&mut walk, depth, 0, node.vertices, node.top_flip)?;
+        let (work, widened) = (walk.work, walk.widened);
+        let (exhausted, out_of_work) = (walk.exhausted, walk.out_of_work);
+        Ok(Subtree {
             map,
             counts,
-            exhausted: false,
-            widened: 0,
-            stack: Vec::new(),
-        };
-        let vertices = [0, 1, 2].map(|k| (root.x[k], root.y[k]));
-        self.visit(&mut walk, 0, 0, vertices, false)?;
-        let status = if walk.out_of_work {
-            TriangleStatus::WorkBudgetExceeded
-        } else if walk.exhausted {
-            TriangleStatus::BudgetExceeded
-        } else {
-            TriangleStatus::Exact
-        };
-        Ok(Spent {
-            status,
-            work: walk.work,
-            widened: walk.widened,
+            work,
+            widened,
+            exhausted,
+            out_of_work,
         })
     }
 
@@ -833,12 +1002,16 @@ impl Baker {
     /// halving is a shift), so no vertex is placed from scratch.
     fn visit<C: GridInt>(
         &self,
-        walk: &mut Walk<'_>,
+        walk: &mut Walk<'_, C>,
         depth: u32,
         index: u64,
         vertices: [(C, C); 3],
         top_flip: bool,
     ) -> Result<(), BakeError> {
+        if depth == walk.split_depth {
+            set_aside(walk, index, vertices, top_flip);
+            return Ok(());
+        }
         let n = walk.level;
         let up = n - depth;
         let p = Placed {
@@ -891,7 +1064,7 @@ impl Baker {
     /// counts them.
     fn set_unknown<C: GridInt>(
         &self,
-        walk: &mut Walk<'_>,
+        walk: &mut Walk<'_, C>,
         p: &Placed<C>,
         first: u64,
         count: u64,
@@ -1131,6 +1304,79 @@ mod tests {
     use crate::bake::{AddressMode, Filter, Unorm8Texture};
     use micromap_index_test_support::SplitMix64;
 
+    /// A split walk (levels 10 and 11, subtrees on the pool's threads)
+    /// gives the serial walk's map, counts, widening, status and work,
+    /// under both models and formats, on textures with structure at
+    /// every scale; and where the work budget cuts the serial walk (half
+    /// its work, a unit short of it, a few units) the split walk falls
+    /// back to it, giving the same again. Budgets just above the serial
+    /// work keep the split result.
+    #[test]
+    fn split_walks_give_the_serial_walk() {
+        let mut rng = SplitMix64::new(0x5b17);
+        let (w, h) = (24u32, 20u32);
+        let mut split_kept = 0;
+        for case in 0..6u32 {
+            // Blobs of each class with noisy edges.
+            let texels: Vec<u8> = (0..w * h)
+                .map(|i| {
+                    let (x, y) = (i % w, i / w);
+                    let blob = (x / 6 + y / 5 + case) % 3 == 0;
+                    if blob ^ (rng.next_u64() % 9 == 0) {
+                        255
+                    } else {
+                        0
+                    }
+                })
+                .collect();
+            let texture = Unorm8Texture::new(w, h, &texels).unwrap();
+            let sampler = Sampler {
+                filter: if case % 2 == 0 {
+                    Filter::Linear
+                } else {
+                    Filter::Nearest
+                },
+                address_u: AddressMode::Repeat,
+                address_v: AddressMode::ClampToEdge,
+                border_alpha: 0.0,
+            };
+            let model = Model::ALL[(case % 2) as usize];
+            let baker = Baker::new(&texture, sampler, Cutoff::default())
+                .unwrap()
+                .with_model(model);
+            let mut c = || (rng.next_u64() % 1000) as f32 / 800.0 - 0.1;
+            let uv = [[c(), c()], [c(), c()], [c(), c()]];
+            let level = Level::new(10 + case % 2).unwrap();
+            let format = [Format::FourState, Format::TwoState][(case / 2 % 2) as usize];
+            let policy = UnknownPolicy::default();
+            let serial = baker
+                .bake_as(model, &uv, level, format, policy, u64::MAX, false)
+                .unwrap();
+            let split = baker
+                .bake_as(model, &uv, level, format, policy, u64::MAX, true)
+                .unwrap();
+            assert_eq!(split, serial, "case {case}: {uv:?} at {level:?}");
+            assert!(
+                serial.work > 1000,
+                "case {case}: too easy ({} units)",
+                serial.work
+            );
+            let full = serial.work;
+            for budget in [full / 2, full - 1, full, full + 1, 3, 0] {
+                let serial = baker
+                    .bake_as(model, &uv, level, format, policy, budget, false)
+                    .unwrap();
+                let split = baker
+                    .bake_as(model, &uv, level, format, policy, budget, true)
+                    .unwrap();
+                assert_eq!(split, serial, "case {case}: budget {budget} of {full}");
+                split_kept += u32::from(serial.status != TriangleStatus::WorkBudgetExceeded);
+            }
+        }
+        // Budgets at or above the work kept every split bake (no cut).
+        assert!(split_kept >= 12, "{split_kept}");
+    }
+
     /// The `i64` walk gives the `i128` walk's micromap wherever
     /// [`Placed::narrowed`] accepts a root: roots with coordinates just
     /// below `2^59` (and some crossing zero), shifts up to 58, every
@@ -1206,12 +1452,12 @@ mod tests {
             let policy = UnknownPolicy::Fallback;
             let wide = bake(&|map, counts| {
                 baker
-                    .walk(root, level, grid, policy, u64::MAX, (map, counts))
+                    .walk(root, level, grid, policy, u64::MAX, false, (map, counts))
                     .unwrap()
             });
             let narrowed = bake(&|map, counts| {
                 baker
-                    .walk(narrow, level, grid, policy, u64::MAX, (map, counts))
+                    .walk(narrow, level, grid, policy, u64::MAX, false, (map, counts))
                     .unwrap()
             });
             assert_eq!(narrowed, wide, "{root:?} {shifts:?} level {level}");

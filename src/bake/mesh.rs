@@ -872,25 +872,28 @@ fn bake_distinct(
     let runner = Runner::new(options.threads);
     let threads = runner.threads().max(1);
     let chunk_cost = CHUNK_COST_PER_THREAD.saturating_mul(threads as u64);
-    let bake = |w: &distinct::Work, max_work: u64| -> Result<BakedTriangle, MeshBakeError> {
-        let (format, unknown) = (options.format, options.unknown);
-        let baker = &plan.bakers[w.baker as usize];
-        let mips = &plan.mips[w.baker as usize];
-        match w.bound {
-            None if mips.is_empty() => baker
-                .bake_within(&w.uv, w.level, format, unknown, max_work)
-                .map_err(MeshBakeError::Bake),
-            None => {
-                let mut pairs = vec![(baker, baker)];
-                pairs.extend(mips.iter().map(|(low, high)| (low, high)));
-                bake_bounded(&pairs, &w.uv, w.level, format, unknown, max_work)
+    // A large triangle is split over the pool's threads when there are
+    // several (`Baker::walk`; the same result either way).
+    let bake =
+        |w: &distinct::Work, max_work: u64, split: bool| -> Result<BakedTriangle, MeshBakeError> {
+            let (format, unknown) = (options.format, options.unknown);
+            let baker = &plan.bakers[w.baker as usize];
+            let mips = &plan.mips[w.baker as usize];
+            match w.bound {
+                None if mips.is_empty() => baker
+                    .bake_split(&w.uv, w.level, format, unknown, max_work, split)
+                    .map_err(MeshBakeError::Bake),
+                None => {
+                    let mut pairs = vec![(baker, baker)];
+                    pairs.extend(mips.iter().map(|(low, high)| (low, high)));
+                    bake_bounded(&pairs, &w.uv, w.level, format, unknown, max_work)
+                }
+                Some(b) => {
+                    let (low, high) = &plan.bounds[b as usize];
+                    bake_bounded(&[(low, high)], &w.uv, w.level, format, unknown, max_work)
+                }
             }
-            Some(b) => {
-                let (low, high) = &plan.bounds[b as usize];
-                bake_bounded(&[(low, high)], &w.uv, w.level, format, unknown, max_work)
-            }
-        }
-    };
+        };
     let mut builder = MicromapBuffersBuilder::new(options.buffers);
     let mut distinct = Vec::new();
     distinct
@@ -907,13 +910,13 @@ fn bake_distinct(
         let chunk = &plan.work[start..end];
         let min_len = (TASK_COST / (cost / chunk.len() as u64).max(1)).max(1) as usize;
         let at_start = options.triangle_work_budget.min(work_left);
-        let baked = runner.map_in_order(chunk, min_len, |w| bake(w, at_start));
+        let baked = runner.map_in_order(chunk, min_len, |w| bake(w, at_start, threads > 1));
         let mut triangles = 0;
         for (w, b) in chunk.iter().zip(baked) {
             let allowance = options.triangle_work_budget.min(work_left);
             let mut b = b?;
             if allowance < at_start && b.work >= allowance {
-                b = bake(w, allowance)?;
+                b = bake(w, allowance, false)?;
             }
             work_left = work_left.saturating_sub(b.work);
             let level = b.opacity.level();

@@ -339,6 +339,7 @@ pub(crate) fn bake_bounded(
                     Format::FourState,
                     two_state,
                     max_work - spent.min(max_work),
+                    false,
                 )
                 .map_err(MeshBakeError::Bake)?;
             spent = spent.saturating_add(b.work);

@@ -104,6 +104,25 @@ impl Runner {
     }
 }
 
+/// `f` of every item, in order, on the thread pool the caller runs in
+/// (rayon's global pool outside any): how a task already running on a
+/// [`Runner`]'s threads hands out parts of itself. Without the `rayon`
+/// feature, a plain loop.
+pub(crate) fn map_on_current_pool<T: Sync, R: Send>(
+    items: &[T],
+    f: impl Fn(&T) -> R + Sync + Send,
+) -> Vec<R> {
+    #[cfg(feature = "rayon")]
+    {
+        use rayon::prelude::*;
+        items.par_iter().map(f).collect()
+    }
+    #[cfg(not(feature = "rayon"))]
+    {
+        items.iter().map(f).collect()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -626,6 +626,33 @@ impl Micromap {
         Ok(())
     }
 
+    /// Copies `part`, a map of the same format and a lower level, over the
+    /// states from `first` (its states are `first..first + part.len()`):
+    /// how a map baked in parts is put together. `first` and `part` must
+    /// start and end on byte boundaries (a part of level 2 or more, at a
+    /// multiple of its length, does).
+    pub(crate) fn copy_aligned(
+        &mut self,
+        first: u64,
+        part: &Micromap,
+    ) -> Result<(), MicromapError> {
+        let len = self.len();
+        let bits = u64::from(self.format.bits_per_state());
+        let end = first.checked_add(part.len()).filter(|&e| e <= len);
+        let aligned = (first * bits) % 8 == 0 && (part.len() * bits) % 8 == 0;
+        let (Some(_), true, true) = (end, aligned, part.format == self.format) else {
+            return Err(MicromapError::IndexOutOfRange {
+                index: first.saturating_add(part.len()),
+                len,
+            });
+        };
+        let start = (first * bits / 8) as usize;
+        if let Some(bytes) = self.data.get_mut(start..start + part.data.len()) {
+            bytes.copy_from_slice(&part.data);
+        }
+        Ok(())
+    }
+
     /// Sets micro-triangles `start..start + count` to `state`: the
     /// descendants of one micro-triangle of a coarser level are such a range
     /// (children of `i` are `4i..4i + 3`). Whole bytes are written at once.

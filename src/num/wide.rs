@@ -92,6 +92,8 @@ impl Wide {
 /// otherwise. Every operation is the exact integer one in either type.
 pub(crate) trait GridInt:
     Copy
+    + Send
+    + Sync
     + Ord
     + From<u32>
     + Into<i128>
@@ -105,6 +107,8 @@ pub(crate) trait GridInt:
 
 impl<T> GridInt for T where
     T: Copy
+        + Send
+        + Sync
         + Ord
         + From<u32>
         + Into<i128>

@@ -80,7 +80,7 @@ pub(crate) fn packed_tree_sizes(
                 })
                 .collect(),
         };
-        mixed_last = codes.iter().filter(|&&c| c == MIXED).count() as u64;
+        mixed_last = codes.iter().map(|&c| u64::from(c == MIXED)).sum();
         mixed = mixed_last;
         for depth in (0..level - 1).rev() {
             let mut at_depth = 0u64;
