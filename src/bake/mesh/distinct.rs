@@ -60,6 +60,75 @@ impl Work {
     }
 }
 
+/// The distinct triangles met so far, by key (baker, vertex-alpha bound,
+/// UV bits, level): an open-addressing table of indices into the plan's
+/// work list, which holds the keys (a map of keys would hold each twice,
+/// and costs more per triangle than the bake of a small one).
+#[derive(Default)]
+struct FirstSeen {
+    /// Indices into the work list, `u32::MAX` for an empty slot; a power
+    /// of two long, at most half full.
+    slots: Vec<u32>,
+}
+
+impl FirstSeen {
+    /// The key of a distinct triangle, bit for bit.
+    fn key(w: &Work) -> [u32; 9] {
+        let uv = w.uv;
+        [
+            w.baker,
+            w.bound.map_or(0, |b| b + 1),
+            w.level.get(),
+            uv[0][0].to_bits(),
+            uv[0][1].to_bits(),
+            uv[1][0].to_bits(),
+            uv[1][1].to_bits(),
+            uv[2][0].to_bits(),
+            uv[2][1].to_bits(),
+        ]
+    }
+
+    fn slot(key: &[u32; 9], mask: usize) -> usize {
+        let hash = key.iter().fold(0u64, |h, &k| {
+            (h.rotate_left(5) ^ u64::from(k)).wrapping_mul(0x517c_c1b7_2722_0a95)
+        });
+        (hash >> 32) as usize & mask
+    }
+
+    /// The index in `work` of the triangle equal to `w`, pushed first when
+    /// it is new.
+    fn id_of(&mut self, w: Work, work: &mut Vec<Work>) -> u32 {
+        if 2 * (work.len() + 1) > self.slots.len() {
+            let mut grown = FirstSeen {
+                slots: vec![u32::MAX; (2 * (work.len() + 1)).next_power_of_two().max(16)],
+            };
+            for (id, old) in work.iter().enumerate() {
+                let mask = grown.slots.len() - 1;
+                let mut s = Self::slot(&Self::key(old), mask);
+                while grown.slots[s] != u32::MAX {
+                    s = (s + 1) & mask;
+                }
+                grown.slots[s] = id as u32;
+            }
+            *self = grown;
+        }
+        let key = Self::key(&w);
+        let mask = self.slots.len() - 1;
+        let mut s = Self::slot(&key, mask);
+        loop {
+            match self.slots[s] {
+                u32::MAX => {
+                    self.slots[s] = work.len() as u32;
+                    work.push(w);
+                    return self.slots[s];
+                }
+                id if Self::key(&work[id as usize]) == key => return id,
+                _ => s = (s + 1) & mask,
+            }
+        }
+    }
+}
+
 /// The material as exact bits, with the texture's address: what a baker is
 /// made from.
 type BakerKey = (usize, [u32; 7]);
@@ -100,7 +169,7 @@ impl Plan {
         // object (data pointer and vtable).
         let mut bakers: BTreeMap<BakerKey, Vec<(u32, &dyn AlphaTexture)>> = BTreeMap::new();
         let mut bounds: BTreeMap<(u32, (u64, u64)), u32> = BTreeMap::new();
-        let mut seen: BTreeMap<(u32, Option<u32>, [u32; 6], u32), u32> = BTreeMap::new();
+        let mut seen = FirstSeen::default();
         for (m, ((mesh, triangles), levels)) in meshes.iter().zip(triangles).zip(levels).enumerate()
         {
             let triangles = triangles.as_ref();
@@ -185,26 +254,14 @@ impl Plan {
                         })
                     }
                 };
-                let bits = [
-                    uv[0][0].to_bits(),
-                    uv[0][1].to_bits(),
-                    uv[1][0].to_bits(),
-                    uv[1][1].to_bits(),
-                    uv[2][0].to_bits(),
-                    uv[2][1].to_bits(),
-                ];
-                let id = *seen
-                    .entry((baker, bound, bits, level.get()))
-                    .or_insert_with(|| {
-                        plan.work.push(Work {
-                            baker,
-                            bound,
-                            uv: *uv,
-                            level,
-                            triangles: 0,
-                        });
-                        (plan.work.len() - 1) as u32
-                    });
+                let work = Work {
+                    baker,
+                    bound,
+                    uv: *uv,
+                    level,
+                    triangles: 0,
+                };
+                let id = seen.id_of(work, &mut plan.work);
                 plan.work[id as usize].triangles += 1;
                 of_triangle.push(id);
             }
