@@ -6,7 +6,8 @@
 # 6, 8, 4-state, linear, clamp to edge, cutoff 0.5; then peak memory
 # (/usr/bin/time -v) of `micromap-index bake` on the fern at level 8 and on
 # 100 shifted copies of it (nothing merges across copies), and of
-# meshoptimizer's harness run on the same 100 copies.
+# meshoptimizer's harness run on the same 100 copies. Also one large
+# triangle at level 12 on 1 and 2 threads (the split walk).
 # Usage (from anywhere): docs/results/bake_scale.sh [ROUNDS] [REPEAT] [COPIES]
 # Needs: crates/other-bakers (built here), python3, /usr/bin/time (apt: time).
 set -euo pipefail
@@ -62,6 +63,14 @@ for level in 4 6 8; do
     o2=$(best micromap-index 2 "$level" "$work/fern.tris.json")
     python3 -c "print(f'fern L$level round $r: meshopt-cpp {$m*1e3:.2f} ms, ours 1 thread {$o1*1e3:.2f} ms, 2 threads {$o2*1e3:.2f} ms; ours/meshopt {$o1/$m:.3f}, 1 thread/2 threads {$o1/$o2:.2f}')"
   done
+done
+# One large triangle at level 12 (16M micro-triangles): split over the
+# threads (Baker::walk), against one thread, alternating, best of REPEAT.
+echo '{"triangles": [[[0.02, 0.03], [0.97, 0.1], [0.1, 0.95]]]}' > "$work/one.tris.json"
+for ((r = 0; r < rounds; r++)); do
+  o1=$(best micromap-index 1 12 "$work/one.tris.json")
+  o2=$(best micromap-index 2 12 "$work/one.tris.json")
+  python3 -c "print(f'one triangle L12 round $r: ours 1 thread {$o1*1e3:.1f} ms, 2 threads {$o2*1e3:.1f} ms; 1 thread/2 threads {$o1/$o2:.2f}')"
 done
 peak() { # label command... -> peak RSS and wall time
   /usr/bin/time -v "${@:2}" >/dev/null 2>"$work/time.txt" || { cat "$work/time.txt"; exit 1; }
