@@ -18,6 +18,7 @@ use crate::bake::texture::AlphaTexture;
 use crate::micromap::TriangleEntry;
 use crate::Level;
 use alloc::collections::BTreeMap;
+use alloc::vec;
 use alloc::vec::Vec;
 
 /// One distinct triangle's bake, as the report and [`super::MeshBake`]
