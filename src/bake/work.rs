@@ -21,8 +21,11 @@
 //! (split into unknown-opaque / unknown-transparent by each subtree's
 //! centroid texel, as every unknown is), which is sound, and the triangle's
 //! status is [`TriangleStatus::WorkBudgetExceeded`](super::TriangleStatus).
-//! A triangle may overshoot its budget by the cost of one micro-triangle
-//! (at most seven lookups plus the larger of its block budget and 36).
+//! A triangle may overshoot its budget by the cost of one micro-triangle:
+//! at most seven lookups plus the larger of its block budget and 36 under
+//! the exact model, and under the GPU model eight lookups plus twice that
+//! (a finest-level micro-triangle may be classified under both models, for
+//! the widening's count).
 //! [`bake_meshes`](super::mesh::bake_meshes) gives each triangle the
 //! smaller of the per-triangle budget and what the per-bake budget has
 //! left, in triangle order, so the output stays a function of the inputs.
