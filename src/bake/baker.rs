@@ -420,6 +420,11 @@ const SPLIT_FROM_LEVEL: u32 = 10;
 /// The level of the subtrees a split walk hands out.
 const SPLIT_SUBTREE_LEVEL: u32 = 8;
 
+/// Subtrees a split walk walks at once: their maps (16 KiB each in 4-state)
+/// are what it holds beyond the triangle's own map. (3 in unit tests, so
+/// that their level-10 and -11 triangles take several batches.)
+const SPLIT_BATCH: usize = if cfg!(test) { 3 } else { 256 };
+
 /// How a walk went: its status and the work units it spent.
 struct Spent {
     status: TriangleStatus,
@@ -899,8 +904,8 @@ impl Baker {
     ///
     /// A `split` walk runs the levels above [`SPLIT_SUBTREE_LEVEL`] first,
     /// setting the nodes it reaches there aside, then walks those subtrees
-    /// in parallel, each into a map of its own with the work left after
-    /// the top, and copies them in. Counts, widening and work are sums,
+    /// in parallel ([`SPLIT_BATCH`] at a time), each into a map of its own
+    /// with the work left, and copies them in. Counts, widening and work are sums,
     /// so the result is the serial walk's, unless the work budget could
     /// have cut the serial walk (a subtree ran out, or all of them together
     /// reached the budget): then the serial walk runs, from scratch.
@@ -928,20 +933,24 @@ impl Baker {
             self.visit(&mut walk, 0, top.index, top.vertices, top.top_flip)?;
             let nodes = core::mem::take(&mut walk.frontier);
             if !walk.out_of_work {
+                // In batches, so that the subtrees' maps in flight stay
+                // small (a level-16 triangle has 65,536 subtrees). A
+                // subtree that does not run out of its budget is what the
+                // serial walk gives it, whatever the budget.
                 let left = max_work - walk.work;
-                let subtrees = super::parallel::map_on_current_pool(&nodes, |node| {
-                    self.walk_subtree(node, split_depth, &walk, left)
-                });
-                let mut spent = 0u64;
-                let mut within = true;
-                for subtree in &subtrees {
-                    let subtree = subtree.as_ref().map_err(Clone::clone)?;
-                    spent = spent.saturating_add(subtree.work);
-                    within &= !subtree.out_of_work;
-                }
-                if within && spent < left {
-                    for (node, subtree) in nodes.iter().zip(subtrees) {
+                let (mut spent, mut within) = (0u64, true);
+                for batch in nodes.chunks(SPLIT_BATCH) {
+                    let budget = left - spent;
+                    let subtrees = super::parallel::map_on_current_pool(batch, |node| {
+                        self.walk_subtree(node, split_depth, &walk, budget)
+                    });
+                    for (node, subtree) in batch.iter().zip(subtrees) {
                         let subtree = subtree?;
+                        spent = spent.saturating_add(subtree.work);
+                        within = !subtree.out_of_work && spent < left;
+                        if !within {
+                            break;
+                        }
                         let first = node.index << (2 * SPLIT_SUBTREE_LEVEL);
                         walk.map.copy_aligned(first, &subtree.map)?;
                         for (sum, count) in walk.counts.iter_mut().zip(subtree.counts) {
@@ -950,6 +959,11 @@ impl Baker {
                         walk.widened += subtree.widened;
                         walk.exhausted |= subtree.exhausted;
                     }
+                    if !within {
+                        break;
+                    }
+                }
+                if within {
                     walk.work += spent;
                     return Ok(walk.spent());
                 }
