@@ -324,21 +324,13 @@ impl TexelClasses {
                     got: opaque.len() - start,
                 });
             }
-            // The row of sums, written to the table as it is made (one
-            // pass, no copy).
             let mut run = 0u32;
-            prefix.push(0);
-            prefix.extend(
-                sums[1..]
-                    .iter_mut()
-                    .zip(&opaque[start..])
-                    .map(|(sum, &texel)| {
-                        // Any byte but 0 is opaque, here and in `class_of`.
-                        run += u32::from(texel != 0);
-                        *sum += run;
-                        *sum
-                    }),
-            );
+            for (sum, &texel) in sums[1..].iter_mut().zip(&opaque[start..]) {
+                // Any byte but 0 is opaque, here and in `class_of`.
+                run += u32::from(texel != 0);
+                *sum += run;
+            }
+            prefix.extend_from_slice(&sums);
         }
         Ok(TexelClasses {
             width,
