@@ -96,35 +96,40 @@ impl FirstSeen {
         (hash >> 32) as usize & mask
     }
 
+    /// Where `key` is: `Ok(index in work)`, or `Err(empty slot)` for it.
+    fn find(&self, key: &[u32; 9], work: &[Work]) -> Result<u32, usize> {
+        let mask = self.slots.len() - 1;
+        let mut s = Self::slot(key, mask);
+        loop {
+            match self.slots[s] {
+                u32::MAX => return Err(s),
+                id if Self::key(&work[id as usize]) == *key => return Ok(id),
+                _ => s = (s + 1) & mask,
+            }
+        }
+    }
+
     /// The index in `work` of the triangle equal to `w`, pushed first when
     /// it is new.
     fn id_of(&mut self, w: Work, work: &mut Vec<Work>) -> u32 {
         if 2 * (work.len() + 1) > self.slots.len() {
-            let mut grown = FirstSeen {
-                slots: vec![u32::MAX; (2 * (work.len() + 1)).next_power_of_two().max(16)],
+            let len = (2 * (work.len() + 1)).next_power_of_two().max(16);
+            *self = FirstSeen {
+                slots: vec![u32::MAX; len],
             };
             for (id, old) in work.iter().enumerate() {
-                let mask = grown.slots.len() - 1;
-                let mut s = Self::slot(&Self::key(old), mask);
-                while grown.slots[s] != u32::MAX {
-                    s = (s + 1) & mask;
+                // The keys in `work` are distinct: each finds an empty slot.
+                if let Err(s) = self.find(&Self::key(old), work) {
+                    self.slots[s] = id as u32;
                 }
-                grown.slots[s] = id as u32;
             }
-            *self = grown;
         }
-        let key = Self::key(&w);
-        let mask = self.slots.len() - 1;
-        let mut s = Self::slot(&key, mask);
-        loop {
-            match self.slots[s] {
-                u32::MAX => {
-                    self.slots[s] = work.len() as u32;
-                    work.push(w);
-                    return self.slots[s];
-                }
-                id if Self::key(&work[id as usize]) == key => return id,
-                _ => s = (s + 1) & mask,
+        match self.find(&Self::key(&w), work) {
+            Ok(id) => id,
+            Err(s) => {
+                self.slots[s] = work.len() as u32;
+                work.push(w);
+                self.slots[s]
             }
         }
     }
