@@ -904,11 +904,10 @@ impl Baker {
     ///
     /// A `split` walk runs the levels above [`SPLIT_SUBTREE_LEVEL`] first,
     /// setting the nodes it reaches there aside, then walks those subtrees
-    /// in parallel ([`SPLIT_BATCH`] at a time), each into a map of its own
-    /// with the work left, and copies them in. Counts, widening and work are sums,
-    /// so the result is the serial walk's, unless the work budget could
-    /// have cut the serial walk (a subtree ran out, or all of them together
-    /// reached the budget): then the serial walk runs, from scratch.
+    /// ([`walk_set_aside`](Self::walk_set_aside)). Counts, widening and
+    /// work are sums, so the result is the serial walk's, unless the work
+    /// budget could have cut the serial walk: then the serial walk runs,
+    /// from scratch.
     #[allow(clippy::too_many_arguments)]
     fn walk<C: GridInt>(
         &self,
@@ -921,52 +920,12 @@ impl Baker {
         (map, counts): (&mut Micromap, &mut [u64; 4]),
     ) -> Result<Spent, BakeError> {
         let vertices = [0, 1, 2].map(|k| (root.x[k], root.y[k]));
-        let top = Node {
-            index: 0,
-            vertices,
-            top_flip: false,
-        };
         if split {
-            let split_depth = level - SPLIT_SUBTREE_LEVEL;
             let mut walk = Walk::new(level, grid, two_state, max_work, map, counts);
-            walk.split_depth = split_depth;
-            self.visit(&mut walk, 0, top.index, top.vertices, top.top_flip)?;
-            let nodes = core::mem::take(&mut walk.frontier);
-            if !walk.out_of_work {
-                // In batches, so that the subtrees' maps in flight stay
-                // small (a level-16 triangle has 65,536 subtrees). A
-                // subtree that does not run out of its budget is what the
-                // serial walk gives it, whatever the budget.
-                let left = max_work - walk.work;
-                let (mut spent, mut within) = (0u64, true);
-                for batch in nodes.chunks(SPLIT_BATCH) {
-                    let budget = left - spent;
-                    let subtrees = super::parallel::map_on_current_pool(batch, |node| {
-                        self.walk_subtree(node, split_depth, &walk, budget)
-                    });
-                    for (node, subtree) in batch.iter().zip(subtrees) {
-                        let subtree = subtree?;
-                        spent = spent.saturating_add(subtree.work);
-                        within = !subtree.out_of_work && spent < left;
-                        if !within {
-                            break;
-                        }
-                        let first = node.index << (2 * SPLIT_SUBTREE_LEVEL);
-                        walk.map.copy_aligned(first, &subtree.map)?;
-                        for (sum, count) in walk.counts.iter_mut().zip(subtree.counts) {
-                            *sum += count;
-                        }
-                        walk.widened += subtree.widened;
-                        walk.exhausted |= subtree.exhausted;
-                    }
-                    if !within {
-                        break;
-                    }
-                }
-                if within {
-                    walk.work += spent;
-                    return Ok(walk.spent());
-                }
+            walk.split_depth = level - SPLIT_SUBTREE_LEVEL;
+            self.visit(&mut walk, 0, 0, vertices, false)?;
+            if self.walk_set_aside(&mut walk)? {
+                return Ok(walk.spent());
             }
             // The budget could have cut the serial walk: walk it.
             let (level, format) = (walk.map.level(), walk.map.format());
@@ -974,8 +933,47 @@ impl Baker {
             *walk.counts = [0; 4];
         }
         let mut walk = Walk::new(level, grid, two_state, max_work, map, counts);
-        self.visit(&mut walk, 0, top.index, top.vertices, top.top_flip)?;
+        self.visit(&mut walk, 0, 0, vertices, false)?;
         Ok(walk.spent())
+    }
+
+    /// The second half of a split walk (see [`walk`](Self::walk)): the
+    /// subtrees its top set aside, walked in parallel ([`SPLIT_BATCH`] at a
+    /// time, so that the maps in flight stay small: a level-16 triangle has
+    /// 65,536) and copied in. `false` when the work budget could have cut
+    /// the serial walk (the top or a subtree ran out, or all together
+    /// reached the budget); the walk is then partly filled. A subtree that
+    /// does not run out of its budget is what the serial walk gives it,
+    /// whatever the budget.
+    fn walk_set_aside<C: GridInt>(&self, walk: &mut Walk<'_, C>) -> Result<bool, BakeError> {
+        if walk.out_of_work {
+            return Ok(false);
+        }
+        let nodes = core::mem::take(&mut walk.frontier);
+        let left = walk.max_work - walk.work;
+        let mut spent = 0u64;
+        for batch in nodes.chunks(SPLIT_BATCH) {
+            let budget = left - spent;
+            let subtrees = super::parallel::map_on_current_pool(batch, |node| {
+                self.walk_subtree(node, walk.split_depth, walk, budget)
+            });
+            for (node, subtree) in batch.iter().zip(subtrees) {
+                let subtree = subtree?;
+                spent = spent.saturating_add(subtree.work);
+                if subtree.out_of_work || spent >= left {
+                    return Ok(false);
+                }
+                let first = node.index << (2 * SPLIT_SUBTREE_LEVEL);
+                walk.map.copy_aligned(first, &subtree.map)?;
+                for (sum, count) in walk.counts.iter_mut().zip(subtree.counts) {
+                    *sum += count;
+                }
+                walk.widened += subtree.widened;
+                walk.exhausted |= subtree.exhausted;
+            }
+        }
+        walk.work += spent;
+        Ok(true)
     }
 
     /// One subtree of a split walk (see [`walk`](Self::walk)): `node` at
