@@ -488,7 +488,7 @@ impl<C: GridInt> Placed<C> {
 }
 
 impl Baker {
-    /// Classifies every texel of `texture` once (one pass, `4 (w + 1)
+    /// Classifies every texel of `texture` once (one pass, `2 (w + 1)
     /// (h + 1)` bytes of prefix sums).
     pub fn new(
         texture: &(impl AlphaTexture + ?Sized),
@@ -499,7 +499,7 @@ impl Baker {
     }
 
     /// [`new`](Self::new) with the tables held to `max_bytes` (`w h +
-    /// 4 (w + 1) (h + 1)` bytes): over it, or refused by the allocator,
+    /// 2 (w + 1) (h + 1)` bytes): over it, or refused by the allocator,
     /// the answer is [`TextureError::AllocationFailed`], never an abort
     /// (`new` gives the same error when the allocator refuses).
     pub fn new_within(

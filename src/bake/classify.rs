@@ -214,18 +214,74 @@ fn axis_image(mode: AddressMode, lo: i128, hi: i128, size: u32) -> AxisImage {
 }
 
 /// Every texel classified once, with prefix sums to count the opaque texels
-/// of any rectangle in four reads.
+/// of a rectangle in four reads.
 #[derive(Clone, Debug)]
 pub(crate) struct TexelClasses {
     pub(crate) width: u32,
     pub(crate) height: u32,
-    /// `prefix[y * (width + 1) + x]`: opaque texels in `[0, x) x [0, y)`.
-    prefix: Vec<u32>,
+    /// `prefix[y * (width + 1) + x]`: opaque texels in `[0, x) x [0, y)`,
+    /// modulo `2^16`. Four reads count a rectangle of fewer than `2^16`
+    /// texels exactly (the true count fits); half the bytes of `u32` sums
+    /// make the tables quicker to build and to read. A larger rectangle
+    /// is counted exactly only when its classes depend on it (see
+    /// [`TexelClasses::rectangle_classes`]).
+    prefix: Vec<u16>,
     /// One byte per texel: 0 transparent, any other value (1 from the
     /// library's textures) opaque (row-major).
     opaque: Vec<u8>,
     pub(crate) sampler: Sampler,
     border_opaque: bool,
+}
+
+/// Texels per segment of [`add_row_counts`].
+const SEGMENT: usize = 1024;
+
+/// [`add_row_counts`]'s two buffers, each 8 zeros (the texels before a
+/// segment) and a segment; made once per table, not once per row.
+struct RowScratch([[u16; 8 + SEGMENT]; 2]);
+
+/// Adds to `sums[x]` the opaque texels of `row[..=x]`, modulo `2^16` (the
+/// prefix sums' arithmetic). Any byte but 0 is opaque, here and in
+/// [`TexelClasses::class_of`].
+///
+/// A running sum texel by texel is a chain of dependent adds (most of
+/// the tables' build); here every pass is element-wise, which the
+/// compiler turns into SIMD: per segment, sums of 8-texel windows (three
+/// shifted adds), then 8 running sums, one per position modulo 8 (the
+/// windows ending at `x, x - 8, ...` tile `row[..=x]`), plus the counts
+/// of the segments before.
+fn add_row_counts(row: &[u8], sums: &mut [u16], scratch: &mut RowScratch) {
+    let [a, b] = &mut scratch.0;
+    // `out[k] = inp[k] + inp[k - d]` (`inp[k]` for `k < d`).
+    let shifted_add = |out: &mut [u16], inp: &[u16], d: usize| {
+        out[..d].copy_from_slice(&inp[..d]);
+        for ((o, &x), &y) in out[d..].iter_mut().zip(&inp[d..]).zip(inp) {
+            *o = x.wrapping_add(y);
+        }
+    };
+    let mut before = 0u16;
+    for (row, sums) in row.chunks(SEGMENT).zip(sums.chunks_mut(SEGMENT)) {
+        for (t, &texel) in a[8..].iter_mut().zip(row) {
+            *t = u16::from(texel != 0);
+        }
+        // (After a short last segment, `a` holds older texels: the sums
+        // look only back, so they never reach the segment's.)
+        shifted_add(b, a, 1);
+        shifted_add(a, b, 2);
+        shifted_add(b, a, 4);
+        // b[8 + x]: opaque texels in row[x - 7..=x].
+        let mut running = [before; 8];
+        for window in b[8..].chunks_exact_mut(8) {
+            for (r, w) in running.iter_mut().zip(window.iter_mut()) {
+                *r = r.wrapping_add(*w);
+                *w = *r;
+            }
+        }
+        for (sum, &count) in sums.iter_mut().zip(&b[8..]) {
+            *sum = sum.wrapping_add(count);
+        }
+        before = b[8 + row.len() - 1];
+    }
 }
 
 /// What [`TexelClasses::search`] found.
@@ -254,10 +310,10 @@ impl TexelClasses {
     }
 
     /// The bytes the tables of a `width x height` texture take: `w h` class
-    /// bytes and `4 (w + 1) (h + 1)` bytes of prefix sums (saturated).
+    /// bytes and `2 (w + 1) (h + 1)` bytes of prefix sums (saturated).
     pub(crate) fn table_bytes(width: u32, height: u32) -> u64 {
         let (w, h) = (u64::from(width), u64::from(height));
-        (w * h).saturating_add((w + 1) * (h + 1) * 4)
+        (w * h).saturating_add((w + 1) * (h + 1) * 2)
     }
 
     /// The tables, allocated fallibly (`try_reserve_exact`) and only if
@@ -301,11 +357,11 @@ impl TexelClasses {
         opaque
             .try_reserve_exact(texels)
             .map_err(|_| failed.clone())?;
-        let mut prefix: Vec<u32> = Vec::new();
+        let mut prefix: Vec<u16> = Vec::new();
         prefix
             .try_reserve_exact(sums_len)
             .map_err(|_| failed.clone())?;
-        let mut sums: Vec<u32> = Vec::new();
+        let mut sums: Vec<u16> = Vec::new();
         sums.try_reserve_exact(stride).map_err(|_| failed)?;
         sums.resize(stride, 0);
         // One pass, row by row: the row's classes (one call per row, so a
@@ -313,6 +369,7 @@ impl TexelClasses {
         // its sums while the row is still in cache. `sums`: the row of
         // sums being built, from the one above, in place.
         prefix.extend_from_slice(&sums);
+        let mut scratch = RowScratch([[0; 8 + SEGMENT]; 2]);
         for y in 0..height {
             let start = opaque.len();
             texture.extend_opaque_row(y, &cutoff, &mut opaque);
@@ -324,12 +381,7 @@ impl TexelClasses {
                     got: opaque.len() - start,
                 });
             }
-            let mut run = 0u32;
-            for (sum, &texel) in sums[1..].iter_mut().zip(&opaque[start..]) {
-                // Any byte but 0 is opaque, here and in `class_of`.
-                run += u32::from(texel != 0);
-                *sum += run;
-            }
+            add_row_counts(&opaque[start..], &mut sums[1..], &mut scratch);
             prefix.extend_from_slice(&sums);
         }
         Ok(TexelClasses {
@@ -342,12 +394,43 @@ impl TexelClasses {
         })
     }
 
-    /// Opaque texels in `[x0, x1] x [y0, y1]` (inclusive, in range).
+    /// Opaque texels in `[x0, x1] x [y0, y1]` (inclusive, in range),
+    /// modulo `2^16`: the count itself when the rectangle has fewer than
+    /// `2^16` texels.
     #[inline]
-    fn opaque_count(&self, (x0, x1): (u32, u32), (y0, y1): (u32, u32)) -> u64 {
+    fn opaque_count_mod(&self, (x0, x1): (u32, u32), (y0, y1): (u32, u32)) -> u16 {
         let stride = self.width as usize + 1;
-        let at = |x: u32, y: u32| u64::from(self.prefix[y as usize * stride + x as usize]);
-        at(x1 + 1, y1 + 1) + at(x0, y0) - at(x0, y1 + 1) - at(x1 + 1, y0)
+        let at = |x: u32, y: u32| self.prefix[y as usize * stride + x as usize];
+        at(x1 + 1, y1 + 1)
+            .wrapping_add(at(x0, y0))
+            .wrapping_sub(at(x0, y1 + 1))
+            .wrapping_sub(at(x1 + 1, y0))
+    }
+
+    /// Opaque texels in `[x0, x1] x [y0, y1]` (inclusive, in range),
+    /// exactly: the sum over tiles of fewer than `2^16` texels each.
+    fn opaque_count(&self, (x0, x1): (u32, u32), (y0, y1): (u32, u32)) -> u64 {
+        // Tiles of `tw x th < 2^16` texels (`tw`, `th` >= 1).
+        let tw = (x1 - x0).min(u32::from(u16::MAX) - 1) + 1;
+        let th = u32::from(u16::MAX) / tw;
+        let mut count = 0u64;
+        let mut y = y0;
+        loop {
+            let y_end = y1.min(y.saturating_add(th - 1));
+            let mut x = x0;
+            loop {
+                let x_end = x1.min(x.saturating_add(tw - 1));
+                count += u64::from(self.opaque_count_mod((x, x_end), (y, y_end)));
+                if x_end == x1 {
+                    break;
+                }
+                x = x_end + 1;
+            }
+            if y_end == y1 {
+                return count;
+            }
+            y = y_end + 1;
+        }
     }
 
     /// The classes of the texels in `[x0, x1] x [y0, y1]` (inclusive, in
@@ -376,10 +459,23 @@ impl TexelClasses {
             };
         }
         let area = u64::from(xr.1 - xr.0 + 1) * u64::from(yr.1 - yr.0 + 1);
-        let opaque = self.opaque_count(xr, yr);
+        let count = self.opaque_count_mod(xr, yr);
+        if area < 1 << 16 {
+            let count = u64::from(count);
+            return Classes {
+                opaque: count > 0,
+                transparent: count < area,
+            };
+        }
+        // A larger rectangle: a residue other than 0 (other than the area's)
+        // still proves an opaque (a transparent) texel; otherwise count.
+        if count != 0 && count != area as u16 {
+            return Classes::BOTH;
+        }
+        let count = self.opaque_count(xr, yr);
         Classes {
-            opaque: opaque > 0,
-            transparent: opaque < area,
+            opaque: count > 0,
+            transparent: count < area,
         }
     }
 
@@ -779,6 +875,92 @@ mod tests {
                         );
                     }
                 }
+            }
+        }
+    }
+
+    /// The row counts built in passes equal a running count texel by
+    /// texel, modulo 2^16, on rows of every length around the segment
+    /// and chunk sizes and bytes of every kind (any but 0 is opaque).
+    #[test]
+    fn row_counts_equal_a_running_count() {
+        let mut rng = SplitMix64::new(0x5e9);
+        let mut scratch = RowScratch([[0; 8 + SEGMENT]; 2]);
+        for len in [
+            0, 1, 7, 8, 9, 15, 16, 17, 1023, 1024, 1025, 2047, 2048, 2049, 5000,
+        ] {
+            for round in 0..4 {
+                let row: Vec<u8> = (0..len)
+                    .map(|_| [0, 0, 1, 2, 128, 255][(rng.next_u64() % 6) as usize])
+                    .collect();
+                let start: Vec<u16> = (0..len).map(|_| rng.next_u64() as u16).collect();
+                let mut expected = start.clone();
+                let mut run = 0u16;
+                for (sum, &texel) in expected.iter_mut().zip(&row) {
+                    run = run.wrapping_add(u16::from(texel != 0));
+                    *sum = sum.wrapping_add(run);
+                }
+                let mut sums = start;
+                add_row_counts(&row, &mut sums, &mut scratch);
+                assert_eq!(sums, expected, "length {len}, round {round}");
+            }
+        }
+    }
+
+    /// A texture's opacity by texel coordinates.
+    type Opacity<'a> = &'a dyn Fn(u32, u32) -> bool;
+
+    /// Rectangles of `2^16` texels and more, whose prefix sums (kept
+    /// modulo `2^16`) do not give the count: classes and exact counts
+    /// equal a texel-by-texel count, on textures whose counts are
+    /// multiples of `2^16` (residue 0, or the area's) and on random ones,
+    /// including a texture wider than `2^16` (tiles split across a row).
+    #[test]
+    fn large_rectangles_are_counted_exactly() {
+        let mut rng = SplitMix64::new(0x16b);
+        // (width, height, texel opacity); 256 x 256 = 2^16 texels.
+        let block = |x: u32, y: u32| x < 256 && y < 256;
+        let cases: [(u32, u32, Opacity); 6] = [
+            (600, 300, &|_, _| false),
+            (600, 300, &|_, _| true),
+            (600, 300, &block),
+            (600, 300, &|x, y| !block(x, y)),
+            (70_000, 2, &|x, y| y == 0 && x < 65_536),
+            (600, 300, &|x, y| (x * 7 + y * 13) % 11 == 0),
+        ];
+        for (case, (w, h, opaque_at)) in cases.iter().enumerate() {
+            let texels: Vec<u8> = (0..w * h)
+                .map(|i| u8::from(opaque_at(i % w, i / w)) * 255)
+                .collect();
+            let texture = Unorm8Texture::new(*w, *h, &texels).unwrap();
+            let classes =
+                TexelClasses::new(&texture, Sampler::default(), Cutoff::default()).unwrap();
+            let mut rectangles = vec![(0, w - 1, 0, h - 1), (0, 255, 0, 255), (0, 256, 0, 255)];
+            for _ in 0..40 {
+                let mut pick = |n: u32| {
+                    let (a, b) = (rng.next_u64() as u32 % n, rng.next_u64() as u32 % n);
+                    (a.min(b), a.max(b))
+                };
+                let ((x0, x1), (y0, y1)) = (pick(*w), pick(*h));
+                rectangles.push((x0, x1, y0, y1));
+            }
+            for (x0, x1, y0, y1) in rectangles {
+                let (x1, y1) = (x1.min(w - 1), y1.min(h - 1));
+                let mut count = 0u64;
+                for y in y0..=y1 {
+                    for x in x0..=x1 {
+                        count += u64::from(opaque_at(x, y));
+                    }
+                }
+                let area = u64::from(x1 - x0 + 1) * u64::from(y1 - y0 + 1);
+                let at = format!("case {case}: [{x0}, {x1}] x [{y0}, {y1}]");
+                assert_eq!(classes.opaque_count((x0, x1), (y0, y1)), count, "{at}");
+                let expected = Classes {
+                    opaque: count > 0,
+                    transparent: count < area,
+                };
+                let got = classes.rectangle_classes((x0, x1), (y0, y1));
+                assert_eq!(got, expected, "{at}: {count} of {area}");
             }
         }
     }

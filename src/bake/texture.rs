@@ -72,7 +72,7 @@ pub enum TextureError {
     },
     /// The cutoff or the border alpha is NaN.
     NanThreshold,
-    /// The baker's tables (`w h` class bytes and `4 (w + 1) (h + 1)` bytes
+    /// The baker's tables (`w h` class bytes and `2 (w + 1) (h + 1)` bytes
     /// of prefix sums) could not be allocated: over the caller's limit
     /// ([`Baker::new_within`](super::Baker::new_within)), past the address
     /// space, or refused by the allocator. Never an abort.

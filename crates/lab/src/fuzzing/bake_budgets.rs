@@ -166,7 +166,7 @@ impl AlphaTexture for Procedural {
 }
 
 /// The baker's texel tables under a byte limit: `Baker::new_within` either
-/// builds them (only when `w h + 4 (w + 1) (h + 1)` fits the limit) or
+/// builds them (only when `w h + 2 (w + 1) (h + 1)` fits the limit) or
 /// answers `AllocationFailed` naming the bytes and the limit; never an
 /// abort, whatever the size.
 ///
@@ -183,8 +183,8 @@ pub fn texel_tables_within(data: &[u8]) {
     let limit = u64::from(b.u32()).min(1 << 22);
     let texture = Procedural { width, height };
     let (w, h) = (u64::from(width), u64::from(height));
-    // Saturating: `4 (w + 1) (h + 1)` passes `u64` near `u32::MAX` squared.
-    let need = (w * h).saturating_add((w + 1).saturating_mul(h + 1).saturating_mul(4));
+    // Saturating: `2 (w + 1) (h + 1)` passes `u64` near `u32::MAX` squared.
+    let need = (w * h).saturating_add((w + 1).saturating_mul(h + 1).saturating_mul(2));
     match Baker::new_within(&texture, Sampler::default(), Cutoff::default(), limit) {
         Ok(baker) => {
             assert!(
