@@ -71,7 +71,8 @@ fn a_triangle_budget_cuts_the_walk_soundly_and_monotonically() {
             100,
             full.work / 4,
             full.work / 2,
-            full.work - 1,
+            // The last micro-triangle starts at or above this.
+            full.work - OVERSHOOT,
         ] {
             let cut = baker
                 .bake_within(

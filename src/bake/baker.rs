@@ -310,6 +310,13 @@ fn set_aside<C>(walk: &mut Walk<'_, C>, index: u64, vertices: [(C, C); 3], top_f
     });
 }
 
+/// The midpoint of two grid points of a node above the map's level (exact:
+/// see [`Baker::visit`]).
+#[inline]
+fn midpoint<C: GridInt>(a: (C, C), b: (C, C)) -> (C, C) {
+    ((a.0 + b.0) >> 1, (a.1 + b.1) >> 1)
+}
+
 /// Sets `count` states of `map` from `first`: one leaf (most calls) by
 /// [`Micromap::set`], a range by [`Micromap::fill`].
 #[inline]
@@ -424,6 +431,19 @@ const SPLIT_SUBTREE_LEVEL: u32 = 8;
 /// are what it holds beyond the triangle's own map. (3 in unit tests, so
 /// that their level-10 and -11 triangles take several batches.)
 const SPLIT_BATCH: usize = if cfg!(test) { 3 } else { 256 };
+
+/// The points of a micro-triangle whose footprints
+/// [`Baker::classify_mixed_block`] reads before its search.
+#[derive(Clone, Copy, Debug)]
+enum Points {
+    /// None: this model's exact grid read them already.
+    None,
+    /// Its vertices, then its edge midpoints.
+    All,
+    /// Its edge midpoints: the walk read its vertices, whose footprints
+    /// hold these classes (not both).
+    Midpoints(Classes),
+}
 
 /// How a walk went: its status and the work units it spent.
 struct Spent {
@@ -627,6 +647,7 @@ impl Baker {
         &self,
         p: &Placed<C>,
         grid: Grid,
+        points: Points,
         stack: &mut Vec<Block>,
     ) -> (Classes, bool, u64) {
         let bounding = self.bounding_block(p, grid);
@@ -634,7 +655,8 @@ impl Baker {
         if !quick.is_mixed() {
             return (quick, false, 1);
         }
-        let (classes, exhausted, work) = self.classify_mixed_block(p, grid, bounding, true, stack);
+        let (classes, exhausted, work) =
+            self.classify_mixed_block(p, grid, bounding, points, stack);
         (classes, exhausted, 1 + work)
     }
 
@@ -644,13 +666,14 @@ impl Baker {
         &self,
         p: &Placed<C>,
         grid: Grid,
+        points: Points,
         stack: &mut Vec<Block>,
     ) -> (Classes, bool, u64, bool) {
         if grid.margin == (None, None) {
-            let (classes, exhausted, work) = self.classify(p, grid, stack);
+            let (classes, exhausted, work) = self.classify(p, grid, points, stack);
             (classes, exhausted, work, false)
         } else {
-            self.classify_dilated_leaf(p, grid, stack)
+            self.classify_dilated_leaf(p, grid, points, stack)
         }
     }
 
@@ -665,6 +688,7 @@ impl Baker {
         &self,
         p: &Placed<C>,
         grid: Grid,
+        points: Points,
         stack: &mut Vec<Block>,
     ) -> (Classes, bool, u64, bool) {
         let bounding = self.bounding_block(p, grid);
@@ -678,15 +702,16 @@ impl Baker {
         let exact_grid = Grid::exact(grid.shifts);
         let exact_bounding = self.bounding_block(p, exact_grid);
         let (exact, exact_exhausted, exact_work) = if exact_bounding == bounding {
-            self.classify_mixed_block(p, exact_grid, exact_bounding, true, stack)
+            self.classify_mixed_block(p, exact_grid, exact_bounding, points, stack)
         } else {
-            self.classify(p, exact_grid, stack)
+            self.classify(p, exact_grid, points, stack)
         };
         if exact.is_mixed() && !exact_exhausted {
             return (Classes::BOTH, false, 1 + exact_work, false);
         }
         // The points read there are the same here (undilated): skip them.
-        let (classes, exhausted, work) = self.classify_mixed_block(p, grid, bounding, false, stack);
+        let (classes, exhausted, work) =
+            self.classify_mixed_block(p, grid, bounding, Points::None, stack);
         let unknown = classes.opaque == classes.transparent;
         let exact_known = exact.opaque != exact.transparent;
         let widened = unknown && !exhausted && !exact_exhausted && exact_known;
@@ -703,7 +728,7 @@ impl Baker {
         p: &Placed<C>,
         grid: Grid,
         bounding: Block<C>,
-        points: bool,
+        points: Points,
         stack: &mut Vec<Block>,
     ) -> (Classes, bool, u64) {
         let mut work = 0;
@@ -715,16 +740,16 @@ impl Baker {
         // is the search's. A midpoint `(a + b) / 2` is a grid point of the
         // twice finer grid (shift + 1).
         // (Points of the micro-triangle are points of its dilation too.)
-        if points && is_small(bounding) {
-            let (sx, sy) = grid.shifts;
-            let mut sure = Classes::default();
-            for k in 0..6 {
+        let (mut sure, first) = match points {
+            Points::None => (Classes::default(), 6),
+            Points::All => (Classes::default(), 0),
+            Points::Midpoints(vertices) => (vertices, 3),
+        };
+        if first < 6 && is_small(bounding) {
+            for k in first..6 {
                 let (a, b) = (k % 3, if k < 3 { k % 3 } else { (k + 1) % 3 });
-                let (x, y) = (p.x[a] + p.x[b], p.y[a] + p.y[b]);
-                let point =
-                    self.classes
-                        .bounding_block((x, x), (y, y), Grid::exact((sx + 1, sy + 1)));
-                sure = sure.union(self.classes.quick(point));
+                let doubled = (p.x[a] + p.x[b], p.y[a] + p.y[b]);
+                sure = sure.union(self.point_classes(doubled, grid.shifts));
                 work += 1;
                 if sure.is_mixed() {
                     return (sure, false, work);
@@ -737,6 +762,16 @@ impl Baker {
             .classes
             .search(&t, grid, Classes::BOTH, self.budget, stack);
         (s.classes, s.exhausted, work + u64::from(s.tests))
+    }
+
+    /// The classes of the footprint of the grid point `doubled / 2` (a
+    /// point of the twice finer grid, `shifts + 1`: vertices and edge
+    /// midpoints are), without margin.
+    #[inline]
+    fn point_classes<C: GridInt>(&self, (x, y): (C, C), (sx, sy): (u32, u32)) -> Classes {
+        let fine = Grid::exact((sx + 1, sy + 1));
+        self.classes
+            .quick(self.classes.bounding_block((x, x), (y, y), fine))
     }
 
     /// The classes of the placed triangle's bounding block of texels: a
@@ -1042,7 +1077,7 @@ impl Baker {
         let (classes, out_of_budget, work, widened) = if depth < n {
             (self.quick_classes(&p, walk.grid), false, 1, false)
         } else {
-            self.classify_leaf(&p, walk.grid, &mut walk.stack)
+            self.classify_leaf(&p, walk.grid, Points::All, &mut walk.stack)
         };
         walk.work += work;
         walk.widened += u64::from(widened);
@@ -1052,13 +1087,12 @@ impl Baker {
             _ => None,
         };
         if let Some(state) = known {
-            let count = 1u64 << (2 * up);
-            walk.counts[state.bits() as usize] += count;
-            put(walk.map, index << (2 * up), count, state)?;
-            return Ok(());
+            return Self::set_known(walk, index, up, state);
+        }
+        if depth + 1 == n {
+            return self.visit_leaves(walk, index, vertices, top_flip);
         }
         if depth < n {
-            let midpoint = |a: (C, C), b: (C, C)| ((a.0 + b.0) >> 1, (a.1 + b.1) >> 1);
             for child in 0..4 {
                 let (vertices, top_flip) =
                     crate::inverse::child_vertices(child, top_flip, vertices, midpoint);
@@ -1069,6 +1103,98 @@ impl Baker {
         }
         walk.exhausted |= out_of_budget;
         self.set_unknown(walk, &p, index, 1)
+    }
+
+    /// The four leaves (finest micro-triangles) of a mixed node one level
+    /// above the map's: `index`, `vertices`, `top_flip` are the node's, as
+    /// in [`visit`](Self::visit). Their vertices are the node's corners
+    /// and edge midpoints, six points for twelve corners: each point's
+    /// footprint is read once, when a leaf first needs it. A leaf whose
+    /// vertices read both classes is unknown (under either model: they
+    /// are points of it) without its bounding block; the others are
+    /// classified as [`visit`](Self::visit) would, without reading the
+    /// vertices again. Only leaves with a small exact bounding block use
+    /// them, as [`classify_mixed_block`](Self::classify_mixed_block) does.
+    fn visit_leaves<C: GridInt>(
+        &self,
+        walk: &mut Walk<'_, C>,
+        index: u64,
+        vertices: [(C, C); 3],
+        top_flip: bool,
+    ) -> Result<(), BakeError> {
+        let [a, b, c] = vertices;
+        let points = [a, b, c, midpoint(a, b), midpoint(b, c), midpoint(c, a)];
+        // Which of `points` the midpoint of two corners is.
+        let between = |i: u8, j: u8| match i + j {
+            1 => 3,
+            3 => 4,
+            _ => 5,
+        };
+        let mut read: [Option<Classes>; 6] = [None; 6];
+        let exact_grid = Grid::exact(walk.grid.shifts);
+        for child in 0..4 {
+            let (corners, _) = crate::inverse::child_vertices(child, top_flip, [0, 1, 2], between);
+            let leaf = 4 * index + u64::from(child);
+            let p = Placed {
+                x: corners.map(|i| points[usize::from(i)].0),
+                y: corners.map(|i| points[usize::from(i)].1),
+            };
+            if walk.work >= walk.max_work {
+                walk.out_of_work = true;
+                self.set_unknown(walk, &p, leaf, 1)?;
+                continue;
+            }
+            let mut vertex_points = Points::All;
+            if is_small(self.bounding_block(&p, exact_grid)) {
+                let mut sure = Classes::default();
+                for i in corners.map(usize::from) {
+                    let classes = *read[i].get_or_insert_with(|| {
+                        walk.work += 1;
+                        let (x, y) = points[i];
+                        self.point_classes((x + x, y + y), walk.grid.shifts)
+                    });
+                    sure = sure.union(classes);
+                    if sure.is_mixed() {
+                        break;
+                    }
+                }
+                if sure.is_mixed() {
+                    // One unit for the centroid's texel: every leaf costs
+                    // one at least, so a budget of all the work cuts none.
+                    walk.work += 1;
+                    self.set_unknown(walk, &p, leaf, 1)?;
+                    continue;
+                }
+                vertex_points = Points::Midpoints(sure);
+            }
+            let (classes, out_of_budget, work, widened) =
+                self.classify_leaf(&p, walk.grid, vertex_points, &mut walk.stack);
+            walk.work += work;
+            walk.widened += u64::from(widened);
+            match (classes.opaque, classes.transparent) {
+                (true, false) => Self::set_known(walk, leaf, 0, State::Opaque)?,
+                (false, true) => Self::set_known(walk, leaf, 0, State::Transparent)?,
+                _ => {
+                    walk.exhausted |= out_of_budget;
+                    self.set_unknown(walk, &p, leaf, 1)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Marks the `4^up` micro-triangles of the node `index` (`up` levels
+    /// above the map's) `state`, and counts them.
+    fn set_known<C>(
+        walk: &mut Walk<'_, C>,
+        index: u64,
+        up: u32,
+        state: State,
+    ) -> Result<(), BakeError> {
+        let count = 1u64 << (2 * up);
+        walk.counts[state.bits() as usize] += count;
+        put(walk.map, index << (2 * up), count, state)?;
+        Ok(())
     }
 
     /// Marks `count` micro-triangles from `first` (the placed node `p`'s
@@ -1387,6 +1513,86 @@ mod tests {
         }
         // Budgets at or above the work kept every split bake (no cut).
         assert!(split_kept >= 12, "{split_kept}");
+    }
+
+    /// Every micro-triangle of a bake (whose leaves are read four at a
+    /// time, sharing their vertices: [`Baker::visit_leaves`]) has the
+    /// state it gets classified alone, with every point read
+    /// ([`Points::All`]): known where that is, else unknown by its
+    /// centroid texel. Random blobby textures, both filters, wrapping and
+    /// bordered samplers, both models, levels 1..=6, triangles reaching
+    /// past the texture.
+    #[test]
+    fn each_leaf_is_what_it_alone_classifies_as() {
+        let mut rng = SplitMix64::new(0x1eaf);
+        let (w, h) = (12u32, 10u32);
+        let mut checked = [0u64; 2];
+        for case in 0..24u32 {
+            let texels: Vec<u8> = (0..w * h)
+                .map(|i| {
+                    let blob = ((i % w) / 3 + (i / w) / 4 + case) % 3 == 0;
+                    if blob ^ (rng.next_u64() % 7 == 0) {
+                        255
+                    } else {
+                        0
+                    }
+                })
+                .collect();
+            let texture = Unorm8Texture::new(w, h, &texels).unwrap();
+            let address = [
+                AddressMode::Repeat,
+                AddressMode::ClampToEdge,
+                AddressMode::ClampToBorder,
+            ][(case % 3) as usize];
+            let sampler = Sampler {
+                filter: [Filter::Linear, Filter::Nearest][(case / 3 % 2) as usize],
+                address_u: address,
+                address_v: AddressMode::MirroredRepeat,
+                border_alpha: 1.0,
+            };
+            let model = Model::ALL[(case % 2) as usize];
+            let baker = Baker::new(&texture, sampler, Cutoff::default())
+                .unwrap()
+                .with_model(model);
+            let mut c = || (rng.next_u64() % 1000) as f32 / 700.0 - 0.2;
+            let uv = [[c(), c()], [c(), c()], [c(), c()]];
+            let level = Level::new(1 + case % 6).unwrap();
+            let policy = UnknownPolicy::default();
+            let baked = baker
+                .bake_as(
+                    model,
+                    &uv,
+                    level,
+                    Format::FourState,
+                    policy,
+                    u64::MAX,
+                    false,
+                )
+                .unwrap();
+            let (fx, fy, grid) = baker.frames(model, &uv, level).unwrap();
+            let mut stack = Vec::new();
+            for i in 0..1u64 << (2 * level.get()) {
+                let vertices = crate::inverse::micro_triangle(level, i)
+                    .unwrap()
+                    .vertices_scaled();
+                let p = Baker::place(&fx, &fy, level.get(), vertices);
+                let (classes, ..) = baker.classify_leaf(&p, grid, Points::All, &mut stack);
+                let expected = match (classes.opaque, classes.transparent) {
+                    (true, false) => State::Opaque,
+                    (false, true) => State::Transparent,
+                    _ if baker.centroid_is_opaque(&p, grid.shifts) => State::UnknownOpaque,
+                    _ => State::UnknownTransparent,
+                };
+                assert_eq!(
+                    baked.opacity.state(i),
+                    Some(expected),
+                    "case {case}: {uv:?} at {level:?}, micro-triangle {i}"
+                );
+                checked[usize::from(expected.is_known())] += 1;
+            }
+        }
+        // Both kinds of state were met, many times.
+        assert!(checked[0] > 300 && checked[1] > 300, "{checked:?}");
     }
 
     /// The `i64` walk gives the `i128` walk's micromap wherever

@@ -6,8 +6,10 @@
 //! One **work unit** is one lookup of a block's (or a single texel's)
 //! classes in the baker's texel tables: the bounding-block lookup of each
 //! node the walk visits, the vertex and edge-midpoint lookups of a
-//! finest-level micro-triangle, and each block or texel test of its exact
-//! search. Each unit is a few prefix-sum reads plus, for a search test, an
+//! finest-level micro-triangle (a vertex shared by siblings is read and
+//! counted once), and each block or texel test of its exact search; a
+//! finest-level micro-triangle its vertices decide costs one unit more
+//! (its centroid's texel), so every one costs at least one. Each unit is a few prefix-sum reads plus, for a search test, an
 //! exact triangle-block intersection, so units are close to proportional
 //! to time: about 50 ns each in the costliest case measured (searches over
 //! footprints of many texture periods, 2^26 units in 3.4 s of CPU on a
