@@ -436,8 +436,9 @@ const SPLIT_BATCH: usize = if cfg!(test) { 3 } else { 256 };
 /// [`Baker::classify_mixed_block`] reads before its search.
 #[derive(Clone, Copy, Debug)]
 enum Points {
-    /// None: this model's exact grid read them already.
-    None,
+    /// None: this model's exact grid read them already, and found that the
+    /// micro-triangle reads these classes (not both; none if unsure).
+    None(Classes),
     /// Its vertices, then its edge midpoints.
     All,
     /// Its edge midpoints: the walk read its vertices, whose footprints
@@ -710,8 +711,15 @@ impl Baker {
             return (Classes::BOTH, false, 1 + exact_work, false);
         }
         // The points read there are the same here (undilated): skip them.
+        // What the exact model read is read here too (its region is
+        // inside): search for the rest, unless its search ran out.
+        let known = if exact_exhausted {
+            Classes::default()
+        } else {
+            exact
+        };
         let (classes, exhausted, work) =
-            self.classify_mixed_block(p, grid, bounding, Points::None, stack);
+            self.classify_mixed_block(p, grid, bounding, Points::None(known), stack);
         let unknown = classes.opaque == classes.transparent;
         let exact_known = exact.opaque != exact.transparent;
         let widened = unknown && !exhausted && !exact_exhausted && exact_known;
@@ -720,7 +728,8 @@ impl Baker {
 
     /// [`classify`](Self::classify) of a micro-triangle whose bounding
     /// block `bounding` holds both classes: the vertex and midpoint
-    /// footprints (when `points`), then the exact search. Returns the
+    /// footprints `points` names, then the exact search for the classes
+    /// they (or `points`) have not shown it to read. Returns the
     /// classes, whether the search ran out of budget, and the work after
     /// the bounding block.
     fn classify_mixed_block<C: GridInt>(
@@ -741,7 +750,7 @@ impl Baker {
         // twice finer grid (shift + 1).
         // (Points of the micro-triangle are points of its dilation too.)
         let (mut sure, first) = match points {
-            Points::None => (Classes::default(), 6),
+            Points::None(known) => (known, 6),
             Points::All => (Classes::default(), 0),
             Points::Midpoints(vertices) => (vertices, 3),
         };
@@ -756,12 +765,20 @@ impl Baker {
                 }
             }
         }
+        // Only the classes the points did not read are searched for.
         let wide = p.wide();
         let t = ExactTriangle::new(wide.x, wide.y);
-        let s: Search = self
-            .classes
-            .search(&t, grid, Classes::BOTH, self.budget, stack);
-        (s.classes, s.exhausted, work + u64::from(s.tests))
+        let want = if sure == Classes::default() {
+            Classes::BOTH
+        } else {
+            sure.complement()
+        };
+        let s: Search = self.classes.search(&t, grid, want, self.budget, stack);
+        (
+            s.classes.union(sure),
+            s.exhausted,
+            work + u64::from(s.tests),
+        )
     }
 
     /// The classes of the footprint of the grid point `doubled / 2` (a
@@ -1516,10 +1533,12 @@ mod tests {
     }
 
     /// Every micro-triangle of a bake (whose leaves are read four at a
-    /// time, sharing their vertices: [`Baker::visit_leaves`]) has the
-    /// state it gets classified alone, with every point read
-    /// ([`Points::All`]): known where that is, else unknown by its
-    /// centroid texel. Random blobby textures, both filters, wrapping and
+    /// time, sharing their vertices: [`Baker::visit_leaves`], and whose
+    /// searches look only for the classes its points did not read) has
+    /// the state the plain search gives it alone: every class its closed
+    /// (for the GPU model, dilated) area reads, with no points, no
+    /// shortcut and no budget. Known where that is one class, else unknown
+    /// by its centroid texel. Random blobby textures, both filters, wrapping and
     /// bordered samplers, both models, levels 1..=6, triangles reaching
     /// past the texture.
     #[test]
@@ -1576,7 +1595,12 @@ mod tests {
                     .unwrap()
                     .vertices_scaled();
                 let p = Baker::place(&fx, &fy, level.get(), vertices);
-                let (classes, ..) = baker.classify_leaf(&p, grid, Points::All, &mut stack);
+                let t = ExactTriangle::new(p.x, p.y);
+                let search = baker
+                    .classes
+                    .search(&t, grid, Classes::BOTH, u32::MAX, &mut stack);
+                assert!(!search.exhausted);
+                let classes = search.classes;
                 let expected = match (classes.opaque, classes.transparent) {
                     (true, false) => State::Opaque,
                     (false, true) => State::Transparent,

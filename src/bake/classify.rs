@@ -47,6 +47,14 @@ impl Classes {
         }
     }
 
+    /// The classes not in `self`.
+    pub(crate) fn complement(self) -> Classes {
+        Classes {
+            opaque: !self.opaque,
+            transparent: !self.transparent,
+        }
+    }
+
     fn contains(self, other: Classes) -> bool {
         (self.opaque || !other.opaque) && (self.transparent || !other.transparent)
     }
@@ -599,8 +607,9 @@ impl TexelClasses {
     /// Every class the closed triangle `t` samples, exactly, by splitting
     /// its bounding block until each part is uniform or misses `t`.
     /// `budget` caps the block tests; past it the missing classes are
-    /// assumed (sound) and `exhausted` is set. `want` stops the search as
-    /// soon as these classes are found.
+    /// assumed (sound) and `exhausted` is set. Only the classes in `want`
+    /// are looked for: texels of the others are never tested (nor
+    /// reported), and the search stops once it has found them all.
     pub(crate) fn search(
         &self,
         t: &ExactTriangle,
@@ -641,7 +650,7 @@ impl TexelClasses {
             } else {
                 self.block_classes(block)
             };
-            if found.classes.contains(classes) {
+            if found.classes.union(want.complement()).contains(classes) {
                 continue;
             }
             let (rx0, rx1) = self.reach(block.x0, block.x1, sx, mx);
@@ -710,7 +719,7 @@ impl TexelClasses {
                 let x = block.x0 + C::from(dx);
                 found.tests += 1;
                 let classes = Classes::of(self.class_of(self.wrap(x, y)));
-                if found.classes.contains(classes) {
+                if found.classes.union(want.complement()).contains(classes) {
                     continue;
                 }
                 let (rx0, rx1) = self.reach(x.into(), x.into(), sx, mx);
