@@ -64,35 +64,50 @@ pub(crate) fn packed_tree_sizes(
         // merge in place: node `i` of a depth overwrites slot `i` after its
         // children `4i..4i + 3` (at or after `i`) are read.
         let nodes = 1usize << (2 * (level - 1));
-        let byte = |i: usize| bytes.get(i).copied().unwrap_or(0);
-        let mut codes: Vec<u8> = match format {
-            Format::FourState => (0..nodes)
-                .map(|i| match byte(i) {
-                    b @ (0x00 | 0x55 | 0xaa | 0xff) => b & 3,
-                    _ => MIXED,
-                })
-                .collect(),
-            Format::TwoState => (0..nodes)
-                .map(|i| match (byte(i / 2) >> (4 * (i % 2))) & 0xf {
-                    0x0 => 0,
-                    0xf => 1,
-                    _ => MIXED,
-                })
-                .collect(),
-        };
+        let mut codes: Vec<u8> = Vec::with_capacity(nodes);
+        match format {
+            // A byte of four equal states is `s * 0b01010101`.
+            Format::FourState => codes.extend(bytes.iter().take(nodes).map(|&b| {
+                if b == (b & 3) * 0x55 {
+                    b & 3
+                } else {
+                    MIXED
+                }
+            })),
+            Format::TwoState => codes.extend(
+                bytes
+                    .iter()
+                    .flat_map(|&b| [b & 0xf, b >> 4])
+                    .take(nodes)
+                    .map(|nibble| match nibble {
+                        0x0 => 0,
+                        0xf => 1,
+                        _ => MIXED,
+                    }),
+            ),
+        }
+        // Missing bytes read as transparent (state 0).
+        codes.resize(nodes, 0);
         mixed_last = codes.iter().map(|&c| u64::from(c == MIXED)).sum();
         mixed = mixed_last;
         for depth in (0..level - 1).rev() {
             let mut at_depth = 0u64;
             for i in 0..1usize << (2 * depth) {
-                let c = &codes[4 * i..4 * i + 4];
+                // Four equal codes other than MIXED: the word of `first`.
+                let c = [
+                    codes[4 * i],
+                    codes[4 * i + 1],
+                    codes[4 * i + 2],
+                    codes[4 * i + 3],
+                ];
                 let first = c[0];
-                codes[i] = if first != MIXED && c[1] == first && c[2] == first && c[3] == first {
-                    first
-                } else {
-                    at_depth += 1;
-                    MIXED
-                };
+                codes[i] =
+                    if first != MIXED && u32::from_le_bytes(c) == u32::from(first) * 0x0101_0101 {
+                        first
+                    } else {
+                        at_depth += 1;
+                        MIXED
+                    };
             }
             mixed += at_depth;
         }
