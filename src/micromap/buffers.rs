@@ -647,14 +647,28 @@ struct Stored {
     slot: usize,
 }
 
-/// FNV-1a over level, format and bytes: only buckets candidates, equality
-/// is always checked on the bytes.
+/// A hash of level, format and bytes, 8 bytes a step (a multiply and a
+/// shift each): it only buckets candidates, equality is always checked on
+/// the bytes, so any mix does. (Byte by byte, a level-8 map's 16 KiB took
+/// a dependent multiply per byte.)
 fn content_hash(map: &Micromap) -> u64 {
-    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
-    let head = [map.level().get() as u8, map.format().raw() as u8];
-    for &byte in head.iter().chain(map.as_bytes()) {
-        hash ^= u64::from(byte);
-        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+    let mix = |hash: u64, word: u64| {
+        let h = (hash ^ word).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+        h ^ (h >> 29)
+    };
+    let head = (u64::from(map.level().get()) << 8) | u64::from(map.format().raw());
+    let mut hash = mix(0xcbf2_9ce4_8422_2325, head);
+    let mut words = map.as_bytes().chunks_exact(8);
+    for word in &mut words {
+        let mut w = [0u8; 8];
+        w.copy_from_slice(word);
+        hash = mix(hash, u64::from_le_bytes(w));
+    }
+    let rest = words.remainder();
+    if !rest.is_empty() {
+        let mut w = [0u8; 8];
+        w[..rest.len()].copy_from_slice(rest);
+        hash = mix(hash, u64::from_le_bytes(w));
     }
     hash
 }
