@@ -3,6 +3,7 @@
 use super::classify::{is_small, Block, Classes, Grid, Search, TexelClasses};
 use super::exact::{narrowed_below, AxisFrame, ExactTriangle, FrameError};
 use super::gpu::{margin_exponent, Model};
+use super::parallel::Runner;
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
 use super::work::DEFAULT_TRIANGLE_WORK_BUDGET;
 use crate::inverse::micro_triangles;
@@ -529,8 +530,20 @@ impl Baker {
         cutoff: Cutoff,
         max_bytes: u64,
     ) -> Result<Baker, TextureError> {
+        Self::new_on(texture, sampler, cutoff, max_bytes, &Runner::serial())
+    }
+
+    /// [`new_within`](Self::new_within), its tables built on `runner`'s
+    /// threads (the same tables on any).
+    pub(crate) fn new_on(
+        texture: &(impl AlphaTexture + ?Sized),
+        sampler: Sampler,
+        cutoff: Cutoff,
+        max_bytes: u64,
+        runner: &Runner,
+    ) -> Result<Baker, TextureError> {
         Ok(Baker {
-            classes: TexelClasses::new_within(texture, sampler, cutoff, max_bytes)?,
+            classes: TexelClasses::new_within(texture, sampler, cutoff, max_bytes, runner)?,
             budget: DEFAULT_BLOCK_BUDGET,
             work_budget: DEFAULT_TRIANGLE_WORK_BUDGET,
             model: Model::default(),

@@ -3,6 +3,7 @@
 //! coordinates under the address modes, and an exact block search.
 
 use super::exact::{narrowed_below, ExactTriangle};
+use super::parallel::Runner;
 use super::texture::{AddressMode, AlphaTexture, Cutoff, Filter, Sampler, TextureError};
 use crate::num::wide::GridInt;
 use alloc::vec::Vec;
@@ -292,6 +293,22 @@ fn add_row_counts(row: &[u8], sums: &mut [u16], scratch: &mut RowScratch) {
     }
 }
 
+/// The prefix sums of a band of rows (`classes`, rows of `stride - 1`
+/// class bytes) into `sums` (as many rows of `stride`, zero on entry),
+/// counted from the band's first row: each row is the one above plus its
+/// own counts ([`add_row_counts`]).
+fn band_prefix_sums(classes: &[u8], sums: &mut [u16], stride: usize) {
+    let mut scratch = RowScratch([[0; 8 + SEGMENT]; 2]);
+    for (y, row) in classes.chunks(stride - 1).enumerate() {
+        let (above, rest) = sums.split_at_mut(y * stride);
+        let out = &mut rest[..stride];
+        if y > 0 {
+            out.copy_from_slice(&above[(y - 1) * stride..]);
+        }
+        add_row_counts(row, &mut out[1..], &mut scratch);
+    }
+}
+
 /// What [`TexelClasses::search`] found.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct Search {
@@ -314,7 +331,7 @@ impl TexelClasses {
         sampler: Sampler,
         cutoff: Cutoff,
     ) -> Result<TexelClasses, TextureError> {
-        Self::new_within(texture, sampler, cutoff, u64::MAX)
+        Self::new_within(texture, sampler, cutoff, u64::MAX, &Runner::serial())
     }
 
     /// The bytes the tables of a `width x height` texture take: `w h` class
@@ -331,6 +348,7 @@ impl TexelClasses {
         sampler: Sampler,
         cutoff: Cutoff,
         max_bytes: u64,
+        runner: &Runner,
     ) -> Result<TexelClasses, TextureError> {
         let (width, height) = (texture.width(), texture.height());
         if width == 0 || height == 0 {
@@ -359,8 +377,9 @@ impl TexelClasses {
         let (Ok(texels), Ok(sums_len)) = (texels, sums_len) else {
             return Err(failed);
         };
-        // Both tables are appended row by row, never zero-filled first
-        // (this pass is a large part of a bake of few micro-triangles).
+        // The class bytes are appended row by row (one call per row, so a
+        // `dyn` texture costs one dynamic call a row, not a texel), never
+        // zero-filled first.
         let mut opaque: Vec<u8> = Vec::new();
         opaque
             .try_reserve_exact(texels)
@@ -369,15 +388,6 @@ impl TexelClasses {
         prefix
             .try_reserve_exact(sums_len)
             .map_err(|_| failed.clone())?;
-        let mut sums: Vec<u16> = Vec::new();
-        sums.try_reserve_exact(stride).map_err(|_| failed)?;
-        sums.resize(stride, 0);
-        // One pass, row by row: the row's classes (one call per row, so a
-        // `dyn` texture costs one dynamic call a row, not a texel), then
-        // its sums while the row is still in cache. `sums`: the row of
-        // sums being built, from the one above, in place.
-        prefix.extend_from_slice(&sums);
-        let mut scratch = RowScratch([[0; 8 + SEGMENT]; 2]);
         for y in 0..height {
             let start = opaque.len();
             texture.extend_opaque_row(y, &cutoff, &mut opaque);
@@ -389,8 +399,53 @@ impl TexelClasses {
                     got: opaque.len() - start,
                 });
             }
-            add_row_counts(&opaque[start..], &mut sums[1..], &mut scratch);
-            prefix.extend_from_slice(&sums);
+        }
+        // The prefix sums by bands of rows, a task each: every band from a
+        // row of zeros, then the sums of the bands above added to it (one
+        // band when serial: the rows in one pass, no correction).
+        prefix.resize(sums_len, 0);
+        let rows = height as usize;
+        let bands = if runner.threads() > 1 {
+            (2 * runner.threads()).min(rows)
+        } else {
+            1
+        };
+        let band_rows = rows.div_ceil(bands);
+        let mut parts: Vec<(&[u8], &mut [u16])> = opaque
+            .chunks(band_rows * (stride - 1))
+            .zip(prefix[stride..].chunks_mut(band_rows * stride))
+            .collect();
+        runner.for_each_mut(&mut parts, |(classes, sums)| {
+            band_prefix_sums(classes, sums, stride);
+        });
+        if parts.len() > 1 {
+            // What band k needs added: the last rows of bands 0..k, summed.
+            let mut offsets: Vec<u16> = Vec::new();
+            offsets
+                .try_reserve_exact(parts.len() * stride)
+                .map_err(|_| failed.clone())?;
+            offsets.resize(stride, 0);
+            for k in 1..parts.len() {
+                let sums = &parts[k - 1].1;
+                let last = &sums[sums.len() - stride..];
+                let before = (k - 1) * stride;
+                offsets.extend_from_within(before..before + stride);
+                for (o, &l) in offsets[k * stride..].iter_mut().zip(last) {
+                    *o = o.wrapping_add(l);
+                }
+            }
+            let mut fixes: Vec<(&[u16], &mut [u16])> = offsets
+                .chunks(stride)
+                .zip(parts.into_iter().map(|(_, sums)| sums))
+                .skip(1)
+                .collect();
+            runner.for_each_mut(&mut fixes, |(offset, sums)| {
+                for row in sums.chunks_mut(stride) {
+                    for (s, &o) in row.iter_mut().zip(offset.iter()) {
+                        *s = s.wrapping_add(o);
+                    }
+                }
+            });
         }
         Ok(TexelClasses {
             width,
@@ -884,6 +939,38 @@ mod tests {
                         );
                     }
                 }
+            }
+        }
+    }
+
+    /// Tables built in bands on several threads (each band from zero, then
+    /// corrected by the bands above) equal the serial build, on textures
+    /// from one row (fewer rows than bands) to many, of several widths.
+    #[test]
+    fn banded_tables_equal_the_serial_build() {
+        use crate::bake::parallel::Threads;
+        let mut rng = SplitMix64::new(0xba2d);
+        for (w, h) in [
+            (1, 1),
+            (5, 1),
+            (3, 2),
+            (7, 5),
+            (40, 9),
+            (33, 64),
+            (1100, 13),
+        ] {
+            let texels: Vec<u8> = (0..w * h)
+                .map(|_| [0, 0, 255, 7][(rng.next_u64() % 4) as usize])
+                .collect();
+            let texture = Unorm8Texture::new(w, h, &texels).unwrap();
+            let (sampler, cutoff) = (Sampler::default(), Cutoff::default());
+            let serial = TexelClasses::new(&texture, sampler, cutoff).unwrap();
+            for threads in [2, 3, 8] {
+                let runner = Runner::new(Threads::Exactly(threads));
+                let banded =
+                    TexelClasses::new_within(&texture, sampler, cutoff, u64::MAX, &runner).unwrap();
+                assert_eq!(banded.prefix, serial.prefix, "{w}x{h}, {threads} threads");
+                assert_eq!(banded.opaque, serial.opaque, "{w}x{h}, {threads} threads");
             }
         }
     }

@@ -725,8 +725,11 @@ pub fn bake_meshes(
     let (levels, period_level_zero) = levels_of(meshes, &triangles, options);
 
     let total: usize = triangles.iter().map(|t| t.len()).sum();
-    let plan = Plan::new(meshes, &triangles, &levels, options)?;
-    let distinct = bake_distinct(&plan, options, &mut builder_progress(progress, total))?;
+    // One pool for the whole bake: the texel tables, then the triangles.
+    let runner = Runner::new(options.threads);
+    let plan = Plan::new(meshes, &triangles, &levels, options, &runner)?;
+    let progress = &mut builder_progress(progress, total);
+    let distinct = bake_distinct(&plan, options, &runner, progress)?;
     let (mut builder, distinct) = distinct;
 
     // The statistics, triangle by triangle in input order (the sums are
@@ -775,15 +778,16 @@ pub fn bake_meshes(
             .filter(|i| matches!(i, MicromapIndex::Special(_)))
             .count();
     }
-    let (mut paper_bits, mut level_order_bits) = (0u64, 0u64);
-    for record in 0..buffers.records().len() as u32 {
-        let sizes = buffers
+    let records: Vec<u32> = (0..buffers.records().len() as u32).collect();
+    let sizes = runner.map_in_order(&records, 64, |&record| {
+        buffers
             .record_bytes(record)
-            .and_then(|(level, format, bytes)| packed_tree_sizes(level, format, bytes).ok());
-        if let Some(sizes) = sizes {
-            paper_bits += sizes.paper_bits;
-            level_order_bits += sizes.level_order_bits;
-        }
+            .and_then(|(level, format, bytes)| packed_tree_sizes(level, format, bytes).ok())
+    });
+    let (mut paper_bits, mut level_order_bits) = (0u64, 0u64);
+    for sizes in sizes.into_iter().flatten() {
+        paper_bits += sizes.paper_bits;
+        level_order_bits += sizes.level_order_bits;
     }
     // Levels 0..=12 (those DXR allows), more if used.
     let mut level_histogram = vec![0u64; 13];
@@ -867,9 +871,9 @@ fn builder_progress(
 fn bake_distinct(
     plan: &Plan,
     options: &MeshOptions,
+    runner: &Runner,
     progress: &mut dyn FnMut(usize),
 ) -> Result<(MicromapBuffersBuilder, Vec<Distinct>), MeshBakeError> {
-    let runner = Runner::new(options.threads);
     let threads = runner.threads().max(1);
     let chunk_cost = CHUNK_COST_PER_THREAD.saturating_mul(threads as u64);
     // A large triangle is split over the pool's threads when there are

@@ -33,6 +33,7 @@ pub(crate) struct Runner {
 
 #[cfg(feature = "rayon")]
 enum Pool {
+    /// The pool the caller runs in; outside any, rayon's global pool.
     Global,
     Own(rayon::ThreadPool),
 }
@@ -46,6 +47,11 @@ impl Runner {
             let pool = match threads {
                 Threads::All => Some(Pool::Global),
                 Threads::Exactly(0 | 1) => None,
+                // The pool the caller runs in (outside any: the global
+                // one) when it has exactly `n` threads: its threads are
+                // running already, and a new pool's would start cold on
+                // every bake.
+                Threads::Exactly(n) if n == rayon::current_num_threads() => Some(Pool::Global),
                 Threads::Exactly(n) => rayon::ThreadPoolBuilder::new()
                     .num_threads(n)
                     .build()
@@ -59,6 +65,11 @@ impl Runner {
             let _ = threads;
             Runner {}
         }
+    }
+
+    /// The runner on the calling thread alone.
+    pub(crate) fn serial() -> Runner {
+        Runner::new(Threads::Exactly(1))
     }
 
     /// The threads [`map_in_order`](Self::map_in_order) runs on.
@@ -101,6 +112,26 @@ impl Runner {
         }
         let _ = min_len;
         items.iter().map(f).collect()
+    }
+}
+
+impl Runner {
+    /// `f` on every item of `items` (each borrowed mutably by one call), on
+    /// this runner's threads; in order when serial.
+    #[cfg_attr(not(feature = "rayon"), allow(clippy::unused_self))]
+    pub(crate) fn for_each_mut<T: Send>(&self, items: &mut [T], f: impl Fn(&mut T) + Sync + Send) {
+        #[cfg(feature = "rayon")]
+        {
+            use rayon::prelude::*;
+            match &self.pool {
+                Some(Pool::Global) => return items.par_iter_mut().for_each(f),
+                Some(Pool::Own(pool)) => {
+                    return pool.install(|| items.par_iter_mut().for_each(f));
+                }
+                None => {}
+            }
+        }
+        items.iter_mut().for_each(f);
     }
 }
 

@@ -14,6 +14,7 @@ use super::{
 };
 use crate::bake::baker::{Baker, TriangleStatus, UvTriangle};
 use crate::bake::mips::mip_bakers;
+use crate::bake::parallel::Runner;
 use crate::bake::texture::AlphaTexture;
 use crate::micromap::TriangleEntry;
 use crate::Level;
@@ -163,6 +164,7 @@ impl Plan {
         triangles: &[impl AsRef<[UvTriangle]>],
         levels: &[Vec<Level>],
         options: &MeshOptions,
+        runner: &Runner,
     ) -> Result<Plan, MeshBakeError> {
         let mut plan = Plan {
             bakers: Vec::new(),
@@ -217,9 +219,11 @@ impl Plan {
                     &factored
                 };
                 let make = |texture: &dyn AlphaTexture, sampler| {
-                    Ok(Baker::new(texture, sampler, material.cutoff)?
-                        .with_block_budget(options.block_budget)
-                        .with_model(options.model))
+                    Ok(
+                        Baker::new_on(texture, sampler, material.cutoff, u64::MAX, runner)?
+                            .with_block_budget(options.block_budget)
+                            .with_model(options.model),
+                    )
                 };
                 let baker = make(texture, material.sampler).map_err(texture_error)?;
                 let mips = mip_bakers(options.mips, texture, material.sampler, &make)
