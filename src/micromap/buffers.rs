@@ -631,8 +631,9 @@ pub struct MicromapBuffersBuilder {
     /// of first appearance: the data buffer in pieces (`finish` joins them
     /// without copying the largest).
     arenas: BTreeMap<usize, Vec<u8>>,
-    /// Content hash → indices into `unique` with that hash.
-    buckets: BTreeMap<u64, Vec<u32>>,
+    /// Content hash → the last index into `unique` with that hash (the
+    /// others follow its `same_hash` chain).
+    buckets: BTreeMap<u64, u32>,
     geometries: Vec<Vec<Entry>>,
 }
 
@@ -645,6 +646,8 @@ struct Stored {
     len: usize,
     /// Its position in the arena, in maps.
     slot: usize,
+    /// The map stored before it with the same content hash.
+    same_hash: Option<u32>,
 }
 
 /// A hash of level, format and bytes, 8 bytes a step (a multiply and a
@@ -691,13 +694,18 @@ impl MicromapBuffersBuilder {
 
     /// The distinct micromap equal to `map` (`hash` its content hash).
     fn find(&self, map: &Micromap, hash: u64) -> Option<u32> {
-        let bucket = self.buckets.get(&hash)?;
-        bucket.iter().copied().find(|&i| {
+        let mut candidate = self.buckets.get(&hash).copied();
+        while let Some(i) = candidate {
             let stored = self.unique[i as usize];
-            stored.level == map.level()
+            if stored.level == map.level()
                 && stored.format == map.format()
                 && self.bytes(stored) == map.as_bytes()
-        })
+            {
+                return Some(i);
+            }
+            candidate = stored.same_hash;
+        }
+        None
     }
 
     /// Stores a copy of `map`'s bytes, known to be new (`hash` its content
@@ -719,13 +727,14 @@ impl MicromapBuffersBuilder {
             .map_err(|_| BufferError::AllocationFailed)?;
         let slot = arena.len() / bytes.len().max(1);
         arena.extend_from_slice(bytes);
+        let same_hash = self.buckets.insert(hash, id as u32);
         self.unique.push(Stored {
             level: map.level(),
             format: map.format(),
             len: bytes.len(),
             slot,
+            same_hash,
         });
-        self.buckets.entry(hash).or_default().push(id as u32);
         Ok(id as u32)
     }
 
@@ -1304,4 +1313,29 @@ mod ash_conversions {
         assert!(core::mem::size_of::<vk::MicromapTriangleEXT>() == TriangleRecord::SIZE);
         assert!(core::mem::size_of::<vk::MicromapUsageEXT>() == UsageCount::SIZE);
     };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Maps whose content hashes collide are all kept, each found by its
+    /// own bytes along the chain of its hash, and a third is new.
+    #[test]
+    fn colliding_hashes_keep_every_map() {
+        let level = Level::new(2).unwrap();
+        let map = |states: [State; 2]| {
+            Micromap::from_states(level, Format::FourState, (0..16).map(|i| states[i % 2])).unwrap()
+        };
+        let a = map([State::Opaque, State::Transparent]);
+        let b = map([State::Transparent, State::Opaque]);
+        let c = map([State::UnknownOpaque, State::Opaque]);
+        let mut builder = MicromapBuffersBuilder::default();
+        assert_eq!(builder.store(&a, 7), Ok(0));
+        assert_eq!(builder.store(&b, 7), Ok(1));
+        assert_eq!(builder.find(&a, 7), Some(0));
+        assert_eq!(builder.find(&b, 7), Some(1));
+        assert_eq!(builder.find(&c, 7), None);
+        assert_eq!(builder.find(&a, 8), None);
+    }
 }

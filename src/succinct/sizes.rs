@@ -14,6 +14,10 @@ use crate::micromap::{Format, Micromap};
 use crate::Level;
 use alloc::vec::Vec;
 
+/// Nodes one level above the map's that [`packed_tree_sizes`] keeps on
+/// the stack (a map of level 5 or less).
+const SMALL_NODES: usize = 256;
+
 /// The bits of a micromap's [`PaperTree`](super::PaperTree) and
 /// [`LevelOrderTree`], as their `total_bits` give them.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -64,30 +68,38 @@ pub(crate) fn packed_tree_sizes(
         // merge in place: node `i` of a depth overwrites slot `i` after its
         // children `4i..4i + 3` (at or after `i`) are read.
         let nodes = 1usize << (2 * (level - 1));
-        let mut codes: Vec<u8> = Vec::with_capacity(nodes);
+        // (Small maps, most of a bake's, keep their codes on the stack.)
+        let mut small = [0u8; SMALL_NODES];
+        let mut large: Vec<u8> = Vec::new();
+        let codes: &mut [u8] = if nodes <= SMALL_NODES {
+            &mut small[..nodes]
+        } else {
+            large.resize(nodes, 0);
+            &mut large
+        };
+        let mut filled = 0;
+        let mut put = |code: u8| {
+            codes[filled] = code;
+            filled += 1;
+        };
         match format {
             // A byte of four equal states is `s * 0b01010101`.
-            Format::FourState => codes.extend(bytes.iter().take(nodes).map(|&b| {
-                if b == (b & 3) * 0x55 {
-                    b & 3
-                } else {
-                    MIXED
+            Format::FourState => {
+                for &b in bytes.iter().take(nodes) {
+                    put(if b == (b & 3) * 0x55 { b & 3 } else { MIXED });
                 }
-            })),
-            Format::TwoState => codes.extend(
-                bytes
-                    .iter()
-                    .flat_map(|&b| [b & 0xf, b >> 4])
-                    .take(nodes)
-                    .map(|nibble| match nibble {
+            }
+            Format::TwoState => {
+                for nibble in bytes.iter().flat_map(|&b| [b & 0xf, b >> 4]).take(nodes) {
+                    put(match nibble {
                         0x0 => 0,
                         0xf => 1,
                         _ => MIXED,
-                    }),
-            ),
+                    });
+                }
+            }
         }
-        // Missing bytes read as transparent (state 0).
-        codes.resize(nodes, 0);
+        // Missing bytes read as transparent (state 0): the zeros left.
         mixed_last = codes.iter().map(|&c| u64::from(c == MIXED)).sum();
         mixed = mixed_last;
         for depth in (0..level - 1).rev() {
