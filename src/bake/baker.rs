@@ -1101,38 +1101,50 @@ impl Baker {
             let count = 1u64 << (2 * up);
             return self.set_unknown(walk, &p, index << (2 * up), count);
         }
+        if depth == n {
+            // A level-0 map: its one leaf (deeper leaves are read four at a
+            // time by `visit_leaves`).
+            return self.visit_leaf(walk, &p, index, Points::All);
+        }
         // Above the finest level only the bounding block is read: a mixed
         // block descends, and the children decide more cheaply than an
         // exact search over a large triangle would.
-        let (classes, out_of_budget, work, widened) = if depth < n {
-            (self.quick_classes(&p, walk.grid), false, 1, false)
-        } else {
-            self.classify_leaf(&p, walk.grid, Points::All, &mut walk.stack)
-        };
-        walk.work += work;
-        walk.widened += u64::from(widened);
-        let known = match (classes.opaque, classes.transparent) {
-            (true, false) => Some(State::Opaque),
-            (false, true) => Some(State::Transparent),
-            _ => None,
-        };
-        if let Some(state) = known {
+        let classes = self.quick_classes(&p, walk.grid);
+        walk.work += 1;
+        if let Some(state) = classes.known_state() {
             return Self::set_known(walk, index, up, state);
         }
         if depth + 1 == n {
             return self.visit_leaves(walk, index, vertices, top_flip);
         }
-        if depth < n {
-            for child in 0..4 {
-                let (vertices, top_flip) =
-                    crate::inverse::child_vertices(child, top_flip, vertices, midpoint);
-                let index = 4 * index + u64::from(child);
-                self.visit(walk, depth + 1, index, vertices, top_flip)?;
-            }
-            return Ok(());
+        for child in 0..4 {
+            let (vertices, top_flip) =
+                crate::inverse::child_vertices(child, top_flip, vertices, midpoint);
+            let index = 4 * index + u64::from(child);
+            self.visit(walk, depth + 1, index, vertices, top_flip)?;
+        }
+        Ok(())
+    }
+
+    /// One leaf (finest micro-triangle) `p` with its index: classified
+    /// ([`classify_leaf`](Self::classify_leaf), reading `points`), then
+    /// set known or unknown and counted.
+    fn visit_leaf<C: GridInt>(
+        &self,
+        walk: &mut Walk<'_, C>,
+        p: &Placed<C>,
+        leaf: u64,
+        points: Points,
+    ) -> Result<(), BakeError> {
+        let (classes, out_of_budget, work, widened) =
+            self.classify_leaf(p, walk.grid, points, &mut walk.stack);
+        walk.work += work;
+        walk.widened += u64::from(widened);
+        if let Some(state) = classes.known_state() {
+            return Self::set_known(walk, leaf, 0, state);
         }
         walk.exhausted |= out_of_budget;
-        self.set_unknown(walk, &p, index, 1)
+        self.set_unknown(walk, p, leaf, 1)
     }
 
     /// The four leaves (finest micro-triangles) of a mixed node one level
@@ -1197,18 +1209,7 @@ impl Baker {
                 }
                 vertex_points = Points::Midpoints(sure);
             }
-            let (classes, out_of_budget, work, widened) =
-                self.classify_leaf(&p, walk.grid, vertex_points, &mut walk.stack);
-            walk.work += work;
-            walk.widened += u64::from(widened);
-            match (classes.opaque, classes.transparent) {
-                (true, false) => Self::set_known(walk, leaf, 0, State::Opaque)?,
-                (false, true) => Self::set_known(walk, leaf, 0, State::Transparent)?,
-                _ => {
-                    walk.exhausted |= out_of_budget;
-                    self.set_unknown(walk, &p, leaf, 1)?;
-                }
-            }
+            self.visit_leaf(walk, &p, leaf, vertex_points)?;
         }
         Ok(())
     }
@@ -1613,12 +1614,10 @@ mod tests {
                     .classes
                     .search(&t, grid, Classes::BOTH, u32::MAX, &mut stack);
                 assert!(!search.exhausted);
-                let classes = search.classes;
-                let expected = match (classes.opaque, classes.transparent) {
-                    (true, false) => State::Opaque,
-                    (false, true) => State::Transparent,
-                    _ if baker.centroid_is_opaque(&p, grid.shifts) => State::UnknownOpaque,
-                    _ => State::UnknownTransparent,
+                let expected = match search.classes.known_state() {
+                    Some(state) => state,
+                    None if baker.centroid_is_opaque(&p, grid.shifts) => State::UnknownOpaque,
+                    None => State::UnknownTransparent,
                 };
                 assert_eq!(
                     baked.opacity.state(i),

@@ -5,6 +5,7 @@
 use super::exact::{narrowed_below, ExactTriangle};
 use super::parallel::Runner;
 use super::texture::{AddressMode, AlphaTexture, Cutoff, Filter, Sampler, TextureError};
+use crate::micromap::State;
 use crate::num::wide::GridInt;
 use alloc::vec::Vec;
 
@@ -45,6 +46,16 @@ impl Classes {
         Classes {
             opaque: self.opaque || other.opaque,
             transparent: self.transparent || other.transparent,
+        }
+    }
+
+    /// The state a region reading these classes has when it is known:
+    /// opaque or transparent for one class, `None` for both (or none).
+    pub(crate) fn known_state(self) -> Option<State> {
+        match (self.opaque, self.transparent) {
+            (true, false) => Some(State::Opaque),
+            (false, true) => Some(State::Transparent),
+            _ => None,
         }
     }
 
@@ -522,20 +533,16 @@ impl TexelClasses {
             };
         }
         let area = u64::from(xr.1 - xr.0 + 1) * u64::from(yr.1 - yr.0 + 1);
-        let count = self.opaque_count_mod(xr, yr);
-        if area < 1 << 16 {
-            let count = u64::from(count);
-            return Classes {
-                opaque: count > 0,
-                transparent: count < area,
-            };
-        }
-        // A larger rectangle: a residue other than 0 (other than the area's)
-        // still proves an opaque (a transparent) texel; otherwise count.
-        if count != 0 && count != area as u16 {
+        let residue = self.opaque_count_mod(xr, yr);
+        let count = if area < 1 << 16 {
+            u64::from(residue)
+        } else if residue != 0 && residue != area as u16 {
+            // A larger rectangle: a residue other than 0 (other than the
+            // area's) still proves an opaque (a transparent) texel.
             return Classes::BOTH;
-        }
-        let count = self.opaque_count(xr, yr);
+        } else {
+            self.opaque_count(xr, yr)
+        };
         Classes {
             opaque: count > 0,
             transparent: count < area,

@@ -77,25 +77,21 @@ pub(crate) fn packed_tree_sizes(
             large.resize(nodes, 0);
             &mut large
         };
-        let mut filled = 0;
-        let mut put = |code: u8| {
-            codes[filled] = code;
-            filled += 1;
-        };
         match format {
             // A byte of four equal states is `s * 0b01010101`.
             Format::FourState => {
-                for &b in bytes.iter().take(nodes) {
-                    put(if b == (b & 3) * 0x55 { b & 3 } else { MIXED });
+                for (code, &b) in codes.iter_mut().zip(bytes) {
+                    *code = if b == (b & 3) * 0x55 { b & 3 } else { MIXED };
                 }
             }
             Format::TwoState => {
-                for nibble in bytes.iter().flat_map(|&b| [b & 0xf, b >> 4]).take(nodes) {
-                    put(match nibble {
+                let nibbles = bytes.iter().flat_map(|&b| [b & 0xf, b >> 4]);
+                for (code, nibble) in codes.iter_mut().zip(nibbles) {
+                    *code = match nibble {
                         0x0 => 0,
                         0xf => 1,
                         _ => MIXED,
-                    });
+                    };
                 }
             }
         }
