@@ -107,6 +107,7 @@ pub mod inverse;
 mod kernel;
 mod level;
 pub mod micromap;
+pub mod names;
 pub mod num;
 pub mod spec;
 #[cfg(feature = "alloc")]

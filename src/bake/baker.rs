@@ -1,190 +1,21 @@
 //! [`Baker`]: one texture, sampler and cutoff; bakes and verifies triangles.
 
 use super::classify::{is_small, Block, Classes, Grid, Search, TexelClasses};
-use super::exact::{narrowed_below, AxisFrame, ExactTriangle, FrameError};
+use super::exact::{narrowed_below, AxisFrame, ExactTriangle, FrameError, TexelPoint};
 use super::gpu::{margin_exponent, Model};
 use super::parallel::Runner;
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
+use super::triangle::{BakeError, BakedOpacity, BakedTriangle, TriangleStatus, UvTriangle};
 use super::work::DEFAULT_TRIANGLE_WORK_BUDGET;
 use crate::inverse::micro_triangles;
 use crate::micromap::{Format, Micromap, MicromapError, State, TriangleOpacity, UnknownPolicy};
 use crate::num::wide::GridInt;
 use crate::Level;
 use alloc::vec::Vec;
-use core::fmt;
-
-/// A mesh triangle's texture coordinates `[(u, v); 3]` for its vertices 0,
-/// 1, 2: the hit with barycentrics `(b1, b2)` reads the texture at
-/// `(1 - b1 - b2) uv[0] + b1 uv[1] + b2 uv[2]`.
-pub type UvTriangle = [[f32; 2]; 3];
 
 /// Block tests a micro-triangle may use before the baker calls it unknown
 /// (see [`Baker::with_block_budget`]).
 pub const DEFAULT_BLOCK_BUDGET: u32 = 4096;
-
-/// How a triangle was baked.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum TriangleStatus {
-    /// Every micro-triangle classified exactly.
-    Exact,
-    /// A texture coordinate is NaN or infinite: the whole triangle is the
-    /// unknown-opaque special index (-4), whatever the format (the OMM
-    /// SDK's default for such triangles too).
-    NotFinite,
-    /// The coordinates' binary exponents are too far apart for the exact
-    /// 100-bit grid (e.g. `1e-30` next to `1.0`, or values near `1e30`):
-    /// the whole triangle is unknown-opaque (-4), which is sound.
-    OutOfExactRange,
-    /// Some micro-triangles needed more block tests than the budget; those
-    /// are unknown (sound, maybe not tight). Never happens to a
-    /// micro-triangle whose footprint spans fewer texels than the budget.
-    BudgetExceeded,
-    /// The triangle spent its work budget ([`Baker::bake_within`], units
-    /// in [`crate::bake::work`]): the micro-triangles not yet decided then
-    /// are unknown (sound, maybe not tight).
-    WorkBudgetExceeded,
-}
-
-/// One baked triangle: its opacity (a micromap, or a special index for a
-/// triangle the baker could not place on its grid) and what it found.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct BakedTriangle {
-    /// The micromap, or [`State::UnknownOpaque`] as a special index when
-    /// [`status`](Self::status) is `NotFinite` or `OutOfExactRange`.
-    pub opacity: BakedOpacity,
-    /// How it went.
-    pub status: TriangleStatus,
-    /// Micro-triangles per state, indexed by [`State::bits`], counted
-    /// before a 2-state format resolves the unknowns (so a 2-state bake
-    /// still tells how many were unknown).
-    pub counts: [u64; 4],
-    /// Of the unknown micro-triangles, those the exact model
-    /// ([`Model::Exact`]) knows: what the GPU model's widening cost this
-    /// triangle (always 0 under the exact model). Each is decided exactly,
-    /// by the exact model's classification of that micro-triangle on the
-    /// same grid, so `counts`' known ones plus these are the exact model's
-    /// known ones (but where the block or work budget runs out under one
-    /// model only).
-    pub widened: u64,
-    /// Work units spent ([`crate::bake::work`]).
-    pub work: u64,
-}
-
-/// What a triangle's micromap index will point at.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum BakedOpacity {
-    /// A micromap of the requested level and format.
-    Map(Micromap),
-    /// One state for the whole triangle (a special index).
-    Special(State),
-}
-
-impl BakedOpacity {
-    /// The form [`MicromapBuffersBuilder`](crate::micromap::MicromapBuffersBuilder)
-    /// takes.
-    #[must_use]
-    pub fn as_opacity(&self) -> TriangleOpacity<'_> {
-        match self {
-            BakedOpacity::Map(map) => TriangleOpacity::Micromap(map),
-            BakedOpacity::Special(state) => TriangleOpacity::Special(*state),
-        }
-    }
-
-    /// The state of micro-triangle `i`: the map's, or for a special index
-    /// its one state whatever `i`; `None` past the end of the map.
-    ///
-    /// ```
-    /// use micromap_index::bake::BakedOpacity;
-    /// use micromap_index::micromap::{Format, Micromap, State};
-    /// use micromap_index::Level;
-    /// let mut map = Micromap::new(Level::new(1).unwrap(), Format::FourState).unwrap();
-    /// map.set(2, State::Opaque).unwrap();
-    /// let baked = BakedOpacity::Map(map);
-    /// assert_eq!(baked.state(2), Some(State::Opaque));
-    /// assert_eq!(baked.state(4), None);
-    /// assert_eq!(BakedOpacity::Special(State::UnknownOpaque).state(99), Some(State::UnknownOpaque));
-    /// ```
-    #[must_use]
-    pub fn state(&self, i: u64) -> Option<State> {
-        match self {
-            BakedOpacity::Map(map) => map.get(i),
-            BakedOpacity::Special(state) => Some(*state),
-        }
-    }
-
-    /// The micromap's level; 0 for a special index (one state for the
-    /// whole triangle, as a level-0 map would hold it).
-    #[must_use]
-    pub fn level(&self) -> Level {
-        match self {
-            BakedOpacity::Map(map) => map.level(),
-            BakedOpacity::Special(_) => Level(0),
-        }
-    }
-}
-
-/// Why [`Baker::bake`] failed.
-#[derive(Clone, Debug, PartialEq, Eq)]
-#[non_exhaustive]
-pub enum BakeError {
-    /// The micromap could not be made (level above 16, allocation).
-    Micromap(MicromapError),
-}
-
-impl fmt::Display for BakeError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            BakeError::Micromap(e) => write!(f, "cannot bake: {e}"),
-        }
-    }
-}
-
-impl core::error::Error for BakeError {}
-
-impl From<MicromapError> for BakeError {
-    fn from(e: MicromapError) -> Self {
-        BakeError::Micromap(e)
-    }
-}
-
-/// An exact point in texel space: `x / 2^shift_x` texels from the texture's
-/// left edge, `y / 2^shift_y` from its top (the texture repeats, mirrors or
-/// clamps beyond as the sampler says).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct TexelPoint {
-    /// Numerator of the horizontal texel coordinate.
-    pub x: i128,
-    /// Its power-of-two denominator's exponent.
-    pub shift_x: u32,
-    /// Numerator of the vertical texel coordinate.
-    pub y: i128,
-    /// Its power-of-two denominator's exponent.
-    pub shift_y: u32,
-}
-
-impl TexelPoint {
-    /// The point's texture coordinates `(u, v)`, rounded to `f64`.
-    #[must_use]
-    pub fn uv_f64(&self, width: u32, height: u32) -> (f64, f64) {
-        let scale = |n: i128, shift: u32, size: u32| {
-            n as f64 * libm_exp2(-(shift as i32)) / f64::from(size)
-        };
-        (
-            scale(self.x, self.shift_x, width),
-            scale(self.y, self.shift_y, height),
-        )
-    }
-}
-
-/// `2^e` for the exponents a [`TexelPoint`] can have (no `std` needed).
-fn libm_exp2(e: i32) -> f64 {
-    let mut r = 1.0f64;
-    let step = if e < 0 { 0.5 } else { 2.0 };
-    for _ in 0..e.unsigned_abs() {
-        r *= step;
-    }
-    r
-}
 
 /// A micro-triangle whose known state the texture contradicts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -334,7 +165,7 @@ fn put(map: &mut Micromap, first: u64, count: u64, state: State) -> Result<(), M
 /// whether a micro-triangle ran out of budget, and the search's stack.
 struct Walk<'a, C> {
     level: u32,
-    /// Work units spent and allowed ([`crate::bake::work`]).
+    /// Work units spent and allowed ([bounded work](crate::bake#bounded-work)).
     work: u64,
     max_work: u64,
     out_of_work: bool,
@@ -575,7 +406,7 @@ impl Baker {
 
     /// The same baker with another cap on the work units one
     /// [`bake`](Self::bake) may spend (default
-    /// [`DEFAULT_TRIANGLE_WORK_BUDGET`]; see [`crate::bake::work`]).
+    /// [`DEFAULT_TRIANGLE_WORK_BUDGET`]; see [bounded work](crate::bake#bounded-work)).
     #[must_use]
     pub fn with_work_budget(mut self, units: u64) -> Baker {
         self.work_budget = units;
@@ -850,7 +681,7 @@ impl Baker {
     }
 
     /// [`bake`](Self::bake) spending at most about `max_work` work units
-    /// ([`crate::bake::work`]): once they are spent, every micro-triangle
+    /// ([bounded work](crate::bake#bounded-work)): once they are spent, every micro-triangle
     /// not yet decided is unknown (sound) and the status is
     /// [`TriangleStatus::WorkBudgetExceeded`]. [`BakedTriangle::work`] says
     /// what it spent.

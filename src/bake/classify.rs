@@ -331,7 +331,7 @@ pub(crate) struct Search {
     /// The first block of one class found to meet the triangle, per class
     /// (`[transparent, opaque]`).
     pub(crate) witness_block: [Option<Block>; 2],
-    /// Block and texel tests made (work units, [`crate::bake::work`]).
+    /// Block and texel tests made (work units, [bounded work](crate::bake#bounded-work)).
     pub(crate) tests: u32,
 }
 

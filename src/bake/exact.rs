@@ -16,6 +16,45 @@
 use crate::num::wide::Wide;
 use core::ops::{Add, Mul};
 
+/// An exact point in texel space: `x / 2^shift_x` texels from the texture's
+/// left edge, `y / 2^shift_y` from its top (the texture repeats, mirrors or
+/// clamps beyond as the sampler says).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TexelPoint {
+    /// Numerator of the horizontal texel coordinate.
+    pub x: i128,
+    /// Its power-of-two denominator's exponent.
+    pub shift_x: u32,
+    /// Numerator of the vertical texel coordinate.
+    pub y: i128,
+    /// Its power-of-two denominator's exponent.
+    pub shift_y: u32,
+}
+
+impl TexelPoint {
+    /// The point's texture coordinates `(u, v)`, rounded to `f64`.
+    #[must_use]
+    pub fn uv_f64(&self, width: u32, height: u32) -> (f64, f64) {
+        let scale = |n: i128, shift: u32, size: u32| {
+            n as f64 * libm_exp2(-(shift as i32)) / f64::from(size)
+        };
+        (
+            scale(self.x, self.shift_x, width),
+            scale(self.y, self.shift_y, height),
+        )
+    }
+}
+
+/// `2^e` for the exponents a [`TexelPoint`] can have (no `std` needed).
+fn libm_exp2(e: i32) -> f64 {
+    let mut r = 1.0f64;
+    let step = if e < 0 { 0.5 } else { 2.0 };
+    for _ in 0..e.unsigned_abs() {
+        r *= step;
+    }
+    r
+}
+
 /// `values` in `i64` when every one is below `bound` (at most `2^63`) in
 /// magnitude, else `None`: how a caller checks the bound that lets it run
 /// in `i64` (see [`GridInt`](crate::num::wide::GridInt)).

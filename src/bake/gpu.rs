@@ -4,13 +4,15 @@
 //! micro-triangle. The derivation is in `docs/bake.md` ("The GPU model");
 //! the names below follow it.
 
+use crate::names::named_enum;
+
 /// Which points a known state must hold for.
 ///
 /// ```
 /// use micromap_index::bake::Model;
 /// assert_eq!(Model::default(), Model::GpuBinary32);
 /// assert_eq!(Model::Exact.name(), "exact");
-/// assert_eq!(Model::from_name("gpu-binary32"), Some(Model::GpuBinary32));
+/// assert_eq!("gpu-binary32".parse(), Ok(Model::GpuBinary32));
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Model {
@@ -34,22 +36,14 @@ pub enum Model {
 impl Model {
     /// Both models, the default first.
     pub const ALL: [Model; 2] = [Model::GpuBinary32, Model::Exact];
-
-    /// The model's name: `gpu-binary32` or `exact` (the CLI's `--model`).
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Model::GpuBinary32 => "gpu-binary32",
-            Model::Exact => "exact",
-        }
-    }
-
-    /// The model named `name` ([`name`](Self::name)), if any.
-    #[must_use]
-    pub fn from_name(name: &str) -> Option<Model> {
-        Model::ALL.into_iter().find(|m| m.name() == name)
-    }
 }
+
+named_enum!(
+    Model,
+    "model",
+    "gpu-binary32 or exact",
+    [(GpuBinary32, "gpu-binary32"), (Exact, "exact")]
+);
 
 /// `2^k` as `f64`, for `-1022 <= k <= 1023`.
 fn exp2(k: i32) -> f64 {
@@ -113,8 +107,8 @@ mod tests {
         assert_eq!(ceil_log2(0.75), 0);
         assert_eq!(exp2(-3), 0.125);
         for m in Model::ALL {
-            assert_eq!(Model::from_name(m.name()), Some(m));
+            assert_eq!(m.name().parse(), Ok(m));
         }
-        assert_eq!(Model::from_name("gpu"), None);
+        assert!("gpu".parse::<Model>().is_err());
     }
 }

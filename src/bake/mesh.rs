@@ -37,20 +37,21 @@
 //! assert!(baked.report.known_fraction > 0.5 && baked.report.known_fraction < 1.0);
 //! ```
 
-use super::baker::BakedOpacity;
-use super::baker::{BakeError, BakedTriangle, TriangleStatus, UvTriangle};
+use super::baker::DEFAULT_BLOCK_BUDGET;
+use super::gpu::Model;
+use super::level::levels_within_budget;
+pub use super::level::LevelRule;
 use super::mips::bake_bounded;
 pub use super::mips::Mips;
 use super::parallel::{Runner, Threads};
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
+use super::triangle::{BakeError, BakedOpacity, BakedTriangle, TriangleStatus, UvTriangle};
 use super::work::{DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET};
-use super::{levels_within_budget, Model, DEFAULT_BLOCK_BUDGET};
 use crate::micromap::{
     BufferError, BuildOptions, Format, MicromapBuffers, MicromapBuffersBuilder, MicromapIndex,
     UnknownPolicy,
 };
 use crate::succinct::packed_tree_sizes;
-use crate::Level;
 use alloc::borrow::Cow;
 use alloc::format;
 use alloc::string::String;
@@ -197,30 +198,6 @@ pub struct Mesh<'a> {
     pub vertex_alpha: Option<&'a [[f32; 3]]>,
 }
 
-/// The level each triangle is baked at.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LevelRule {
-    /// One level for every triangle.
-    Fixed(Level),
-    /// Each triangle's [`useful_level`](super::useful_level) (the paper's eq. 1: edges at most
-    /// one texel long), capped at `max`; level 0 where micro-triangles at
-    /// that level would each hold a whole texture period
-    /// ([`level_within_periods`](super::level_within_periods); the rule as
-    /// [`LevelRule::level_of`] applies it).
-    Useful {
-        /// The highest level chosen.
-        max: Level,
-    },
-}
-
-impl Default for LevelRule {
-    /// [`LevelRule::Useful`] up to level 12, the highest DXR allows and
-    /// Vulkan devices report.
-    fn default() -> Self {
-        LevelRule::Useful { max: Level(12) }
-    }
-}
-
 /// How [`bake_meshes`] bakes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MeshOptions {
@@ -237,7 +214,7 @@ pub struct MeshOptions {
     /// Block tests a micro-triangle may use ([`Baker::with_block_budget`](super::Baker::with_block_budget)).
     pub block_budget: u32,
     /// Work units one triangle may spend ([`Baker::bake_within`](super::Baker::bake_within), units in
-    /// [`crate::bake::work`]).
+    /// [bounded work](crate::bake#bounded-work)).
     pub triangle_work_budget: u64,
     /// Work units all triangles together may spend: each triangle gets the
     /// smaller of [`triangle_work_budget`](Self::triangle_work_budget) and
@@ -340,7 +317,7 @@ pub struct BakeReport {
     /// model). `(counts[0] + counts[1] + widened) / micro-triangles` is
     /// the known fraction the exact model would have.
     pub widened: u64,
-    /// Work units spent, all triangles together ([`crate::bake::work`]).
+    /// Work units spent, all triangles together ([bounded work](crate::bake#bounded-work)).
     pub work: u64,
     /// Triangles [`LevelRule::Useful`] baked at level 0 because their
     /// micro-triangles would each hold a whole texture period
@@ -891,10 +868,12 @@ fn bake_distinct(
                     let mut pairs = vec![(baker, baker)];
                     pairs.extend(mips.iter().map(|(low, high)| (low, high)));
                     bake_bounded(&pairs, &w.uv, w.level, format, unknown, max_work)
+                        .map_err(MeshBakeError::Bake)
                 }
                 Some(b) => {
                     let (low, high) = &plan.bounds[b as usize];
                     bake_bounded(&[(low, high)], &w.uv, w.level, format, unknown, max_work)
+                        .map_err(MeshBakeError::Bake)
                 }
             }
         };
@@ -950,6 +929,7 @@ fn bake_distinct(
 mod tests {
     use super::*;
     use crate::bake::{BakedOpacity, Unorm8Texture};
+    use crate::Level;
 
     #[test]
     fn indexed_and_uv_triangles_bake_alike() {

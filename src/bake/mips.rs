@@ -25,10 +25,10 @@
 //! under the material's sampler at level 0 and under every one of these
 //! classifications.
 
-use super::baker::{BakedOpacity, BakedTriangle, Baker, TriangleStatus, UvTriangle};
+use super::baker::Baker;
 use super::gpu::Model;
-use super::mesh::MeshBakeError;
 use super::texture::{AlphaTexture, Filter, Sampler, TextureError};
+use super::triangle::{BakeError, BakedOpacity, BakedTriangle, TriangleStatus, UvTriangle};
 use crate::micromap::{Format, Micromap, MicromapError, State, UnknownPolicy};
 use crate::Level;
 use alloc::vec::Vec;
@@ -38,10 +38,11 @@ use alloc::vec::Vec;
 /// ```
 /// use micromap_index::bake::mesh::Mips;
 /// assert_eq!(Mips::default(), Mips::Level0);
-/// assert_eq!(Mips::from_name("all"), Some(Mips::All));
-/// assert_eq!(Mips::from_name("0"), Some(Mips::Level0));
-/// assert_eq!(Mips::from_name("3"), Some(Mips::UpTo(3)));
-/// assert_eq!(Mips::from_name("-1"), None);
+/// assert_eq!("all".parse(), Ok(Mips::All));
+/// assert_eq!("0".parse(), Ok(Mips::Level0));
+/// assert_eq!("3".parse(), Ok(Mips::UpTo(3)));
+/// assert!("-1".parse::<Mips>().is_err());
+/// assert!("".parse::<Mips>().is_err());
 /// assert_eq!(Mips::UpTo(3).to_string(), "3");
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -62,27 +63,30 @@ pub enum Mips {
 }
 
 impl Mips {
-    /// The rule named `name`: `0`, a level `n`, or `all` (the CLI's
-    /// `--mips`).
-    #[must_use]
-    pub fn from_name(name: &str) -> Option<Mips> {
-        match name {
-            "all" => Some(Mips::All),
-            "0" => Some(Mips::Level0),
-            _ if name.bytes().all(|b| b.is_ascii_digit()) => {
-                let n: u32 = name.parse().ok()?;
-                Some(if n == 0 { Mips::Level0 } else { Mips::UpTo(n) })
-            }
-            _ => None,
-        }
-    }
-
     /// The last mip level the rule covers (`u32::MAX` for all).
     fn last(self) -> u32 {
         match self {
             Mips::Level0 => 0,
             Mips::UpTo(n) => n,
             Mips::All => u32::MAX,
+        }
+    }
+}
+
+impl core::str::FromStr for Mips {
+    type Err = crate::names::ParseNameError;
+
+    /// The rule named `name`: `0`, a level `n`, or `all` (the CLI's
+    /// `--mips`).
+    fn from_str(name: &str) -> Result<Mips, Self::Err> {
+        let error = crate::names::ParseNameError::new("mips", "0, a level N or all");
+        match name {
+            "all" => Ok(Mips::All),
+            _ if !name.is_empty() && name.bytes().all(|b| b.is_ascii_digit()) => {
+                let n: u32 = name.parse().map_err(|_| error)?;
+                Ok(if n == 0 { Mips::Level0 } else { Mips::UpTo(n) })
+            }
+            _ => Err(error),
         }
     }
 }
@@ -327,23 +331,21 @@ pub(crate) fn bake_bounded(
     format: Format,
     two_state: UnknownPolicy,
     max_work: u64,
-) -> Result<BakedTriangle, MeshBakeError> {
-    let round = |model: Model| -> Result<(BakedTriangle, bool), MeshBakeError> {
+) -> Result<BakedTriangle, BakeError> {
+    let round = |model: Model| -> Result<(BakedTriangle, bool), BakeError> {
         let mut spent = 0u64;
         let mut bake = |baker: &Baker| {
-            let b = baker
-                .bake_as(
-                    model,
-                    uv,
-                    level,
-                    Format::FourState,
-                    two_state,
-                    max_work - spent.min(max_work),
-                    false,
-                )
-                .map_err(MeshBakeError::Bake)?;
+            let b = baker.bake_as(
+                model,
+                uv,
+                level,
+                Format::FourState,
+                two_state,
+                max_work - spent.min(max_work),
+                false,
+            )?;
             spent = spent.saturating_add(b.work);
-            Ok::<_, MeshBakeError>(b)
+            Ok::<_, BakeError>(b)
         };
         let mut bakes = Vec::with_capacity(pairs.len());
         for (low, high) in pairs {
@@ -356,8 +358,7 @@ pub(crate) fn bake_bounded(
             bakes.push((low_bake, high_bake));
         }
         let widened = bakes.iter().any(|(a, b)| a.widened + b.widened > 0);
-        let mut combined = combine_bounds(&bakes, level, format, two_state)
-            .map_err(|e| MeshBakeError::Bake(e.into()))?;
+        let mut combined = combine_bounds(&bakes, level, format, two_state)?;
         combined.work = spent;
         Ok((combined, widened))
     };

@@ -62,10 +62,36 @@
 //!
 //! # Bounded work
 //!
-//! Every bake is capped in work units (texel-table lookups, [`work`]): per
-//! triangle ([`Baker::bake_within`]) and per whole bake
-//! ([`mesh::MeshOptions::bake_work_budget`]); what is left when a budget
-//! runs out is unknown, never guessed.
+//! ## The unit
+//!
+//! One **work unit** is one lookup of a block's (or a single texel's)
+//! classes in the baker's texel tables: the bounding-block lookup of each
+//! node the walk visits, the vertex and edge-midpoint lookups of a
+//! finest-level micro-triangle (a vertex shared by siblings is read and
+//! counted once), and each block or texel test of its exact search; a
+//! finest-level micro-triangle its vertices decide costs one unit more
+//! (its centroid's texel), so every one costs at least one. Each unit is a few prefix-sum reads plus, for a search test, an
+//! exact triangle-block intersection, so units are close to proportional
+//! to time: about 50 ns each in the costliest case measured (searches over
+//! footprints of many texture periods, 2^26 units in 3.4 s of CPU on a
+//! 2-core AMD EPYC; `docs/bake.md`, "Bounded work").
+//!
+//! ## What a budget does
+//!
+//! [`Baker::bake_within`](crate::bake::Baker::bake_within) checks the units
+//! spent before each node of its walk: once they reach the budget, that
+//! node and every node not yet visited become unknown as whole subtrees
+//! (split into unknown-opaque / unknown-transparent by each subtree's
+//! centroid texel, as every unknown is), which is sound, and the triangle's
+//! status is [`TriangleStatus::WorkBudgetExceeded`](crate::bake::TriangleStatus).
+//! A triangle may overshoot its budget by the cost of one micro-triangle:
+//! at most seven lookups plus the larger of its block budget and 36 under
+//! the exact model, and under the GPU model eight lookups plus twice that
+//! (a finest-level micro-triangle may be classified under both models, for
+//! the widening's count).
+//! [`bake_meshes`](crate::bake::mesh::bake_meshes) gives each triangle the
+//! smaller of the per-triangle budget and what the per-bake budget has
+//! left, in triangle order, so the output stays a function of the inputs.
 //!
 //! # Whole meshes
 //!
@@ -95,108 +121,25 @@ mod baker;
 mod classify;
 mod exact;
 mod gpu;
+mod level;
 pub mod mesh;
 mod mips;
 mod parallel;
 mod texture;
-pub mod work;
+mod triangle;
+mod work;
 
-pub use baker::{
-    BakeError, BakedOpacity, BakedTriangle, Baker, Contradiction, TexelPoint, TriangleStatus,
-    UvTriangle, Verification, VerifyCounts, DEFAULT_BLOCK_BUDGET,
-};
+pub use baker::{Baker, Contradiction, Verification, VerifyCounts, DEFAULT_BLOCK_BUDGET};
+pub use exact::TexelPoint;
 pub use gpu::Model;
+pub use level::{
+    bake_level, level_within_periods, levels_within_budget, spans_whole_periods, useful_level,
+    BakeLevel, BakeLevelError, MAX_BAKE_LEVEL,
+};
 pub use parallel::Threads;
 pub use texture::{
     AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Sampler, SliceTexture,
     Texel, TextureError, Unorm16Texture, Unorm8Texture,
 };
-pub use work::{
-    level_within_periods, spans_whole_periods, DEFAULT_BAKE_WORK_BUDGET,
-    DEFAULT_TRIANGLE_WORK_BUDGET,
-};
-
-use crate::micromap::{Format, Micromap};
-use crate::Level;
-use alloc::vec::Vec;
-
-/// The paper's highest useful level (eq. 1): the smallest `n` with every UV
-/// edge, measured in texels (`(du W, dv H)`), at most `2^n` long, capped at
-/// `max` and at [`Micromap::MAX_LEVEL`] (16, the highest level a micromap
-/// has and the baker bakes). A triangle with a non-finite coordinate gets
-/// level 0.
-///
-/// ```
-/// use micromap_index::bake::useful_level;
-/// use micromap_index::Level;
-/// let max = Level::new(12).unwrap();
-/// // 64 texels across on a 256-texel texture: level 6.
-/// assert_eq!(useful_level(&[[0.0, 0.0], [0.25, 0.0], [0.0, 0.25]], (256, 256), max).get(), 7);
-/// assert_eq!(useful_level(&[[0.0, 0.0], [0.25, 0.0], [0.25, 0.0]], (256, 256), max).get(), 6);
-/// assert_eq!(useful_level(&[[0.0, 0.0], [f32::NAN, 0.0], [0.0, 1.0]], (256, 256), max).get(), 0);
-/// assert_eq!(useful_level(&[[0.0, 0.0], [100.0, 0.0], [0.0, 1.0]], (256, 256), max).get(), 12);
-/// ```
-#[must_use]
-pub fn useful_level(uv: &UvTriangle, (width, height): (u32, u32), max: Level) -> Level {
-    let mut longest = 0f64;
-    for k in 0..3 {
-        let (a, b) = (uv[k], uv[(k + 1) % 3]);
-        let du = (f64::from(b[0]) - f64::from(a[0])) * f64::from(width);
-        let dv = (f64::from(b[1]) - f64::from(a[1])) * f64::from(height);
-        // Squared lengths: no square root needed (nor available without
-        // std); `length <= 2^n` iff `length^2 <= 4^n`.
-        let squared = du * du + dv * dv;
-        if !squared.is_finite() {
-            return Level(0);
-        }
-        longest = longest.max(squared);
-    }
-    let max = max.get().min(Micromap::MAX_LEVEL);
-    let mut level = 0;
-    let mut span = 1f64;
-    while span < longest && level < max {
-        level += 1;
-        span *= 4.0;
-    }
-    Level(level as u8)
-}
-
-/// Levels for many triangles that fit `budget_bytes` of micromap data: each
-/// triangle's `wanted` level, capped by one level for all, the highest cap
-/// whose total [`Micromap::byte_len`] fits. If even level 0 does not fit,
-/// every triangle gets level 0. Wanted levels above
-/// [`Micromap::MAX_LEVEL`] (16) are taken as 16; the total saturates, so
-/// no level or count overflows it.
-///
-/// ```
-/// use micromap_index::bake::levels_within_budget;
-/// use micromap_index::micromap::Format;
-/// use micromap_index::Level;
-/// let l = |n| Level::new(n).unwrap();
-/// // Level 4 (4-state) is 64 bytes, level 3 is 16 bytes.
-/// let wanted = [l(4), l(4), l(2)];
-/// assert_eq!(levels_within_budget(&wanted, Format::FourState, 200), vec![l(4), l(4), l(2)]);
-/// assert_eq!(levels_within_budget(&wanted, Format::FourState, 100), vec![l(3), l(3), l(2)]);
-/// ```
-#[must_use]
-pub fn levels_within_budget(wanted: &[Level], format: Format, budget_bytes: u64) -> Vec<Level> {
-    let total = |cap: u32| -> u64 {
-        wanted.iter().fold(0u64, |sum, l| {
-            let bytes = Micromap::byte_len(Level(l.get().min(cap) as u8), format) as u64;
-            sum.saturating_add(bytes)
-        })
-    };
-    let mut cap = wanted
-        .iter()
-        .map(|l| l.get())
-        .max()
-        .unwrap_or(0)
-        .min(Micromap::MAX_LEVEL);
-    while cap > 0 && total(cap) > budget_bytes {
-        cap -= 1;
-    }
-    wanted
-        .iter()
-        .map(|l| Level(l.get().min(cap) as u8))
-        .collect()
-}
+pub use triangle::{BakeError, BakedOpacity, BakedTriangle, TriangleStatus, UvTriangle};
+pub use work::{DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET};

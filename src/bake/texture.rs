@@ -1,5 +1,6 @@
 //! Alpha textures, the sampler model and the alpha cutoff.
 
+use crate::names::named_enum;
 use alloc::vec::Vec;
 use core::fmt;
 
@@ -256,6 +257,33 @@ pub enum AddressMode {
     /// `clamp(mirror(i), 0, size - 1)`.
     MirrorClampToEdge,
 }
+
+named_enum!(
+    Filter,
+    "filter",
+    "nearest or linear",
+    [(Nearest, "nearest"), (Linear, "linear")]
+);
+
+named_enum!(
+    AddressMode,
+    "address mode",
+    "repeat, mirrored-repeat, clamp-to-edge, clamp-to-border or mirror-clamp-to-edge",
+    [
+        (Repeat, "repeat"),
+        (MirroredRepeat, "mirrored-repeat"),
+        (ClampToEdge, "clamp-to-edge"),
+        (ClampToBorder, "clamp-to-border"),
+        (MirrorClampToEdge, "mirror-clamp-to-edge"),
+    ]
+);
+
+named_enum!(
+    Comparison,
+    "comparison",
+    "at-least or above",
+    [(AtLeast, "at-least"), (Above, "above")]
+);
 
 impl AddressMode {
     /// Every mode.

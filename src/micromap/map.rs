@@ -2,6 +2,7 @@
 //! read them.
 
 use super::{Format, State};
+use crate::names::named_enum;
 use crate::{spec, Level, SpecLevel};
 use alloc::vec::Vec;
 use core::fmt;
@@ -121,6 +122,17 @@ pub enum UnknownPolicy {
     /// Every unknown state becomes transparent (holes never close).
     Transparent,
 }
+
+named_enum!(
+    UnknownPolicy,
+    "unknown policy",
+    "fallback, opaque or transparent",
+    [
+        (Fallback, "fallback"),
+        (Opaque, "opaque"),
+        (Transparent, "transparent"),
+    ]
+);
 
 impl UnknownPolicy {
     /// The known state `state` becomes under this policy (known states stay).

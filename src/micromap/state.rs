@@ -184,6 +184,39 @@ impl fmt::Display for Format {
     }
 }
 
+impl core::str::FromStr for Format {
+    type Err = crate::names::ParseNameError;
+
+    /// `2` or `4`, its number of states (the CLI's `--format`); `Display`
+    /// writes `2-state` / `4-state`.
+    ///
+    /// ```
+    /// use micromap_index::micromap::Format;
+    /// assert_eq!("4".parse(), Ok(Format::FourState));
+    /// assert_eq!(Format::TwoState.states(), 2);
+    /// assert_eq!("3".parse::<Format>().unwrap_err().to_string(), "expected 2 or 4");
+    /// ```
+    fn from_str(text: &str) -> Result<Format, Self::Err> {
+        match text {
+            "2" => Ok(Format::TwoState),
+            "4" => Ok(Format::FourState),
+            _ => Err(crate::names::ParseNameError::new("format", "2 or 4")),
+        }
+    }
+}
+
+impl Format {
+    /// Its number of states: 2 or 4 (what [`FromStr`](core::str::FromStr)
+    /// reads).
+    #[must_use]
+    pub const fn states(self) -> u32 {
+        match self {
+            Format::TwoState => 2,
+            Format::FourState => 4,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

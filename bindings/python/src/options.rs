@@ -104,11 +104,7 @@ pub(crate) fn cutoff(value: f32, opaque_above: bool) -> PyResult<Cutoff> {
 }
 
 pub(crate) fn model(name: &str) -> PyResult<Model> {
-    Model::from_name(name).ok_or_else(|| {
-        value_error(format!(
-            "model {name:?}: expected \"gpu-binary32\" or \"exact\""
-        ))
-    })
+    name.parse().map_err(|e| value_error(format!("model {name:?}: {e}")))
 }
 
 pub(crate) fn format(value: i64) -> PyResult<Format> {

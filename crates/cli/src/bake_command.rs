@@ -236,9 +236,9 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     let model = model_option(&p)?;
     let mips = match p.get("--mips") {
         None => Mips::default(),
-        Some(text) => Mips::from_name(text).ok_or_else(|| {
-            Failure::Malformed(format!("--mips {text:?}: expected 0, a level N or all"))
-        })?,
+        Some(text) => text
+            .parse()
+            .map_err(|e| Failure::Malformed(format!("--mips {text:?}: {e}")))?,
     };
     let threads = threads_option(&p)?;
     let s = sampler_options(&p)?;

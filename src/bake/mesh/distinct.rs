@@ -12,10 +12,11 @@ use super::{
     check_vertex_alpha, vertex_range, FactorTexture, Mesh, MeshBakeError, MeshOptions, Mips,
     VertexBoundTexture,
 };
-use crate::bake::baker::{Baker, TriangleStatus, UvTriangle};
+use crate::bake::baker::Baker;
 use crate::bake::mips::mip_bakers;
 use crate::bake::parallel::Runner;
 use crate::bake::texture::AlphaTexture;
+use crate::bake::triangle::{TriangleStatus, UvTriangle};
 use crate::micromap::TriangleEntry;
 use crate::Level;
 use alloc::collections::BTreeMap;

@@ -330,9 +330,9 @@ pub(crate) fn format_option(p: &Parsed<'_>) -> Result<Format, Failure> {
 pub(crate) fn model_option(p: &Parsed<'_>) -> Result<Model, Failure> {
     match p.get("--model") {
         None => Ok(Model::default()),
-        Some(text) => Model::from_name(text).ok_or_else(|| {
-            Failure::Malformed(format!("--model {text:?}: expected gpu-binary32 or exact"))
-        }),
+        Some(text) => text
+            .parse()
+            .map_err(|e| Failure::Malformed(format!("--model {text:?}: {e}"))),
     }
 }
 

@@ -1,0 +1,137 @@
+//! One triangle's bake as the walk hands it out: its UVs ([`UvTriangle`]),
+//! what it became ([`BakedOpacity`]), how it went ([`TriangleStatus`],
+//! [`BakedTriangle`]) and why it could fail ([`BakeError`]).
+
+use crate::micromap::{Micromap, MicromapError, State, TriangleOpacity};
+use crate::Level;
+use core::fmt;
+
+/// A mesh triangle's texture coordinates `[(u, v); 3]` for its vertices 0,
+/// 1, 2: the hit with barycentrics `(b1, b2)` reads the texture at
+/// `(1 - b1 - b2) uv[0] + b1 uv[1] + b2 uv[2]`.
+pub type UvTriangle = [[f32; 2]; 3];
+
+/// How a triangle was baked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum TriangleStatus {
+    /// Every micro-triangle classified exactly.
+    Exact,
+    /// A texture coordinate is NaN or infinite: the whole triangle is the
+    /// unknown-opaque special index (-4), whatever the format (the OMM
+    /// SDK's default for such triangles too).
+    NotFinite,
+    /// The coordinates' binary exponents are too far apart for the exact
+    /// 100-bit grid (e.g. `1e-30` next to `1.0`, or values near `1e30`):
+    /// the whole triangle is unknown-opaque (-4), which is sound.
+    OutOfExactRange,
+    /// Some micro-triangles needed more block tests than the budget; those
+    /// are unknown (sound, maybe not tight). Never happens to a
+    /// micro-triangle whose footprint spans fewer texels than the budget.
+    BudgetExceeded,
+    /// The triangle spent its work budget ([`Baker::bake_within`], units
+    /// in [bounded work](crate::bake#bounded-work)): the micro-triangles not yet decided then
+    /// are unknown (sound, maybe not tight).
+    WorkBudgetExceeded,
+}
+
+/// One baked triangle: its opacity (a micromap, or a special index for a
+/// triangle the baker could not place on its grid) and what it found.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct BakedTriangle {
+    /// The micromap, or [`State::UnknownOpaque`] as a special index when
+    /// [`status`](Self::status) is `NotFinite` or `OutOfExactRange`.
+    pub opacity: BakedOpacity,
+    /// How it went.
+    pub status: TriangleStatus,
+    /// Micro-triangles per state, indexed by [`State::bits`], counted
+    /// before a 2-state format resolves the unknowns (so a 2-state bake
+    /// still tells how many were unknown).
+    pub counts: [u64; 4],
+    /// Of the unknown micro-triangles, those the exact model
+    /// ([`Model::Exact`]) knows: what the GPU model's widening cost this
+    /// triangle (always 0 under the exact model). Each is decided exactly,
+    /// by the exact model's classification of that micro-triangle on the
+    /// same grid, so `counts`' known ones plus these are the exact model's
+    /// known ones (but where the block or work budget runs out under one
+    /// model only).
+    pub widened: u64,
+    /// Work units spent ([bounded work](crate::bake#bounded-work)).
+    pub work: u64,
+}
+
+/// What a triangle's micromap index will point at.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum BakedOpacity {
+    /// A micromap of the requested level and format.
+    Map(Micromap),
+    /// One state for the whole triangle (a special index).
+    Special(State),
+}
+
+impl BakedOpacity {
+    /// The form [`MicromapBuffersBuilder`](crate::micromap::MicromapBuffersBuilder)
+    /// takes.
+    #[must_use]
+    pub fn as_opacity(&self) -> TriangleOpacity<'_> {
+        match self {
+            BakedOpacity::Map(map) => TriangleOpacity::Micromap(map),
+            BakedOpacity::Special(state) => TriangleOpacity::Special(*state),
+        }
+    }
+
+    /// The state of micro-triangle `i`: the map's, or for a special index
+    /// its one state whatever `i`; `None` past the end of the map.
+    ///
+    /// ```
+    /// use micromap_index::bake::BakedOpacity;
+    /// use micromap_index::micromap::{Format, Micromap, State};
+    /// use micromap_index::Level;
+    /// let mut map = Micromap::new(Level::new(1).unwrap(), Format::FourState).unwrap();
+    /// map.set(2, State::Opaque).unwrap();
+    /// let baked = BakedOpacity::Map(map);
+    /// assert_eq!(baked.state(2), Some(State::Opaque));
+    /// assert_eq!(baked.state(4), None);
+    /// assert_eq!(BakedOpacity::Special(State::UnknownOpaque).state(99), Some(State::UnknownOpaque));
+    /// ```
+    #[must_use]
+    pub fn state(&self, i: u64) -> Option<State> {
+        match self {
+            BakedOpacity::Map(map) => map.get(i),
+            BakedOpacity::Special(state) => Some(*state),
+        }
+    }
+
+    /// The micromap's level; 0 for a special index (one state for the
+    /// whole triangle, as a level-0 map would hold it).
+    #[must_use]
+    pub fn level(&self) -> Level {
+        match self {
+            BakedOpacity::Map(map) => map.level(),
+            BakedOpacity::Special(_) => Level(0),
+        }
+    }
+}
+
+/// Why [`Baker::bake`] failed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum BakeError {
+    /// The micromap could not be made (level above 16, allocation).
+    Micromap(MicromapError),
+}
+
+impl fmt::Display for BakeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            BakeError::Micromap(e) => write!(f, "cannot bake: {e}"),
+        }
+    }
+}
+
+impl core::error::Error for BakeError {}
+
+impl From<MicromapError> for BakeError {
+    fn from(e: MicromapError) -> Self {
+        BakeError::Micromap(e)
+    }
+}
