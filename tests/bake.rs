@@ -331,7 +331,7 @@ fn known_states_are_never_contradicted_by_exact_samples() {
         // unknown, still sound, and checked the same way.
         match baked.status {
             TriangleStatus::Exact => {}
-            TriangleStatus::BudgetExceeded => {
+            TriangleStatus::BlockBudgetExceeded => {
                 let far = case.uv.iter().flatten().any(|c| c.abs() >= 100.0);
                 assert!(
                     far,
@@ -632,8 +632,8 @@ fn widened_is_what_the_exact_model_knows_more() {
         };
         let (gpu, exact) = (bake(Model::GpuBinary32), bake(Model::Exact));
         assert_eq!(exact.widened, 0);
-        if gpu.status == TriangleStatus::BudgetExceeded
-            || exact.status == TriangleStatus::BudgetExceeded
+        if gpu.status == TriangleStatus::BlockBudgetExceeded
+            || exact.status == TriangleStatus::BlockBudgetExceeded
         {
             continue;
         }
@@ -677,7 +677,7 @@ fn widened_is_what_the_exact_model_knows_more() {
             .report
         };
         let (gpu, exact) = (mesh(Model::GpuBinary32), mesh(Model::Exact));
-        if gpu.status.budget_exceeded + exact.status.budget_exceeded > 0 {
+        if gpu.status.block_budget_exceeded + exact.status.block_budget_exceeded > 0 {
             continue;
         }
         assert_eq!(exact.widened, 0);

@@ -261,6 +261,7 @@ impl Default for MeshOptions {
 
 /// Triangles by how they were baked ([`TriangleStatus`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct StatusCounts {
     /// [`TriangleStatus::Exact`].
     pub exact: usize,
@@ -268,14 +269,15 @@ pub struct StatusCounts {
     pub not_finite: usize,
     /// [`TriangleStatus::OutOfExactRange`].
     pub out_of_exact_range: usize,
-    /// [`TriangleStatus::BudgetExceeded`].
-    pub budget_exceeded: usize,
+    /// [`TriangleStatus::BlockBudgetExceeded`].
+    pub block_budget_exceeded: usize,
     /// [`TriangleStatus::WorkBudgetExceeded`].
     pub work_budget_exceeded: usize,
 }
 
 /// What [`bake_meshes`] found, over all meshes.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct BakeReport {
     /// Triangles baked.
     pub triangles: usize,
@@ -317,8 +319,15 @@ pub struct BakeReport {
     /// model). `(counts[0] + counts[1] + widened) / micro-triangles` is
     /// the known fraction the exact model would have.
     pub widened: u64,
-    /// Work units spent, all triangles together ([bounded work](crate::bake#bounded-work)).
+    /// Work units spent, all triangles together ([bounded work](crate::bake#bounded-work)):
+    /// what the serial bake spends, whatever the threads (the budgets
+    /// count these).
     pub work: u64,
+    /// Work units spent besides and thrown away by triangles split over
+    /// several threads whose budget ran out
+    /// ([`BakedTriangle::speculative_work`]); 0 on one thread. `work +
+    /// speculative_work` is all the work done.
+    pub speculative_work: u64,
     /// Triangles [`LevelRule::Useful`] baked at level 0 because their
     /// micro-triangles would each hold a whole texture period
     /// ([`level_within_periods`](super::level_within_periods)).
@@ -341,6 +350,7 @@ pub struct MeshBake {
 
 /// How one triangle baked ([`MeshBake::triangle`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct TriangleBake {
     /// The level its micromap was baked at; 0 for a triangle baked as a
     /// special index from its coordinates ([`TriangleStatus::NotFinite`],
@@ -733,7 +743,7 @@ pub fn bake_meshes(
                 TriangleStatus::Exact => status.exact += 1,
                 TriangleStatus::NotFinite => status.not_finite += 1,
                 TriangleStatus::OutOfExactRange => status.out_of_exact_range += 1,
-                TriangleStatus::BudgetExceeded => status.budget_exceeded += 1,
+                TriangleStatus::BlockBudgetExceeded => status.block_budget_exceeded += 1,
                 TriangleStatus::WorkBudgetExceeded => status.work_budget_exceeded += 1,
             }
         }
@@ -782,6 +792,9 @@ pub fn bake_meshes(
     let work = distinct
         .iter()
         .fold(0u64, |sum, d| sum.saturating_add(d.work));
+    let speculative_work = distinct
+        .iter()
+        .fold(0u64, |sum, d| sum.saturating_add(d.speculative_work));
     let report = BakeReport {
         triangles: total,
         distinct_triangles: distinct.len(),
@@ -797,6 +810,7 @@ pub fn bake_meshes(
         bytes_level_order_tree: level_order_bits.div_ceil(8),
         widened,
         work,
+        speculative_work,
         period_level_zero,
     };
     Ok(MeshBake {
@@ -915,6 +929,7 @@ fn bake_distinct(
                 counts: b.counts,
                 widened: b.widened,
                 work: b.work,
+                speculative_work: b.speculative_work,
                 entry,
             });
             triangles += w.triangles;

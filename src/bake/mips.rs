@@ -303,8 +303,8 @@ pub(crate) fn combine_bounds(
     };
     let status = if any(TriangleStatus::WorkBudgetExceeded) {
         TriangleStatus::WorkBudgetExceeded
-    } else if any(TriangleStatus::BudgetExceeded) {
-        TriangleStatus::BudgetExceeded
+    } else if any(TriangleStatus::BlockBudgetExceeded) {
+        TriangleStatus::BlockBudgetExceeded
     } else {
         first.0.status
     };
@@ -314,6 +314,7 @@ pub(crate) fn combine_bounds(
         counts,
         widened: 0,
         work: 0,
+        speculative_work: 0,
     })
 }
 

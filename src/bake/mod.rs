@@ -125,11 +125,14 @@ mod level;
 pub mod mesh;
 mod mips;
 mod parallel;
+mod split;
 mod texture;
 mod triangle;
+mod verify;
+mod walk;
 mod work;
 
-pub use baker::{Baker, Contradiction, Verification, VerifyCounts, DEFAULT_BLOCK_BUDGET};
+pub use baker::{Baker, DEFAULT_BLOCK_BUDGET};
 pub use exact::TexelPoint;
 pub use gpu::Model;
 pub use level::{
@@ -142,4 +145,5 @@ pub use texture::{
     Texel, TextureError, Unorm16Texture, Unorm8Texture,
 };
 pub use triangle::{BakeError, BakedOpacity, BakedTriangle, TriangleStatus, UvTriangle};
+pub use verify::{Contradiction, Verification, VerifyCounts};
 pub use work::{DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET};

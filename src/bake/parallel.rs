@@ -135,23 +135,55 @@ impl Runner {
     }
 }
 
-/// `f` of every item, in order, on the thread pool the caller runs in
-/// (rayon's global pool outside any): how a task already running on a
-/// [`Runner`]'s threads hands out parts of itself. Without the `rayon`
-/// feature, a plain loop.
-pub(crate) fn map_on_current_pool<T: Sync, R: Send>(
+/// `f(k, &items[k])` for every `k`, results in order, on the thread pool
+/// the caller runs in (rayon's global pool outside any), each thread
+/// taking the lowest item no one has taken yet: the items in flight are
+/// always the next few in order (where rayon's `par_iter` splits the slice
+/// in halves, so that a thread may start far ahead). A speculative
+/// walk that may be wasted past some item wants this. Without the `rayon`
+/// feature, or on a pool of one thread, a plain loop.
+pub(crate) fn map_claimed_in_order<T: Sync, R: Send>(
     items: &[T],
-    f: impl Fn(&T) -> R + Sync + Send,
+    f: impl Fn(usize, &T) -> R + Sync + Send,
 ) -> Vec<R> {
     #[cfg(feature = "rayon")]
     {
-        use rayon::prelude::*;
-        items.par_iter().map(f).collect()
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        use std::sync::Mutex;
+        let threads = rayon::current_num_threads().min(items.len());
+        if threads > 1 {
+            let next = AtomicUsize::new(0);
+            let slots: Vec<Mutex<Option<R>>> = items.iter().map(|_| Mutex::new(None)).collect();
+            rayon::scope(|scope| {
+                for _ in 0..threads {
+                    scope.spawn(|_| loop {
+                        let k = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(item) = items.get(k) else { break };
+                        let result = f(k, item);
+                        // A poisoned slot means `f` panicked on another
+                        // thread: rayon propagates that panic anyway.
+                        if let Ok(mut slot) = slots[k].lock() {
+                            *slot = Some(result);
+                        }
+                    });
+                }
+            });
+            return slots
+                .into_iter()
+                .map(|slot| {
+                    slot.into_inner()
+                        .ok()
+                        .flatten()
+                        .expect("every item was taken and finished")
+                })
+                .collect();
+        }
     }
-    #[cfg(not(feature = "rayon"))]
-    {
-        items.iter().map(f).collect()
-    }
+    items
+        .iter()
+        .enumerate()
+        .map(|(k, item)| f(k, item))
+        .collect()
 }
 
 #[cfg(test)]

@@ -24,10 +24,11 @@ pub enum TriangleStatus {
     /// 100-bit grid (e.g. `1e-30` next to `1.0`, or values near `1e30`):
     /// the whole triangle is unknown-opaque (-4), which is sound.
     OutOfExactRange,
-    /// Some micro-triangles needed more block tests than the budget; those
-    /// are unknown (sound, maybe not tight). Never happens to a
+    /// Some micro-triangles needed more block tests than the block budget
+    /// ([`Baker::with_block_budget`](super::Baker::with_block_budget));
+    /// those are unknown (sound, maybe not tight). Never happens to a
     /// micro-triangle whose footprint spans fewer texels than the budget.
-    BudgetExceeded,
+    BlockBudgetExceeded,
     /// The triangle spent its work budget ([`Baker::bake_within`], units
     /// in [bounded work](crate::bake#bounded-work)): the micro-triangles not yet decided then
     /// are unknown (sound, maybe not tight).
@@ -37,6 +38,7 @@ pub enum TriangleStatus {
 /// One baked triangle: its opacity (a micromap, or a special index for a
 /// triangle the baker could not place on its grid) and what it found.
 #[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct BakedTriangle {
     /// The micromap, or [`State::UnknownOpaque`] as a special index when
     /// [`status`](Self::status) is `NotFinite` or `OutOfExactRange`.
@@ -55,8 +57,16 @@ pub struct BakedTriangle {
     /// known ones (but where the block or work budget runs out under one
     /// model only).
     pub widened: u64,
-    /// Work units spent ([bounded work](crate::bake#bounded-work)).
+    /// Work units spent ([bounded work](crate::bake#bounded-work)): what
+    /// the serial walk spends, whatever the threads (the budgets count
+    /// these).
     pub work: u64,
+    /// Work units spent besides, and thrown away: a triangle split over
+    /// several threads whose work budget runs out walks some subtrees
+    /// speculatively, past where the serial walk stopped or with a budget
+    /// it turned out not to have (see `docs/bake.md`, "Bounded work"). 0
+    /// on one thread, and whenever the budget does not run out.
+    pub speculative_work: u64,
 }
 
 /// What a triangle's micromap index will point at.

@@ -795,7 +795,7 @@ pub unsafe extern "C" fn mmi_bake_result_stats(
             status_exact: r.status.exact as u64,
             status_not_finite: r.status.not_finite as u64,
             status_out_of_exact_range: r.status.out_of_exact_range as u64,
-            status_budget_exceeded: r.status.budget_exceeded as u64,
+            status_budget_exceeded: r.status.block_budget_exceeded as u64,
             status_work_budget_exceeded: r.status.work_budget_exceeded as u64,
             known_fraction: r.known_fraction,
             known_area_fraction: r.known_area_fraction,

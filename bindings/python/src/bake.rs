@@ -210,7 +210,7 @@ fn result<'py>(
     status.set_item("exact", r.status.exact)?;
     status.set_item("not_finite", r.status.not_finite)?;
     status.set_item("out_of_exact_range", r.status.out_of_exact_range)?;
-    status.set_item("budget_exceeded", r.status.budget_exceeded)?;
+    status.set_item("budget_exceeded", r.status.block_budget_exceeded)?;
     status.set_item("work_budget_exceeded", r.status.work_budget_exceeded)?;
     stats.set_item("status", status)?;
     stats.set_item("distinct_triangles", r.distinct_triangles)?;

@@ -35,6 +35,8 @@ pub(super) struct Distinct {
     pub(super) widened: u64,
     /// Work units its bake spent.
     pub(super) work: u64,
+    /// Work spent besides and thrown away ([`BakedTriangle::speculative_work`](crate::bake::BakedTriangle::speculative_work)).
+    pub(super) speculative_work: u64,
     pub(super) entry: TriangleEntry,
 }
 

@@ -12,6 +12,7 @@ use core::fmt;
 
 /// What [`verify_mesh`] found, summed over the mesh's triangles.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct MeshVerification {
     /// Triangles checked (the others have coordinates that are not finite
     /// or off the exact grid: nothing of them was checked).

@@ -118,7 +118,7 @@ impl From<micromap_index::bake::mesh::StatusCounts> for StatusCounts {
             exact: s.exact,
             not_finite: s.not_finite,
             out_of_exact_range: s.out_of_exact_range,
-            budget_exceeded: s.budget_exceeded,
+            budget_exceeded: s.block_budget_exceeded,
             work_budget_exceeded: s.work_budget_exceeded,
         }
     }

@@ -335,7 +335,7 @@ fn widening_and_mips_hold(mesh: &Mesh<'_>, options: &MeshOptions, gpu: &BakeRepo
         },
     )
     .expect("the GPU model's bake succeeded");
-    if gpu.status.budget_exceeded + exact.report.status.budget_exceeded == 0 {
+    if gpu.status.block_budget_exceeded + exact.report.status.block_budget_exceeded == 0 {
         assert_eq!(known(gpu) + gpu.widened, known(&exact.report));
     }
     let mips = MeshOptions {

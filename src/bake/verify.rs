@@ -1,0 +1,298 @@
+//! Checking anyone's micromap for one triangle against the texture under
+//! the baker's model: every known micro-triangle whose closed (dilated)
+//! area can read a texel of the other class is a [`Contradiction`], with an
+//! exact witness point where one is found.
+
+use super::baker::Baker;
+use super::classify::{Block, Classes, Grid};
+use super::exact::{ExactTriangle, TexelPoint};
+use super::triangle::UvTriangle;
+use crate::inverse::micro_triangles;
+use crate::micromap::{State, TriangleOpacity};
+use crate::Level;
+use alloc::vec::Vec;
+
+/// A micro-triangle whose known state the texture contradicts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Contradiction {
+    /// The micro-triangle's index (0 for a special index).
+    pub micro_triangle: u64,
+    /// The state the micromap gives it.
+    pub state: State,
+    /// A point of the closed micro-triangle whose footprint holds a texel of
+    /// the other class; under [`Model::GpuBinary32`] the footprint of the
+    /// point dilated by the model's margin, so the point itself may lie
+    /// just outside that texel's own footprint (`None` only if the exact
+    /// point search gave up, in which case the block search alone proved
+    /// the contradiction).
+    pub witness: Option<TexelPoint>,
+    /// The texel of the other class in that (dilated) footprint, after
+    /// wrapping (`None`: the border colour).
+    pub texel: Option<(u32, u32)>,
+}
+
+/// What [`Baker::verify`] found for one triangle.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct Verification {
+    /// Micro-triangles whose known state the texture contradicts.
+    pub contradictions: Vec<Contradiction>,
+    /// Known micro-triangles checked.
+    pub known: u64,
+    /// Unknown micro-triangles (nothing to check).
+    pub unknown: u64,
+    /// Known micro-triangles the block budget could not decide (neither
+    /// confirmed nor contradicted).
+    pub undecided: u64,
+    /// `false` when the coordinates are not finite or off the exact grid:
+    /// then nothing was checked.
+    pub checked: bool,
+}
+
+/// What [`Baker::verify_each`] counted for one triangle (the contradictions
+/// themselves went to its callback).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub struct VerifyCounts {
+    /// Known micro-triangles whose state the texture contradicts (every
+    /// one, also those the callback did not keep).
+    pub contradictions: u64,
+    /// Known micro-triangles checked.
+    pub known: u64,
+    /// Known micro-triangles past the caller's cap: not checked.
+    pub unchecked: u64,
+    /// Unknown micro-triangles (nothing to check).
+    pub unknown: u64,
+    /// Known micro-triangles the block budget could not decide (neither
+    /// confirmed nor contradicted).
+    pub undecided: u64,
+    /// `false` when the coordinates are not finite or off the exact grid:
+    /// then nothing was checked.
+    pub checked: bool,
+}
+
+impl Baker {
+    /// Checks another baker's answer for one triangle: every micro-triangle
+    /// with a known state (opaque, transparent; a special index counts as a
+    /// level-0 map) whose closed area can read a texel of the other class
+    /// under this baker's sampler model is a [`Contradiction`], with an
+    /// exact witness point. Unknown states are never contradicted.
+    ///
+    /// This form keeps every contradiction: its memory grows with their
+    /// number (about 40 bytes each; a wrong level-16 map can have 2^32).
+    /// [`verify_each`](Self::verify_each) hands each one to a callback
+    /// instead and caps the work.
+    #[must_use]
+    pub fn verify(&self, uv: &UvTriangle, opacity: &TriangleOpacity<'_>) -> Verification {
+        let mut contradictions = Vec::new();
+        let counts = self.verify_each(uv, opacity, u64::MAX, |c| contradictions.push(c));
+        Verification {
+            contradictions,
+            known: counts.known,
+            unknown: counts.unknown,
+            undecided: counts.undecided,
+            checked: counts.checked,
+        }
+    }
+
+    /// [`verify`](Self::verify) in bounded memory: each contradiction is
+    /// passed to `visit` as it is found (keep the first few, count the rest)
+    /// and only counts are returned. At most `max_known` known
+    /// micro-triangles are checked; the known ones past that cap are
+    /// counted in [`VerifyCounts::unchecked`], never silently dropped (a
+    /// caller must not call a triangle with `unchecked > 0` sound).
+    pub fn verify_each(
+        &self,
+        uv: &UvTriangle,
+        opacity: &TriangleOpacity<'_>,
+        max_known: u64,
+        mut visit: impl FnMut(Contradiction),
+    ) -> VerifyCounts {
+        let level = match opacity {
+            TriangleOpacity::Micromap(map) => map.level(),
+            TriangleOpacity::Special(_) => Level(0),
+        };
+        let state_of = |index: u64| match opacity {
+            TriangleOpacity::Micromap(map) => map.get(index).unwrap_or(State::UnknownOpaque),
+            TriangleOpacity::Special(state) => *state,
+        };
+        let mut report = VerifyCounts::default();
+        let Ok((fx, fy, grid)) = self.frames(self.model, uv, level) else {
+            return report;
+        };
+        report.checked = true;
+        let mut stack = Vec::new();
+        for t in micro_triangles(level) {
+            let state = state_of(t.index());
+            if !state.is_known() {
+                report.unknown += 1;
+                continue;
+            }
+            if report.known >= max_known {
+                report.unchecked += 1;
+                continue;
+            }
+            report.known += 1;
+            let other = Classes {
+                opaque: state == State::Transparent,
+                transparent: state == State::Opaque,
+            };
+            let p = Self::place(&fx, &fy, level.get(), t.vertices_scaled());
+            let exact = ExactTriangle::new(p.x, p.y);
+            // A larger budget than baking: a verdict, not a bake.
+            let search = self.classifier.classes.search(
+                &exact,
+                grid,
+                other,
+                self.classifier.block_budget.saturating_mul(16),
+                &mut stack,
+            );
+            let witness_block = search.witness_block[usize::from(other.opaque)];
+            match witness_block {
+                Some(found) => {
+                    let (block, witness) = self.witness(&exact, found, grid, other.opaque);
+                    let texel = witness.map_or_else(
+                        || self.classifier.classes.wrap(block.x0, block.y0),
+                        |w| {
+                            // The witness is on a grid 2^w.2 times finer.
+                            let (tx, ty) = self.classifier.classes.footprint_texel_in(
+                                block,
+                                (w.0, w.1),
+                                grid,
+                                w.2,
+                            );
+                            self.classifier.classes.wrap(tx, ty)
+                        },
+                    );
+                    report.contradictions += 1;
+                    visit(Contradiction {
+                        micro_triangle: t.index(),
+                        state,
+                        witness: witness.map(|(x, y, extra)| TexelPoint {
+                            x,
+                            shift_x: fx.shift + extra,
+                            y,
+                            shift_y: fy.shift + extra,
+                        }),
+                        texel,
+                    });
+                }
+                None if search.exhausted => report.undecided += 1,
+                None => {}
+            }
+        }
+        report
+    }
+
+    /// A witness for a contradiction: a point of `t` reading a texel of
+    /// the class `opaque`, searched in `found` (the block the search
+    /// reported) and then in every single texel of that class in `t`'s
+    /// footprint (a contact region can be far smaller than the finest grid
+    /// of [`witness_in`](Self::witness_in) in one texel and hold a vertex
+    /// in another).
+    fn witness(
+        &self,
+        t: &ExactTriangle,
+        found: Block,
+        grid: Grid,
+        opaque: bool,
+    ) -> (Block, Option<(i128, i128, u32)>) {
+        if let Some(w) = self.witness_in(t, found, grid) {
+            return (found, Some(w));
+        }
+        let b = self.classifier.classes.bounding_block(
+            (t.min_x(), t.max_x()),
+            (t.min_y(), t.max_y()),
+            grid,
+        );
+        if (b.x1 - b.x0 + 1).saturating_mul(b.y1 - b.y0 + 1) <= 4096 {
+            for y in b.y0..=b.y1 {
+                for x in b.x0..=b.x1 {
+                    if self
+                        .classifier
+                        .classes
+                        .class_of(self.classifier.classes.wrap(x, y))
+                        != opaque
+                    {
+                        continue;
+                    }
+                    let texel = Block {
+                        x0: x,
+                        x1: x,
+                        y0: y,
+                        y1: y,
+                    };
+                    let [rx0, rx1, ry0, ry1] = self.classifier.classes.block_reach(texel, grid);
+                    if !t.meets(rx0, rx1, ry0, ry1) {
+                        continue;
+                    }
+                    if let Some(w) = self.witness_in(t, texel, grid) {
+                        return (texel, Some(w));
+                    }
+                }
+            }
+        }
+        (found, None)
+    }
+
+    /// A point of `t` (closed) in the reach of `block`, on a grid `2^extra`
+    /// times finer: the block's included corner, a vertex, or a vertex of
+    /// a sub-triangle found by subdividing `t` where it meets the reach.
+    /// Every contact of a triangle with a half-open rectangle contains one
+    /// of these (a 2-D overlap holds fine-grid points; a contact along an
+    /// edge holds dyadic points of that edge; a single-point contact is a
+    /// vertex or the corner).
+    fn witness_in(&self, t: &ExactTriangle, block: Block, grid: Grid) -> Option<(i128, i128, u32)> {
+        const EXTRA: u32 = 20;
+        let [x0, x1, y0, y1] = self.classifier.classes.block_reach(block, grid);
+        let inside = |px: i128, py: i128| x0 <= px && px < x1 && y0 <= py && py < y1;
+        if t.contains(x0, y0) {
+            return Some((x0, y0, 0));
+        }
+        for k in 0..3 {
+            if inside(t.x[k], t.y[k]) {
+                return Some((t.x[k], t.y[k], 0));
+            }
+        }
+        // Finer grid: everything times 2^EXTRA, if it stays in range.
+        let limit = 1i128 << 120;
+        let up = |c: i128| c.checked_mul(1 << EXTRA).filter(|v| v.abs() < limit);
+        let scale3 =
+            |c: [i128; 3]| -> Option<[i128; 3]> { Some([up(c[0])?, up(c[1])?, up(c[2])?]) };
+        let (rx0, rx1, ry0, ry1) = (up(x0)?, up(x1)?, up(y0)?, up(y1)?);
+        let inside_fine = |px: i128, py: i128| rx0 <= px && px < rx1 && ry0 <= py && py < ry1;
+        let mut stack = Vec::new();
+        stack.push((scale3(t.x)?, scale3(t.y)?, 0u32));
+        let mut tests = 0u32;
+        while let Some((x, y, depth)) = stack.pop() {
+            tests += 1;
+            if tests > 1 << 16 {
+                return None;
+            }
+            let sub = ExactTriangle::new(x, y);
+            if !sub.meets(rx0, rx1, ry0, ry1) {
+                continue;
+            }
+            for k in 0..3 {
+                if inside_fine(x[k], y[k]) {
+                    return Some((x[k], y[k], EXTRA));
+                }
+            }
+            if depth == EXTRA {
+                continue;
+            }
+            let mid = |a: usize, b: usize| ((x[a] + x[b]) / 2, (y[a] + y[b]) / 2);
+            let (m01, m12, m20) = (mid(0, 1), mid(1, 2), mid(2, 0));
+            let p = [(x[0], y[0]), (x[1], y[1]), (x[2], y[2])];
+            for tri in [
+                [p[0], m01, m20],
+                [m01, p[1], m12],
+                [m20, m12, p[2]],
+                [m01, m12, m20],
+            ] {
+                stack.push((tri.map(|q| q.0), tri.map(|q| q.1), depth + 1));
+            }
+        }
+        None
+    }
+}

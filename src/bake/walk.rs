@@ -1,0 +1,699 @@
+//! The top-down walk of one triangle's micro-triangles: from the whole
+//! triangle, a node whose bounding block is uniform decides its whole
+//! subtree (a contiguous index range) at once; mixed nodes descend; the
+//! leaves are classified four at a time, sharing their vertices' reads.
+//! Every node first checks the work budget: once it is spent, the node and
+//! everything not yet visited become unknown (sound).
+//!
+//! The walk can stop at a depth and set the nodes there aside
+//! ([`Split::Collect`]), and can take those nodes' subtrees from walks made
+//! elsewhere ([`Split::Replay`]): the split walk of [`super::split`] runs
+//! them in parallel with the serial walk's result.
+
+use super::classify::{is_small, Block, Classes, Classifier, Grid, Placed, Points};
+use super::triangle::{BakeError, TriangleStatus};
+use crate::micromap::{Format, Micromap, MicromapError, State, UnknownPolicy};
+use crate::num::wide::GridInt;
+use crate::Level;
+use alloc::vec::Vec;
+use core::sync::atomic::{AtomicU64, Ordering};
+
+/// The midpoint of two grid points of a node above the map's level (exact:
+/// see [`Walk::visit`]).
+#[inline]
+fn midpoint<C: GridInt>(a: (C, C), b: (C, C)) -> (C, C) {
+    ((a.0 + b.0) >> 1, (a.1 + b.1) >> 1)
+}
+
+/// Sets `count` states of `map` from `first`: one leaf (most calls) by
+/// [`Micromap::set`], a range by [`Micromap::fill`].
+#[inline]
+fn put(map: &mut Micromap, first: u64, count: u64, state: State) -> Result<(), MicromapError> {
+    if count == 1 {
+        map.set(first, state)
+    } else {
+        map.fill(first, count, state)
+    }
+}
+
+/// A node of the walk set aside at the split depth: its index at that
+/// depth, its grid vertices and its `top_flip`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Node<C> {
+    pub(crate) index: u64,
+    pub(crate) vertices: [(C, C); 3],
+    pub(crate) top_flip: bool,
+}
+
+/// What the walk of one subtree made and found (its own map, indexed from
+/// its root).
+#[derive(Clone, Debug)]
+pub(crate) struct Subtree {
+    pub(crate) map: Micromap,
+    pub(crate) counts: [u64; 4],
+    pub(crate) work: u64,
+    pub(crate) widened: u64,
+    pub(crate) exhausted: bool,
+    pub(crate) out_of_work: bool,
+    /// The work spent at the walk's last budget check that passed: the
+    /// walk is what any budget above this would give ([`Walk::check`]).
+    pub(crate) last_check: u64,
+    /// Stopped by [`SharedStop`] (a speculative walk given up): the map is
+    /// not the walk of any budget.
+    pub(crate) stopped: bool,
+}
+
+/// A cap on the work of several walks together (the speculative subtrees
+/// of a split walk): each publishes what it spent every so often, and
+/// stops once the sum reaches `limit`.
+#[derive(Debug)]
+pub(crate) struct SharedStop {
+    spent: AtomicU64,
+    limit: u64,
+}
+
+/// Work units a walk under a [`SharedStop`] spends between two
+/// publications (an atomic add on a shared line: rarely).
+const PUBLISH_EVERY: u64 = 1 << 12;
+
+impl SharedStop {
+    pub(crate) fn new(limit: u64) -> SharedStop {
+        SharedStop {
+            spent: AtomicU64::new(0),
+            limit,
+        }
+    }
+}
+
+/// How a walk treats the nodes at a split depth.
+pub(crate) enum Split<'s, C> {
+    /// A plain walk.
+    None,
+    /// Sets the nodes at `depth` aside (in walk order) instead of walking
+    /// them, with the work spent before each.
+    Collect {
+        depth: u32,
+        nodes: Vec<Node<C>>,
+        work_before: Vec<u64>,
+    },
+    /// Takes the nodes at `depth` (after their budget check) from
+    /// `subtrees`, in walk order, each walked with exactly the budget this
+    /// walk has left there ([`super::split`] guarantees it).
+    Replay {
+        depth: u32,
+        subtrees: &'s mut dyn Iterator<Item = Subtree>,
+        subtree_level: u32,
+    },
+}
+
+/// What the walk carries from node to node: the classifier, the level,
+/// the work spent and allowed, the grid, the 2-state policy, the map and
+/// counts it fills, and how it went.
+pub(crate) struct Walk<'a, C> {
+    classifier: &'a Classifier,
+    level: u32,
+    /// Work units spent and allowed ([bounded work](crate::bake#bounded-work)).
+    pub(crate) work: u64,
+    max_work: u64,
+    pub(crate) out_of_work: bool,
+    /// See [`Subtree::last_check`].
+    last_check: u64,
+    grid: Grid,
+    two_state: UnknownPolicy,
+    pub(crate) map: &'a mut Micromap,
+    pub(crate) counts: &'a mut [u64; 4],
+    /// A micro-triangle ran out of its block budget.
+    pub(crate) exhausted: bool,
+    /// Unknown leaves the exact model knows (see
+    /// [`BakedTriangle::widened`](crate::bake::BakedTriangle::widened)).
+    pub(crate) widened: u64,
+    stack: Vec<Block>,
+    pub(crate) split: Split<'a, C>,
+    /// A cap shared with other walks, and what this walk has published
+    /// to it.
+    shared: Option<(&'a SharedStop, u64)>,
+    stopped: bool,
+}
+
+/// How a walk went: its status, the work units it spent, and the unknown
+/// leaves the exact model knows.
+pub(crate) struct Spent {
+    pub(crate) status: TriangleStatus,
+    pub(crate) work: u64,
+    pub(crate) widened: u64,
+}
+
+impl<'a, C: GridInt> Walk<'a, C> {
+    /// A walk of `level` on `grid` with `max_work` units, filling `map`
+    /// and `counts`, not split.
+    pub(crate) fn new(
+        classifier: &'a Classifier,
+        (level, grid): (u32, Grid),
+        two_state: UnknownPolicy,
+        max_work: u64,
+        map: &'a mut Micromap,
+        counts: &'a mut [u64; 4],
+    ) -> Self {
+        Walk {
+            classifier,
+            level,
+            work: 0,
+            max_work,
+            out_of_work: false,
+            last_check: 0,
+            grid,
+            two_state,
+            map,
+            counts,
+            exhausted: false,
+            widened: 0,
+            stack: Vec::new(),
+            split: Split::None,
+            shared: None,
+            stopped: false,
+        }
+    }
+
+    /// The same walk, also stopped once the walks sharing `stop` have spent
+    /// its limit together.
+    pub(crate) fn sharing(mut self, stop: &'a SharedStop) -> Self {
+        self.shared = Some((stop, 0));
+        self
+    }
+
+    /// How it went.
+    pub(crate) fn spent(&self) -> Spent {
+        let status = if self.out_of_work {
+            TriangleStatus::WorkBudgetExceeded
+        } else if self.exhausted {
+            TriangleStatus::BlockBudgetExceeded
+        } else {
+            TriangleStatus::Exact
+        };
+        Spent {
+            status,
+            work: self.work,
+            widened: self.widened,
+        }
+    }
+
+    /// The budget check before a node (and before each leaf of
+    /// [`visit_leaves`](Self::visit_leaves)): `true` when the work is spent
+    /// (or a shared cap is reached), and the node must be unknown. Every
+    /// check that passes records the work so far: a walk whose checks all
+    /// passed below some budget is the walk of every budget above
+    /// [`Subtree::last_check`].
+    #[inline]
+    fn out_of_work_here(&mut self) -> bool {
+        if self.work >= self.max_work {
+            self.out_of_work = true;
+            return true;
+        }
+        if let Some((stop, published)) = &mut self.shared {
+            let unpublished = self.work - *published;
+            let spent = if unpublished >= PUBLISH_EVERY {
+                *published = self.work;
+                stop.spent.fetch_add(unpublished, Ordering::Relaxed) + unpublished
+            } else {
+                stop.spent.load(Ordering::Relaxed) + unpublished
+            };
+            if spent >= stop.limit {
+                // Published whole, so that the walks after this one stop at
+                // their first check.
+                stop.spent
+                    .fetch_add(self.work - *published, Ordering::Relaxed);
+                *published = self.work;
+                self.stopped = true;
+                self.out_of_work = true;
+                return true;
+            }
+        }
+        self.last_check = self.work;
+        false
+    }
+
+    /// One micro-triangle of the walk: its depth and index in the tree,
+    /// its grid vertices `(x, y)`, and the walk's `top_flip` (which numbers
+    /// its children). A micro-triangle of a coarser level contains its
+    /// descendants, so a uniform one decides all of them (a contiguous
+    /// index range) at once; only mixed ones descend, by recursion (depth
+    /// at most the level). A child's vertices are its parent's and their
+    /// midpoints (exact: at depth d < n every grid coordinate is a
+    /// multiple of 2^(n - d), see `AxisFrame::at`, so the sums are even and
+    /// halving is a shift), so no vertex is placed from scratch.
+    pub(crate) fn visit(
+        &mut self,
+        depth: u32,
+        index: u64,
+        vertices: [(C, C); 3],
+        top_flip: bool,
+    ) -> Result<(), BakeError> {
+        if let Split::Collect {
+            depth: at,
+            nodes,
+            work_before,
+        } = &mut self.split
+        {
+            if depth == *at {
+                nodes.push(Node {
+                    index,
+                    vertices,
+                    top_flip,
+                });
+                work_before.push(self.work);
+                return Ok(());
+            }
+        }
+        let n = self.level;
+        let up = n - depth;
+        let p = Placed {
+            x: vertices.map(|v| v.0),
+            y: vertices.map(|v| v.1),
+        };
+        if self.out_of_work_here() {
+            // Out of work: this node's whole subtree is unknown (sound).
+            let count = 1u64 << (2 * up);
+            return self.set_unknown(&p, index << (2 * up), count);
+        }
+        if let Split::Replay { depth: at, .. } = self.split {
+            if depth == at {
+                return self.replay(index);
+            }
+        }
+        if depth == n {
+            // A level-0 map: its one leaf (deeper leaves are read four at a
+            // time by `visit_leaves`).
+            return self.visit_leaf(&p, index, Points::All);
+        }
+        // Above the finest level only the bounding block is read: a mixed
+        // block descends, and the children decide more cheaply than an
+        // exact search over a large triangle would.
+        let classes = self.classifier.quick_classes(&p, self.grid);
+        self.work += 1;
+        if let Some(state) = classes.known_state() {
+            return self.set_known(index, up, state);
+        }
+        if depth + 1 == n {
+            return self.visit_leaves(index, vertices, top_flip);
+        }
+        for child in 0..4 {
+            let (vertices, top_flip) =
+                crate::inverse::child_vertices(child, top_flip, vertices, midpoint);
+            let index = 4 * index + u64::from(child);
+            self.visit(depth + 1, index, vertices, top_flip)?;
+        }
+        Ok(())
+    }
+
+    /// The node `index` at the replay depth: its subtree's walk, taken from
+    /// the split walk's list, copied in and added up.
+    #[cold]
+    #[inline(never)]
+    fn replay(&mut self, index: u64) -> Result<(), BakeError> {
+        let Split::Replay {
+            subtrees,
+            subtree_level,
+            ..
+        } = &mut self.split
+        else {
+            unreachable!("replay outside a replay walk")
+        };
+        let first = index << (2 * *subtree_level);
+        let subtree = subtrees
+            .next()
+            .expect("the split walk has a subtree for every node the replay reaches");
+        self.map.copy_aligned(first, &subtree.map)?;
+        for (sum, count) in self.counts.iter_mut().zip(subtree.counts) {
+            *sum += count;
+        }
+        self.work += subtree.work;
+        self.widened += subtree.widened;
+        self.exhausted |= subtree.exhausted;
+        self.out_of_work |= subtree.out_of_work;
+        Ok(())
+    }
+
+    /// One leaf (finest micro-triangle) `p` with its index: classified
+    /// ([`Classifier::classify_leaf`], reading `points`), then set known or
+    /// unknown and counted.
+    fn visit_leaf(&mut self, p: &Placed<C>, leaf: u64, points: Points) -> Result<(), BakeError> {
+        let (classes, out_of_budget, work, widened) =
+            self.classifier
+                .classify_leaf(p, self.grid, points, &mut self.stack);
+        self.work += work;
+        self.widened += u64::from(widened);
+        if let Some(state) = classes.known_state() {
+            return self.set_known(leaf, 0, state);
+        }
+        self.exhausted |= out_of_budget;
+        self.set_unknown(p, leaf, 1)
+    }
+
+    /// The four leaves (finest micro-triangles) of a mixed node one level
+    /// above the map's: `index`, `vertices`, `top_flip` are the node's, as
+    /// in [`visit`](Self::visit). Their vertices are the node's corners
+    /// and edge midpoints, six points for twelve corners: each point's
+    /// footprint is read once, when a leaf first needs it. A leaf whose
+    /// vertices read both classes is unknown (under either model: they
+    /// are points of it) without its bounding block; the others are
+    /// classified as [`visit`](Self::visit) would, without reading the
+    /// vertices again. Only leaves with a small exact bounding block use
+    /// them, as [`Classifier::classify_mixed_block`] does.
+    fn visit_leaves(
+        &mut self,
+        index: u64,
+        vertices: [(C, C); 3],
+        top_flip: bool,
+    ) -> Result<(), BakeError> {
+        let [a, b, c] = vertices;
+        let points = [a, b, c, midpoint(a, b), midpoint(b, c), midpoint(c, a)];
+        // Which of `points` the midpoint of two corners is.
+        let between = |i: u8, j: u8| match i + j {
+            1 => 3,
+            3 => 4,
+            _ => 5,
+        };
+        let mut read: [Option<Classes>; 6] = [None; 6];
+        let exact_grid = Grid::exact(self.grid.shifts);
+        for child in 0..4 {
+            let (corners, _) = crate::inverse::child_vertices(child, top_flip, [0, 1, 2], between);
+            let leaf = 4 * index + u64::from(child);
+            let p = Placed {
+                x: corners.map(|i| points[usize::from(i)].0),
+                y: corners.map(|i| points[usize::from(i)].1),
+            };
+            if self.out_of_work_here() {
+                self.set_unknown(&p, leaf, 1)?;
+                continue;
+            }
+            let mut vertex_points = Points::All;
+            if is_small(self.classifier.bounding_block(&p, exact_grid)) {
+                let mut sure = Classes::default();
+                for i in corners.map(usize::from) {
+                    let classes = *read[i].get_or_insert_with(|| {
+                        self.work += 1;
+                        let (x, y) = points[i];
+                        self.classifier
+                            .point_classes((x + x, y + y), self.grid.shifts)
+                    });
+                    sure = sure.union(classes);
+                    if sure.is_mixed() {
+                        break;
+                    }
+                }
+                if sure.is_mixed() {
+                    // One unit for the centroid's texel: every leaf costs
+                    // one at least, so a budget of all the work cuts none.
+                    self.work += 1;
+                    self.set_unknown(&p, leaf, 1)?;
+                    continue;
+                }
+                vertex_points = Points::Midpoints(sure);
+            }
+            self.visit_leaf(&p, leaf, vertex_points)?;
+        }
+        Ok(())
+    }
+
+    /// Marks the `4^up` micro-triangles of the node `index` (`up` levels
+    /// above the map's) `state`, and counts them.
+    fn set_known(&mut self, index: u64, up: u32, state: State) -> Result<(), BakeError> {
+        let count = 1u64 << (2 * up);
+        self.counts[state.bits() as usize] += count;
+        put(self.map, index << (2 * up), count, state)?;
+        Ok(())
+    }
+
+    /// Marks `count` micro-triangles from `first` (the placed node `p`'s
+    /// finest-level range) unknown, split by `p`'s centroid texel, and
+    /// counts them.
+    fn set_unknown(&mut self, p: &Placed<C>, first: u64, count: u64) -> Result<(), BakeError> {
+        let state = if self.classifier.centroid_is_opaque(p, self.grid.shifts) {
+            State::UnknownOpaque
+        } else {
+            State::UnknownTransparent
+        };
+        self.counts[state.bits() as usize] += count;
+        let stored = match self.map.format() {
+            Format::FourState => state,
+            Format::TwoState => self.two_state.resolve(state),
+        };
+        put(self.map, first, count, stored)?;
+        Ok(())
+    }
+}
+
+/// The walk of a whole triangle `root` at `level` on `grid`, serial:
+/// fills `map` and `counts`, and says how it went.
+pub(crate) fn walk_whole<C: GridInt>(
+    classifier: &Classifier,
+    (root, level, grid): (Placed<C>, u32, Grid),
+    two_state: UnknownPolicy,
+    max_work: u64,
+    (map, counts): (&mut Micromap, &mut [u64; 4]),
+) -> Result<Spent, BakeError> {
+    let vertices = [0, 1, 2].map(|k| (root.x[k], root.y[k]));
+    let mut walk = Walk::new(classifier, (level, grid), two_state, max_work, map, counts);
+    walk.visit(0, 0, vertices, false)?;
+    Ok(walk.spent())
+}
+
+/// The walk of one node's subtree (`node` at `depth` of a walk of
+/// `level` on `grid`), into a map of its own of `subtree_level`, with
+/// `max_work` units, also stopped by `shared` when given.
+pub(crate) fn walk_subtree<C: GridInt>(
+    classifier: &Classifier,
+    (node, depth, level, grid): (&Node<C>, u32, u32, Grid),
+    (two_state, format): (UnknownPolicy, Format),
+    max_work: u64,
+    shared: Option<&SharedStop>,
+) -> Result<Subtree, BakeError> {
+    let subtree_level = level - depth;
+    let mut map = Micromap::new(Level(subtree_level as u8), format)?;
+    let mut counts = [0u64; 4];
+    let mut walk = Walk::new(
+        classifier,
+        (level, grid),
+        two_state,
+        max_work,
+        &mut map,
+        &mut counts,
+    );
+    if let Some(stop) = shared {
+        walk = walk.sharing(stop);
+    }
+    walk.visit(depth, 0, node.vertices, node.top_flip)?;
+    let Walk {
+        work,
+        widened,
+        exhausted,
+        out_of_work,
+        last_check,
+        stopped,
+        ..
+    } = walk;
+    Ok(Subtree {
+        map,
+        counts,
+        work,
+        widened,
+        exhausted,
+        out_of_work,
+        last_check,
+        stopped,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bake::classify::{Classes, NARROW_SHIFT, NARROW_WALK_COORDINATE};
+    use crate::bake::exact::ExactTriangle;
+    use crate::bake::{AddressMode, Baker, Cutoff, Filter, Model, Sampler, Unorm8Texture};
+    use micromap_index_test_support::SplitMix64;
+
+    /// Every micro-triangle of a bake (whose leaves are read four at a
+    /// time, sharing their vertices: [`Baker::visit_leaves`], and whose
+    /// searches look only for the classes its points did not read) has
+    /// the state the plain search gives it alone: every class its closed
+    /// (for the GPU model, dilated) area reads, with no points, no
+    /// shortcut and no budget. Known where that is one class, else unknown
+    /// by its centroid texel. Random blobby textures, both filters, wrapping and
+    /// bordered samplers, both models, levels 1..=6, triangles reaching
+    /// past the texture.
+    #[test]
+    fn each_leaf_is_what_it_alone_classifies_as() {
+        let mut rng = SplitMix64::new(0x1eaf);
+        let (w, h) = (12u32, 10u32);
+        let mut checked = [0u64; 2];
+        for case in 0..24u32 {
+            let texels: Vec<u8> = (0..w * h)
+                .map(|i| {
+                    let blob = ((i % w) / 3 + (i / w) / 4 + case) % 3 == 0;
+                    if blob ^ (rng.next_u64() % 7 == 0) {
+                        255
+                    } else {
+                        0
+                    }
+                })
+                .collect();
+            let texture = Unorm8Texture::new(w, h, &texels).unwrap();
+            let address = [
+                AddressMode::Repeat,
+                AddressMode::ClampToEdge,
+                AddressMode::ClampToBorder,
+            ][(case % 3) as usize];
+            let sampler = Sampler {
+                filter: [Filter::Linear, Filter::Nearest][(case / 3 % 2) as usize],
+                address_u: address,
+                address_v: AddressMode::MirroredRepeat,
+                border_alpha: 1.0,
+            };
+            let model = Model::ALL[(case % 2) as usize];
+            let baker = Baker::new(&texture, sampler, Cutoff::default())
+                .unwrap()
+                .with_model(model);
+            let mut c = || (rng.next_u64() % 1000) as f32 / 700.0 - 0.2;
+            let uv = [[c(), c()], [c(), c()], [c(), c()]];
+            let level = Level::new(1 + case % 6).unwrap();
+            let policy = UnknownPolicy::default();
+            let baked = baker
+                .bake_as(
+                    model,
+                    &uv,
+                    level,
+                    Format::FourState,
+                    policy,
+                    u64::MAX,
+                    false,
+                )
+                .unwrap();
+            let (fx, fy, grid) = baker.frames(model, &uv, level).unwrap();
+            let mut stack = Vec::new();
+            for i in 0..1u64 << (2 * level.get()) {
+                let vertices = crate::inverse::micro_triangle(level, i)
+                    .unwrap()
+                    .vertices_scaled();
+                let p = Baker::place(&fx, &fy, level.get(), vertices);
+                let t = ExactTriangle::new(p.x, p.y);
+                let search =
+                    baker
+                        .classifier
+                        .classes
+                        .search(&t, grid, Classes::BOTH, u32::MAX, &mut stack);
+                assert!(!search.exhausted);
+                let expected = match search.classes.known_state() {
+                    Some(state) => state,
+                    None if baker.classifier.centroid_is_opaque(&p, grid.shifts) => {
+                        State::UnknownOpaque
+                    }
+                    None => State::UnknownTransparent,
+                };
+                assert_eq!(
+                    baked.opacity.state(i),
+                    Some(expected),
+                    "case {case}: {uv:?} at {level:?}, micro-triangle {i}"
+                );
+                checked[usize::from(expected.is_known())] += 1;
+            }
+        }
+        // Both kinds of state were met, many times.
+        assert!(checked[0] > 300 && checked[1] > 300, "{checked:?}");
+    }
+
+    /// The `i64` walk gives the `i128` walk's micromap wherever
+    /// [`Placed::narrowed`] accepts a root: roots with coordinates just
+    /// below `2^59` (and some crossing zero), shifts up to 58, every
+    /// filter, on a wrapping and a bordered sampler. Roots at `2^59` or
+    /// with a shift of 59 are refused.
+    #[test]
+    fn narrow_and_wide_walks_agree_near_their_threshold() {
+        let mut rng = SplitMix64::new(0x0b5e_55ed);
+        let mut next = move || rng.next_u64();
+        // 4 x 4 checks of random alpha, so that known states are common.
+        let checks: Vec<u8> = (0..16).map(|_| (next() % 256) as u8).collect();
+        let texels: Vec<u8> = (0..16 * 16)
+            .map(|i| checks[i % 16 / 4 + i / 64 * 4])
+            .collect();
+        let texture = Unorm8Texture::new(16, 16, &texels).unwrap();
+        let limit = NARROW_WALK_COORDINATE;
+        let mut seen = [0u64; 4];
+        for case in 0..400u32 {
+            let filter = if case % 2 == 0 {
+                Filter::Nearest
+            } else {
+                Filter::Linear
+            };
+            let address = if case % 4 < 2 {
+                AddressMode::Repeat
+            } else {
+                AddressMode::ClampToBorder
+            };
+            let sampler = Sampler {
+                filter,
+                address_u: address,
+                address_v: address,
+                border_alpha: 1.0,
+            };
+            let baker = Baker::new(&texture, sampler, Cutoff::default())
+                .unwrap()
+                .with_block_budget(16);
+            let level = case % 4;
+            // A shift near the threshold most of the time, any otherwise.
+            let shift = |r: u64| {
+                if r % 4 == 0 {
+                    1 + (r / 4 % 58) as u32
+                } else {
+                    NARROW_SHIFT - (r / 4 % 3) as u32
+                }
+            };
+            let shifts = (shift(next()), shift(next()));
+            let grid = Grid::exact(shifts);
+            // Coordinates within 2^spread of +-2^59 (below it), or near 0;
+            // multiples of 2^level, as a root's are.
+            let spread = 1 + next() % 58;
+            let mut coordinate = || {
+                let offset = 1 + (i128::from(next()) & ((1 << spread) - 1));
+                let magnitude = if next() % 5 == 0 {
+                    offset
+                } else {
+                    limit - offset
+                };
+                let sign = if next() % 2 == 0 { 1 } else { -1 };
+                sign * (magnitude >> level << level)
+            };
+            let root = Placed {
+                x: [coordinate(), coordinate(), coordinate()],
+                y: [coordinate(), coordinate(), coordinate()],
+            };
+            let narrow = root.narrowed(grid).unwrap();
+            let bake = |walk: &dyn Fn(&mut Micromap, &mut [u64; 4]) -> Spent| {
+                let mut map = Micromap::new(Level(level as u8), Format::FourState).unwrap();
+                let mut counts = [0; 4];
+                let spent = walk(&mut map, &mut counts);
+                (map, counts, spent.status, spent.work, spent.widened)
+            };
+            let policy = UnknownPolicy::Fallback;
+            let c = &baker.classifier;
+            let wide = bake(&|map, counts| {
+                walk_whole(c, (root, level, grid), policy, u64::MAX, (map, counts)).unwrap()
+            });
+            let narrowed = bake(&|map, counts| {
+                walk_whole(c, (narrow, level, grid), policy, u64::MAX, (map, counts)).unwrap()
+            });
+            assert_eq!(narrowed, wide, "{root:?} {shifts:?} level {level}");
+            for (total, count) in seen.iter_mut().zip(wide.1) {
+                *total += count;
+            }
+            // One step past either bound takes the wide walk.
+            let mut over = root;
+            over.x[case as usize % 3] = if case % 2 == 0 { limit } else { -limit };
+            assert!(over.narrowed(grid).is_none());
+            assert!(root
+                .narrowed(Grid::exact((NARROW_SHIFT + 1, shifts.1)))
+                .is_none());
+        }
+        // Every state came out, many times.
+        assert!(seen.iter().all(|&n| n > 100), "{seen:?}");
+    }
+}
