@@ -347,8 +347,8 @@ fn known_states_are_never_contradicted_by_exact_samples() {
             }
         }
         let map = match &baked.opacity {
-            micromap_index::bake::BakedOpacity::Map(map) => map.clone(),
-            other @ micromap_index::bake::BakedOpacity::Special(_) => {
+            micromap_index::micromap::BakedOpacity::Map(map) => map.clone(),
+            other @ micromap_index::micromap::BakedOpacity::Special(_) => {
                 panic!("case {case_number}: {other:?}")
             }
         };
@@ -466,7 +466,7 @@ fn flips_are_caught_with_witnesses(
         )
         .unwrap();
     let sound = baker.verify(&case.uv, &baked.opacity.as_opacity());
-    let micromap_index::bake::BakedOpacity::Map(map) = baked.opacity else {
+    let micromap_index::micromap::BakedOpacity::Map(map) = baked.opacity else {
         assert_eq!(model, Model::GpuBinary32, "case {case_number}");
         assert_eq!(baked.status, TriangleStatus::OutOfExactRange);
         assert!(!sound.checked);

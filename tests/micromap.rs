@@ -4,8 +4,8 @@
 //! upsample laws, deduplication, layout, round trips through bytes, and one
 //! named test per [`ReadError`].
 
-use micromap_index::bake::BakedOpacity;
 use micromap_index::inverse::micro_triangle;
+use micromap_index::micromap::BakedOpacity;
 use micromap_index::micromap::{
     read_buffers, records_to_le_bytes, usage_counts_to_le_bytes, Api, BufferBytes, BufferError,
     BuildOptions, Format, IndexWidth, MergeRule, Micromap, MicromapBuffers, MicromapBuffersBuilder,

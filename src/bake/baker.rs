@@ -8,9 +8,10 @@ use super::gpu::{margin_exponent, Model};
 use super::parallel::Runner;
 use super::split::{walk_split, SPLIT_FROM_LEVEL};
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
-use super::triangle::{BakeError, BakedOpacity, BakedTriangle, TriangleStatus, UvTriangle};
+use super::triangle::{BakeError, BakedTriangle, TriangleStatus, UvTriangle};
 use super::walk::{walk_whole, Spent};
 use super::work::DEFAULT_TRIANGLE_WORK_BUDGET;
+use crate::micromap::BakedOpacity;
 use crate::micromap::{Format, Micromap, State, UnknownPolicy};
 use crate::num::wide::GridInt;
 use crate::Level;
@@ -385,3 +386,6 @@ impl Baker {
         }
     }
 }
+
+#[cfg(test)]
+mod tests;

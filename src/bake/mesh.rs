@@ -45,8 +45,9 @@ use super::mips::bake_bounded;
 pub use super::mips::Mips;
 use super::parallel::{Runner, Threads};
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
-use super::triangle::{BakeError, BakedOpacity, BakedTriangle, TriangleStatus, UvTriangle};
+use super::triangle::{BakeError, BakedTriangle, TriangleStatus, UvTriangle};
 use super::work::{DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET};
+use crate::micromap::BakedOpacity;
 use crate::micromap::{
     BufferError, BuildOptions, Format, MicromapBuffers, MicromapBuffersBuilder, MicromapIndex,
     UnknownPolicy,
@@ -943,7 +944,8 @@ fn bake_distinct(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bake::{BakedOpacity, Unorm8Texture};
+    use crate::bake::Unorm8Texture;
+    use crate::micromap::BakedOpacity;
     use crate::Level;
 
     #[test]

@@ -28,7 +28,8 @@
 use super::baker::Baker;
 use super::gpu::Model;
 use super::texture::{AlphaTexture, Filter, Sampler, TextureError};
-use super::triangle::{BakeError, BakedOpacity, BakedTriangle, TriangleStatus, UvTriangle};
+use super::triangle::{BakeError, BakedTriangle, TriangleStatus, UvTriangle};
+use crate::micromap::BakedOpacity;
 use crate::micromap::{Format, Micromap, MicromapError, State, UnknownPolicy};
 use crate::Level;
 use alloc::vec::Vec;

@@ -144,6 +144,6 @@ pub use texture::{
     AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Sampler, SliceTexture,
     Texel, TextureError, Unorm16Texture, Unorm8Texture,
 };
-pub use triangle::{BakeError, BakedOpacity, BakedTriangle, TriangleStatus, UvTriangle};
+pub use triangle::{BakeError, BakedTriangle, TriangleStatus, UvTriangle};
 pub use verify::{Contradiction, Verification, VerifyCounts};
 pub use work::{DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET};

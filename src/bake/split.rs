@@ -233,12 +233,6 @@ pub(crate) fn walk_split<C: GridInt>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bake::{
-        AddressMode, Baker, Cutoff, Filter, Model, Sampler, TriangleStatus, Unorm8Texture,
-    };
-    use crate::micromap::Format;
-    use crate::Level;
-    use micromap_index_test_support::SplitMix64;
 
     #[test]
     fn subtrees_shrink_with_small_budgets() {
@@ -251,97 +245,5 @@ mod tests {
         assert_eq!(subtree_level(16, 1 << 20), 8);
         assert_eq!(subtree_level(10, 0), 4);
         assert_eq!(subtree_level(10, u64::MAX), 8);
-    }
-
-    /// A split walk (levels 10 and 11, subtrees on the pool's threads)
-    /// gives the serial walk's map, counts, widening, status and work,
-    /// under both models and formats, on textures with structure at
-    /// every scale, for every budget: those that cut the serial walk
-    /// (a fifth, half, four fifths of its work, a unit short of it, a few
-    /// units, none) as much as those that do not. Its speculative work is
-    /// 0 when nothing cuts, and bounded otherwise.
-    #[test]
-    fn split_walks_give_the_serial_walk() {
-        let mut rng = SplitMix64::new(0x5b17);
-        let (w, h) = (24u32, 20u32);
-        let mut split_kept = 0;
-        for case in 0..6u32 {
-            // Blobs of each class with noisy edges.
-            let texels: Vec<u8> = (0..w * h)
-                .map(|i| {
-                    let (x, y) = (i % w, i / w);
-                    let blob = (x / 6 + y / 5 + case) % 3 == 0;
-                    if blob ^ (rng.next_u64() % 9 == 0) {
-                        255
-                    } else {
-                        0
-                    }
-                })
-                .collect();
-            let texture = Unorm8Texture::new(w, h, &texels).unwrap();
-            let sampler = Sampler {
-                filter: if case % 2 == 0 {
-                    Filter::Linear
-                } else {
-                    Filter::Nearest
-                },
-                address_u: AddressMode::Repeat,
-                address_v: AddressMode::ClampToEdge,
-                border_alpha: 0.0,
-            };
-            let model = Model::ALL[(case % 2) as usize];
-            let baker = Baker::new(&texture, sampler, Cutoff::default())
-                .unwrap()
-                .with_model(model);
-            let mut c = || (rng.next_u64() % 1000) as f32 / 800.0 - 0.1;
-            let uv = [[c(), c()], [c(), c()], [c(), c()]];
-            let level = Level::new(10 + case % 2).unwrap();
-            let format = [Format::FourState, Format::TwoState][(case / 2 % 2) as usize];
-            let policy = UnknownPolicy::default();
-            let serial = baker
-                .bake_as(model, &uv, level, format, policy, u64::MAX, false)
-                .unwrap();
-            let split = baker
-                .bake_as(model, &uv, level, format, policy, u64::MAX, true)
-                .unwrap();
-            assert_eq!(split, serial, "case {case}: {uv:?} at {level:?}");
-            assert_eq!(split.speculative_work, 0);
-            assert!(
-                serial.work > 1000,
-                "case {case}: too easy ({} units)",
-                serial.work
-            );
-            let full = serial.work;
-            let budgets = [
-                full / 2,
-                full / 5,
-                full * 4 / 5,
-                full - 1,
-                full,
-                full + 1,
-                3,
-                0,
-            ];
-            for budget in budgets {
-                let serial = baker
-                    .bake_as(model, &uv, level, format, policy, budget, false)
-                    .unwrap();
-                let mut split = baker
-                    .bake_as(model, &uv, level, format, policy, budget, true)
-                    .unwrap();
-                // The speculative work is bounded: at most half of what
-                // each batch had left, plus the top walked twice.
-                assert!(
-                    split.speculative_work <= budget + serial.work / 4 + (1 << 14),
-                    "case {case}: budget {budget}: {} speculative",
-                    split.speculative_work
-                );
-                split.speculative_work = 0;
-                assert_eq!(split, serial, "case {case}: budget {budget} of {full}");
-                split_kept += u32::from(serial.status != TriangleStatus::WorkBudgetExceeded);
-            }
-        }
-        // Budgets at or above the work kept every split bake (no cut).
-        assert!(split_kept >= 12, "{split_kept}");
     }
 }

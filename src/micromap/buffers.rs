@@ -4,7 +4,9 @@
 //! `EXT_mesh_opacity_micromap`). `docs/micromaps.md` cites the spec rule
 //! behind each choice.
 
-use super::{Format, Micromap, State};
+use super::map::Micromap;
+use super::opacity::{BakedOpacity, TriangleOpacity};
+use super::state::{Format, State};
 use crate::Level;
 use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
@@ -524,15 +526,6 @@ impl fmt::Display for BufferError {
 }
 
 impl core::error::Error for BufferError {}
-
-/// One triangle's opacity as given to [`MicromapBuffersBuilder::add_geometry`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TriangleOpacity<'a> {
-    /// The triangle uses this micromap.
-    Micromap(&'a Micromap),
-    /// The whole triangle has this state (a special index, no data).
-    Special(State),
-}
 
 /// Options for [`MicromapBuffersBuilder`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -1244,11 +1237,11 @@ impl MicromapBuffers {
     /// What a geometry's triangle resolves to: a copy of its micromap, or
     /// its special state; `None` past the end.
     #[must_use]
-    pub fn resolve(&self, geometry: usize, triangle: usize) -> Option<crate::bake::BakedOpacity> {
+    pub fn resolve(&self, geometry: usize, triangle: usize) -> Option<BakedOpacity> {
         let index = *self.geometries.get(geometry)?.indices.get(triangle)?;
         Some(match index {
-            MicromapIndex::Record(r) => crate::bake::BakedOpacity::Map(self.micromap(r)?),
-            MicromapIndex::Special(state) => crate::bake::BakedOpacity::Special(state),
+            MicromapIndex::Record(r) => BakedOpacity::Map(self.micromap(r)?),
+            MicromapIndex::Special(state) => BakedOpacity::Special(state),
         })
     }
 }

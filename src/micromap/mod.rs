@@ -70,17 +70,21 @@ mod khr_lossy;
 #[cfg(feature = "alloc")]
 mod map;
 #[cfg(feature = "alloc")]
+mod opacity;
+#[cfg(feature = "alloc")]
 mod read;
 mod state;
 
 #[cfg(feature = "alloc")]
 pub use buffers::{
     records_to_le_bytes, usage_counts_to_le_bytes, Api, BufferError, BuildOptions, IndexWidth,
-    MicromapBuffers, MicromapBuffersBuilder, MicromapIndex, TriangleEntry, TriangleOpacity,
-    TriangleRecord, UsageCount,
+    MicromapBuffers, MicromapBuffersBuilder, MicromapIndex, TriangleEntry, TriangleRecord,
+    UsageCount,
 };
 #[cfg(feature = "alloc")]
 pub use map::{MergeRule, Micromap, MicromapError, UnknownPolicy};
+#[cfg(feature = "alloc")]
+pub use opacity::{BakedOpacity, TriangleOpacity};
 #[cfg(feature = "alloc")]
 pub use read::{read_buffers, BufferBytes, Overlap, ReadBuffers, ReadError, ReadOptions};
 pub use state::{Format, State};

@@ -476,6 +476,39 @@ impl crate::arch::PopcntBody for Lookup<'_> {
     }
 }
 
+/// The conversion from this layout to the paper's lives here, beside the
+/// one from it: `paper.rs` knows nothing of the level-order layout.
+impl PaperTree {
+    /// The same tree in the paper's layout, from the level-order one.
+    #[must_use]
+    pub fn from_level_order(fast: &LevelOrderTree) -> Self {
+        let mut tree = BitVec::new();
+        let mut data = PackedStates::new(fast.format());
+        // Pre-order over level-order positions, children pushed in reverse.
+        let mut stack = vec![0usize];
+        while let Some(p) = stack.pop() {
+            match fast.node(p) {
+                Ok(first_child) => {
+                    tree.push(true);
+                    for c in (0..4).rev() {
+                        stack.push(first_child + c);
+                    }
+                }
+                Err(state) => {
+                    tree.push(false);
+                    data.push(state);
+                }
+            }
+        }
+        PaperTree {
+            level: fast.level(),
+            format: fast.format(),
+            tree,
+            data,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,10 +3,7 @@
 
 use super::bits::{BitVec, PackedStates};
 use super::merge::Pyramid;
-use super::{
-    check_flat, check_states, digit, micro_triangle_count, tree_level, Layout, LevelOrderTree,
-    TreeError,
-};
+use super::{check_flat, check_states, digit, micro_triangle_count, tree_level, Layout, TreeError};
 use crate::micromap::{Format, State};
 use crate::Level;
 use alloc::string::String;
@@ -187,35 +184,6 @@ impl PaperTree {
                 stack.pop();
                 outcome = None;
             }
-        }
-    }
-
-    /// The same tree in the paper's layout, from the level-order one.
-    #[must_use]
-    pub fn from_level_order(fast: &LevelOrderTree) -> Self {
-        let mut tree = BitVec::new();
-        let mut data = PackedStates::new(fast.format());
-        // Pre-order over level-order positions, children pushed in reverse.
-        let mut stack = vec![0usize];
-        while let Some(p) = stack.pop() {
-            match fast.node(p) {
-                Ok(first_child) => {
-                    tree.push(true);
-                    for c in (0..4).rev() {
-                        stack.push(first_child + c);
-                    }
-                }
-                Err(state) => {
-                    tree.push(false);
-                    data.push(state);
-                }
-            }
-        }
-        PaperTree {
-            level: fast.level(),
-            format: fast.format(),
-            tree,
-            data,
         }
     }
 

@@ -8,7 +8,7 @@
 //! refused by the writer and the reader with typed errors.
 
 use micromap_index::bake::mesh::{bake_meshes, LevelRule, Mesh, MeshOptions, MeshTriangles};
-use micromap_index::bake::BakedOpacity;
+use micromap_index::micromap::BakedOpacity;
 use micromap_index::micromap::{
     BuildOptions, Format, Micromap, MicromapBuffers, MicromapIndex, State, TriangleOpacity,
 };

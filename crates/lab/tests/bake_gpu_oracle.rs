@@ -20,10 +20,10 @@
 //! minutes), and prints the counts `docs/bake.md` quotes.
 
 use micromap_index::bake::{
-    AddressMode, AlphaTexture, BakedOpacity, Baker, Comparison, Cutoff, Filter, Model, Sampler,
-    Unorm8Texture, UvTriangle,
+    AddressMode, AlphaTexture, Baker, Comparison, Cutoff, Filter, Model, Sampler, Unorm8Texture,
+    UvTriangle,
 };
-use micromap_index::micromap::{Format, State, UnknownPolicy};
+use micromap_index::micromap::{BakedOpacity, Format, State, UnknownPolicy};
 use micromap_index::{spec, Level, SpecLevel};
 use micromap_index_assets::{decode_alpha_image, read_triangles_json, Limits};
 use micromap_index_test_support::SplitMix64;

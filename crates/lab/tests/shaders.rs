@@ -33,8 +33,8 @@ mod vulkan;
 
 use micromap_index_test_support::SplitMix64;
 
-use micromap_index::bake::BakedOpacity;
 use micromap_index::inverse::micro_triangle;
+use micromap_index::micromap::BakedOpacity;
 use micromap_index::micromap::{
     Api, BuildOptions, Format, IndexWidth, Micromap, MicromapBuffers, State, TriangleOpacity,
 };

@@ -114,7 +114,11 @@ pub fn bake_budgets(data: &[u8]) {
     );
     let s = report.status;
     assert_eq!(
-        s.exact + s.not_finite + s.out_of_exact_range + s.block_budget_exceeded + s.work_budget_exceeded,
+        s.exact
+            + s.not_finite
+            + s.out_of_exact_range
+            + s.block_budget_exceeded
+            + s.work_budget_exceeded,
         n
     );
     let baker = Baker::new(&texture, sampler, Cutoff::default())
