@@ -27,16 +27,15 @@
 mod bake;
 mod ffi;
 mod index;
+mod mesh;
 mod tree;
 mod verify;
-mod vertex_alpha;
 
 pub use bake::{
     mmi_bake, mmi_bake_options, mmi_bake_options_default, mmi_bake_result, mmi_bake_result_data,
     mmi_bake_result_free, mmi_bake_result_geometry_count, mmi_bake_result_indices,
     mmi_bake_result_is_mixed, mmi_bake_result_stats, mmi_bake_result_triangle_records,
-    mmi_bake_result_usage_counts, mmi_bake_stats, mmi_material, mmi_material_default, mmi_mesh,
-    mmi_sampler, mmi_texture,
+    mmi_bake_result_usage_counts, mmi_bake_stats,
 };
 pub use ffi::{
     mmi_last_error_message, mmi_result, mmi_version, mmi_version_string, MMI_ERROR_BAKE,
@@ -48,6 +47,7 @@ pub use index::{
     mmi_index_f32, mmi_index_f32_batch, mmi_inverse_micro_triangle, mmi_micro_triangle,
     mmi_wide_index_f32, mmi_wide_index_f32_batch,
 };
+pub use mesh::{mmi_material, mmi_material_default, mmi_mesh, mmi_sampler, mmi_texture};
 pub use tree::{
     mmi_tree, mmi_tree_decode, mmi_tree_encode, mmi_tree_free, mmi_tree_from_bytes, mmi_tree_get,
     mmi_tree_get_f32, mmi_tree_info, mmi_tree_info_get, mmi_tree_to_bytes,

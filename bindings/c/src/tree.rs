@@ -1,12 +1,12 @@
 //! The succinct tree (`succinct::PaperTree`, `succinct::LevelOrderTree`).
 
-use crate::bake::format;
 use crate::constants::{MMI_TREE_LEVEL_ORDER, MMI_TREE_PAPER};
 use crate::ffi::{
     copy_out, guard, mmi_result, null, slice, write, Error, Result, MMI_ERROR_BUFFER_TOO_SMALL,
     MMI_ERROR_INVALID_ARGUMENT, MMI_ERROR_INVALID_ENUM, MMI_ERROR_INVALID_LEVEL,
     MMI_ERROR_MALFORMED,
 };
+use crate::mesh::format;
 use micromap_index::micromap::State;
 use micromap_index::succinct::{LevelOrderTree, PaperTree, TreeError};
 use micromap_index::Level;

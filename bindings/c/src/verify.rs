@@ -1,13 +1,13 @@
 //! The buffer validator (`micromap::read_buffers`) and the verifier of any
 //! baker's buffers against a texture (`bake::Baker::verify`).
 
-use crate::bake::{cutoff, mmi_mesh, sampler, Texels, Triangles};
 use crate::constants::MMI_MODEL_GPU_BINARY32;
 use crate::ffi::{
     guard, mmi_result, reference, slice, slice_mut, write, Error, Result,
     MMI_ERROR_INVALID_ARGUMENT, MMI_ERROR_INVALID_ENUM, MMI_ERROR_LENGTH, MMI_ERROR_MALFORMED,
     MMI_ERROR_UNSUPPORTED,
 };
+use crate::mesh::{cutoff, mmi_mesh, sampler, Texels, Triangles};
 use micromap_index::bake::mesh::MeshTriangles;
 use micromap_index::bake::{Baker, UvTriangle};
 use micromap_index::micromap::{
@@ -378,7 +378,7 @@ pub unsafe extern "C" fn mmi_verify_with_model(
                 "mmi_verify: vertex_alpha must be NULL (as verify-bake)",
             ));
         }
-        let model = crate::bake::model(model)?;
+        let model = crate::mesh::model(model)?;
         if view.indices.is_null() {
             return Err(crate::ffi::null("buffers.indices"));
         }
