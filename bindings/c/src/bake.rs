@@ -1,15 +1,17 @@
 //! Baking meshes into API buffers owned by a handle
 //! (`bake::mesh::bake_meshes`).
 
-use crate::constants::{MMI_ALL_GEOMETRIES, MMI_LEVEL_AUTO, MMI_MODEL_GPU_BINARY32};
+use crate::constants::{
+    MMI_ALL_GEOMETRIES, MMI_DEFAULT_MAX_BYTES, MMI_LEVEL_AUTO, MMI_MODEL_GPU_BINARY32,
+};
 use crate::ffi::{
-    copy_out, guard, lend, mmi_result, null, reference, slice, write, Error, Result,
-    MMI_ERROR_BAKE, MMI_ERROR_INVALID_ARGUMENT, MMI_ERROR_INVALID_LEVEL,
+    copy_out, guard, lend, mmi_result, null, reference, slice, try_vec, write, Error, Result,
+    MMI_ERROR_INVALID_ARGUMENT, MMI_ERROR_INVALID_LEVEL, MMI_ERROR_LIMIT,
 };
-use crate::mesh::{
-    cutoff, enum_error, format, mmi_mesh, model, sampler, vertex_alphas, Texels, Triangles,
+use crate::mesh::{enum_error, format, mesh_error, mmi_mesh, model, MeshInput};
+use micromap_index::bake::mesh::{
+    bake_meshes, output_bytes_bound, LevelRule, Mesh, MeshBake, MeshOptions,
 };
-use micromap_index::bake::mesh::{bake_meshes, LevelRule, Material, Mesh, MeshBake, MeshOptions};
 use micromap_index::bake::DEFAULT_BLOCK_BUDGET;
 use micromap_index::micromap::{usage_counts_to_le_bytes, IndexWidth, UnknownPolicy};
 use micromap_index::Level;
@@ -18,9 +20,10 @@ use micromap_index::Level;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default)]
 pub struct mmi_bake_options {
-    /// A fixed level 0..=16 for every triangle, or `MMI_LEVEL_AUTO`.
+    /// A fixed level 0..=12 (`MMI_MAX_BAKE_LEVEL`) for every triangle, or
+    /// `MMI_LEVEL_AUTO`.
     pub level: u32,
-    /// With `MMI_LEVEL_AUTO`: the highest level chosen, 0..=16.
+    /// With `MMI_LEVEL_AUTO`: the highest level chosen, 0..=12.
     pub max_level: u32,
     /// `MMI_FORMAT_2_STATE` or `MMI_FORMAT_4_STATE`.
     pub format: u32,
@@ -46,6 +49,13 @@ pub struct mmi_bake_options {
     pub no_mixed_special_indices: u32,
     /// Padding, 0.
     pub reserved2: u32,
+    /// Refuse the bake (`MMI_ERROR_LIMIT`, before any micro-triangle is
+    /// baked) when its output may exceed this many bytes
+    /// (`bake::mesh::output_bytes_bound`: every triangle's micromap at its
+    /// chosen level before deduplication, records, 32-bit indices, usage
+    /// counts); 0 means `MMI_DEFAULT_MAX_BYTES` (1 GiB), as `micromap-index
+    /// bake --max-bytes`.
+    pub max_bytes: u64,
 }
 
 /// What `mmi_bake` found, over all meshes.
@@ -100,24 +110,21 @@ pub struct mmi_bake_result {
     usage: Vec<u8>,
 }
 
-fn bake_level(value: u32, what: &str) -> Result<Level> {
-    if value > 16 {
-        return Err(Error::new(
-            MMI_ERROR_INVALID_LEVEL,
-            format!("{what} {value}: expected a level 0..=16 (or MMI_LEVEL_AUTO)"),
-        ));
-    }
-    Level::new(value).map_err(|e| Error::new(MMI_ERROR_INVALID_LEVEL, e.to_string()))
+/// `value` checked by the library's one bake-level rule
+/// (`bake::bake_level`, 0..=`MAX_BAKE_LEVEL`), its words in the message.
+fn bake_level(value: u32, what: &str, or: &str) -> Result<Level> {
+    micromap_index::bake::bake_level(value)
+        .map_err(|e| Error::new(MMI_ERROR_INVALID_LEVEL, format!("{what} {value}: {e}{or}")))
 }
 
 fn options(o: &mmi_bake_options) -> Result<MeshOptions> {
     Ok(MeshOptions {
         levels: if o.level == MMI_LEVEL_AUTO {
             LevelRule::Useful {
-                max: bake_level(o.max_level, "max_level")?,
+                max: bake_level(o.max_level, "max_level", "")?,
             }
         } else {
-            LevelRule::Fixed(bake_level(o.level, "level")?)
+            LevelRule::Fixed(bake_level(o.level, "level", ", or MMI_LEVEL_AUTO")?)
         },
         format: format(o.format)?,
         unknown: match o.unknown {
@@ -159,10 +166,19 @@ fn options(o: &mmi_bake_options) -> Result<MeshOptions> {
     })
 }
 
+/// The limit on a bake's estimated output: `max_bytes`, or
+/// `MMI_DEFAULT_MAX_BYTES` for 0.
+fn max_bytes(o: &mmi_bake_options) -> u64 {
+    match o.max_bytes {
+        0 => MMI_DEFAULT_MAX_BYTES,
+        n => n,
+    }
+}
+
 /// The defaults: level `MMI_LEVEL_AUTO` up to 12, 4-state, fallback for
 /// unknowns, no byte budget, the library's block budget, the GPU binary32
-/// model, special indices mixed with records (the CLI's `micromap-index
-/// bake` defaults).
+/// model, special indices mixed with records, an output of at most
+/// `MMI_DEFAULT_MAX_BYTES` (the CLI's `micromap-index bake` defaults).
 ///
 /// # Safety
 /// `options` must be NULL or writable.
@@ -181,6 +197,7 @@ pub unsafe extern "C" fn mmi_bake_options_default(options: *mut mmi_bake_options
             reserved: 0,
             no_mixed_special_indices: 0,
             reserved2: 0,
+            max_bytes: MMI_DEFAULT_MAX_BYTES,
         };
         // SAFETY: the caller's promise about `options`.
         unsafe { write(options, value, "options") }
@@ -214,39 +231,37 @@ pub unsafe extern "C" fn mmi_bake(
                 reference(options, "options")?,
             )
         };
+        let limit = max_bytes(options);
         let options = self::options(options)?;
-        let mut texels = Vec::with_capacity(meshes.len());
-        let mut triangles = Vec::with_capacity(meshes.len());
-        let mut materials = Vec::with_capacity(meshes.len());
-        let mut alphas = Vec::with_capacity(meshes.len());
+        let mut inputs = try_vec(meshes.len(), "the meshes")?;
         for m in meshes {
             // SAFETY: the caller's promise about each mesh's pointers.
-            unsafe {
-                texels.push(Texels::new(&m.texture)?);
-                triangles.push(Triangles::new(m)?);
-                alphas.push(vertex_alphas(m)?);
-            }
-            materials.push(Material {
-                sampler: sampler(&m.material.sampler)?,
-                cutoff: cutoff(&m.material)?,
-                alpha_factor: m.material.alpha_factor,
-            });
+            inputs.push(unsafe { MeshInput::read(m) }?);
         }
-        let textures = texels
-            .iter()
-            .zip(meshes)
-            .map(|(t, m)| t.texture(m.texture.width, m.texture.height))
-            .collect::<Result<Vec<_>>>()?;
-        let library_meshes: Vec<Mesh<'_>> = (0..meshes.len())
-            .map(|i| Mesh {
-                triangles: triangles[i].mesh_triangles(),
-                texture: &*textures[i],
-                material: materials[i],
-                vertex_alpha: alphas[i].as_deref(),
-            })
-            .collect();
-        let bake = bake_meshes(&library_meshes, &options, &mut |_, _| {})
-            .map_err(|e| Error::new(MMI_ERROR_BAKE, e.to_string()))?;
+        let mut textures = try_vec(inputs.len(), "the textures")?;
+        for input in &inputs {
+            textures.push(input.texture()?);
+        }
+        let mut library_meshes: Vec<Mesh<'_>> = try_vec(inputs.len(), "the meshes")?;
+        library_meshes.extend(inputs.iter().zip(&textures).map(|(i, t)| i.mesh(&**t)));
+        // The output's size before deduplication (an upper bound), from the
+        // levels bake_meshes chooses, checked before any micro-triangle is
+        // baked, as `micromap-index bake --max-bytes` does.
+        let estimate = output_bytes_bound(&library_meshes, &options, IndexWidth::U32)
+            .map_err(|e| mesh_error(&e))?;
+        if estimate > limit {
+            return Err(Error::new(
+                MMI_ERROR_LIMIT,
+                format!(
+                    "the output may take up to {estimate} bytes (before deduplication), over \
+                     the limit of {limit} bytes; nothing baked (mmi_bake_options.max_bytes \
+                     raises the limit, a byte budget or a lower level or max_level shrinks \
+                     the output)"
+                ),
+            ));
+        }
+        let bake =
+            bake_meshes(&library_meshes, &options, &mut |_, _| {}).map_err(|e| mesh_error(&e))?;
         let handle = Box::new(mmi_bake_result {
             records: bake.buffers.records_le_bytes(),
             usage: usage_counts_to_le_bytes(bake.buffers.usage_counts()),
@@ -403,11 +418,17 @@ pub unsafe extern "C" fn mmi_bake_result_indices(
         };
         let mut bytes = Vec::new();
         for g in geometries {
-            bytes.extend(
-                buffers
-                    .index_bytes(g, width)
-                    .map_err(|e| Error::new(MMI_ERROR_INVALID_ARGUMENT, e.to_string()))?,
-            );
+            let geometry = buffers
+                .index_bytes(g, width)
+                .map_err(|e| Error::new(MMI_ERROR_INVALID_ARGUMENT, e.to_string()))?;
+            if bytes.is_empty() {
+                bytes = geometry;
+                continue;
+            }
+            bytes.try_reserve_exact(geometry.len()).map_err(|_| {
+                crate::ffi::out_of_memory(bytes.len() + geometry.len(), 1, "the index buffer")
+            })?;
+            bytes.extend(geometry);
         }
         // SAFETY: the caller's promises about `out` and `len`.
         unsafe { copy_out(&bytes, out, capacity, len, "the index buffer") }

@@ -40,8 +40,9 @@ pub use bake::{
 pub use ffi::{
     mmi_last_error_message, mmi_result, mmi_version, mmi_version_string, MMI_ERROR_BAKE,
     MMI_ERROR_BUFFER_TOO_SMALL, MMI_ERROR_INVALID_ARGUMENT, MMI_ERROR_INVALID_ENUM,
-    MMI_ERROR_INVALID_LEVEL, MMI_ERROR_LENGTH, MMI_ERROR_MALFORMED, MMI_ERROR_NULL_POINTER,
-    MMI_ERROR_PANIC, MMI_ERROR_UNSUPPORTED, MMI_OK,
+    MMI_ERROR_INVALID_LEVEL, MMI_ERROR_LENGTH, MMI_ERROR_LIMIT, MMI_ERROR_MALFORMED,
+    MMI_ERROR_NULL_POINTER, MMI_ERROR_OUT_OF_MEMORY, MMI_ERROR_PANIC, MMI_ERROR_UNSUPPORTED,
+    MMI_OK,
 };
 pub use index::{
     mmi_index_f32, mmi_index_f32_batch, mmi_inverse_micro_triangle, mmi_micro_triangle,
@@ -98,6 +99,14 @@ pub mod constants {
     /// `mmi_bake_options::level`: each triangle's useful level (the paper's
     /// eq. 1), capped at `max_level`.
     pub const MMI_LEVEL_AUTO: u32 = 0xFFFF_FFFF;
+    /// The highest `mmi_bake_options::level` and `max_level`: the
+    /// library's `bake::MAX_BAKE_LEVEL`, the highest DXR allows and Vulkan
+    /// devices report.
+    pub const MMI_MAX_BAKE_LEVEL: u32 = 12;
+    /// `mmi_bake_options::max_bytes` 0 means this limit on a bake's
+    /// estimated output: 1 GiB (`micromap-index bake --max-bytes`'s
+    /// default).
+    pub const MMI_DEFAULT_MAX_BYTES: u64 = 1_073_741_824;
     /// `mmi_bake_options::model`: known states hold for what a GPU computes
     /// in binary32 (the default; `docs/bake.md`).
     pub const MMI_MODEL_GPU_BINARY32: u32 = 0;

@@ -8,15 +8,15 @@ use crate::constants::{
     MMI_TEXEL_U16, MMI_TEXEL_U8,
 };
 use crate::ffi::{
-    guard, mmi_result, slice, write, Error, Result, MMI_ERROR_INVALID_ARGUMENT,
-    MMI_ERROR_INVALID_ENUM, MMI_ERROR_LENGTH,
+    guard, mmi_result, slice, try_vec, write, Error, Result, MMI_ERROR_BAKE,
+    MMI_ERROR_INVALID_ARGUMENT, MMI_ERROR_INVALID_ENUM, MMI_ERROR_LENGTH, MMI_ERROR_OUT_OF_MEMORY,
 };
-use micromap_index::bake::mesh::MeshTriangles;
+use micromap_index::bake::mesh::{Material, Mesh, MeshBakeError, MeshTriangles};
 use micromap_index::bake::{
-    AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Model, Sampler, Texel,
-    Unorm16Texture, Unorm8Texture, UvTriangle,
+    AddressMode, AlphaTexture, BakeError, Comparison, Cutoff, F32Texture, Filter, Model, Sampler,
+    Texel, TextureError, Unorm16Texture, Unorm8Texture, UvTriangle,
 };
-use micromap_index::micromap::Format;
+use micromap_index::micromap::{Format, MicromapError};
 use std::borrow::Cow;
 
 /// An alpha texture in the caller's memory.
@@ -119,6 +119,9 @@ impl FromBytes for f32 {
     }
 }
 
+/// The copy, when there is one, is the only memory this takes
+/// (`MMI_ERROR_OUT_OF_MEMORY` when it cannot be had).
+///
 /// # Safety
 /// `t.texels` must be NULL or point to `row_pitch * (height - 1) + width *
 /// size_of::<T>()` readable bytes, unchanged during the call.
@@ -145,18 +148,20 @@ unsafe fn texels<'a, T: FromBytes>(t: &mmi_texture) -> Result<Cow<'a, [T]>> {
         .checked_mul(height - 1)
         .and_then(|b| b.checked_add(row))
         .ok_or_else(|| Error::new(MMI_ERROR_LENGTH, "the texture does not fit in memory"))?;
+    // No overflow: `total` covers at least `height` rows of `width` texels.
+    let count = width * height;
     let ptr = t.texels.cast::<u8>();
     if pitch == row && ptr.cast::<T>().is_aligned() {
         // SAFETY: tightly packed and aligned: `width * height` texels of
         // `T` (every bit pattern is a valid u8, u16 or f32), the caller's
         // promise about the memory.
         return Ok(Cow::Borrowed(unsafe {
-            slice(ptr.cast::<T>(), width * height, "texture.texels")
+            slice(ptr.cast::<T>(), count, "texture.texels")
         }?));
     }
     // SAFETY: the caller promises `total` readable bytes.
     let bytes = unsafe { slice(ptr, total, "texture.texels") }?;
-    let mut out = Vec::with_capacity(width * height);
+    let mut out = try_vec(count, "a copy of the texture's rows")?;
     for y in 0..height {
         let start = y * pitch;
         out.extend(bytes[start..start + row].chunks_exact(size).map(T::from_ne));
@@ -165,7 +170,7 @@ unsafe fn texels<'a, T: FromBytes>(t: &mmi_texture) -> Result<Cow<'a, [T]>> {
 }
 
 /// A texture's texels, owned or borrowed, by format.
-pub(crate) enum Texels<'a> {
+enum Texels<'a> {
     U8(Cow<'a, [u8]>),
     U16(Cow<'a, [u16]>),
     F32(Cow<'a, [f32]>),
@@ -174,7 +179,7 @@ pub(crate) enum Texels<'a> {
 impl<'a> Texels<'a> {
     /// # Safety
     /// As `texels`.
-    pub(crate) unsafe fn new(t: &mmi_texture) -> Result<Texels<'a>> {
+    unsafe fn new(t: &mmi_texture) -> Result<Texels<'a>> {
         // SAFETY: forwarded from the caller.
         unsafe {
             Ok(match t.format {
@@ -192,7 +197,7 @@ impl<'a> Texels<'a> {
     }
 
     /// The library's view of the texels.
-    pub(crate) fn texture(&self, width: u32, height: u32) -> Result<Box<dyn AlphaTexture + '_>> {
+    fn texture(&self, width: u32, height: u32) -> Result<Box<dyn AlphaTexture + '_>> {
         let refused = |e: micromap_index::bake::TextureError| {
             Error::new(MMI_ERROR_INVALID_ARGUMENT, e.to_string())
         };
@@ -218,7 +223,7 @@ fn address(value: u32, what: &str) -> Result<AddressMode> {
         .ok_or_else(|| enum_error(what, value, "an MMI_ADDRESS_* value (0..=4)"))
 }
 
-pub(crate) fn sampler(s: &mmi_sampler) -> Result<Sampler> {
+fn sampler(s: &mmi_sampler) -> Result<Sampler> {
     Ok(Sampler {
         filter: match s.filter {
             0 => Filter::Nearest,
@@ -231,7 +236,7 @@ pub(crate) fn sampler(s: &mmi_sampler) -> Result<Sampler> {
     })
 }
 
-pub(crate) fn cutoff(m: &mmi_material) -> Result<Cutoff> {
+fn cutoff(m: &mmi_material) -> Result<Cutoff> {
     let comparison = match m.comparison {
         MMI_OPAQUE_AT_LEAST => Comparison::AtLeast,
         MMI_OPAQUE_ABOVE => Comparison::Above,
@@ -268,7 +273,7 @@ pub(crate) fn model(value: u32) -> Result<Model> {
 }
 
 /// A mesh's triangles as the library takes them.
-pub(crate) enum Triangles<'a> {
+enum Triangles<'a> {
     /// Gathered from consecutive vertices.
     Uv(Vec<UvTriangle>),
     /// Indexed, handed to the library as they are.
@@ -283,7 +288,7 @@ impl<'a> Triangles<'a> {
     /// # Safety
     /// `m.uvs` must point to `vertex_count` vertices of `uv_stride` bytes
     /// (the last one at least 8), `m.indices` to `index_count` `uint32_t`.
-    pub(crate) unsafe fn new(m: &mmi_mesh) -> Result<Triangles<'a>> {
+    unsafe fn new(m: &mmi_mesh) -> Result<Triangles<'a>> {
         let stride_bytes = if m.uv_stride == 0 { 8 } else { m.uv_stride };
         if stride_bytes < 8 || stride_bytes % 4 != 0 {
             return Err(Error::new(
@@ -312,9 +317,10 @@ impl<'a> Triangles<'a> {
                 ));
             }
             let vertex = |i: usize| [uvs[i * stride], uvs[i * stride + 1]];
-            let triangles = (0..m.vertex_count / 3)
-                .map(|t| [vertex(3 * t), vertex(3 * t + 1), vertex(3 * t + 2)])
-                .collect();
+            let count = m.vertex_count / 3;
+            let mut triangles = try_vec(count, "the triangles gathered from the UVs")?;
+            triangles
+                .extend((0..count).map(|t| [vertex(3 * t), vertex(3 * t + 1), vertex(3 * t + 2)]));
             return Ok(Triangles::Uv(triangles));
         }
         if m.index_count % 3 != 0 {
@@ -332,7 +338,7 @@ impl<'a> Triangles<'a> {
         })
     }
 
-    pub(crate) fn mesh_triangles(&self) -> MeshTriangles<'_> {
+    fn mesh_triangles(&self) -> MeshTriangles<'_> {
         match self {
             Triangles::Uv(t) => MeshTriangles::Uv(t),
             Triangles::Indexed {
@@ -346,6 +352,85 @@ impl<'a> Triangles<'a> {
             },
         }
     }
+}
+
+/// One `mmi_mesh` read and checked, in this order: texels, triangles,
+/// vertex alpha, sampler, cutoff. What had to be copied (texels at a
+/// pitch or misaligned, triangles without indices, the vertex alphas
+/// gathered per triangle) is owned here, each copy allocated fallibly; the
+/// rest is borrowed from the caller.
+pub(crate) struct MeshInput<'a> {
+    texels: Texels<'a>,
+    size: (u32, u32),
+    triangles: Triangles<'a>,
+    vertex_alpha: Option<Vec<[f32; 3]>>,
+    /// The sampler, cutoff and alpha factor.
+    pub(crate) material: Material,
+}
+
+impl<'a> MeshInput<'a> {
+    /// # Safety
+    /// `m`'s pointers must satisfy `mmi_mesh`'s description and stay
+    /// unchanged for `'a`.
+    pub(crate) unsafe fn read(m: &mmi_mesh) -> Result<MeshInput<'a>> {
+        // SAFETY: forwarded from the caller.
+        let (texels, triangles, vertex_alpha) = unsafe {
+            (
+                Texels::new(&m.texture)?,
+                Triangles::new(m)?,
+                vertex_alphas(m)?,
+            )
+        };
+        let material = Material {
+            sampler: sampler(&m.material.sampler)?,
+            cutoff: cutoff(&m.material)?,
+            alpha_factor: m.material.alpha_factor,
+        };
+        Ok(MeshInput {
+            texels,
+            size: (m.texture.width, m.texture.height),
+            triangles,
+            vertex_alpha,
+            material,
+        })
+    }
+
+    /// The library's view of the texels (`MMI_ERROR_INVALID_ARGUMENT` for
+    /// a texture it refuses, e.g. of `2^32` texels or more).
+    pub(crate) fn texture(&self) -> Result<Box<dyn AlphaTexture + '_>> {
+        self.texels.texture(self.size.0, self.size.1)
+    }
+
+    /// The library's mesh over `texture` (from [`MeshInput::texture`]).
+    pub(crate) fn mesh<'b>(&'b self, texture: &'b dyn AlphaTexture) -> Mesh<'b> {
+        Mesh {
+            triangles: self.triangles.mesh_triangles(),
+            texture,
+            material: self.material,
+            vertex_alpha: self.vertex_alpha.as_deref(),
+        }
+    }
+}
+
+/// The code of the library's refusal of a mesh or of its bake, shared by
+/// `mmi_bake` and `mmi_verify`: memory that could not be had is
+/// `MMI_ERROR_OUT_OF_MEMORY`, a texture, cutoff or border alpha the baker
+/// refuses (NaN) `MMI_ERROR_INVALID_ARGUMENT`, everything else (an index
+/// naming no vertex, a vertex alpha outside `[0, 1]`, buffers past the
+/// API's limits) `MMI_ERROR_BAKE`.
+pub(crate) fn mesh_error(e: &MeshBakeError) -> Error {
+    let code = match e {
+        MeshBakeError::Texture {
+            error: TextureError::AllocationFailed { .. },
+            ..
+        }
+        | MeshBakeError::Bake(BakeError::Micromap(MicromapError::AllocationFailed { .. })) => {
+            MMI_ERROR_OUT_OF_MEMORY
+        }
+        MeshBakeError::Texture { .. } => MMI_ERROR_INVALID_ARGUMENT,
+        _ => MMI_ERROR_BAKE,
+    };
+    Error::new(code, e.to_string())
 }
 
 /// The default material: nearest filtering, repeat on both axes, border
@@ -377,7 +462,7 @@ pub unsafe extern "C" fn mmi_material_default(material: *mut mmi_material) -> mm
 /// `m.vertex_alpha` must be NULL or point to `vertex_count` vertices of
 /// `vertex_alpha_stride` bytes (the last one at least 4); `m.indices` to
 /// `index_count` `uint32_t`.
-pub(crate) unsafe fn vertex_alphas(m: &mmi_mesh) -> Result<Option<Vec<[f32; 3]>>> {
+unsafe fn vertex_alphas(m: &mmi_mesh) -> Result<Option<Vec<[f32; 3]>>> {
     if m.vertex_alpha.is_null() {
         return Ok(None);
     }
@@ -412,16 +497,22 @@ pub(crate) unsafe fn vertex_alphas(m: &mmi_mesh) -> Result<Option<Vec<[f32; 3]>>
         }
         Ok(alphas[i * stride])
     };
-    let corners: Vec<usize> = if m.indices.is_null() {
-        (0..m.vertex_count - m.vertex_count % 3).collect()
+    let indices = if m.indices.is_null() {
+        None
     } else {
         // SAFETY: the caller's promise about `indices`.
-        let indices = unsafe { slice(m.indices, m.index_count, "indices") }?;
-        indices.iter().map(|&i| i as usize).collect()
+        Some(unsafe { slice(m.indices, m.index_count, "indices") }?)
     };
-    corners
-        .chunks_exact(3)
-        .map(|c| Ok([alpha(c[0])?, alpha(c[1])?, alpha(c[2])?]))
-        .collect::<Result<Vec<_>>>()
-        .map(Some)
+    // Corner `k`'s vertex: `indices[k]`, or `k` without indices.
+    let corner = |k: usize| indices.map_or(k, |i| i[k] as usize);
+    let count = indices.map_or(m.vertex_count / 3, |i| i.len() / 3);
+    let mut out = try_vec(count, "the vertex alphas of the triangles")?;
+    for t in 0..count {
+        out.push([
+            alpha(corner(3 * t))?,
+            alpha(corner(3 * t + 1))?,
+            alpha(corner(3 * t + 2))?,
+        ]);
+    }
+    Ok(Some(out))
 }
