@@ -14,7 +14,10 @@
  *   mmi_last_error_message() then says why (per thread).
  * - Every entry point is total: NULL pointers, wrong lengths, enum values
  *   naming no case and levels out of range return their codes. A Rust
- *   panic never crosses the boundary (MMI_ERROR_PANIC).
+ *   panic never crosses the boundary (MMI_ERROR_PANIC). Memory sized by
+ *   the input that cannot be had is MMI_ERROR_OUT_OF_MEMORY, and a bake
+ *   whose output may pass mmi_bake_options.max_bytes MMI_ERROR_LIMIT;
+ *   docs/c.md ("Limits") lists every limit and how to raise it.
  * - Enums are uint32_t fields checked on entry (the MMI_* constants).
  * - Handles (mmi_bake_result, mmi_tree) belong to the caller and are freed
  *   with their *_free function; memory lent by a handle's accessors stays
@@ -583,8 +586,9 @@ mmi_result mmi_read_options_default(mmi_read_options *options);
  * counts matching the records, indices naming records or special, at the
  * view's strides): MMI_OK, or MMI_ERROR_MALFORMED with the first problem
  * as the message; MMI_ERROR_INVALID_ARGUMENT for a stride the APIs do not
- * allow (checked first). options may be NULL (the defaults); info may be
- * NULL. */
+ * allow (checked first); MMI_ERROR_INVALID_ENUM for an index width other
+ * than 8, 16, 32; MMI_ERROR_OUT_OF_MEMORY when a decoded micromap cannot
+ * be allocated. options may be NULL (the defaults); info may be NULL. */
 mmi_result mmi_validate_buffers(const mmi_buffers_view *buffers, const mmi_read_options *options,
                                 mmi_buffers_info *info);
 

@@ -1,5 +1,7 @@
 //! Baking meshes into API buffers owned by a handle
-//! (`bake::mesh::bake_meshes`).
+//! (`bake::mesh::bake_meshes`): the options (levels by the library's
+//! `bake_level`, the output limit `max_bytes`), the bake, and the result's
+//! accessors.
 
 use crate::constants::{
     MMI_ALL_GEOMETRIES, MMI_DEFAULT_MAX_BYTES, MMI_LEVEL_AUTO, MMI_MODEL_GPU_BINARY32,
@@ -208,7 +210,9 @@ pub unsafe extern "C" fn mmi_bake_options_default(options: *mut mmi_bake_options
 /// geometry per mesh, micromaps deduplicated across all) into a new
 /// handle written to `*result`; free it with `mmi_bake_result_free`. The
 /// same inputs give the same bytes as `micromap-index bake`. On an error
-/// `*result` is set to NULL.
+/// `*result` is set to NULL. The order: options, then each mesh
+/// (`MeshInput::read`), the output estimate against `max_bytes`
+/// (`MMI_ERROR_LIMIT`), the bake; the codes are the header's.
 ///
 /// # Safety
 /// `meshes` must point to `mesh_count` meshes whose pointers satisfy

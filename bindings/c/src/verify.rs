@@ -255,7 +255,9 @@ pub unsafe extern "C" fn mmi_read_options_default(options: *mut mmi_read_options
 /// bounds and disjoint unless allowed, usage counts matching the records,
 /// indices naming records or special, at the view's strides): `MMI_OK`,
 /// or `MMI_ERROR_MALFORMED` with the first problem as the message;
-/// `MMI_ERROR_INVALID_ARGUMENT` for a stride the APIs do not allow.
+/// `MMI_ERROR_INVALID_ARGUMENT` for a stride the APIs do not allow,
+/// `MMI_ERROR_INVALID_ENUM` for an index width other than 8, 16, 32,
+/// `MMI_ERROR_OUT_OF_MEMORY` when a decoded micromap cannot be allocated.
 /// `options` may be NULL (the defaults); `info` may be NULL.
 ///
 /// # Safety
