@@ -112,6 +112,9 @@ pub struct mmi_bake_result {
     usage: Vec<u8>,
 }
 
+// The header's `MMI_MAX_BAKE_LEVEL` is the library's range.
+const _: () = assert!(crate::constants::MMI_MAX_BAKE_LEVEL == micromap_index::bake::MAX_BAKE_LEVEL);
+
 /// `value` checked by the library's one bake-level rule
 /// (`bake::bake_level`, 0..=`MAX_BAKE_LEVEL`), its words in the message.
 fn bake_level(value: u32, what: &str, or: &str) -> Result<Level> {
