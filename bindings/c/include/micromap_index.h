@@ -14,7 +14,10 @@
  *   mmi_last_error_message() then says why (per thread).
  * - Every entry point is total: NULL pointers, wrong lengths, enum values
  *   naming no case and levels out of range return their codes. A Rust
- *   panic never crosses the boundary (MMI_ERROR_PANIC).
+ *   panic never crosses the boundary (MMI_ERROR_PANIC). Memory sized by
+ *   the input that cannot be had is MMI_ERROR_OUT_OF_MEMORY, and a bake
+ *   whose output may pass mmi_bake_options.max_bytes MMI_ERROR_LIMIT;
+ *   docs/c.md ("Limits") lists every limit and how to raise it.
  * - Enums are uint32_t fields checked on entry (the MMI_* constants).
  * - Handles (mmi_bake_result, mmi_tree) belong to the caller and are freed
  *   with their *_free function; memory lent by a handle's accessors stays
@@ -66,18 +69,29 @@ typedef int32_t mmi_result;
 /** The caller's output buffer is too short; the required length was
  * written to *len. */
 #define MMI_ERROR_BUFFER_TOO_SMALL 5
-/** A value out of range: an index past the end, a NaN cutoff, an empty
- * texture, a stride the function does not allow (UV, vertex alpha, record,
- * index), an index width the buffers cannot use. */
+/** A value out of range: an index past the end, a NaN cutoff or border
+ * alpha, an empty texture, a stride the function does not allow (UV,
+ * vertex alpha, record, index), an index width the buffers cannot use. */
 #define MMI_ERROR_INVALID_ARGUMENT 6
 /** Bytes refused by the buffer validator or the tree reader. */
 #define MMI_ERROR_MALFORMED 7
-/** The bake failed in the library (the message says why). */
+/** The library refused the mesh or its bake (an index naming no vertex,
+ * a vertex alpha outside [0, 1], buffers past the APIs' limits; the
+ * message says why). */
 #define MMI_ERROR_BAKE 8
 /** A combination this version does not support. */
 #define MMI_ERROR_UNSUPPORTED 9
 /** A Rust panic was caught at the boundary (a bug: please report it). */
 #define MMI_ERROR_PANIC 10
+/** Memory sized by the input (a copy of the texture's rows, the baker's
+ * tables, a decoded micromap, gathered triangles) could not be had: the
+ * allocator refused or the size does not fit the address space. Nothing
+ * was kept; the process goes on. */
+#define MMI_ERROR_OUT_OF_MEMORY 11
+/** The bake's output may exceed mmi_bake_options.max_bytes; nothing was
+ * baked (raise max_bytes, or shrink the output with a byte budget or a
+ * lower level). */
+#define MMI_ERROR_LIMIT 12
 
 /** The message of the last failed call on this thread ("" after a call
  * that succeeded). Valid until the next mmi_ call on this thread; never
@@ -138,6 +152,12 @@ const char *mmi_version_string(void);
 /** mmi_bake_options.level: each triangle's useful level (edges of at most
  * one texel, the paper's eq. 1), capped at max_level. */
 #define MMI_LEVEL_AUTO 0xFFFFFFFFu
+/** The highest mmi_bake_options.level and max_level: 12, the highest DXR
+ * allows and Vulkan devices report (the CLI's and Python's range too). */
+#define MMI_MAX_BAKE_LEVEL 12
+/** mmi_bake_options.max_bytes == 0 means this limit on a bake's estimated
+ * output: 1 GiB (micromap-index bake --max-bytes's default). */
+#define MMI_DEFAULT_MAX_BYTES 1073741824
 
 /** mmi_bake_options.model, mmi_verify_with_model: known states hold for
  * what a GPU computes in binary32 (the default; docs/bake.md). */
@@ -278,9 +298,11 @@ typedef struct mmi_mesh {
 
 /** How mmi_bake bakes; start from mmi_bake_options_default. */
 typedef struct mmi_bake_options {
-    /** A fixed level 0..=16 for every triangle, or MMI_LEVEL_AUTO. */
+    /** A fixed level 0..=MMI_MAX_BAKE_LEVEL (12) for every triangle, or
+     * MMI_LEVEL_AUTO; above 12 is MMI_ERROR_INVALID_LEVEL (earlier builds
+     * took 0..=16: the range is now the CLI's and Python's). */
     uint32_t level;
-    /** With MMI_LEVEL_AUTO: the highest level chosen, 0..=16. */
+    /** With MMI_LEVEL_AUTO: the highest level chosen, 0..=12. */
     uint32_t max_level;
     /** MMI_FORMAT_2_STATE or MMI_FORMAT_4_STATE. */
     uint32_t format;
@@ -306,6 +328,12 @@ typedef struct mmi_bake_options {
     uint32_t no_mixed_special_indices;
     /** Padding, 0. */
     uint32_t reserved2;
+    /** Refuse the bake with MMI_ERROR_LIMIT, before any micro-triangle is
+     * baked, when its output may exceed this many bytes (an upper bound:
+     * every triangle's micromap at its chosen level before deduplication,
+     * the records, 32-bit indices and usage counts). 0 means
+     * MMI_DEFAULT_MAX_BYTES (1 GiB), as micromap-index bake --max-bytes. */
+    uint64_t max_bytes;
 } mmi_bake_options;
 
 /** What mmi_bake found over all meshes. */
@@ -355,7 +383,8 @@ typedef struct mmi_bake_result mmi_bake_result;
 
 /** The defaults: MMI_LEVEL_AUTO up to 12, 4-state, fallback for unknowns,
  * no byte budget, the library's block budget, the GPU binary32 model,
- * special indices mixed with records (micromap-index bake's defaults). */
+ * special indices mixed with records, max_bytes MMI_DEFAULT_MAX_BYTES
+ * (micromap-index bake's defaults). */
 mmi_result mmi_bake_options_default(mmi_bake_options *options);
 
 /** The default material: nearest, repeat on both axes, border alpha 0,
@@ -365,10 +394,15 @@ mmi_result mmi_material_default(mmi_material *material);
 /** Bakes mesh_count meshes exactly (one geometry per mesh, micromaps
  * deduplicated across all) into a new handle written to *result (NULL on
  * an error). The same inputs give the same bytes as `micromap-index bake`.
- * Errors: MMI_ERROR_NULL_POINTER, _INVALID_LEVEL, _INVALID_ENUM, _LENGTH
- * (a pitch below a row, a vertex or index count not a multiple of 3),
- * _INVALID_ARGUMENT (empty texture, NaN cutoff or border, bad stride),
- * _BAKE (an index naming no vertex, the library's refusals). */
+ * Errors: MMI_ERROR_NULL_POINTER; _INVALID_LEVEL (level or max_level above
+ * MMI_MAX_BAKE_LEVEL); _INVALID_ENUM; _LENGTH (a pitch below a row, a
+ * vertex or index count not a multiple of 3, a misaligned array);
+ * _INVALID_ARGUMENT (empty texture, a texture of 2^32 texels or more, NaN
+ * cutoff or border alpha, bad stride, an index naming no vertex when
+ * vertex_alpha is given); _LIMIT (the output may exceed max_bytes);
+ * _OUT_OF_MEMORY (a copy of the input or the baker's tables could not be
+ * allocated); _BAKE (an index naming no vertex, a vertex alpha outside
+ * [0, 1], the library's other refusals). */
 mmi_result mmi_bake(const mmi_mesh *meshes, size_t mesh_count, const mmi_bake_options *options,
                     mmi_bake_result **result);
 
@@ -552,8 +586,9 @@ mmi_result mmi_read_options_default(mmi_read_options *options);
  * counts matching the records, indices naming records or special, at the
  * view's strides): MMI_OK, or MMI_ERROR_MALFORMED with the first problem
  * as the message; MMI_ERROR_INVALID_ARGUMENT for a stride the APIs do not
- * allow (checked first). options may be NULL (the defaults); info may be
- * NULL. */
+ * allow (checked first); MMI_ERROR_INVALID_ENUM for an index width other
+ * than 8, 16, 32; MMI_ERROR_OUT_OF_MEMORY when a decoded micromap cannot
+ * be allocated. options may be NULL (the defaults); info may be NULL. */
 mmi_result mmi_validate_buffers(const mmi_buffers_view *buffers, const mmi_read_options *options,
                                 mmi_buffers_info *info);
 
@@ -563,17 +598,23 @@ mmi_result mmi_verify(const mmi_mesh *mesh, const mmi_buffers_view *buffers,
                       size_t witness_capacity);
 
 /** Checks any baker's buffers (data, records and one index per triangle of
- * mesh) against mesh's texture, sampler and cutoff under model
- * (MMI_MODEL_*), as `micromap-index verify-bake --model` does: every known
- * micro-triangle whose closed area can read a texel of the other class is
- * a contradiction. Records may share data. The first witness_capacity
- * contradictions are written to witnesses (NULL allowed with capacity 0);
- * report counts them all. MMI_OK whether or not contradictions were found;
- * MMI_ERROR_MALFORMED for buffers the validator refuses;
- * MMI_ERROR_INVALID_ARGUMENT for a stride the APIs do not allow
- * (mmi_buffers_view); MMI_ERROR_LENGTH when the index count is not the triangle count; MMI_ERROR_INVALID_ENUM
- * for an unknown model; MMI_ERROR_UNSUPPORTED for an alpha factor other
- * than 1 or a vertex alpha. */
+ * mesh) against mesh under model (MMI_MODEL_*), as `micromap-index
+ * verify-bake --model` does: texture, sampler, cutoff, alpha factor and
+ * vertex alpha as mmi_bake models them. Every known micro-triangle whose
+ * closed area can read a texel of the other class is a contradiction.
+ * Records may share data. The first witness_capacity contradictions are
+ * written to witnesses (NULL allowed with capacity 0); report counts them
+ * all, in memory that does not grow with their number (a witness's
+ * texel_alpha is the texel's as the texture holds it, before the alpha
+ * factor and vertex alpha). MMI_OK whether or not contradictions were
+ * found; MMI_ERROR_NULL_POINTER (mesh, buffers, buffers->indices, report,
+ * or witnesses with a capacity); MMI_ERROR_MALFORMED for buffers the
+ * validator refuses; MMI_ERROR_INVALID_ARGUMENT for a stride the APIs do
+ * not allow (mmi_buffers_view); MMI_ERROR_LENGTH when the index count is
+ * not the triangle count; MMI_ERROR_INVALID_ENUM for an unknown model; a
+ * mesh mmi_bake refuses gets mmi_bake's code; MMI_ERROR_OUT_OF_MEMORY when
+ * memory sized by the input (a decoded micromap, a copy of the texture)
+ * could not be had. */
 mmi_result mmi_verify_with_model(const mmi_mesh *mesh, const mmi_buffers_view *buffers,
                                  uint32_t model, mmi_verify_report *report,
                                  mmi_contradiction *witnesses, size_t witness_capacity);

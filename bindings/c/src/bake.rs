@@ -1,110 +1,31 @@
 //! Baking meshes into API buffers owned by a handle
-//! (`bake::mesh::bake_meshes`).
+//! (`bake::mesh::bake_meshes`): the options (levels by the library's
+//! `bake_level`, the output limit `max_bytes`), the bake, and the result's
+//! accessors.
 
 use crate::constants::{
-    MMI_ALL_GEOMETRIES, MMI_LEVEL_AUTO, MMI_MODEL_EXACT, MMI_MODEL_GPU_BINARY32, MMI_OPAQUE_ABOVE,
-    MMI_OPAQUE_AT_LEAST, MMI_TEXEL_F32, MMI_TEXEL_U16, MMI_TEXEL_U8,
+    MMI_ALL_GEOMETRIES, MMI_DEFAULT_MAX_BYTES, MMI_LEVEL_AUTO, MMI_MODEL_GPU_BINARY32,
 };
 use crate::ffi::{
-    copy_out, guard, lend, mmi_result, null, reference, slice, write, Error, Result,
-    MMI_ERROR_BAKE, MMI_ERROR_INVALID_ARGUMENT, MMI_ERROR_INVALID_ENUM, MMI_ERROR_INVALID_LEVEL,
-    MMI_ERROR_LENGTH,
+    copy_out, guard, lend, mmi_result, null, reference, slice, try_vec, write, Error, Result,
+    MMI_ERROR_INVALID_ARGUMENT, MMI_ERROR_INVALID_LEVEL, MMI_ERROR_LIMIT,
 };
-use crate::vertex_alpha::vertex_alphas;
+use crate::mesh::{enum_error, format, mesh_error, mmi_mesh, model, MeshInput};
 use micromap_index::bake::mesh::{
-    bake_meshes, LevelRule, Material, Mesh, MeshBake, MeshOptions, MeshTriangles,
+    bake_meshes, output_bytes_bound, LevelRule, Mesh, MeshBake, MeshOptions,
 };
-use micromap_index::bake::{
-    AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Model, Sampler, Texel,
-    Unorm16Texture, Unorm8Texture, UvTriangle, DEFAULT_BLOCK_BUDGET,
-};
-use micromap_index::micromap::{usage_counts_to_le_bytes, Format, IndexWidth, UnknownPolicy};
+use micromap_index::bake::DEFAULT_BLOCK_BUDGET;
+use micromap_index::micromap::{usage_counts_to_le_bytes, IndexWidth, UnknownPolicy};
 use micromap_index::Level;
-use std::borrow::Cow;
-
-/// An alpha texture in the caller's memory.
-#[repr(C)]
-#[derive(Clone, Copy, Debug)]
-pub struct mmi_texture {
-    /// Row 0 (the image's top row, `v = 0`) first.
-    pub texels: *const core::ffi::c_void,
-    /// Texels per row, at least 1.
-    pub width: u32,
-    /// Rows, at least 1.
-    pub height: u32,
-    /// Bytes from one row to the next (at least `width` texels); 0 means
-    /// tightly packed.
-    pub row_pitch: usize,
-    /// `MMI_TEXEL_U8`, `MMI_TEXEL_U16` (native endian) or `MMI_TEXEL_F32`.
-    pub format: u32,
-}
-
-/// How the runtime samples the texture.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default)]
-pub struct mmi_sampler {
-    /// `MMI_FILTER_NEAREST` or `MMI_FILTER_LINEAR`.
-    pub filter: u32,
-    /// `MMI_ADDRESS_*` along u.
-    pub address_u: u32,
-    /// `MMI_ADDRESS_*` along v.
-    pub address_v: u32,
-    /// The alpha read outside the texture under clamp-to-border.
-    pub border_alpha: f32,
-}
-
-/// How a texture is alpha-tested.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default)]
-pub struct mmi_material {
-    /// The sampler.
-    pub sampler: mmi_sampler,
-    /// The alpha cutoff (not NaN).
-    pub cutoff: f32,
-    /// `MMI_OPAQUE_AT_LEAST` (`alpha >= cutoff`) or `MMI_OPAQUE_ABOVE`.
-    pub comparison: u32,
-    /// Multiplies every texel's alpha before the cutoff (glTF's
-    /// `baseColorFactor[3]`; 1 for none).
-    pub alpha_factor: f32,
-}
-
-/// One mesh: a texture, its material, and triangles in UV space.
-#[repr(C)]
-#[derive(Clone, Copy, Debug)]
-pub struct mmi_mesh {
-    /// The alpha texture.
-    pub texture: mmi_texture,
-    /// Sampler, cutoff and alpha factor.
-    pub material: mmi_material,
-    /// Vertex `i`'s `(u, v)` are the two floats at byte
-    /// `i * uv_stride` (4-byte aligned).
-    pub uvs: *const f32,
-    /// The number of vertices at `uvs`.
-    pub vertex_count: usize,
-    /// Bytes from one vertex to the next: a multiple of 4, at least 8; 0
-    /// means 8 (tightly packed pairs).
-    pub uv_stride: usize,
-    /// Three vertex indices per triangle, or NULL: then vertices `3t`,
-    /// `3t + 1`, `3t + 2` are triangle `t`.
-    pub indices: *const u32,
-    /// The number of indices (a multiple of 3); ignored when `indices` is
-    /// NULL.
-    pub index_count: usize,
-    /// Vertex `i`'s alpha (glTF's `COLOR_0` alpha, in `[0, 1]`) is the
-    /// float at byte `i * vertex_alpha_stride` (4-byte aligned), multiplied
-    /// into the sampled alpha as glTF renderers do; NULL: alpha 1.
-    pub vertex_alpha: *const f32,
-    /// Bytes from one vertex alpha to the next: a multiple of 4; 0 means 4.
-    pub vertex_alpha_stride: usize,
-}
 
 /// How `mmi_bake` bakes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default)]
 pub struct mmi_bake_options {
-    /// A fixed level 0..=16 for every triangle, or `MMI_LEVEL_AUTO`.
+    /// A fixed level 0..=12 (`MMI_MAX_BAKE_LEVEL`) for every triangle, or
+    /// `MMI_LEVEL_AUTO`.
     pub level: u32,
-    /// With `MMI_LEVEL_AUTO`: the highest level chosen, 0..=16.
+    /// With `MMI_LEVEL_AUTO`: the highest level chosen, 0..=12.
     pub max_level: u32,
     /// `MMI_FORMAT_2_STATE` or `MMI_FORMAT_4_STATE`.
     pub format: u32,
@@ -130,6 +51,13 @@ pub struct mmi_bake_options {
     pub no_mixed_special_indices: u32,
     /// Padding, 0.
     pub reserved2: u32,
+    /// Refuse the bake (`MMI_ERROR_LIMIT`, before any micro-triangle is
+    /// baked) when its output may exceed this many bytes
+    /// (`bake::mesh::output_bytes_bound`: every triangle's micromap at its
+    /// chosen level before deduplication, records, 32-bit indices, usage
+    /// counts); 0 means `MMI_DEFAULT_MAX_BYTES` (1 GiB), as `micromap-index
+    /// bake --max-bytes`.
+    pub max_bytes: u64,
 }
 
 /// What `mmi_bake` found, over all meshes.
@@ -184,183 +112,24 @@ pub struct mmi_bake_result {
     usage: Vec<u8>,
 }
 
-/// The texels as a slice of `T`: borrowed when tightly packed and aligned,
-/// else copied row by row.
-trait FromBytes: Texel + Clone {
-    fn from_ne(bytes: &[u8]) -> Self;
-}
+// The header's `MMI_MAX_BAKE_LEVEL` is the library's range.
+const _: () = assert!(crate::constants::MMI_MAX_BAKE_LEVEL == micromap_index::bake::MAX_BAKE_LEVEL);
 
-impl FromBytes for u8 {
-    fn from_ne(bytes: &[u8]) -> Self {
-        bytes[0]
-    }
-}
-
-impl FromBytes for u16 {
-    fn from_ne(bytes: &[u8]) -> Self {
-        u16::from_ne_bytes([bytes[0], bytes[1]])
-    }
-}
-
-impl FromBytes for f32 {
-    fn from_ne(bytes: &[u8]) -> Self {
-        f32::from_ne_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])
-    }
-}
-
-/// # Safety
-/// `t.texels` must be NULL or point to `row_pitch * (height - 1) + width *
-/// size_of::<T>()` readable bytes, unchanged during the call.
-unsafe fn texels<'a, T: FromBytes>(t: &mmi_texture) -> Result<Cow<'a, [T]>> {
-    let size = size_of::<T>();
-    let (width, height) = (t.width as usize, t.height as usize);
-    if width == 0 || height == 0 {
-        return Err(Error::new(
-            MMI_ERROR_INVALID_ARGUMENT,
-            "the texture has no texels",
-        ));
-    }
-    let row = width
-        .checked_mul(size)
-        .ok_or_else(|| Error::new(MMI_ERROR_LENGTH, "the texture's row does not fit in memory"))?;
-    let pitch = if t.row_pitch == 0 { row } else { t.row_pitch };
-    if pitch < row {
-        return Err(Error::new(
-            MMI_ERROR_LENGTH,
-            format!("row pitch {pitch} is below the row's {row} bytes"),
-        ));
-    }
-    let total = pitch
-        .checked_mul(height - 1)
-        .and_then(|b| b.checked_add(row))
-        .ok_or_else(|| Error::new(MMI_ERROR_LENGTH, "the texture does not fit in memory"))?;
-    let ptr = t.texels.cast::<u8>();
-    if pitch == row && ptr.cast::<T>().is_aligned() {
-        // SAFETY: tightly packed and aligned: `width * height` texels of
-        // `T` (every bit pattern is a valid u8, u16 or f32), the caller's
-        // promise about the memory.
-        return Ok(Cow::Borrowed(unsafe {
-            slice(ptr.cast::<T>(), width * height, "texture.texels")
-        }?));
-    }
-    // SAFETY: the caller promises `total` readable bytes.
-    let bytes = unsafe { slice(ptr, total, "texture.texels") }?;
-    let mut out = Vec::with_capacity(width * height);
-    for y in 0..height {
-        let start = y * pitch;
-        out.extend(bytes[start..start + row].chunks_exact(size).map(T::from_ne));
-    }
-    Ok(Cow::Owned(out))
-}
-
-/// A texture's texels, owned or borrowed, by format.
-pub(crate) enum Texels<'a> {
-    U8(Cow<'a, [u8]>),
-    U16(Cow<'a, [u16]>),
-    F32(Cow<'a, [f32]>),
-}
-
-impl<'a> Texels<'a> {
-    /// # Safety
-    /// As `texels`.
-    pub(crate) unsafe fn new(t: &mmi_texture) -> Result<Texels<'a>> {
-        // SAFETY: forwarded from the caller.
-        unsafe {
-            Ok(match t.format {
-                MMI_TEXEL_U8 => Texels::U8(texels(t)?),
-                MMI_TEXEL_U16 => Texels::U16(texels(t)?),
-                MMI_TEXEL_F32 => Texels::F32(texels(t)?),
-                other => {
-                    return Err(Error::new(
-                        MMI_ERROR_INVALID_ENUM,
-                        format!("texel format {other}: expected MMI_TEXEL_U8, _U16 or _F32"),
-                    ))
-                }
-            })
-        }
-    }
-
-    /// The library's view of the texels.
-    pub(crate) fn texture(&self, width: u32, height: u32) -> Result<Box<dyn AlphaTexture + '_>> {
-        let refused = |e: micromap_index::bake::TextureError| {
-            Error::new(MMI_ERROR_INVALID_ARGUMENT, e.to_string())
-        };
-        Ok(match self {
-            Texels::U8(t) => Box::new(Unorm8Texture::new(width, height, t).map_err(refused)?),
-            Texels::U16(t) => Box::new(Unorm16Texture::new(width, height, t).map_err(refused)?),
-            Texels::F32(t) => Box::new(F32Texture::new(width, height, t).map_err(refused)?),
-        })
-    }
-}
-
-fn enum_error(what: &str, value: u32, expected: &str) -> Error {
-    Error::new(
-        MMI_ERROR_INVALID_ENUM,
-        format!("{what} {value}: expected {expected}"),
-    )
-}
-
-fn address(value: u32, what: &str) -> Result<AddressMode> {
-    AddressMode::ALL
-        .get(value as usize)
-        .copied()
-        .ok_or_else(|| enum_error(what, value, "an MMI_ADDRESS_* value (0..=4)"))
-}
-
-pub(crate) fn sampler(s: &mmi_sampler) -> Result<Sampler> {
-    Ok(Sampler {
-        filter: match s.filter {
-            0 => Filter::Nearest,
-            1 => Filter::Linear,
-            other => return Err(enum_error("filter", other, "MMI_FILTER_NEAREST or _LINEAR")),
-        },
-        address_u: address(s.address_u, "address_u")?,
-        address_v: address(s.address_v, "address_v")?,
-        border_alpha: s.border_alpha,
-    })
-}
-
-pub(crate) fn cutoff(m: &mmi_material) -> Result<Cutoff> {
-    let comparison = match m.comparison {
-        MMI_OPAQUE_AT_LEAST => Comparison::AtLeast,
-        MMI_OPAQUE_ABOVE => Comparison::Above,
-        other => {
-            return Err(enum_error(
-                "comparison",
-                other,
-                "MMI_OPAQUE_AT_LEAST or MMI_OPAQUE_ABOVE",
-            ))
-        }
-    };
-    Cutoff::new(m.cutoff, comparison)
-        .map_err(|e| Error::new(MMI_ERROR_INVALID_ARGUMENT, e.to_string()))
-}
-
-pub(crate) fn format(value: u32) -> Result<Format> {
-    u16::try_from(value)
-        .ok()
-        .and_then(Format::from_raw)
-        .ok_or_else(|| enum_error("format", value, "MMI_FORMAT_2_STATE or _4_STATE"))
-}
-
-fn bake_level(value: u32, what: &str) -> Result<Level> {
-    if value > 16 {
-        return Err(Error::new(
-            MMI_ERROR_INVALID_LEVEL,
-            format!("{what} {value}: expected a level 0..=16 (or MMI_LEVEL_AUTO)"),
-        ));
-    }
-    Level::new(value).map_err(|e| Error::new(MMI_ERROR_INVALID_LEVEL, e.to_string()))
+/// `value` checked by the library's one bake-level rule
+/// (`bake::bake_level`, 0..=`MAX_BAKE_LEVEL`), its words in the message.
+fn bake_level(value: u32, what: &str, or: &str) -> Result<Level> {
+    micromap_index::bake::bake_level(value)
+        .map_err(|e| Error::new(MMI_ERROR_INVALID_LEVEL, format!("{what} {value}: {e}{or}")))
 }
 
 fn options(o: &mmi_bake_options) -> Result<MeshOptions> {
     Ok(MeshOptions {
         levels: if o.level == MMI_LEVEL_AUTO {
             LevelRule::Useful {
-                max: bake_level(o.max_level, "max_level")?,
+                max: bake_level(o.max_level, "max_level", "")?,
             }
         } else {
-            LevelRule::Fixed(bake_level(o.level, "level")?)
+            LevelRule::Fixed(bake_level(o.level, "level", ", or MMI_LEVEL_AUTO")?)
         },
         format: format(o.format)?,
         unknown: match o.unknown {
@@ -402,104 +171,19 @@ fn options(o: &mmi_bake_options) -> Result<MeshOptions> {
     })
 }
 
-/// The model named by an `MMI_MODEL_*` value.
-pub(crate) fn model(value: u32) -> Result<Model> {
-    match value {
-        MMI_MODEL_GPU_BINARY32 => Ok(Model::GpuBinary32),
-        MMI_MODEL_EXACT => Ok(Model::Exact),
-        other => Err(enum_error(
-            "model",
-            other,
-            "MMI_MODEL_GPU_BINARY32 or MMI_MODEL_EXACT",
-        )),
-    }
-}
-
-/// A mesh's triangles as the library takes them.
-pub(crate) enum Triangles<'a> {
-    /// Gathered from consecutive vertices.
-    Uv(Vec<UvTriangle>),
-    /// Indexed, handed to the library as they are.
-    Indexed {
-        indices: &'a [u32],
-        uvs: &'a [f32],
-        stride: usize,
-    },
-}
-
-impl<'a> Triangles<'a> {
-    /// # Safety
-    /// `m.uvs` must point to `vertex_count` vertices of `uv_stride` bytes
-    /// (the last one at least 8), `m.indices` to `index_count` `uint32_t`.
-    pub(crate) unsafe fn new(m: &mmi_mesh) -> Result<Triangles<'a>> {
-        let stride_bytes = if m.uv_stride == 0 { 8 } else { m.uv_stride };
-        if stride_bytes < 8 || stride_bytes % 4 != 0 {
-            return Err(Error::new(
-                MMI_ERROR_INVALID_ARGUMENT,
-                format!("uv_stride {stride_bytes}: expected a multiple of 4, at least 8"),
-            ));
-        }
-        let stride = stride_bytes / 4;
-        let floats = match m.vertex_count {
-            0 => 0,
-            n => (n - 1)
-                .checked_mul(stride)
-                .and_then(|f| f.checked_add(2))
-                .ok_or_else(|| Error::new(MMI_ERROR_LENGTH, "the UVs do not fit in memory"))?,
-        };
-        // SAFETY: the caller's promise about `uvs`.
-        let uvs = unsafe { slice(m.uvs, floats, "uvs") }?;
-        if m.indices.is_null() {
-            if m.vertex_count % 3 != 0 {
-                return Err(Error::new(
-                    MMI_ERROR_LENGTH,
-                    format!(
-                        "{} vertices without indices: expected a multiple of 3",
-                        m.vertex_count
-                    ),
-                ));
-            }
-            let vertex = |i: usize| [uvs[i * stride], uvs[i * stride + 1]];
-            let triangles = (0..m.vertex_count / 3)
-                .map(|t| [vertex(3 * t), vertex(3 * t + 1), vertex(3 * t + 2)])
-                .collect();
-            return Ok(Triangles::Uv(triangles));
-        }
-        if m.index_count % 3 != 0 {
-            return Err(Error::new(
-                MMI_ERROR_LENGTH,
-                format!("{} indices: expected a multiple of 3", m.index_count),
-            ));
-        }
-        // SAFETY: the caller's promise about `indices`.
-        let indices = unsafe { slice(m.indices, m.index_count, "indices") }?;
-        Ok(Triangles::Indexed {
-            indices,
-            uvs,
-            stride,
-        })
-    }
-
-    pub(crate) fn mesh_triangles(&self) -> MeshTriangles<'_> {
-        match self {
-            Triangles::Uv(t) => MeshTriangles::Uv(t),
-            Triangles::Indexed {
-                indices,
-                uvs,
-                stride,
-            } => MeshTriangles::Indexed {
-                indices,
-                uvs,
-                stride: *stride,
-            },
-        }
+/// The limit on a bake's estimated output: `max_bytes`, or
+/// `MMI_DEFAULT_MAX_BYTES` for 0.
+fn max_bytes(o: &mmi_bake_options) -> u64 {
+    match o.max_bytes {
+        0 => MMI_DEFAULT_MAX_BYTES,
+        n => n,
     }
 }
 
 /// The defaults: level `MMI_LEVEL_AUTO` up to 12, 4-state, fallback for
 /// unknowns, no byte budget, the library's block budget, the GPU binary32
-/// model, special indices mixed with records (the CLI's `micromap-index
-/// bake` defaults).
+/// model, special indices mixed with records, an output of at most
+/// `MMI_DEFAULT_MAX_BYTES` (the CLI's `micromap-index bake` defaults).
 ///
 /// # Safety
 /// `options` must be NULL or writable.
@@ -518,28 +202,10 @@ pub unsafe extern "C" fn mmi_bake_options_default(options: *mut mmi_bake_options
             reserved: 0,
             no_mixed_special_indices: 0,
             reserved2: 0,
+            max_bytes: MMI_DEFAULT_MAX_BYTES,
         };
         // SAFETY: the caller's promise about `options`.
         unsafe { write(options, value, "options") }
-    })
-}
-
-/// The default material: nearest filtering, repeat on both axes, border
-/// alpha 0, opaque when `alpha >= 0.5` (glTF's default), factor 1.
-///
-/// # Safety
-/// `material` must be NULL or writable.
-#[no_mangle]
-pub unsafe extern "C" fn mmi_material_default(material: *mut mmi_material) -> mmi_result {
-    guard(|| {
-        let value = mmi_material {
-            sampler: mmi_sampler::default(),
-            cutoff: 0.5,
-            comparison: MMI_OPAQUE_AT_LEAST,
-            alpha_factor: 1.0,
-        };
-        // SAFETY: the caller's promise about `material`.
-        unsafe { write(material, value, "material") }
     })
 }
 
@@ -547,7 +213,9 @@ pub unsafe extern "C" fn mmi_material_default(material: *mut mmi_material) -> mm
 /// geometry per mesh, micromaps deduplicated across all) into a new
 /// handle written to `*result`; free it with `mmi_bake_result_free`. The
 /// same inputs give the same bytes as `micromap-index bake`. On an error
-/// `*result` is set to NULL.
+/// `*result` is set to NULL. The order: options, then each mesh
+/// (`MeshInput::read`), the output estimate against `max_bytes`
+/// (`MMI_ERROR_LIMIT`), the bake; the codes are the header's.
 ///
 /// # Safety
 /// `meshes` must point to `mesh_count` meshes whose pointers satisfy
@@ -570,39 +238,37 @@ pub unsafe extern "C" fn mmi_bake(
                 reference(options, "options")?,
             )
         };
+        let limit = max_bytes(options);
         let options = self::options(options)?;
-        let mut texels = Vec::with_capacity(meshes.len());
-        let mut triangles = Vec::with_capacity(meshes.len());
-        let mut materials = Vec::with_capacity(meshes.len());
-        let mut alphas = Vec::with_capacity(meshes.len());
+        let mut inputs = try_vec(meshes.len(), "the meshes")?;
         for m in meshes {
             // SAFETY: the caller's promise about each mesh's pointers.
-            unsafe {
-                texels.push(Texels::new(&m.texture)?);
-                triangles.push(Triangles::new(m)?);
-                alphas.push(vertex_alphas(m)?);
-            }
-            materials.push(Material {
-                sampler: sampler(&m.material.sampler)?,
-                cutoff: cutoff(&m.material)?,
-                alpha_factor: m.material.alpha_factor,
-            });
+            inputs.push(unsafe { MeshInput::read(m) }?);
         }
-        let textures = texels
-            .iter()
-            .zip(meshes)
-            .map(|(t, m)| t.texture(m.texture.width, m.texture.height))
-            .collect::<Result<Vec<_>>>()?;
-        let library_meshes: Vec<Mesh<'_>> = (0..meshes.len())
-            .map(|i| Mesh {
-                triangles: triangles[i].mesh_triangles(),
-                texture: &*textures[i],
-                material: materials[i],
-                vertex_alpha: alphas[i].as_deref(),
-            })
-            .collect();
-        let bake = bake_meshes(&library_meshes, &options, &mut |_, _| {})
-            .map_err(|e| Error::new(MMI_ERROR_BAKE, e.to_string()))?;
+        let mut textures = try_vec(inputs.len(), "the textures")?;
+        for input in &inputs {
+            textures.push(input.texture()?);
+        }
+        let mut library_meshes: Vec<Mesh<'_>> = try_vec(inputs.len(), "the meshes")?;
+        library_meshes.extend(inputs.iter().zip(&textures).map(|(i, t)| i.mesh(&**t)));
+        // The output's size before deduplication (an upper bound), from the
+        // levels bake_meshes chooses, checked before any micro-triangle is
+        // baked, as `micromap-index bake --max-bytes` does.
+        let estimate = output_bytes_bound(&library_meshes, &options, IndexWidth::U32)
+            .map_err(|e| mesh_error(&e))?;
+        if estimate > limit {
+            return Err(Error::new(
+                MMI_ERROR_LIMIT,
+                format!(
+                    "the output may take up to {estimate} bytes (before deduplication), over \
+                     the limit of {limit} bytes; nothing baked (mmi_bake_options.max_bytes \
+                     raises the limit, a byte budget or a lower level or max_level shrinks \
+                     the output)"
+                ),
+            ));
+        }
+        let bake =
+            bake_meshes(&library_meshes, &options, &mut |_, _| {}).map_err(|e| mesh_error(&e))?;
         let handle = Box::new(mmi_bake_result {
             records: bake.buffers.records_le_bytes(),
             usage: usage_counts_to_le_bytes(bake.buffers.usage_counts()),
@@ -759,11 +425,17 @@ pub unsafe extern "C" fn mmi_bake_result_indices(
         };
         let mut bytes = Vec::new();
         for g in geometries {
-            bytes.extend(
-                buffers
-                    .index_bytes(g, width)
-                    .map_err(|e| Error::new(MMI_ERROR_INVALID_ARGUMENT, e.to_string()))?,
-            );
+            let geometry = buffers
+                .index_bytes(g, width)
+                .map_err(|e| Error::new(MMI_ERROR_INVALID_ARGUMENT, e.to_string()))?;
+            if bytes.is_empty() {
+                bytes = geometry;
+                continue;
+            }
+            bytes.try_reserve_exact(geometry.len()).map_err(|_| {
+                crate::ffi::out_of_memory(bytes.len() + geometry.len(), 1, "the index buffer")
+            })?;
+            bytes.extend(geometry);
         }
         // SAFETY: the caller's promises about `out` and `len`.
         unsafe { copy_out(&bytes, out, capacity, len, "the index buffer") }

@@ -36,6 +36,12 @@ pub const MMI_ERROR_BAKE: mmi_result = 8;
 pub const MMI_ERROR_UNSUPPORTED: mmi_result = 9;
 /// A Rust panic was caught at the boundary (a bug: please report it).
 pub const MMI_ERROR_PANIC: mmi_result = 10;
+/// Memory sized by the input could not be had (the allocator refused, or
+/// the size does not fit the address space); nothing was kept.
+pub const MMI_ERROR_OUT_OF_MEMORY: mmi_result = 11;
+/// The output may exceed a limit the caller sets
+/// (`mmi_bake_options::max_bytes`); nothing was baked.
+pub const MMI_ERROR_LIMIT: mmi_result = 12;
 
 /// A failure: its code and message.
 #[derive(Debug)]
@@ -58,6 +64,25 @@ pub(crate) type Result<T> = core::result::Result<T, Error>;
 /// `MMI_ERROR_NULL_POINTER` naming the argument.
 pub(crate) fn null(name: &str) -> Error {
     Error::new(MMI_ERROR_NULL_POINTER, format!("{name} is NULL"))
+}
+
+/// An empty vector with room for `len` items, or
+/// [`MMI_ERROR_OUT_OF_MEMORY`] naming `what`: the one way this crate
+/// allocates memory sized by its input.
+pub(crate) fn try_vec<T>(len: usize, what: &str) -> Result<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(len)
+        .map_err(|_| out_of_memory(len, size_of::<T>(), what))?;
+    Ok(v)
+}
+
+/// [`MMI_ERROR_OUT_OF_MEMORY`] for `len` items of `size` bytes.
+pub(crate) fn out_of_memory(len: usize, size: usize, what: &str) -> Error {
+    let bytes = (len as u128) * (size as u128);
+    Error::new(
+        MMI_ERROR_OUT_OF_MEMORY,
+        format!("cannot allocate {bytes} bytes for {what}"),
+    )
 }
 
 thread_local! {

@@ -27,27 +27,28 @@
 mod bake;
 mod ffi;
 mod index;
+mod mesh;
 mod tree;
 mod verify;
-mod vertex_alpha;
 
 pub use bake::{
     mmi_bake, mmi_bake_options, mmi_bake_options_default, mmi_bake_result, mmi_bake_result_data,
     mmi_bake_result_free, mmi_bake_result_geometry_count, mmi_bake_result_indices,
     mmi_bake_result_is_mixed, mmi_bake_result_stats, mmi_bake_result_triangle_records,
-    mmi_bake_result_usage_counts, mmi_bake_stats, mmi_material, mmi_material_default, mmi_mesh,
-    mmi_sampler, mmi_texture,
+    mmi_bake_result_usage_counts, mmi_bake_stats,
 };
 pub use ffi::{
     mmi_last_error_message, mmi_result, mmi_version, mmi_version_string, MMI_ERROR_BAKE,
     MMI_ERROR_BUFFER_TOO_SMALL, MMI_ERROR_INVALID_ARGUMENT, MMI_ERROR_INVALID_ENUM,
-    MMI_ERROR_INVALID_LEVEL, MMI_ERROR_LENGTH, MMI_ERROR_MALFORMED, MMI_ERROR_NULL_POINTER,
-    MMI_ERROR_PANIC, MMI_ERROR_UNSUPPORTED, MMI_OK,
+    MMI_ERROR_INVALID_LEVEL, MMI_ERROR_LENGTH, MMI_ERROR_LIMIT, MMI_ERROR_MALFORMED,
+    MMI_ERROR_NULL_POINTER, MMI_ERROR_OUT_OF_MEMORY, MMI_ERROR_PANIC, MMI_ERROR_UNSUPPORTED,
+    MMI_OK,
 };
 pub use index::{
     mmi_index_f32, mmi_index_f32_batch, mmi_inverse_micro_triangle, mmi_micro_triangle,
     mmi_wide_index_f32, mmi_wide_index_f32_batch,
 };
+pub use mesh::{mmi_material, mmi_material_default, mmi_mesh, mmi_sampler, mmi_texture};
 pub use tree::{
     mmi_tree, mmi_tree_decode, mmi_tree_encode, mmi_tree_free, mmi_tree_from_bytes, mmi_tree_get,
     mmi_tree_get_f32, mmi_tree_info, mmi_tree_info_get, mmi_tree_to_bytes,
@@ -98,6 +99,14 @@ pub mod constants {
     /// `mmi_bake_options::level`: each triangle's useful level (the paper's
     /// eq. 1), capped at `max_level`.
     pub const MMI_LEVEL_AUTO: u32 = 0xFFFF_FFFF;
+    /// The highest `mmi_bake_options::level` and `max_level`: the
+    /// library's `bake::MAX_BAKE_LEVEL`, the highest DXR allows and Vulkan
+    /// devices report.
+    pub const MMI_MAX_BAKE_LEVEL: u32 = 12;
+    /// `mmi_bake_options::max_bytes` 0 means this limit on a bake's
+    /// estimated output: 1 GiB (`micromap-index bake --max-bytes`'s
+    /// default).
+    pub const MMI_DEFAULT_MAX_BYTES: u64 = 1_073_741_824;
     /// `mmi_bake_options::model`: known states hold for what a GPU computes
     /// in binary32 (the default; `docs/bake.md`).
     pub const MMI_MODEL_GPU_BINARY32: u32 = 0;

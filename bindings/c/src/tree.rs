@@ -1,12 +1,12 @@
 //! The succinct tree (`succinct::PaperTree`, `succinct::LevelOrderTree`).
 
-use crate::bake::format;
 use crate::constants::{MMI_TREE_LEVEL_ORDER, MMI_TREE_PAPER};
 use crate::ffi::{
     copy_out, guard, mmi_result, null, slice, write, Error, Result, MMI_ERROR_BUFFER_TOO_SMALL,
     MMI_ERROR_INVALID_ARGUMENT, MMI_ERROR_INVALID_ENUM, MMI_ERROR_INVALID_LEVEL,
     MMI_ERROR_MALFORMED,
 };
+use crate::mesh::format;
 use micromap_index::micromap::State;
 use micromap_index::succinct::{LevelOrderTree, PaperTree, TreeError};
 use micromap_index::Level;
@@ -67,6 +67,32 @@ unsafe fn give(tree: mmi_tree, out: *mut *mut mmi_tree) -> Result<()> {
     unsafe { write(out, raw, "tree") }
 }
 
+// `as_states` and `state_bytes` rest on this.
+const _: () = assert!(size_of::<State>() == 1 && align_of::<State>() == 1);
+
+/// The caller's state bytes as states, in place: a copy would double the
+/// memory of a level-16 map (4 GiB). A byte above 3 is
+/// `MMI_ERROR_INVALID_ENUM`.
+fn as_states(bytes: &[u8]) -> Result<&[State]> {
+    if let Some(i) = bytes.iter().position(|&b| State::from_bits(b).is_none()) {
+        return Err(Error::new(
+            MMI_ERROR_INVALID_ENUM,
+            format!("states[{i}] = {}: expected a state 0..=3", bytes[i]),
+        ));
+    }
+    // SAFETY: `State` is `#[repr(u8)]` with the values 0..=3, and every
+    // byte is one of them (checked above); same size and alignment, and
+    // the borrow keeps the bytes' lifetime.
+    Ok(unsafe { core::slice::from_raw_parts(bytes.as_ptr().cast::<State>(), bytes.len()) })
+}
+
+/// States as their bytes (`MMI_STATE_*`), in place.
+fn state_bytes(states: &[State]) -> &[u8] {
+    // SAFETY: `State` is `#[repr(u8)]`: one initialised byte each, with
+    // `u8`'s alignment; the borrow keeps the states' lifetime.
+    unsafe { core::slice::from_raw_parts(states.as_ptr().cast::<u8>(), states.len()) }
+}
+
 /// Encodes a flat micromap of `level` (0..=16) given as `state_count ==
 /// 4^level` states (`MMI_STATE_*`, one byte each) into a tree of `layout`
 /// (`MMI_TREE_PAPER` or `MMI_TREE_LEVEL_ORDER`) and `format`; a 2-state
@@ -99,22 +125,11 @@ pub unsafe extern "C" fn mmi_tree_encode(
         let format = self::format(format)?;
         // SAFETY: the caller's promise about `states`.
         let bytes = unsafe { slice(states, state_count, "states") }?;
-        let states = bytes
-            .iter()
-            .enumerate()
-            .map(|(i, &b)| {
-                State::from_bits(b).ok_or_else(|| {
-                    Error::new(
-                        MMI_ERROR_INVALID_ENUM,
-                        format!("states[{i}] = {b}: expected a state 0..=3"),
-                    )
-                })
-            })
-            .collect::<Result<Vec<_>>>()?;
+        let states = as_states(bytes)?;
         let encoded = if layout == MMI_TREE_PAPER {
-            PaperTree::encode(level, format, &states).map(mmi_tree::Paper)
+            PaperTree::encode(level, format, states).map(mmi_tree::Paper)
         } else {
-            LevelOrderTree::encode(level, format, &states).map(mmi_tree::LevelOrder)
+            LevelOrderTree::encode(level, format, states).map(mmi_tree::LevelOrder)
         };
         let encoded = encoded.map_err(|e| {
             let code = if matches!(e, TreeError::StateCount { .. }) {
@@ -276,15 +291,12 @@ pub unsafe extern "C" fn mmi_tree_decode(
                 format!("the states need {count} bytes, the buffer holds {capacity}"),
             ));
         }
-        let decoded: Vec<u8> = match t {
+        let decoded = match t {
             mmi_tree::Paper(t) => t.decode(),
             mmi_tree::LevelOrder(t) => t.decode(),
-        }
-        .into_iter()
-        .map(State::bits)
-        .collect();
+        };
         // SAFETY: the caller's promises about `states` and `len`.
-        unsafe { copy_out(&decoded, states, capacity, len, "the states") }
+        unsafe { copy_out(state_bytes(&decoded), states, capacity, len, "the states") }
     })
 }
 

@@ -1,18 +1,19 @@
 //! The buffer validator (`micromap::read_buffers`) and the verifier of any
-//! baker's buffers against a texture (`bake::Baker::verify`).
+//! baker's buffers against a mesh (`bake::mesh::verify_mesh`, in bounded
+//! memory: the caller's witnesses are kept, the rest counted).
 
-use crate::bake::{cutoff, mmi_mesh, sampler, Texels, Triangles};
 use crate::constants::MMI_MODEL_GPU_BINARY32;
 use crate::ffi::{
-    guard, mmi_result, reference, slice, slice_mut, write, Error, Result,
+    guard, mmi_result, reference, slice, slice_mut, try_vec, write, Error, Result,
     MMI_ERROR_INVALID_ARGUMENT, MMI_ERROR_INVALID_ENUM, MMI_ERROR_LENGTH, MMI_ERROR_MALFORMED,
-    MMI_ERROR_UNSUPPORTED,
+    MMI_ERROR_OUT_OF_MEMORY,
 };
-use micromap_index::bake::mesh::MeshTriangles;
-use micromap_index::bake::{Baker, UvTriangle};
+use crate::mesh::{mesh_error, mmi_mesh, MeshInput};
+use micromap_index::bake::mesh::{verify_mesh, MeshVerifyError};
+use micromap_index::bake::{AlphaTexture, Contradiction};
 use micromap_index::micromap::{
-    read_buffers, BufferBytes, IndexWidth, Micromap, MicromapIndex, Overlap, ReadBuffers,
-    ReadOptions, TriangleOpacity, TriangleRecord,
+    read_buffers, BufferBytes, IndexWidth, MicromapError, MicromapIndex, Overlap, ReadBuffers,
+    ReadError, ReadOptions, TriangleOpacity, TriangleRecord,
 };
 
 /// Micromap buffers in the caller's memory, in the API layouts (little
@@ -163,7 +164,9 @@ fn width(bits: u32) -> Result<IndexWidth> {
 /// Reads the view's buffers at its strides (0: tight) under `options`,
 /// whose strides are replaced; a stride the APIs do not allow is
 /// `MMI_ERROR_INVALID_ARGUMENT` (`ReadOptions::check_strides`), checked
-/// before any byte is read, and every other refusal `MMI_ERROR_MALFORMED`.
+/// before any byte is read, a micromap whose copy cannot be allocated
+/// `MMI_ERROR_OUT_OF_MEMORY`, and every other refusal
+/// `MMI_ERROR_MALFORMED`.
 ///
 /// # Safety
 /// The view's pointers must each be NULL or point to their lengths in bytes.
@@ -214,7 +217,16 @@ unsafe fn read(view: &mmi_buffers_view, options: &ReadOptions) -> Result<ReadBuf
         },
         &options,
     )
-    .map_err(|e| Error::new(MMI_ERROR_MALFORMED, e.to_string()))
+    .map_err(|e| {
+        let code = match e {
+            ReadError::Micromap {
+                error: MicromapError::AllocationFailed { .. },
+                ..
+            } => MMI_ERROR_OUT_OF_MEMORY,
+            _ => MMI_ERROR_MALFORMED,
+        };
+        Error::new(code, e.to_string())
+    })
 }
 
 /// The validator's defaults: disjoint blocks, levels up to 16, base
@@ -243,7 +255,9 @@ pub unsafe extern "C" fn mmi_read_options_default(options: *mut mmi_read_options
 /// bounds and disjoint unless allowed, usage counts matching the records,
 /// indices naming records or special, at the view's strides): `MMI_OK`,
 /// or `MMI_ERROR_MALFORMED` with the first problem as the message;
-/// `MMI_ERROR_INVALID_ARGUMENT` for a stride the APIs do not allow.
+/// `MMI_ERROR_INVALID_ARGUMENT` for a stride the APIs do not allow,
+/// `MMI_ERROR_INVALID_ENUM` for an index width other than 8, 16, 32,
+/// `MMI_ERROR_OUT_OF_MEMORY` when a decoded micromap cannot be allocated.
 /// `options` may be NULL (the defaults); `info` may be NULL.
 ///
 /// # Safety
@@ -297,10 +311,10 @@ pub unsafe extern "C" fn mmi_validate_buffers(
 }
 
 /// Checks any baker's buffers (one geometry: data, records and an index
-/// buffer with one index per triangle of `mesh`) against `mesh`'s texture,
-/// sampler and cutoff, as `micromap-index verify-bake` does
-/// (`bake::Baker::verify`), under the default GPU binary32 model:
-/// `mmi_verify_with_model` with `MMI_MODEL_GPU_BINARY32`.
+/// buffer with one index per triangle of `mesh`) against `mesh`, as
+/// `micromap-index verify-bake` does (`bake::mesh::verify_mesh`), under
+/// the default GPU binary32 model: `mmi_verify_with_model` with
+/// `MMI_MODEL_GPU_BINARY32`.
 ///
 /// # Safety
 /// As `mmi_verify_with_model`.
@@ -325,21 +339,59 @@ pub unsafe extern "C" fn mmi_verify(
     }
 }
 
+/// A contradiction of `triangle` as C reads it: `texel_alpha` is the
+/// texel's alpha as `texture` holds it (before the alpha factor and vertex
+/// alpha), or `border_alpha` when the border was read.
+fn contradiction(
+    triangle: usize,
+    c: &Contradiction,
+    texture: &dyn AlphaTexture,
+    border_alpha: f32,
+) -> mmi_contradiction {
+    let (width, height) = (texture.width(), texture.height());
+    let (witness_u, witness_v) = c.witness.map_or((0.0, 0.0), |w| w.uv_f64(width, height));
+    let w = c.witness;
+    mmi_contradiction {
+        triangle: triangle as u64,
+        micro_triangle: c.micro_triangle,
+        state: u32::from(c.state.bits()),
+        has_witness: u32::from(w.is_some()),
+        witness_x_hi: w.map_or(0, |w| (w.x >> 64) as i64),
+        witness_x_lo: w.map_or(0, |w| w.x as u64),
+        witness_y_hi: w.map_or(0, |w| (w.y >> 64) as i64),
+        witness_y_lo: w.map_or(0, |w| w.y as u64),
+        witness_shift_x: w.map_or(0, |w| w.shift_x),
+        witness_shift_y: w.map_or(0, |w| w.shift_y),
+        witness_u,
+        witness_v,
+        has_texel: u32::from(c.texel.is_some()),
+        texel_x: c.texel.map_or(0, |p| p.0),
+        texel_y: c.texel.map_or(0, |p| p.1),
+        reserved: 0,
+        texel_alpha: match c.texel {
+            Some((x, y)) => texture.alpha(x, y),
+            None => f64::from(border_alpha),
+        },
+    }
+}
+
 /// Checks any baker's buffers (one geometry: data, records and an index
-/// buffer with one index per triangle of `mesh`) against `mesh`'s texture,
-/// sampler and cutoff under `model` (`MMI_MODEL_*`), as `micromap-index
-/// verify-bake --model` does (`bake::Baker::verify`): every known
-/// micro-triangle whose closed area can read a texel of the other class
-/// is a contradiction. Records may share data. The first
-/// `witness_capacity` contradictions are written to `witnesses` (which may
-/// be NULL when the capacity is 0); `report` counts them all. Returns
-/// `MMI_OK` whether or not contradictions were found
-/// (`report->contradictions` says); `MMI_ERROR_MALFORMED` for buffers the
-/// validator refuses, `MMI_ERROR_INVALID_ARGUMENT` for a stride the APIs
-/// do not allow (`mmi_buffers_view`), `MMI_ERROR_LENGTH` when the index count is not the
-/// triangle count, `MMI_ERROR_INVALID_ENUM` for an unknown model,
-/// `MMI_ERROR_UNSUPPORTED` for an alpha factor other than 1 or a vertex
-/// alpha.
+/// buffer with one index per triangle of `mesh`) against `mesh` under
+/// `model` (`MMI_MODEL_*`), as `micromap-index verify-bake --model` does
+/// (`bake::mesh::verify_mesh`: texture, sampler, cutoff, alpha factor and
+/// vertex alpha as `mmi_bake` models them): every known micro-triangle
+/// whose closed area can read a texel of the other class is a
+/// contradiction. Records may share data. The first `witness_capacity`
+/// contradictions are written to `witnesses` (which may be NULL when the
+/// capacity is 0); `report` counts them all, in memory that does not grow
+/// with their number. Returns `MMI_OK` whether or not contradictions were
+/// found (`report->contradictions` says); `MMI_ERROR_MALFORMED` for
+/// buffers the validator refuses, `MMI_ERROR_INVALID_ARGUMENT` for a
+/// stride the APIs do not allow (`mmi_buffers_view`), `MMI_ERROR_LENGTH`
+/// when the index count is not the triangle count,
+/// `MMI_ERROR_INVALID_ENUM` for an unknown model, a mesh `mmi_bake` would
+/// refuse with `mmi_bake`'s code, `MMI_ERROR_OUT_OF_MEMORY` when memory
+/// sized by the input cannot be had.
 ///
 /// # Safety
 /// `mesh` and `buffers` must be readable with pointers as their types
@@ -366,54 +418,13 @@ pub unsafe extern "C" fn mmi_verify_with_model(
         if report.is_null() {
             return Err(crate::ffi::null("report"));
         }
-        if mesh.material.alpha_factor != 1.0 {
-            return Err(Error::new(
-                MMI_ERROR_UNSUPPORTED,
-                "mmi_verify: alpha_factor must be 1 (as verify-bake)",
-            ));
-        }
-        if !mesh.vertex_alpha.is_null() {
-            return Err(Error::new(
-                MMI_ERROR_UNSUPPORTED,
-                "mmi_verify: vertex_alpha must be NULL (as verify-bake)",
-            ));
-        }
-        let model = crate::bake::model(model)?;
+        let model = crate::mesh::model(model)?;
         if view.indices.is_null() {
             return Err(crate::ffi::null("buffers.indices"));
         }
         // SAFETY: the caller's promises about the mesh's pointers.
-        let (texels, triangles) = unsafe { (Texels::new(&mesh.texture)?, Triangles::new(mesh)?) };
-        let texture = texels.texture(mesh.texture.width, mesh.texture.height)?;
-        let sampler = sampler(&mesh.material.sampler)?;
-        let baker = Baker::new(&*texture, sampler, cutoff(&mesh.material)?)
-            .map_err(|e| Error::new(MMI_ERROR_INVALID_ARGUMENT, e.to_string()))?
-            .with_model(model);
-        let uv: Vec<UvTriangle> = match triangles.mesh_triangles() {
-            MeshTriangles::Uv(t) => t.to_vec(),
-            MeshTriangles::Indexed {
-                indices,
-                uvs,
-                stride,
-            } => {
-                let vertex = |i: u32| -> Result<[f32; 2]> {
-                    (i as usize)
-                        .checked_mul(stride)
-                        .and_then(|at| uvs.get(at..at.checked_add(2)?))
-                        .map(|p| [p[0], p[1]])
-                        .ok_or_else(|| {
-                            Error::new(
-                                MMI_ERROR_INVALID_ARGUMENT,
-                                format!("index {i} names no vertex"),
-                            )
-                        })
-                };
-                indices
-                    .chunks_exact(3)
-                    .map(|c| Ok([vertex(c[0])?, vertex(c[1])?, vertex(c[2])?]))
-                    .collect::<Result<_>>()?
-            }
-        };
+        let input = unsafe { MeshInput::read(mesh) }?;
+        let texture = input.texture()?;
         let options = ReadOptions {
             overlap: Overlap::Allow {
                 max_decoded_bytes: 1 << 32,
@@ -423,65 +434,52 @@ pub unsafe extern "C" fn mmi_verify_with_model(
         // SAFETY: forwarded.
         let read = unsafe { self::read(view, &options) }?;
         let indices = read.indices.unwrap_or_default();
-        if indices.len() != uv.len() {
-            return Err(Error::new(
-                MMI_ERROR_LENGTH,
-                format!(
-                    "the buffers have {} indices for {} triangles",
-                    indices.len(),
-                    uv.len()
-                ),
-            ));
-        }
-        let micromaps: &[Micromap] = &read.micromaps;
-        let mut out = mmi_verify_report {
-            triangles: uv.len() as u64,
-            ..mmi_verify_report::default()
-        };
-        let (width, height) = (mesh.texture.width, mesh.texture.height);
-        for (t, (uv, index)) in uv.iter().zip(&indices).enumerate() {
-            let opacity = match *index {
-                MicromapIndex::Record(r) => TriangleOpacity::Micromap(&micromaps[r as usize]),
+        let mut opacities = try_vec(indices.len(), "the triangles' opacities")?;
+        for index in &indices {
+            opacities.push(match *index {
+                // `read_buffers` checked that every record index names one.
+                MicromapIndex::Record(r) => {
+                    TriangleOpacity::Micromap(read.micromaps.get(r as usize).ok_or_else(|| {
+                        Error::new(MMI_ERROR_MALFORMED, format!("index {r} names no record"))
+                    })?)
+                }
                 MicromapIndex::Special(state) => TriangleOpacity::Special(state),
-            };
-            let v = baker.verify(uv, &opacity);
-            out.triangles_checked += u64::from(v.checked);
-            out.known += v.known;
-            out.unknown += v.unknown;
-            out.undecided += v.undecided;
-            out.contradictions += v.contradictions.len() as u64;
-            for c in v.contradictions {
-                let Some(slot) = witnesses.get_mut(out.witnesses_written as usize) else {
-                    break;
-                };
-                let (witness_u, witness_v) =
-                    c.witness.map_or((0.0, 0.0), |w| w.uv_f64(width, height));
-                let w = c.witness;
-                *slot = mmi_contradiction {
-                    triangle: t as u64,
-                    micro_triangle: c.micro_triangle,
-                    state: u32::from(c.state.bits()),
-                    has_witness: u32::from(w.is_some()),
-                    witness_x_hi: w.map_or(0, |w| (w.x >> 64) as i64),
-                    witness_x_lo: w.map_or(0, |w| w.x as u64),
-                    witness_y_hi: w.map_or(0, |w| (w.y >> 64) as i64),
-                    witness_y_lo: w.map_or(0, |w| w.y as u64),
-                    witness_shift_x: w.map_or(0, |w| w.shift_x),
-                    witness_shift_y: w.map_or(0, |w| w.shift_y),
-                    witness_u,
-                    witness_v,
-                    has_texel: u32::from(c.texel.is_some()),
-                    texel_x: c.texel.map_or(0, |p| p.0),
-                    texel_y: c.texel.map_or(0, |p| p.1),
-                    reserved: 0,
-                    texel_alpha: match c.texel {
-                        Some((x, y)) => texture.alpha(x, y),
-                        None => f64::from(sampler.border_alpha),
-                    },
-                };
-                out.witnesses_written += 1;
-            }
+            });
         }
+        let border_alpha = input.material.sampler.border_alpha;
+        let mut written = 0;
+        let verified = verify_mesh(
+            &input.mesh(&*texture),
+            &opacities,
+            model,
+            u64::MAX,
+            &mut |t, c| {
+                if let Some(slot) = witnesses.get_mut(written) {
+                    *slot = contradiction(t, &c, &*texture, border_alpha);
+                    written += 1;
+                }
+            },
+        );
+        let v = verified.map_err(|e| match e {
+            MeshVerifyError::Count {
+                opacities,
+                triangles,
+            } => Error::new(
+                MMI_ERROR_LENGTH,
+                format!("the buffers have {opacities} indices for {triangles} triangles"),
+            ),
+            MeshVerifyError::Mesh(e) => mesh_error(&e),
+            other => Error::new(MMI_ERROR_INVALID_ARGUMENT, other.to_string()),
+        })?;
+        let out = mmi_verify_report {
+            triangles: opacities.len() as u64,
+            triangles_checked: v.triangles_checked as u64,
+            known: v.known,
+            unknown: v.unknown,
+            undecided: v.undecided,
+            contradictions: v.contradictions,
+            witnesses_written: written as u64,
+        };
         // SAFETY: checked non-null; the caller's promise that it is writable.
         unsafe { write(report, out, "report") }
     })

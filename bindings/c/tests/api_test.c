@@ -154,7 +154,8 @@ static void bake_and_verify(void) {
     quad_mesh(&mesh);
     EXPECT(mmi_bake_options_default(&options), MMI_OK);
     CHECK(options.level == MMI_LEVEL_AUTO && options.max_level == 12 &&
-          options.format == MMI_FORMAT_4_STATE && options.model == MMI_MODEL_GPU_BINARY32);
+          options.format == MMI_FORMAT_4_STATE && options.model == MMI_MODEL_GPU_BINARY32 &&
+          options.max_bytes == MMI_DEFAULT_MAX_BYTES);
 
     /* Misuse first: each returns its code and leaves *result NULL. */
     result = (mmi_bake_result *)&mesh; /* must be overwritten with NULL */
@@ -166,8 +167,21 @@ static void bake_and_verify(void) {
     bad_options.level = 17;
     EXPECT(mmi_bake(&mesh, 1, &bad_options, &result), MMI_ERROR_INVALID_LEVEL);
     bad_options = options;
+    bad_options.level = MMI_MAX_BAKE_LEVEL + 1; /* 13: the range is the CLI's */
+    EXPECT(mmi_bake(&mesh, 1, &bad_options, &result), MMI_ERROR_INVALID_LEVEL);
+    CHECK(says("level 13: expected a level 0..=12"));
+    bad_options = options;
     bad_options.max_level = 40;
     EXPECT(mmi_bake(&mesh, 1, &bad_options, &result), MMI_ERROR_INVALID_LEVEL);
+    bad_options = options;
+    bad_options.max_level = 16;
+    EXPECT(mmi_bake(&mesh, 1, &bad_options, &result), MMI_ERROR_INVALID_LEVEL);
+    CHECK(says("max_level 16"));
+    bad_options = options;
+    bad_options.level = 4;
+    bad_options.max_bytes = 100; /* two level-4 maps alone are 128 bytes */
+    EXPECT(mmi_bake(&mesh, 1, &bad_options, &result), MMI_ERROR_LIMIT);
+    CHECK(says("over the limit of 100 bytes") && result == NULL);
     bad_options = options;
     bad_options.format = 3;
     EXPECT(mmi_bake(&mesh, 1, &bad_options, &result), MMI_ERROR_INVALID_ENUM);
@@ -189,6 +203,10 @@ static void bake_and_verify(void) {
     bad = mesh;
     bad.material.cutoff = NAN;
     EXPECT(mmi_bake(&bad, 1, &options, &result), MMI_ERROR_INVALID_ARGUMENT);
+    bad = mesh;
+    bad.material.sampler.border_alpha = NAN;
+    EXPECT(mmi_bake(&bad, 1, &options, &result), MMI_ERROR_INVALID_ARGUMENT);
+    CHECK(says("border alpha is NaN"));
     bad = mesh;
     bad.texture.row_pitch = 7; /* below the 8-byte row */
     EXPECT(mmi_bake(&bad, 1, &options, &result), MMI_ERROR_LENGTH);
@@ -294,9 +312,12 @@ static void bake_and_verify(void) {
     CHECK(report.contradictions == 0 && report.known > 0 && report.witnesses_written == 0);
     EXPECT(mmi_verify(&mesh, &view, NULL, NULL, 0), MMI_ERROR_NULL_POINTER);
     EXPECT(mmi_verify(&mesh, &view, &report, NULL, 4), MMI_ERROR_NULL_POINTER);
+    /* The alpha factor is verified as it is baked: a quarter of any texel
+     * is below the cutoff, so every opaque micro-triangle is contradicted. */
     bad = mesh;
-    bad.material.alpha_factor = 0.5f;
-    EXPECT(mmi_verify(&bad, &view, &report, NULL, 0), MMI_ERROR_UNSUPPORTED);
+    bad.material.alpha_factor = 0.25f;
+    EXPECT(mmi_verify(&bad, &view, &report, NULL, 0), MMI_OK);
+    CHECK(report.contradictions == stats.counts[MMI_STATE_OPAQUE]);
     {
         mmi_buffers_view short_indices = view;
         short_indices.indices_len = 4;
@@ -326,10 +347,12 @@ static void bake_and_verify(void) {
     CHECK(report.contradictions >= 1 && witnesses[0].texel_x >= 3 &&
           witnesses[0].texel_alpha == 0.0);
     EXPECT(mmi_verify_with_model(&mesh, &view, 2, &report, NULL, 0), MMI_ERROR_INVALID_ENUM);
-    /* A vertex alpha is baked, not verified. */
+    /* Vertex alpha too: with alpha 0 everywhere nothing is opaque, and
+     * both "opaque" triangles are contradicted. */
     bad = mesh;
     bad.vertex_alpha = zero_alpha;
-    EXPECT(mmi_verify(&bad, &view, &report, NULL, 0), MMI_ERROR_UNSUPPORTED);
+    EXPECT(mmi_verify(&bad, &view, &report, NULL, 0), MMI_OK);
+    CHECK(report.contradictions == 2);
 
     mmi_bake_result_free(result);
     mmi_bake_result_free(NULL);
