@@ -12,8 +12,11 @@ use pyo3::prelude::*;
 mod arrays;
 mod assets;
 mod bake;
+mod fallible;
 mod index;
+mod inputs;
 mod options;
+mod result;
 mod tree;
 mod verify;
 

@@ -156,11 +156,24 @@ def test_max_bytes_refuses_where_the_cli_does(cli_bake, tmp_path):
                       "--max-bytes", bound - 1, "--no-preview", "--out", tmp_path / "no",
                       check=False)
     assert refused.returncode != 0 and f"up to {bound} bytes" in refused.stderr
-    # The default limit (1 GiB) refuses level 16 everywhere: 128 GiB of data.
+    # The default limit (1 GiB) refuses 384 level-12 maps (4 MiB each).
     with pytest.raises(ValueError, match="max_bytes"):
-        mmi.bake(alpha, uvs, level=16)
-    with pytest.raises(ValueError, match="max_bytes"):
-        mmi.bake_gltf(SPONZA / "cards.gltf", level=16)
+        mmi.bake(alpha, np.concatenate([uvs] * 3), level=12)
+
+
+def test_level_range_is_the_clis(tmp_path):
+    """Levels past 12 are refused by the range, in the CLI's words, not by
+    the byte limit."""
+    alpha = mmi.read_alpha(THORN)
+    uvs = mmi.read_triangles(GRID)
+    words = "expected a level 0..=12 (the highest DXR allows and Vulkan devices report)"
+    for keyword, flag in [("level", "--level"), ("max_level", "--max-level")]:
+        with pytest.raises(ValueError) as raised:
+            mmi.bake(alpha, uvs, **{keyword: 13})
+        assert str(raised.value) == f"{keyword} 13: {words}"
+        done = run_cli("bake", "--texture", THORN, "--triangles", GRID, flag, "13",
+                       "--out", tmp_path / "no", check=False)
+        assert done.returncode == 2 and words in done.stderr
 
 
 def test_no_mixed_special_equals_the_cli(cli_bake):
@@ -198,3 +211,14 @@ def test_gltf_no_mixed_special_equals_the_cli(cli_bake, no_mixed):
         j["mixed_special_indices"] for j in summary(out)["jobs"]
     ]
     assert any(m["mixed_special_indices"] for m in result.meshes) != no_mixed
+
+
+def test_verify_applies_alpha_factor_as_the_bake():
+    """verify goes through the library's verify_mesh: a bake with an alpha
+    factor is sound under the same factor and contradicted without it."""
+    alpha = mmi.read_alpha(THORN)
+    uvs = mmi.read_triangles(GRID)
+    result = mmi.bake(alpha, uvs, level=4, alpha_factor=0.6)
+    assert mmi.verify(alpha, uvs, result, alpha_factor=0.6).sound
+    plain = mmi.verify(alpha, uvs, result)
+    assert not plain.sound and plain.contradictions > 0

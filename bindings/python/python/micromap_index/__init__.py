@@ -16,8 +16,10 @@ library's. Numpy in, numpy out:
   TRIS.json readers, as arrays.
 
 Bad input raises ``TypeError`` (wrong type or dtype), ``ValueError`` (wrong
-shape or value, malformed buffers or assets) or ``OSError`` (files), with
-the library's message; it never crashes the interpreter. Bakes and
+shape or value, malformed buffers or assets, a limit exceeded),
+``OSError`` (files) or ``MemoryError`` (an input whose copy or result does
+not fit in memory), with the library's message; it never crashes the
+interpreter. Bakes and
 verification release the GIL.
 """
 
@@ -163,8 +165,8 @@ def bake(
     ``(N, 3, 2)``, triangle ``t``'s vertex ``i`` at ``uvs[t, i]`` (the order
     of the triangle's barycentrics: vertex 0 has weight ``1 - u - v``).
 
-    Options as ``micromap-index bake``'s flags: ``level`` an int 0..=16 or
-    ``"auto"`` (each triangle's useful level up to ``max_level``); ``format``
+    Options as ``micromap-index bake``'s flags: ``level`` an int 0..=12 (the
+    highest DXR allows and Vulkan devices report) or ``"auto"`` (each triangle's useful level up to ``max_level``); ``format``
     2 or 4; ``unknown`` (2-state) ``"fallback"``, ``"opaque"`` or
     ``"transparent"``; ``filter`` ``"nearest"`` or ``"linear"``; ``address``
     one mode or a ``(u, v)`` pair of ``"repeat"``, ``"mirrored-repeat"``,
@@ -177,7 +179,8 @@ def bake(
     ``alpha_factor`` multiplies every texel's alpha (glTF's
     ``baseColorFactor[3]``); ``max_bytes`` (default 1 GiB, as the CLI's
     ``--max-bytes``) refuses, before baking, a bake whose output may exceed
-    it (a ``ValueError``); ``no_mixed_special`` (``--no-mixed-special``): no
+    it (a ``ValueError``; so is a ``uvs`` whose indices alone exceed it,
+    before it is copied); ``no_mixed_special`` (``--no-mixed-special``): no
     geometry mixes special indices with records -- in a geometry that
     references any record each special index becomes a shared level-0
     record of its state, for Vulkan KHR pipelines created with
@@ -185,7 +188,9 @@ def bake(
     (``meshes[i]["mixed_special_indices"]`` says whether a geometry mixes
     them).
 
-    Releases the GIL while baking. Raises ``TypeError`` / ``ValueError``.
+    Releases the GIL while baking, on copies of ``alpha`` and ``uvs``.
+    Raises ``TypeError`` / ``ValueError``, or ``MemoryError`` when a copy
+    does not fit in memory.
     """
     return _result(
         _native.bake(
@@ -317,6 +322,7 @@ def verify(
     border_alpha: float = 0.0,
     cutoff: float = 0.5,
     opaque_above: bool = False,
+    alpha_factor: float = 1.0,
     model: str = "gpu-binary32",
     max_report: int = 20,
     max_checks: Optional[int] = None,
@@ -329,8 +335,10 @@ def verify(
     bytes or arrays -- against ``alpha`` and ``uvs`` (as :func:`bake`
     takes them), as ``micromap-index verify-bake``: the buffers are validated
     (a malformed one is a ``ValueError``), then every known micro-triangle is
-    checked exactly against the texture under the sampler, the cutoff and the
-    model. The first ``max_report`` contradictions are reported with an exact
+    checked exactly against the texture under the sampler, the cutoff, the
+    alpha factor (``alpha_factor``, as :func:`bake` takes it) and the model,
+    by the library's ``bake::mesh::verify_mesh``, the verifier of every front
+    end. The first ``max_report`` contradictions are reported with an exact
     witness point; ``max_checks`` caps the known micro-triangles checked
     (then ``complete`` is false). ``lenient_layout`` accepts overlapping
     records. ``index_width`` defaults to the ``indices`` array's (16 for
@@ -369,6 +377,7 @@ def verify(
         border_alpha=border_alpha,
         cutoff=cutoff,
         opaque_above=opaque_above,
+        alpha_factor=alpha_factor,
         model=model,
         max_report=max_report,
         max_checks=max_checks,

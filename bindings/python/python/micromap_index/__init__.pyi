@@ -106,6 +106,7 @@ def verify(
     border_alpha: float = ...,
     cutoff: float = ...,
     opaque_above: bool = ...,
+    alpha_factor: float = ...,
     model: str = ...,
     max_report: int = ...,
     max_checks: Optional[int] = ...,
