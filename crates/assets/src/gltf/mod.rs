@@ -3,7 +3,9 @@
 //!
 //! This file holds the public types, the entry points and the walk over
 //! meshes; `glb` splits the container, `json` walks the JSON, `uri`,
-//! `accessor`, `material`, `sampler` and `image` read what their names say.
+//! `accessor`, `material`, `sampler` and `image` read what their names say;
+//! `write` writes an asset back with micromaps, `write_dir` does it for a
+//! file on disk and an output directory.
 
 use self::glb::split_glb;
 use self::json::{short, Obj};
@@ -32,6 +34,7 @@ mod sampler;
 mod transform;
 mod uri;
 mod write;
+mod write_dir;
 
 pub use self::micromap_ext::{
     read_gltf_micromaps, GltfMicromap, GltfMicromapPrimitive, GltfMicromaps,
@@ -40,6 +43,7 @@ pub use self::write::{
     relative_uri_prefix, write_gltf_micromaps, GltfContainer, GltfFiles, GltfMicromapWrite,
     EXTENSION, MAX_GLTF_LEVEL,
 };
+pub use self::write_dir::write_gltf_micromaps_file;
 
 pub(crate) use self::sampler::GltfSampler;
 #[cfg(test)]
@@ -192,7 +196,17 @@ pub struct GltfAsset {
 pub fn read_gltf_file(path: &Path, limits: &Limits) -> Result<GltfAsset, AssetError> {
     let bytes = read_file(path, limits.max_bytes)?;
     let base = path.parent().unwrap_or_else(|| Path::new(""));
-    let mut resolve = |uri: &str| -> Result<Vec<u8>, AssetError> {
+    let mut resolve = resolve_beside(base, limits);
+    read_gltf_bytes(&bytes, &mut resolve, limits).map_err(|e| e.within(path.display().to_string()))
+}
+
+/// The `resolve` of a glTF in directory `base`: a relative URI's file
+/// there, within [`Limits::max_bytes`]; an absolute path is refused.
+fn resolve_beside<'a>(
+    base: &'a Path,
+    limits: &'a Limits,
+) -> impl FnMut(&str) -> Result<Vec<u8>, AssetError> + 'a {
+    move |uri: &str| {
         if uri.starts_with(['/', '\\']) || Path::new(uri).is_absolute() {
             return Err(AssetError::Uri {
                 uri: uri.to_string(),
@@ -201,8 +215,7 @@ pub fn read_gltf_file(path: &Path, limits: &Limits) -> Result<GltfAsset, AssetEr
             });
         }
         read_file(&base.join(uri), limits.max_bytes)
-    };
-    read_gltf_bytes(&bytes, &mut resolve, limits).map_err(|e| e.within(path.display().to_string()))
+    }
 }
 
 /// The whole file, if it is at most `max_bytes` long.
