@@ -3,66 +3,20 @@
 //! the GIL released, into the API buffers `micromap-index bake` writes
 //! (`result`), refused first when the output may exceed `max_bytes`.
 
+use crate::bake_options::{BakeOptions, Common};
+use crate::gltf_out::GltfOut;
 use crate::inputs::{AlphaArray, UvArray};
 use crate::options::{self, value_error};
 use crate::result::{result, MeshInfo};
 use micromap_index::bake::mesh::{
-    bake_meshes, output_bytes_bound, LevelRule, Material, Mesh, MeshBake, MeshBakeError,
-    MeshOptions, MeshTriangles,
+    bake_meshes, output_bytes_bound, Material, Mesh, MeshBake, MeshBakeError, MeshTriangles,
 };
 use micromap_index::bake::Sampler;
-use micromap_index::micromap::{BuildOptions, IndexWidth};
-
 use micromap_index_assets::{read_gltf_file, AssetError, Limits};
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
-
-/// The options both bakes take.
-struct Common {
-    options: MeshOptions,
-    width: IndexWidth,
-    max_bytes: u64,
-}
-
-#[allow(clippy::too_many_arguments)]
-fn common(
-    level: &Bound<'_, PyAny>,
-    max_level: i64,
-    format: i64,
-    unknown: &str,
-    model: &str,
-    budget: Option<i64>,
-    index_width: i64,
-    max_bytes: i64,
-    no_mixed_special: bool,
-) -> PyResult<Common> {
-    let fixed = options::level_or_auto(level)?;
-    let max = options::bake_level(max_level, "max_level")?;
-    let budget = budget.map(|b| options::count(b, "budget")).transpose()?;
-    if budget.is_some() && fixed.is_some() {
-        return Err(value_error(
-            "budget chooses levels: it goes with level=\"auto\"",
-        ));
-    }
-    Ok(Common {
-        options: MeshOptions {
-            levels: fixed.map_or(LevelRule::Useful { max }, LevelRule::Fixed),
-            format: options::format(format)?,
-            unknown: options::unknown(unknown)?,
-            budget_bytes: budget,
-            model: options::model(model)?,
-            buffers: BuildOptions {
-                no_mixed_special_indices: no_mixed_special,
-                ..BuildOptions::default()
-            },
-            ..MeshOptions::default()
-        },
-        width: options::index_width(index_width)?,
-        max_bytes: options::count(max_bytes, "max_bytes")?,
-    })
-}
 
 /// Bakes `meshes`, refusing first (as `micromap-index bake --max-bytes`)
 /// a bake whose output may exceed `c.max_bytes`: the allocator would abort
@@ -94,43 +48,24 @@ fn bake_error(e: MeshBakeError, names: &[MeshInfo]) -> PyErr {
 /// Bakes one alpha texture and its UV triangles (the CLI's
 /// `bake --texture --triangles`); the Python layer documents the options.
 #[pyfunction]
-#[pyo3(signature = (alpha, uvs, *, level, max_level, format, unknown, filter, address,
-    border_alpha, cutoff, opaque_above, model, budget, index_width, alpha_factor, max_bytes,
-    no_mixed_special))]
+#[pyo3(signature = (alpha, uvs, options, *, filter, address, border_alpha, cutoff,
+    opaque_above, alpha_factor))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn bake<'py>(
     py: Python<'py>,
     alpha: &Bound<'py, PyAny>,
     uvs: &Bound<'py, PyAny>,
-    level: &Bound<'py, PyAny>,
-    max_level: i64,
-    format: i64,
-    unknown: &str,
+    options: BakeOptions<'py>,
     filter: &str,
     address: &Bound<'py, PyAny>,
     border_alpha: f32,
     cutoff: f32,
     opaque_above: bool,
-    model: &str,
-    budget: Option<i64>,
-    index_width: i64,
     alpha_factor: f32,
-    max_bytes: i64,
-    no_mixed_special: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let alpha = AlphaArray::new(alpha)?;
     let uvs = UvArray::new(uvs)?;
-    let c = common(
-        level,
-        max_level,
-        format,
-        unknown,
-        model,
-        budget,
-        index_width,
-        max_bytes,
-        no_mixed_special,
-    )?;
+    let c = options.check()?;
     let sampler = options::sampler(
         options::filter(filter)?,
         options::address_pair(address)?,
@@ -184,45 +119,46 @@ pub(crate) fn bake<'py>(
 }
 
 /// Bakes a glTF 2.0 asset's alpha-masked primitives (the CLI's
-/// `bake --gltf`): `filter`, `address` and `cutoff` override the asset's
-/// own when given.
+/// `bake --gltf`): `filter`, `address`, `border_alpha`, `cutoff` and
+/// `opaque_above` override the asset's own when given (not with
+/// `gltf_out`, whose micromaps must match the asset's own sampling, as
+/// `--gltf-out` refuses them). With `gltf_out`, the result's `gltf_files`
+/// are the files `--gltf-out` writes, for `gltf_out`'s directory.
 #[pyfunction]
-#[pyo3(signature = (path, *, level, max_level, format, unknown, filter, address,
-    border_alpha, cutoff, opaque_above, model, budget, index_width, max_bytes,
-    no_mixed_special))]
+#[pyo3(signature = (path, options, *, filter, address, border_alpha, cutoff, opaque_above,
+    gltf_out))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn bake_gltf<'py>(
     py: Python<'py>,
     path: PathBuf,
-    level: &Bound<'py, PyAny>,
-    max_level: i64,
-    format: i64,
-    unknown: &str,
+    options: BakeOptions<'py>,
     filter: Option<&str>,
     address: Option<&Bound<'py, PyAny>>,
-    border_alpha: f32,
+    border_alpha: Option<f32>,
     cutoff: Option<f32>,
     opaque_above: bool,
-    model: &str,
-    budget: Option<i64>,
-    index_width: i64,
-    max_bytes: i64,
-    no_mixed_special: bool,
+    gltf_out: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let c = common(
-        level,
-        max_level,
-        format,
-        unknown,
-        model,
-        budget,
-        index_width,
-        max_bytes,
-        no_mixed_special,
-    )?;
+    let c = options.check()?;
+    let gltf_out = gltf_out.as_deref().map(GltfOut::new).transpose()?;
+    if gltf_out.is_some() {
+        let given = [
+            ("filter", filter.is_some()),
+            ("address", address.is_some()),
+            ("border_alpha", border_alpha.is_some()),
+            ("cutoff", cutoff.is_some()),
+            ("opaque_above", opaque_above),
+        ];
+        if let Some((keyword, _)) = given.iter().find(|(_, given)| *given) {
+            return Err(value_error(format!(
+                "{keyword} with gltf_out: the micromaps must match the asset's own samplers \
+                 and alphaCutoff, which the renderer uses"
+            )));
+        }
+    }
     let filter = filter.map(options::filter).transpose()?;
     let address = address.map(options::address_pair).transpose()?;
-    let border_alpha = options::border(border_alpha)?;
+    let border_alpha = options::border(border_alpha.unwrap_or(0.0))?;
     if let Some(value) = cutoff {
         options::cutoff(value, opaque_above)?;
     }
@@ -291,5 +227,19 @@ pub(crate) fn bake_gltf<'py>(
     })?;
     let out = result(py, &baked, c.width, &info)?;
     out.set_item("warnings", gltf.warnings.clone())?;
+    if let Some(gltf_out) = gltf_out {
+        let primitives: Vec<(usize, usize)> = gltf
+            .primitives
+            .iter()
+            .map(|p| (p.mesh, p.primitive))
+            .collect();
+        let files = py.allow_threads(|| gltf_out.files(&path, &baked.buffers, &primitives))?;
+        let list: Vec<(String, Bound<'py, pyo3::types::PyBytes>)> = files
+            .into_iter()
+            .map(|(name, bytes)| (name, pyo3::types::PyBytes::new(py, &bytes)))
+            .collect();
+        out.set_item("gltf_files", list)?;
+        out.set_item("gltf_dir", gltf_out.dir())?;
+    }
     Ok(out)
 }

@@ -3,8 +3,10 @@
 //! spellings; every bad value is a `ValueError` reading
 //! `<keyword> <value>: <the library's message>`.
 
+use micromap_index::bake::mesh::Mips;
 use micromap_index::bake::{
     bake_level as library_bake_level, AddressMode, Comparison, Cutoff, Filter, Model, Sampler,
+    Threads,
 };
 use micromap_index::micromap::{Format, IndexWidth, UnknownPolicy};
 use micromap_index::names::ParseNameError;
@@ -44,6 +46,23 @@ pub(crate) fn format(value: i64) -> PyResult<Format> {
         .to_string()
         .parse()
         .map_err(|e| value_error(format!("format {value}: {e}")))
+}
+
+/// `mips`: an int `>= 0` (as `--mips N`) or `"all"`.
+pub(crate) fn mips(obj: &Bound<'_, PyAny>) -> PyResult<Mips> {
+    if let Ok(text) = obj.extract::<String>() {
+        return named("mips", &text);
+    }
+    match obj.extract::<i64>() {
+        // The library reads digits only: a negative int is refused there.
+        Ok(n) => n
+            .to_string()
+            .parse()
+            .map_err(|e| value_error(format!("mips {n}: {e}"))),
+        Err(_) => Err(PyTypeError::new_err(
+            "mips must be an int (a mip level) or \"all\"",
+        )),
+    }
 }
 
 /// `address`: one mode for both axes, or a `(u, v)` pair.
@@ -147,6 +166,22 @@ pub(crate) fn index_width(bits: i64) -> PyResult<IndexWidth> {
         other => Err(value_error(format!(
             "index_width {other}: expected 16 or 32 (the widths Vulkan accepts)"
         ))),
+    }
+}
+
+/// `threads`: `None` every core, else a count `>= 1` (as `--threads`).
+pub(crate) fn threads(value: Option<i64>) -> PyResult<Threads> {
+    match value {
+        None => Ok(Threads::All),
+        Some(n) => usize::try_from(n)
+            .ok()
+            .filter(|&n| n >= 1)
+            .map(Threads::Exactly)
+            .ok_or_else(|| {
+                value_error(format!(
+                    "threads {n}: expected a number of threads, at least 1"
+                ))
+            }),
     }
 }
 

@@ -5,7 +5,9 @@ import numpy as np
 import pytest
 
 import micromap_index as mmi
-from conftest import GRID, THORN
+from conftest import GRID, SPONZA, THORN
+
+CARDS = SPONZA / "cards.gltf"
 
 F32 = np.zeros(4, np.float32)
 ALPHA = np.full((8, 8), 255, np.uint8)
@@ -67,6 +69,25 @@ UVS = np.array([[[0, 0], [1, 0], [0, 1]]], np.float32)
         (lambda: mmi.verify(ALPHA, UVS, mmi.bake(ALPHA, UVS), max_report=-1), ValueError, "count"),
         (lambda: mmi.bake(ALPHA, UVS, alpha_factor=float("nan")), ValueError, "alpha_factor"),
         (lambda: mmi.bake_gltf("/nonexistent/x.gltf"), OSError, "x.gltf"),
+        (lambda: mmi.bake(ALPHA, UVS, threads=0), ValueError,
+         "threads 0: expected a number of threads, at least 1"),
+        (lambda: mmi.bake(ALPHA, UVS, mips="some"), ValueError,
+         'mips "some": expected 0, a level N or all'),
+        (lambda: mmi.bake(ALPHA, UVS, mips=-1), ValueError, "mips -1: expected 0, a level N or all"),
+        (lambda: mmi.bake(ALPHA, UVS, mips=1.5), TypeError, "mips"),
+        (lambda: mmi.bake(ALPHA, UVS, work_budget=-1), ValueError, "work_budget -1"),
+        (lambda: mmi.bake(ALPHA, UVS, bake_work_budget=-1), ValueError, "bake_work_budget -1"),
+        (lambda: mmi.bake_gltf(CARDS, gltf_out="/tmp/x.png"), ValueError,
+         'gltf_out "/tmp/x.png": expected a path ending in NAME.gltf or NAME.glb'),
+        (lambda: mmi.bake_gltf(CARDS, gltf_out="/tmp/.glb"), ValueError, "NAME.glb"),
+        (lambda: mmi.bake_gltf(CARDS, gltf_out="/tmp/x.glb", filter="linear"), ValueError,
+         "filter with gltf_out: the micromaps must match the asset's own samplers"),
+        (lambda: mmi.bake_gltf(CARDS, gltf_out="/tmp/x.glb", border_alpha=0.0), ValueError,
+         "border_alpha with gltf_out"),
+        (lambda: mmi.bake_gltf(CARDS, gltf_out="/tmp/x.glb", opaque_above=True), ValueError,
+         "opaque_above with gltf_out"),
+        (lambda: mmi.bake_gltf(CARDS, level=2, gltf_out="/nonexistent/dir/x.glb"), OSError,
+         'gltf_out "x.glb"'),
         (lambda: mmi.bake_gltf(GRID), ValueError, "grid.tris.json"),
         (lambda: mmi.read_alpha(GRID), ValueError, "grid.tris.json"),
         (lambda: mmi.read_alpha("/nonexistent.png"), OSError, "nonexistent"),
