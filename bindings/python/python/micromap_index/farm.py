@@ -308,6 +308,7 @@ def bake_assets(
         if progress is not None:
             progress(done, total, result)
 
+    task = None  # bake_one as a Ray remote function, made once, only if needed
     pending: Dict[Any, int] = {}
     submitted: Dict[str, Any] = {}  # one task per key, however often the asset is listed
     waiting: Dict[str, List[int]] = {}
@@ -320,13 +321,14 @@ def bake_assets(
         if key in submitted:
             waiting[key].append(i)
             continue
-        if not ray.is_initialized():
-            ray.init()
-        task = ray.remote(bake_one).options(
+        if task is None:
+            if not ray.is_initialized():
+                ray.init()
+            task = ray.remote(bake_one)
+        ref = task.options(
             num_cpus=cpus_per_task, memory=memory_per_task, max_retries=0,
             name=f"bake {Path(path).name}",
-        )
-        ref = task.remote(path, key, str(cache), options, gltf_out)
+        ).remote(path, key, str(cache), options, gltf_out)
         submitted[key] = ref
         waiting[key] = [i]
         pending[ref] = i

@@ -6,7 +6,7 @@
 //! ([`GltfContainer::file_names`]), and the bytes, with every kept relative
 //! URI re-based from the asset's directory onto the output's.
 
-use super::read_file;
+use super::files::{read_file, resolve_beside};
 use super::write::{
     relative_uri_prefix, write_gltf_micromaps, GltfContainer, GltfFiles, GltfMicromapWrite,
 };
@@ -85,7 +85,7 @@ pub fn write_gltf_micromaps_file(
     let input = read_file(asset, limits.max_bytes)?;
     let from = asset.parent().unwrap_or(Path::new(""));
     let prefix = relative_uri_prefix(out_dir, from)?;
-    let mut resolve = super::resolve_beside(from, limits);
+    let mut resolve = resolve_beside(from, limits);
     write_gltf_micromaps(
         &input,
         &mut resolve,
