@@ -3,6 +3,7 @@
 //! takes), so a script bakes exactly what `micromap-index bake --texture
 //! --triangles` bakes.
 
+use crate::fallible::try_vec;
 use micromap_index_assets::{decode_alpha_image, read_triangles_json, AlphaTexels, Limits};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyOSError, PyValueError};
@@ -15,12 +16,12 @@ use std::path::Path;
 fn read(path: &Path, limit: u64) -> PyResult<Vec<u8>> {
     let shown = path.display();
     let io = |e: std::io::Error| PyOSError::new_err(format!("cannot read {shown}: {e}"));
-    let mut bytes = Vec::new();
-    std::fs::File::open(path)
-        .map_err(io)?
-        .take(limit + 1)
-        .read_to_end(&mut bytes)
-        .map_err(io)?;
+    let file = std::fs::File::open(path).map_err(io)?;
+    // Room for the whole file (within the limit) reserved fallibly first;
+    // a file that grows meanwhile still stops at `limit + 1` bytes.
+    let size = file.metadata().map_or(0, |m| m.len()).min(limit + 1);
+    let mut bytes = try_vec(usize::try_from(size).unwrap_or(usize::MAX), "the file")?;
+    file.take(limit + 1).read_to_end(&mut bytes).map_err(io)?;
     if bytes.len() as u64 > limit {
         return Err(PyValueError::new_err(format!(
             "{shown}: over the limit of {limit} bytes"
@@ -64,7 +65,8 @@ pub(crate) fn read_triangles(py: Python<'_>, path: std::path::PathBuf) -> PyResu
     let triangles = read_triangles_json(&bytes)
         .map_err(|e| PyValueError::new_err(format!("{}: {e}", path.display())))?;
     let n = triangles.len();
-    let flat: Vec<f32> = triangles.iter().flatten().flatten().copied().collect();
+    let mut flat = try_vec(n.saturating_mul(6), "the triangles")?;
+    flat.extend(triangles.iter().flatten().flatten().copied());
     Ok(PyArray1::from_vec(py, flat)
         .reshape([n, 3, 2])?
         .into_any()

@@ -1,152 +1,22 @@
 //! `bake` (an alpha array and UV triangles) and `bake_gltf` (a glTF file
 //! through micromap-index-assets), both by `bake::mesh::bake_meshes` with
-//! the GIL released, into the API buffers `micromap-index bake` writes.
+//! the GIL released, into the API buffers `micromap-index bake` writes
+//! (`result`), refused first when the output may exceed `max_bytes`.
 
-use crate::arrays::{copy, dtype_name, has_dtype, untyped};
+use crate::bake_options::{BakeOptions, Common};
+use crate::gltf_out::GltfOut;
+use crate::inputs::{AlphaArray, UvArray};
 use crate::options::{self, value_error};
+use crate::result::{result, MeshInfo};
 use micromap_index::bake::mesh::{
-    bake_meshes, output_bytes_bound, LevelRule, Material, Mesh, MeshBake, MeshBakeError,
-    MeshOptions, MeshTriangles,
+    bake_meshes, output_bytes_bound, Material, Mesh, MeshBake, MeshBakeError, MeshTriangles,
 };
-use micromap_index::bake::{
-    AlphaTexture, F32Texture, Sampler, TextureError, Unorm16Texture, Unorm8Texture, UvTriangle,
-};
-use micromap_index::micromap::{usage_counts_to_le_bytes, BuildOptions, IndexWidth};
-
+use micromap_index::bake::Sampler;
 use micromap_index_assets::{read_gltf_file, AssetError, Limits};
-use pyo3::exceptions::{PyOSError, PyTypeError, PyValueError};
+use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBytes, PyDict, PyList};
+use pyo3::types::PyDict;
 use std::path::PathBuf;
-
-/// An alpha array's texels, owned, by dtype; row 0 is the image's top row
-/// (`v = 0`), as the PNG reader returns it.
-pub(crate) enum Texels {
-    U8(Vec<u8>),
-    U16(Vec<u16>),
-    F32(Vec<f32>),
-}
-
-/// A 2-D alpha array: its width, height and texels.
-pub(crate) struct Alpha {
-    pub(crate) width: u32,
-    pub(crate) height: u32,
-    pub(crate) texels: Texels,
-}
-
-impl Alpha {
-    /// `alpha` as the baker reads it: a 2-D `uint8` (unorm8), `uint16`
-    /// (unorm16) or `float32` array of shape `(height, width)`.
-    pub(crate) fn new(obj: &Bound<'_, PyAny>) -> PyResult<Alpha> {
-        let array = untyped(obj, "alpha")?;
-        let texels = if has_dtype::<u8>(array) {
-            Texels::U8(copy(array, "alpha")?.elements)
-        } else if has_dtype::<u16>(array) {
-            Texels::U16(copy(array, "alpha")?.elements)
-        } else if has_dtype::<f32>(array) {
-            Texels::F32(copy(array, "alpha")?.elements)
-        } else {
-            return Err(PyTypeError::new_err(format!(
-                "alpha must have dtype uint8, uint16 or float32, not {}",
-                dtype_name(array)
-            )));
-        };
-        let shape = numpy::PyUntypedArrayMethods::shape(array);
-        let &[height, width] = shape else {
-            return Err(PyValueError::new_err(format!(
-                "alpha must be 2-D (height, width), not of shape {shape:?}"
-            )));
-        };
-        let dimension = |n: usize, what: &str| {
-            u32::try_from(n)
-                .map_err(|_| value_error(format!("alpha's {what} {n} is over 2^32 - 1")))
-        };
-        Ok(Alpha {
-            width: dimension(width, "width")?,
-            height: dimension(height, "height")?,
-            texels,
-        })
-    }
-
-    /// The library's view of the texels (it refuses empty textures).
-    pub(crate) fn texture(&self) -> Result<Box<dyn AlphaTexture + '_>, TextureError> {
-        let (w, h) = (self.width, self.height);
-        Ok(match &self.texels {
-            Texels::U8(t) => Box::new(Unorm8Texture::new(w, h, t)?),
-            Texels::U16(t) => Box::new(Unorm16Texture::new(w, h, t)?),
-            Texels::F32(t) => Box::new(F32Texture::new(w, h, t)?),
-        })
-    }
-}
-
-/// `uvs`: a float32 array of shape `(N, 3, 2)`, triangle `t`'s vertex `i`
-/// at `uvs[t, i]`.
-pub(crate) fn uv_triangles(obj: &Bound<'_, PyAny>) -> PyResult<Vec<UvTriangle>> {
-    let array = untyped(obj, "uvs")?;
-    if !has_dtype::<f32>(array) {
-        return Err(PyTypeError::new_err(format!(
-            "uvs must have dtype float32 (the UVs a GPU interpolates), not {}",
-            dtype_name(array)
-        )));
-    }
-    let owned = copy::<f32>(array, "uvs")?;
-    if owned.shape.len() != 3 || owned.shape[1] != 3 || owned.shape[2] != 2 {
-        return Err(PyValueError::new_err(format!(
-            "uvs must have shape (N, 3, 2), not {:?}",
-            owned.shape
-        )));
-    }
-    Ok(owned
-        .elements
-        .chunks_exact(6)
-        .map(|c| [[c[0], c[1]], [c[2], c[3]], [c[4], c[5]]])
-        .collect())
-}
-
-/// The options both bakes take.
-struct Common {
-    options: MeshOptions,
-    width: IndexWidth,
-    max_bytes: u64,
-}
-
-#[allow(clippy::too_many_arguments)]
-fn common(
-    level: &Bound<'_, PyAny>,
-    max_level: i64,
-    format: i64,
-    unknown: &str,
-    model: &str,
-    budget: Option<i64>,
-    index_width: i64,
-    max_bytes: i64,
-    no_mixed_special: bool,
-) -> PyResult<Common> {
-    let fixed = options::level_or_auto(level)?;
-    let max = options::bake_level(max_level, "max_level")?;
-    let budget = budget.map(|b| options::count(b, "budget")).transpose()?;
-    if budget.is_some() && fixed.is_some() {
-        return Err(value_error(
-            "budget chooses levels: it goes with level=\"auto\"",
-        ));
-    }
-    Ok(Common {
-        options: MeshOptions {
-            levels: fixed.map_or(LevelRule::Useful { max }, LevelRule::Fixed),
-            format: options::format(format)?,
-            unknown: options::unknown(unknown)?,
-            budget_bytes: budget,
-            model: options::model(model)?,
-            buffers: BuildOptions {
-                no_mixed_special_indices: no_mixed_special,
-                ..BuildOptions::default()
-            },
-            ..MeshOptions::default()
-        },
-        width: options::index_width(index_width)?,
-        max_bytes: options::count(max_bytes, "max_bytes")?,
-    })
-}
 
 /// Bakes `meshes`, refusing first (as `micromap-index bake --max-bytes`)
 /// a bake whose output may exceed `c.max_bytes`: the allocator would abort
@@ -165,109 +35,6 @@ fn bake_within(meshes: &[Mesh<'_>], c: &Common, info: &[MeshInfo]) -> PyResult<M
     bake_meshes(meshes, &c.options, &mut |_, _| {}).map_err(|e| bake_error(e, info))
 }
 
-/// A finished bake as the Python layer wraps it: the four files'
-/// bytes, the statistics and where each geometry's indices start.
-fn result<'py>(
-    py: Python<'py>,
-    bake: &MeshBake,
-    width: IndexWidth,
-    meshes: &[MeshInfo],
-) -> PyResult<Bound<'py, PyDict>> {
-    let buffers = &bake.buffers;
-    let mut indices = Vec::new();
-    for g in 0..buffers.geometry_count() {
-        indices.extend(buffers.index_bytes(g, width).map_err(value_error)?);
-    }
-    let out = PyDict::new(py);
-    out.set_item("data", PyBytes::new(py, buffers.data()))?;
-    out.set_item("triangles", PyBytes::new(py, &buffers.records_le_bytes()))?;
-    out.set_item(
-        "usage",
-        PyBytes::new(py, &usage_counts_to_le_bytes(buffers.usage_counts())),
-    )?;
-    out.set_item("indices", PyBytes::new(py, &indices))?;
-    out.set_item("index_width", width.bytes() * 8)?;
-    let r = &bake.report;
-    let stats = PyDict::new(py);
-    stats.set_item("triangles", r.triangles)?;
-    stats.set_item("levels", r.levels.clone())?;
-    let counts = PyDict::new(py);
-    for (name, count) in [
-        "transparent",
-        "opaque",
-        "unknown_transparent",
-        "unknown_opaque",
-    ]
-    .iter()
-    .zip(r.counts)
-    {
-        counts.set_item(name, count)?;
-    }
-    stats.set_item("micro_triangles", counts)?;
-    stats.set_item("known_fraction", r.known_fraction)?;
-    stats.set_item("known_area_fraction", r.known_area_fraction)?;
-    let status = PyDict::new(py);
-    status.set_item("exact", r.status.exact)?;
-    status.set_item("not_finite", r.status.not_finite)?;
-    status.set_item("out_of_exact_range", r.status.out_of_exact_range)?;
-    status.set_item("budget_exceeded", r.status.block_budget_exceeded)?;
-    status.set_item("work_budget_exceeded", r.status.work_budget_exceeded)?;
-    stats.set_item("status", status)?;
-    stats.set_item("distinct_triangles", r.distinct_triangles)?;
-    stats.set_item("work_units", r.work)?;
-    stats.set_item("period_level_zero_triangles", r.period_level_zero)?;
-    stats.set_item("micromaps_after_dedup", r.micromaps)?;
-    stats.set_item("special_index_triangles", r.special_index_triangles)?;
-    stats.set_item("bytes_flat", r.bytes_flat)?;
-    stats.set_item("bytes_paper_tree", r.bytes_paper_tree)?;
-    stats.set_item("bytes_level_order_tree", r.bytes_level_order_tree)?;
-    out.set_item("stats", stats)?;
-    let list = PyList::empty(py);
-    let mut first_index = 0;
-    for (geometry, m) in meshes.iter().enumerate() {
-        let d = PyDict::new(py);
-        d.set_item("name", &m.name)?;
-        d.set_item("texture", (m.size.0, m.size.1))?;
-        d.set_item(
-            "filter",
-            match m.sampler.filter {
-                micromap_index::bake::Filter::Nearest => "nearest",
-                micromap_index::bake::Filter::Linear => "linear",
-            },
-        )?;
-        d.set_item(
-            "address",
-            (
-                options::address_name(m.sampler.address_u),
-                options::address_name(m.sampler.address_v),
-            ),
-        )?;
-        d.set_item("cutoff", m.cutoff)?;
-        d.set_item("alpha_factor", m.alpha_factor)?;
-        d.set_item("triangles", m.triangles)?;
-        d.set_item("first_index", first_index)?;
-        // The CLI's `mixed_special_indices` of the job (summary.json).
-        d.set_item(
-            "mixed_special_indices",
-            buffers.is_mixed(geometry).map_err(value_error)?,
-        )?;
-        first_index += m.triangles;
-        list.append(d)?;
-    }
-    out.set_item("meshes", list)?;
-    Ok(out)
-}
-
-/// What the result reports per mesh (the CLI's `jobs` in summary.json).
-struct MeshInfo {
-    name: String,
-    size: (u32, u32),
-    sampler: Sampler,
-    cutoff: f32,
-    alpha_factor: f32,
-    triangles: usize,
-}
-
 fn bake_error(e: MeshBakeError, names: &[MeshInfo]) -> PyErr {
     match e {
         MeshBakeError::Texture { mesh, error } => value_error(format!(
@@ -281,43 +48,24 @@ fn bake_error(e: MeshBakeError, names: &[MeshInfo]) -> PyErr {
 /// Bakes one alpha texture and its UV triangles (the CLI's
 /// `bake --texture --triangles`); the Python layer documents the options.
 #[pyfunction]
-#[pyo3(signature = (alpha, uvs, *, level, max_level, format, unknown, filter, address,
-    border_alpha, cutoff, opaque_above, model, budget, index_width, alpha_factor, max_bytes,
-    no_mixed_special))]
+#[pyo3(signature = (alpha, uvs, options, *, filter, address, border_alpha, cutoff,
+    opaque_above, alpha_factor))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn bake<'py>(
     py: Python<'py>,
     alpha: &Bound<'py, PyAny>,
     uvs: &Bound<'py, PyAny>,
-    level: &Bound<'py, PyAny>,
-    max_level: i64,
-    format: i64,
-    unknown: &str,
+    options: BakeOptions<'py>,
     filter: &str,
     address: &Bound<'py, PyAny>,
     border_alpha: f32,
     cutoff: f32,
     opaque_above: bool,
-    model: &str,
-    budget: Option<i64>,
-    index_width: i64,
     alpha_factor: f32,
-    max_bytes: i64,
-    no_mixed_special: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let alpha = Alpha::new(alpha)?;
-    let triangles = uv_triangles(uvs)?;
-    let c = common(
-        level,
-        max_level,
-        format,
-        unknown,
-        model,
-        budget,
-        index_width,
-        max_bytes,
-        no_mixed_special,
-    )?;
+    let alpha = AlphaArray::new(alpha)?;
+    let uvs = UvArray::new(uvs)?;
+    let c = options.check()?;
     let sampler = options::sampler(
         options::filter(filter)?,
         options::address_pair(address)?,
@@ -329,6 +77,20 @@ pub(crate) fn bake<'py>(
             "alpha_factor {alpha_factor}: expected a finite number >= 0"
         )));
     }
+    // Every triangle gets an index: more triangles than max_bytes holds
+    // indices for are refused before they are copied (output_bytes_bound
+    // would refuse them after).
+    let index_bytes = uvs.len() as u128 * c.width.bytes() as u128;
+    if index_bytes > u128::from(c.max_bytes) {
+        return Err(value_error(format!(
+            "uvs holds {} triangles, whose indices alone take {index_bytes} bytes, over \
+             the limit of max_bytes={} bytes; nothing baked (max_bytes raises the limit)",
+            uvs.len(),
+            c.max_bytes
+        )));
+    }
+    let triangles = uvs.copy()?;
+    let alpha = alpha.copy()?;
     let info = [MeshInfo {
         name: "alpha".into(),
         size: (alpha.width, alpha.height),
@@ -357,45 +119,46 @@ pub(crate) fn bake<'py>(
 }
 
 /// Bakes a glTF 2.0 asset's alpha-masked primitives (the CLI's
-/// `bake --gltf`): `filter`, `address` and `cutoff` override the asset's
-/// own when given.
+/// `bake --gltf`): `filter`, `address`, `border_alpha`, `cutoff` and
+/// `opaque_above` override the asset's own when given (not with
+/// `gltf_out`, whose micromaps must match the asset's own sampling, as
+/// `--gltf-out` refuses them). With `gltf_out`, the result's `gltf_files`
+/// are the files `--gltf-out` writes, for `gltf_out`'s directory.
 #[pyfunction]
-#[pyo3(signature = (path, *, level, max_level, format, unknown, filter, address,
-    border_alpha, cutoff, opaque_above, model, budget, index_width, max_bytes,
-    no_mixed_special))]
+#[pyo3(signature = (path, options, *, filter, address, border_alpha, cutoff, opaque_above,
+    gltf_out))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn bake_gltf<'py>(
     py: Python<'py>,
     path: PathBuf,
-    level: &Bound<'py, PyAny>,
-    max_level: i64,
-    format: i64,
-    unknown: &str,
+    options: BakeOptions<'py>,
     filter: Option<&str>,
     address: Option<&Bound<'py, PyAny>>,
-    border_alpha: f32,
+    border_alpha: Option<f32>,
     cutoff: Option<f32>,
     opaque_above: bool,
-    model: &str,
-    budget: Option<i64>,
-    index_width: i64,
-    max_bytes: i64,
-    no_mixed_special: bool,
+    gltf_out: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let c = common(
-        level,
-        max_level,
-        format,
-        unknown,
-        model,
-        budget,
-        index_width,
-        max_bytes,
-        no_mixed_special,
-    )?;
+    let c = options.check()?;
+    let gltf_out = gltf_out.as_deref().map(GltfOut::new).transpose()?;
+    if gltf_out.is_some() {
+        let given = [
+            ("filter", filter.is_some()),
+            ("address", address.is_some()),
+            ("border_alpha", border_alpha.is_some()),
+            ("cutoff", cutoff.is_some()),
+            ("opaque_above", opaque_above),
+        ];
+        if let Some((keyword, _)) = given.iter().find(|(_, given)| *given) {
+            return Err(value_error(format!(
+                "{keyword} with gltf_out: the micromaps must match the asset's own samplers \
+                 and alphaCutoff, which the renderer uses"
+            )));
+        }
+    }
     let filter = filter.map(options::filter).transpose()?;
     let address = address.map(options::address_pair).transpose()?;
-    let border_alpha = options::border(border_alpha)?;
+    let border_alpha = options::border(border_alpha.unwrap_or(0.0))?;
     if let Some(value) = cutoff {
         options::cutoff(value, opaque_above)?;
     }
@@ -464,5 +227,19 @@ pub(crate) fn bake_gltf<'py>(
     })?;
     let out = result(py, &baked, c.width, &info)?;
     out.set_item("warnings", gltf.warnings.clone())?;
+    if let Some(gltf_out) = gltf_out {
+        let primitives: Vec<(usize, usize)> = gltf
+            .primitives
+            .iter()
+            .map(|p| (p.mesh, p.primitive))
+            .collect();
+        let files = py.allow_threads(|| gltf_out.files(&path, &baked.buffers, &primitives))?;
+        let list: Vec<(String, Bound<'py, pyo3::types::PyBytes>)> = files
+            .into_iter()
+            .map(|(name, bytes)| (name, pyo3::types::PyBytes::new(py, &bytes)))
+            .collect();
+        out.set_item("gltf_files", list)?;
+        out.set_item("gltf_dir", gltf_out.dir())?;
+    }
     Ok(out)
 }

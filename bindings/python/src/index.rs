@@ -1,38 +1,17 @@
 //! `index` and `wide_index`: the Vulkan reference in binary32 on numpy
-//! arrays (through the library's SIMD batch kernels) or on scalars.
+//! arrays (through the library's SIMD batch kernels) or on scalars. Arrays
+//! are read in place, chunk by chunk when not C-contiguous (the GIL is held
+//! for the whole call, so nothing can change them meanwhile); the one
+//! allocation sized by the input, the result, is fallible.
 
-use crate::arrays::{dtype_name, has_dtype, type_name};
+use crate::arrays::{dtype_name, has_dtype, readonly, type_name, zip_chunks};
+use crate::fallible::try_vec;
 use micromap_index::{batch, spec, Level, SpecLevel};
-use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use std::borrow::Cow;
 
-/// `u` and `v` as the batch kernels read them: equal shapes, float32.
-enum Points<'a> {
-    Scalars(f32, f32),
-    Arrays {
-        shape: Vec<usize>,
-        u: Cow<'a, [f32]>,
-        v: Cow<'a, [f32]>,
-    },
-}
-
-/// A float32 array's elements, borrowed when contiguous (the GIL is held
-/// for the whole call, so nothing can change them meanwhile).
-fn elements<'a>(read: &'a numpy::PyReadonlyArrayDyn<'_, f32>) -> Cow<'a, [f32]> {
-    // `as_slice` also accepts Fortran order (memory order, not numpy's
-    // logical order): only a C-contiguous array is borrowed as one slice.
-    match read.as_slice() {
-        Ok(slice) if read.is_c_contiguous() => Cow::Borrowed(slice),
-        _ => Cow::Owned(read.as_array().iter().copied().collect()),
-    }
-}
-
-fn float32<'py>(
-    obj: &Bound<'py, PyAny>,
-    what: &str,
-) -> PyResult<numpy::PyReadonlyArrayDyn<'py, f32>> {
+fn float32<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<PyReadonlyArrayDyn<'py, f32>> {
     let array = obj
         .downcast::<PyUntypedArray>()
         .map_err(|_| PyTypeError::new_err(format!("{what}: expected a numpy array")))?;
@@ -43,10 +22,7 @@ fn float32<'py>(
             dtype_name(array)
         )));
     }
-    let typed = obj.downcast::<PyArrayDyn<f32>>()?;
-    typed
-        .try_readonly()
-        .map_err(|e| PyValueError::new_err(format!("{what}: {e}")))
+    readonly(array, what)
 }
 
 /// Reads `u`, `v` and calls `scalar` or `batch` on them; the result is a
@@ -58,12 +34,10 @@ fn run<O: numpy::Element + Copy + Default>(
     batch: impl Fn(&[f32], &[f32], &mut [O]) -> Result<(), batch::BatchError>,
 ) -> PyResult<PyObject> {
     let py = u.py();
-    let (u_array, v_array) = (
+    match (
         u.downcast::<PyUntypedArray>().is_ok(),
         v.downcast::<PyUntypedArray>().is_ok(),
-    );
-    let (ru, rv);
-    let points = match (u_array, v_array) {
+    ) {
         (false, false) => {
             let number = |x: &Bound<'_, PyAny>, what: &str| {
                 x.extract::<f32>().map_err(|_| {
@@ -73,11 +47,11 @@ fn run<O: numpy::Element + Copy + Default>(
                     ))
                 })
             };
-            Points::Scalars(number(u, "u")?, number(v, "v")?)
+            let (u, v) = (number(u, "u")?, number(v, "v")?);
+            Ok(scalar(u, v).into_pyobject(py)?.into_any().unbind())
         }
         (true, true) => {
-            ru = float32(u, "u")?;
-            rv = float32(v, "v")?;
+            let (ru, rv) = (float32(u, "u")?, float32(v, "v")?);
             if ru.shape() != rv.shape() {
                 return Err(PyValueError::new_err(format!(
                     "u and v must have the same shape, not {:?} and {:?}",
@@ -85,28 +59,22 @@ fn run<O: numpy::Element + Copy + Default>(
                     rv.shape()
                 )));
             }
-            Points::Arrays {
-                shape: ru.shape().to_vec(),
-                u: elements(&ru),
-                v: elements(&rv),
-            }
-        }
-        _ => {
-            return Err(PyTypeError::new_err(
-                "u and v must both be numpy arrays or both be numbers",
-            ))
-        }
-    };
-    match points {
-        Points::Scalars(u, v) => Ok(scalar(u, v).into_pyobject(py)?.into_any().unbind()),
-        Points::Arrays { shape, u, v } => {
-            let mut out = vec![O::default(); u.len()];
-            batch(&u, &v, &mut out).map_err(|e| PyValueError::new_err(e.to_string()))?;
+            let (u, v) = (ru.as_array(), rv.as_array());
+            let mut out: Vec<O> = try_vec(u.len(), "the result")?;
+            zip_chunks(&u, &v, |u, v| {
+                let start = out.len();
+                // Within the reserved capacity: never reallocates.
+                out.resize(start + u.len(), O::default());
+                batch(u, v, &mut out[start..]).map_err(|e| PyValueError::new_err(e.to_string()))
+            })?;
             Ok(PyArray1::from_vec(py, out)
-                .reshape(shape)?
+                .reshape(u.shape())?
                 .into_any()
                 .unbind())
         }
+        _ => Err(PyTypeError::new_err(
+            "u and v must both be numpy arrays or both be numbers",
+        )),
     }
 }
 

@@ -12,8 +12,13 @@ use pyo3::prelude::*;
 mod arrays;
 mod assets;
 mod bake;
+mod bake_options;
+mod fallible;
+mod gltf_out;
 mod index;
+mod inputs;
 mod options;
+mod result;
 mod tree;
 mod verify;
 

@@ -1,9 +1,15 @@
-//! Keyword options as the library's types; names as the CLI's flags
-//! (`micromap-index bake --help`), every bad value a `ValueError` naming
-//! what was expected.
+//! Keyword options as the library's types, parsed by the library's own
+//! `FromStr` (names, levels) so that Python accepts exactly the CLI's
+//! spellings; every bad value is a `ValueError` reading
+//! `<keyword> <value>: <the library's message>`.
 
-use micromap_index::bake::{AddressMode, Comparison, Cutoff, Filter, Model, Sampler};
+use micromap_index::bake::mesh::Mips;
+use micromap_index::bake::{
+    bake_level as library_bake_level, AddressMode, Comparison, Cutoff, Filter, Model, Sampler,
+    Threads,
+};
 use micromap_index::micromap::{Format, IndexWidth, UnknownPolicy};
+use micromap_index::names::ParseNameError;
 use micromap_index::Level;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -12,39 +18,50 @@ pub(crate) fn value_error(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(e.to_string())
 }
 
+/// `text` as the library's `T`, or `<keyword> "text": expected ...`.
+fn named<T: std::str::FromStr<Err = ParseNameError>>(keyword: &str, text: &str) -> PyResult<T> {
+    text.parse()
+        .map_err(|e| value_error(format!("{keyword} {text:?}: {e}")))
+}
+
 pub(crate) fn filter(name: &str) -> PyResult<Filter> {
-    match name {
-        "nearest" => Ok(Filter::Nearest),
-        "linear" => Ok(Filter::Linear),
-        other => Err(value_error(format!(
-            "filter {other:?}: expected \"nearest\" or \"linear\""
-        ))),
-    }
+    named("filter", name)
 }
 
 pub(crate) fn address(name: &str) -> PyResult<AddressMode> {
-    Ok(match name {
-        "repeat" => AddressMode::Repeat,
-        "mirrored-repeat" => AddressMode::MirroredRepeat,
-        "clamp-to-edge" => AddressMode::ClampToEdge,
-        "clamp-to-border" => AddressMode::ClampToBorder,
-        "mirror-clamp-to-edge" => AddressMode::MirrorClampToEdge,
-        other => {
-            return Err(value_error(format!(
-                "address mode {other:?}: expected repeat, mirrored-repeat, clamp-to-edge, \
-                 clamp-to-border or mirror-clamp-to-edge"
-            )))
-        }
-    })
+    named("address", name)
 }
 
-pub(crate) fn address_name(mode: AddressMode) -> &'static str {
-    match mode {
-        AddressMode::Repeat => "repeat",
-        AddressMode::MirroredRepeat => "mirrored-repeat",
-        AddressMode::ClampToEdge => "clamp-to-edge",
-        AddressMode::ClampToBorder => "clamp-to-border",
-        AddressMode::MirrorClampToEdge => "mirror-clamp-to-edge",
+pub(crate) fn unknown(name: &str) -> PyResult<UnknownPolicy> {
+    named("unknown", name)
+}
+
+pub(crate) fn model(name: &str) -> PyResult<Model> {
+    named("model", name)
+}
+
+/// `format`: the int 2 or 4, as `--format` reads its text.
+pub(crate) fn format(value: i64) -> PyResult<Format> {
+    value
+        .to_string()
+        .parse()
+        .map_err(|e| value_error(format!("format {value}: {e}")))
+}
+
+/// `mips`: an int `>= 0` (as `--mips N`) or `"all"`.
+pub(crate) fn mips(obj: &Bound<'_, PyAny>) -> PyResult<Mips> {
+    if let Ok(text) = obj.extract::<String>() {
+        return named("mips", &text);
+    }
+    match obj.extract::<i64>() {
+        // The library reads digits only: a negative int is refused there.
+        Ok(n) => n
+            .to_string()
+            .parse()
+            .map_err(|e| value_error(format!("mips {n}: {e}"))),
+        Err(_) => Err(PyTypeError::new_err(
+            "mips must be an int (a mip level) or \"all\"",
+        )),
     }
 }
 
@@ -103,64 +120,45 @@ pub(crate) fn cutoff(value: f32, opaque_above: bool) -> PyResult<Cutoff> {
     Cutoff::new(value, comparison).map_err(value_error)
 }
 
-pub(crate) fn model(name: &str) -> PyResult<Model> {
-    name.parse().map_err(|e| value_error(format!("model {name:?}: {e}")))
-}
-
-pub(crate) fn format(value: i64) -> PyResult<Format> {
-    match value {
-        2 => Ok(Format::TwoState),
-        4 => Ok(Format::FourState),
-        other => Err(value_error(format!("format {other}: expected 2 or 4"))),
-    }
-}
-
-pub(crate) fn format_number(format: Format) -> u32 {
-    match format {
-        Format::TwoState => 2,
-        Format::FourState => 4,
-    }
-}
-
-pub(crate) fn unknown(name: &str) -> PyResult<UnknownPolicy> {
-    match name {
-        "fallback" => Ok(UnknownPolicy::Fallback),
-        "opaque" => Ok(UnknownPolicy::Opaque),
-        "transparent" => Ok(UnknownPolicy::Transparent),
-        other => Err(value_error(format!(
-            "unknown {other:?}: expected \"fallback\", \"opaque\" or \"transparent\""
-        ))),
-    }
-}
-
-/// A bake level 0..=16.
+/// A bake level: `bake::bake_level`'s range, in its words.
 pub(crate) fn bake_level(value: i64, what: &str) -> PyResult<Level> {
-    u32::try_from(value)
-        .ok()
-        .filter(|&l| l <= 16)
-        .and_then(|l| Level::new(l).ok())
-        .ok_or_else(|| value_error(format!("{what} {value}: expected a level 0..=16")))
+    let level = u32::try_from(value).unwrap_or(u32::MAX);
+    library_bake_level(level).map_err(|e| value_error(format!("{what} {value}: {e}")))
 }
 
-/// `level`: an int 0..=16, or `"auto"` (`None`).
+/// The library's words for the bake level range ("expected a level
+/// 0..=12 (...)"), from its own refusal.
+fn range_words() -> String {
+    library_bake_level(u32::MAX)
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default()
+}
+
+/// `level`: an int in `bake_level`'s range, or `"auto"` (`None`).
 pub(crate) fn level_or_auto(obj: &Bound<'_, PyAny>) -> PyResult<Option<Level>> {
     if let Ok(text) = obj.extract::<String>() {
         return if text == "auto" {
             Ok(None)
         } else {
             Err(value_error(format!(
-                "level {text:?}: expected a level 0..=16 or \"auto\""
+                "level {text:?}: {} or \"auto\"",
+                range_words()
             )))
         };
     }
     match obj.extract::<i64>() {
         Ok(level) => bake_level(level, "level").map(Some),
-        Err(_) => Err(PyTypeError::new_err(
-            "level must be an int 0..=16 or \"auto\"",
-        )),
+        Err(_) => Err(PyTypeError::new_err(format!(
+            "level must be an int ({}) or \"auto\"",
+            range_words()
+        ))),
     }
 }
 
+/// `index_width`: 16 or 32 bits (`--index-width` also takes 8, which the
+/// signed `indices` arrays of `BakeResult` cannot show: records 128..=250
+/// would read as negative).
 pub(crate) fn index_width(bits: i64) -> PyResult<IndexWidth> {
     match bits {
         16 => Ok(IndexWidth::U16),
@@ -168,6 +166,22 @@ pub(crate) fn index_width(bits: i64) -> PyResult<IndexWidth> {
         other => Err(value_error(format!(
             "index_width {other}: expected 16 or 32 (the widths Vulkan accepts)"
         ))),
+    }
+}
+
+/// `threads`: `None` every core, else a count `>= 1` (as `--threads`).
+pub(crate) fn threads(value: Option<i64>) -> PyResult<Threads> {
+    match value {
+        None => Ok(Threads::All),
+        Some(n) => usize::try_from(n)
+            .ok()
+            .filter(|&n| n >= 1)
+            .map(Threads::Exactly)
+            .ok_or_else(|| {
+                value_error(format!(
+                    "threads {n}: expected a number of threads, at least 1"
+                ))
+            }),
     }
 }
 

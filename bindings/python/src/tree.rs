@@ -1,12 +1,13 @@
 //! `Tree`: the succinct tree (`succinct::PaperTree`,
 //! `succinct::LevelOrderTree`) of one micromap.
 
-use crate::arrays::{copy, dtype_name, has_dtype, type_name};
+use crate::arrays::{dtype_name, has_dtype, readonly, type_name};
+use crate::fallible::try_vec;
 use crate::options::{self, value_error};
 use micromap_index::micromap::State;
 use micromap_index::succinct::{LevelOrderTree, PaperTree};
 use micromap_index::Level;
-use numpy::{PyArray1, PyArrayMethods, PyUntypedArray};
+use numpy::{PyArray1, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -35,32 +36,39 @@ macro_rules! each {
 }
 
 /// `states` as the library's states: a uint8 numpy array (any shape, read
-/// in C order) or bytes, each 0..=3.
+/// in C order) or bytes, each 0..=3, into one fallibly reserved buffer.
 fn states(obj: &Bound<'_, PyAny>) -> PyResult<Vec<State>> {
-    let bytes: Vec<u8> = if let Ok(b) = obj.downcast::<PyBytes>() {
-        b.as_bytes().to_vec()
-    } else if let Ok(array) = obj.downcast::<PyUntypedArray>() {
-        if !has_dtype::<u8>(array) {
-            return Err(PyTypeError::new_err(format!(
-                "states must have dtype uint8, not {}",
-                dtype_name(array)
-            )));
+    let state = |i: usize, b: u8| {
+        State::from_bits(b)
+            .ok_or_else(|| value_error(format!("states[{i}] = {b}: expected a state 0..=3")))
+    };
+    if let Ok(b) = obj.downcast::<PyBytes>() {
+        let bytes = b.as_bytes();
+        let mut out = try_vec(bytes.len(), "states")?;
+        for (i, &b) in bytes.iter().enumerate() {
+            out.push(state(i, b)?);
         }
-        copy::<u8>(array, "states")?.elements
-    } else {
+        return Ok(out);
+    }
+    let Ok(array) = obj.downcast::<PyUntypedArray>() else {
         return Err(PyTypeError::new_err(format!(
             "states must be a uint8 numpy array or bytes, not {}",
             type_name(obj)
         )));
     };
-    bytes
-        .iter()
-        .enumerate()
-        .map(|(i, &b)| {
-            State::from_bits(b)
-                .ok_or_else(|| value_error(format!("states[{i}] = {b}: expected a state 0..=3")))
-        })
-        .collect()
+    if !has_dtype::<u8>(array) {
+        return Err(PyTypeError::new_err(format!(
+            "states must have dtype uint8, not {}",
+            dtype_name(array)
+        )));
+    }
+    let read = readonly::<u8>(array, "states")?;
+    let view = read.as_array();
+    let mut out = try_vec(view.len(), "states")?;
+    for (i, &b) in view.iter().enumerate() {
+        out.push(state(i, b)?);
+    }
+    Ok(out)
 }
 
 /// A micro-triangle index from a Python int, or a `ValueError`.
@@ -158,29 +166,28 @@ impl Tree {
                 .into_any()
                 .unbind());
         };
-        let (shape, indices): (Vec<usize>, Vec<u64>) = if has_dtype::<u64>(array) {
-            let o = copy::<u64>(array, "index")?;
-            (o.shape, o.elements)
+        // Read in place (the GIL is held): a broadcast view is never
+        // copied; the result, sized by the input, is reserved first.
+        let shape = array.shape().to_vec();
+        let mut states = try_vec::<u8>(array.len(), "lookup's result")?;
+        if has_dtype::<u64>(array) {
+            let read = readonly::<u64>(array, "index")?;
+            for &i in read.as_array() {
+                states.push(self.get(i)?);
+            }
         } else if has_dtype::<i64>(array) {
-            let o = copy::<i64>(array, "index")?;
-            let converted = o
-                .elements
-                .iter()
-                .map(|&i| {
-                    u64::try_from(i).map_err(|_| value_error(format!("index {i} is negative")))
-                })
-                .collect::<PyResult<Vec<_>>>()?;
-            (o.shape, converted)
+            let read = readonly::<i64>(array, "index")?;
+            for &i in read.as_array() {
+                let i =
+                    u64::try_from(i).map_err(|_| value_error(format!("index {i} is negative")))?;
+                states.push(self.get(i)?);
+            }
         } else {
             return Err(PyTypeError::new_err(format!(
                 "index must have dtype int64 or uint64, not {}",
                 dtype_name(array)
             )));
-        };
-        let states = indices
-            .iter()
-            .map(|&i| self.get(i))
-            .collect::<PyResult<Vec<u8>>>()?;
+        }
         Ok(PyArray1::from_vec(py, states)
             .reshape(shape)?
             .into_any()
@@ -213,7 +220,7 @@ impl Tree {
     /// 2 or 4.
     #[getter]
     fn format(&self) -> u32 {
-        options::format_number(each!(self, t => t.format()))
+        each!(self, t => t.format()).states()
     }
 
     /// `"paper"` or `"level-order"`.

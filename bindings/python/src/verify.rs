@@ -1,11 +1,15 @@
 //! `verify`: anyone's micromap buffers checked against an alpha texture
 //! (the CLI's `verify-bake`): `micromap::read_buffers` validates the
-//! bytes, `Baker::verify_each` checks every known micro-triangle, with the
-//! GIL released.
+//! bytes, then `bake::mesh::verify_mesh` (the verifier every front end
+//! uses, with the bake's alpha factor) checks every known micro-triangle,
+//! with the GIL released. Work is bounded by `max_checks`, memory by
+//! `max_report` (contradictions kept) and the inputs' sizes.
 
-use crate::bake::{uv_triangles, Alpha};
+use crate::fallible::try_vec;
+use crate::inputs::{AlphaArray, UvArray};
 use crate::options::{self, value_error};
-use micromap_index::bake::{Baker, Contradiction};
+use micromap_index::bake::mesh::{verify_mesh, Material, Mesh, MeshTriangles, MeshVerification};
+use micromap_index::bake::Contradiction;
 use micromap_index::micromap::{
     read_buffers, BufferBytes, MicromapIndex, Overlap, ReadOptions, TriangleOpacity, TriangleRecord,
 };
@@ -20,23 +24,24 @@ const MAX_DECODED_BYTES: u64 = (1 << 32) + (1 << 30);
 /// against `alpha` and `uvs`; the Python layer documents the options.
 #[pyfunction]
 #[pyo3(signature = (alpha, uvs, *, data, triangles, indices, index_width, usage, filter,
-    address, border_alpha, cutoff, opaque_above, model, max_report, max_checks,
+    address, border_alpha, cutoff, opaque_above, alpha_factor, model, max_report, max_checks,
     lenient_layout, record_stride, index_stride))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn verify<'py>(
     py: Python<'py>,
     alpha: &Bound<'py, PyAny>,
     uvs: &Bound<'py, PyAny>,
-    data: Vec<u8>,
-    triangles: Vec<u8>,
-    indices: Vec<u8>,
+    data: &[u8],
+    triangles: &[u8],
+    indices: &[u8],
     index_width: i64,
-    usage: Option<Vec<u8>>,
+    usage: Option<&[u8]>,
     filter: &str,
     address: &Bound<'py, PyAny>,
     border_alpha: f32,
     cutoff: f32,
     opaque_above: bool,
+    alpha_factor: f32,
     model: &str,
     max_report: i64,
     max_checks: Option<i64>,
@@ -44,8 +49,8 @@ pub(crate) fn verify<'py>(
     record_stride: Option<i64>,
     index_stride: Option<i64>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let alpha = Alpha::new(alpha)?;
-    let uv = uv_triangles(uvs)?;
+    let alpha = AlphaArray::new(alpha)?;
+    let uvs = UvArray::new(uvs)?;
     let width = options::index_width(index_width)?;
     let stride = |value: i64, what: &str| {
         usize::try_from(options::count(value, what)?)
@@ -78,6 +83,16 @@ pub(crate) fn verify<'py>(
         border_alpha,
     )?;
     let cutoff = options::cutoff(cutoff, opaque_above)?;
+    if !(alpha_factor.is_finite() && alpha_factor >= 0.0) {
+        return Err(value_error(format!(
+            "alpha_factor {alpha_factor}: expected a finite number >= 0"
+        )));
+    }
+    let material = Material {
+        sampler,
+        cutoff,
+        alpha_factor,
+    };
     let model = options::model(model)?;
     let max_checks = max_checks
         .map(|m| options::count(m, "max_checks"))
@@ -85,60 +100,65 @@ pub(crate) fn verify<'py>(
         .unwrap_or(u64::MAX);
     let max_report =
         usize::try_from(options::count(max_report, "max_report")?).unwrap_or(usize::MAX);
+    // The buffers first: their index count must be the triangles' before
+    // the triangles are copied.
+    let read = py
+        .allow_threads(|| {
+            read_buffers(
+                &BufferBytes {
+                    records: triangles,
+                    data,
+                    usage_counts: usage,
+                    indices: Some((indices, width)),
+                },
+                &read_options,
+            )
+        })
+        .map_err(value_error)?;
+    let index = read.indices.unwrap_or_default();
+    if index.len() != uvs.len() {
+        return Err(value_error(format!(
+            "the buffers have {} indices for {} triangles",
+            index.len(),
+            uvs.len()
+        )));
+    }
+    let uv = uvs.copy()?;
+    let alpha = alpha.copy()?;
+    let mut opacities = try_vec(index.len(), "indices")?;
+    opacities.extend(index.iter().map(|i| match *i {
+        MicromapIndex::Record(r) => TriangleOpacity::Micromap(&read.micromaps[r as usize]),
+        MicromapIndex::Special(state) => TriangleOpacity::Special(state),
+    }));
     let outcome = py.allow_threads(|| -> Result<_, String> {
-        let read = read_buffers(
-            &BufferBytes {
-                records: &triangles,
-                data: &data,
-                usage_counts: usage.as_deref(),
-                indices: Some((&indices, width)),
-            },
-            &read_options,
-        )
-        .map_err(|e| e.to_string())?;
-        let index = read.indices.unwrap_or_default();
-        if index.len() != uv.len() {
-            return Err(format!(
-                "the buffers have {} indices for {} triangles",
-                index.len(),
-                uv.len()
-            ));
-        }
         let texture = alpha.texture().map_err(|e| e.to_string())?;
-        let baker = Baker::new(&*texture, sampler, cutoff)
-            .map_err(|e| e.to_string())?
-            .with_model(model);
-        let mut totals = Totals::default();
+        let mesh = Mesh {
+            triangles: MeshTriangles::Uv(&uv),
+            texture: &*texture,
+            material,
+            vertex_alpha: None,
+        };
         let mut first: Vec<(usize, Contradiction, f64)> = Vec::new();
-        for (t, (uv, index)) in uv.iter().zip(&index).enumerate() {
-            let opacity = match *index {
-                MicromapIndex::Record(r) => TriangleOpacity::Micromap(&read.micromaps[r as usize]),
-                MicromapIndex::Special(state) => TriangleOpacity::Special(state),
-            };
-            let remaining = max_checks.saturating_sub(totals.known);
-            let v = baker.verify_each(uv, &opacity, remaining, |c| {
-                if first.len() < max_report {
-                    let alpha = match c.texel {
-                        Some((x, y)) => texture.alpha(x, y),
-                        None => f64::from(sampler.border_alpha),
-                    };
-                    first.push((t, c, alpha));
-                }
-            });
-            totals.checked += usize::from(v.checked);
-            totals.known += v.known;
-            totals.unchecked += v.unchecked;
-            totals.unknown += v.unknown;
-            totals.undecided += v.undecided;
-            totals.contradictions += v.contradictions;
-        }
+        let totals = verify_mesh(&mesh, &opacities, model, max_checks, &mut |t, c| {
+            // Only the first max_report are kept: memory stays bounded
+            // however wrong the buffers are.
+            if first.len() < max_report {
+                // The texel's own alpha, before alpha_factor.
+                let alpha = match c.texel {
+                    Some((x, y)) => texture.alpha(x, y),
+                    None => f64::from(sampler.border_alpha),
+                };
+                first.push((t, c, alpha));
+            }
+        })
+        .map_err(|e| e.to_string())?;
         Ok((totals, first))
     });
-    let (totals, first) = outcome.map_err(value_error)?;
+    let (totals, first): (MeshVerification, _) = outcome.map_err(value_error)?;
     let out = PyDict::new(py);
     out.set_item("model", model.name())?;
     out.set_item("triangles", uv.len())?;
-    out.set_item("triangles_checked", totals.checked)?;
+    out.set_item("triangles_checked", totals.triangles_checked)?;
     out.set_item("known_micro_triangles", totals.known)?;
     out.set_item("unknown_micro_triangles", totals.unknown)?;
     let micro = totals.known + totals.unknown;
@@ -174,15 +194,4 @@ pub(crate) fn verify<'py>(
     out.set_item("usage_counts_checked", usage.is_some())?;
     out.set_item("sound", totals.contradictions == 0 && complete)?;
     Ok(out)
-}
-
-/// The counts over all triangles.
-#[derive(Default)]
-struct Totals {
-    checked: usize,
-    known: u64,
-    unchecked: u64,
-    unknown: u64,
-    undecided: u64,
-    contradictions: u64,
 }

@@ -1,10 +1,12 @@
 """The package bakes the committed assets to exactly the CLI's bytes."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import micromap_index as mmi
-from conftest import GRID, SPONZA, THORN, ROOT, run_cli, summary
+from conftest import FILES, GRID, SPONZA, THORN, ROOT, run_cli, summary
 
 
 def assert_same_files(result, cli_files):
@@ -156,11 +158,24 @@ def test_max_bytes_refuses_where_the_cli_does(cli_bake, tmp_path):
                       "--max-bytes", bound - 1, "--no-preview", "--out", tmp_path / "no",
                       check=False)
     assert refused.returncode != 0 and f"up to {bound} bytes" in refused.stderr
-    # The default limit (1 GiB) refuses level 16 everywhere: 128 GiB of data.
+    # The default limit (1 GiB) refuses 384 level-12 maps (4 MiB each).
     with pytest.raises(ValueError, match="max_bytes"):
-        mmi.bake(alpha, uvs, level=16)
-    with pytest.raises(ValueError, match="max_bytes"):
-        mmi.bake_gltf(SPONZA / "cards.gltf", level=16)
+        mmi.bake(alpha, np.concatenate([uvs] * 3), level=12)
+
+
+def test_level_range_is_the_clis(tmp_path):
+    """Levels past 12 are refused by the range, in the CLI's words, not by
+    the byte limit."""
+    alpha = mmi.read_alpha(THORN)
+    uvs = mmi.read_triangles(GRID)
+    words = "expected a level 0..=12 (the highest DXR allows and Vulkan devices report)"
+    for keyword, flag in [("level", "--level"), ("max_level", "--max-level")]:
+        with pytest.raises(ValueError) as raised:
+            mmi.bake(alpha, uvs, **{keyword: 13})
+        assert str(raised.value) == f"{keyword} 13: {words}"
+        done = run_cli("bake", "--texture", THORN, "--triangles", GRID, flag, "13",
+                       "--out", tmp_path / "no", check=False)
+        assert done.returncode == 2 and words in done.stderr
 
 
 def test_no_mixed_special_equals_the_cli(cli_bake):
@@ -198,3 +213,88 @@ def test_gltf_no_mixed_special_equals_the_cli(cli_bake, no_mixed):
         j["mixed_special_indices"] for j in summary(out)["jobs"]
     ]
     assert any(m["mixed_special_indices"] for m in result.meshes) != no_mixed
+
+
+def test_verify_applies_alpha_factor_as_the_bake():
+    """verify goes through the library's verify_mesh: a bake with an alpha
+    factor is sound under the same factor and contradicted without it."""
+    alpha = mmi.read_alpha(THORN)
+    uvs = mmi.read_triangles(GRID)
+    result = mmi.bake(alpha, uvs, level=4, alpha_factor=0.6)
+    assert mmi.verify(alpha, uvs, result, alpha_factor=0.6).sound
+    plain = mmi.verify(alpha, uvs, result)
+    assert not plain.sound and plain.contradictions > 0
+
+
+@pytest.mark.parametrize(
+    "asset, name",
+    [(SPONZA / "cards.gltf", "omm.glb"), (SPONZA / "cards.gltf", "omm.gltf"),
+     (SPONZA / "cards.glb", "omm.gltf"), (SPONZA / "cards.glb", "omm.glb"),
+     (ROOT / "assets" / "polyhaven-fern02" / "fern_02.gltf", "fern-omm.glb")],
+    ids=["gltf-to-glb", "gltf-to-gltf", "glb-to-gltf", "glb-to-glb", "fern-to-glb"],
+)
+def test_gltf_out_equals_the_cli(cli_bake, tmp_path, asset, name):
+    """``bake_gltf(gltf_out=DIR/NAME)`` writes the files ``bake --gltf-out
+    NAME --out DIR`` writes, byte for byte (DIRs at the same depth, so the
+    relative URIs back to the asset are the same)."""
+    py_dir = tmp_path / "py"
+    py_dir.mkdir()
+    result = mmi.bake_gltf(asset, max_level=5, gltf_out=py_dir / name)
+    files, out = cli_bake("--gltf", asset, "--max-level", "5", "--gltf-out", name)
+    assert_same_files(result, files)
+    cli_gltf = sorted(p.name for p in out.iterdir()
+                      if p.name not in FILES and p.name not in
+                      ("summary.json", "micromap-geometry-usage.bin"))
+    assert sorted(p.name for p in py_dir.iterdir()) == cli_gltf
+    assert sorted(Path(p).name for p in result.gltf_out) == cli_gltf
+    for n in cli_gltf:
+        assert (py_dir / n).read_bytes() == (out / n).read_bytes(), n
+    assert Path(result.gltf_out[0]).name == name
+    # The written asset is sound by the CLI's own verifier.
+    done = run_cli("verify-bake", "--gltf", py_dir / name)
+    assert done.stdout.startswith("sound")
+
+
+@pytest.mark.parametrize(
+    "options, flags",
+    [
+        ({"level": 5, "mips": "all", "threads": 1}, ["--level", "5", "--mips", "all", "--threads", "1"]),
+        ({"level": 5, "mips": 2, "threads": 2}, ["--level", "5", "--mips", "2", "--threads", "2"]),
+        ({"level": 7, "work_budget": 3000}, ["--level", "7", "--work-budget", "3000"]),
+        ({"level": 7, "bake_work_budget": 20000}, ["--level", "7", "--bake-work-budget", "20000"]),
+        ({"filter": "linear", "mips": 3}, ["--filter", "linear", "--mips", "3"]),
+    ],
+    ids=["mips-all-serial", "mips-2-two-threads", "work-budget", "bake-work-budget", "auto-linear-mips"],
+)
+def test_mips_threads_and_work_budgets_equal_the_cli(cli_bake, options, flags):
+    alpha = mmi.read_alpha(THORN)
+    uvs = mmi.read_triangles(GRID)
+    result = mmi.bake(alpha, uvs, **options)
+    files, out = cli_bake("--texture", THORN, "--triangles", GRID, *flags)
+    assert_same_files(result, files)
+    s = summary(out)
+    for key in ("work_units", "status", "micro_triangles", "known_fraction"):
+        assert result.stats[key] == s[key], key
+    # The bytes are the same on every thread count.
+    for threads in (1, 2, None):
+        assert mmi.bake(alpha, uvs, **{**options, "threads": threads}).files() == files
+
+
+def test_work_budgets_bite():
+    """The budgets above are small enough to change the bake: the tests
+    compare bakes that differ from the default one."""
+    alpha = mmi.read_alpha(THORN)
+    uvs = mmi.read_triangles(GRID)
+    default = mmi.bake(alpha, uvs, level=7)
+    for options in ({"work_budget": 3000}, {"bake_work_budget": 20000}):
+        cut = mmi.bake(alpha, uvs, level=7, **options)
+        assert cut.stats["status"]["work_budget_exceeded"] > 0
+        assert cut.files() != default.files()
+    assert mmi.bake(alpha, uvs, level=5, mips="all").files() != mmi.bake(alpha, uvs, level=5).files()
+
+
+def test_gltf_mips_and_threads_equal_the_cli(cli_bake):
+    asset = ROOT / "assets" / "polyhaven-fern02" / "fern_02.gltf"
+    result = mmi.bake_gltf(asset, max_level=6, mips="all", threads=2)
+    files, _ = cli_bake("--gltf", asset, "--max-level", "6", "--mips", "all", "--threads", "2")
+    assert_same_files(result, files)

@@ -16,14 +16,17 @@ library's. Numpy in, numpy out:
   TRIS.json readers, as arrays.
 
 Bad input raises ``TypeError`` (wrong type or dtype), ``ValueError`` (wrong
-shape or value, malformed buffers or assets) or ``OSError`` (files), with
-the library's message; it never crashes the interpreter. Bakes and
+shape or value, malformed buffers or assets, a limit exceeded),
+``OSError`` (files) or ``MemoryError`` (an input whose copy or result does
+not fit in memory), with the library's message; it never crashes the
+interpreter. Bakes and
 verification release the GIL.
 """
 
 from __future__ import annotations
 
 import os
+import tempfile
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
@@ -98,6 +101,8 @@ class BakeResult:
     count, ``first_index`` into ``indices`` and ``mixed_special_indices``
     (whether its geometry mixes special indices with records).
     ``warnings``: what the glTF reader warned about (empty for :func:`bake`).
+    ``gltf_out``: the paths :func:`bake_gltf` wrote with ``gltf_out`` (the
+    glTF first, then its sidecar files; empty otherwise).
     """
 
     data: bytes
@@ -108,6 +113,7 @@ class BakeResult:
     stats: Dict[str, Any]
     meshes: List[Dict[str, Any]]
     warnings: List[str] = field(default_factory=list)
+    gltf_out: List[str] = field(default_factory=list)
 
     def files(self) -> Dict[str, bytes]:
         """The bytes of the four files ``micromap-index bake`` writes, by
@@ -120,7 +126,56 @@ class BakeResult:
         }
 
 
-def _result(raw: Dict[str, Any]) -> BakeResult:
+def _write_all(directory: str, files: Sequence[Tuple[str, bytes]]) -> List[str]:
+    """Writes ``files`` (name, bytes) into ``directory``: every file to a
+    temporary first, then each renamed over its name, so that a failure
+    before the renames leaves every old file as it was (and no temporary)."""
+    temporaries: List[str] = []
+    try:
+        for name, content in files:
+            fd, temporary = tempfile.mkstemp(prefix=f".{name}.", suffix=".tmp", dir=directory)
+            temporaries.append(temporary)
+            with os.fdopen(fd, "wb") as f:
+                f.write(content)
+        written = []
+        for (name, _), temporary in zip(files, temporaries):
+            os.replace(temporary, os.path.join(directory, name))
+            written.append(os.path.join(directory, name))
+        temporaries.clear()
+        return written
+    finally:
+        for temporary in temporaries:
+            try:
+                os.unlink(temporary)
+            except OSError:
+                pass
+
+
+def _options(
+    level: Union[int, str],
+    max_level: int,
+    format: int,
+    unknown: str,
+    model: str,
+    budget: Optional[int],
+    index_width: int,
+    max_bytes: int,
+    no_mixed_special: bool,
+    mips: Union[int, str],
+    threads: Optional[int],
+    work_budget: Optional[int],
+    bake_work_budget: Optional[int],
+) -> Dict[str, Any]:
+    """The options both bakes hand to the extension, as one dict."""
+    return dict(
+        level=level, max_level=max_level, format=format, unknown=unknown, model=model,
+        budget=budget, index_width=index_width, max_bytes=max_bytes,
+        no_mixed_special=no_mixed_special, mips=mips, threads=threads,
+        work_budget=work_budget, bake_work_budget=bake_work_budget,
+    )
+
+
+def _result(raw: Dict[str, Any], gltf_out: Sequence[str] = ()) -> BakeResult:
     width = raw["index_width"]
     indices = np.frombuffer(raw["indices"], dtype="<i4" if width == 32 else "<i2")
     return BakeResult(
@@ -132,6 +187,7 @@ def _result(raw: Dict[str, Any]) -> BakeResult:
         stats=raw["stats"],
         meshes=raw["meshes"],
         warnings=list(raw.get("warnings", [])),
+        gltf_out=list(gltf_out),
     )
 
 
@@ -154,6 +210,10 @@ def bake(
     alpha_factor: float = 1.0,
     max_bytes: int = 1 << 30,
     no_mixed_special: bool = False,
+    mips: Union[int, str] = 0,
+    threads: Optional[int] = None,
+    work_budget: Optional[int] = None,
+    bake_work_budget: Optional[int] = None,
 ) -> BakeResult:
     """Bakes opacity micromaps for ``uvs`` over the alpha texture ``alpha``.
 
@@ -163,8 +223,8 @@ def bake(
     ``(N, 3, 2)``, triangle ``t``'s vertex ``i`` at ``uvs[t, i]`` (the order
     of the triangle's barycentrics: vertex 0 has weight ``1 - u - v``).
 
-    Options as ``micromap-index bake``'s flags: ``level`` an int 0..=16 or
-    ``"auto"`` (each triangle's useful level up to ``max_level``); ``format``
+    Options as ``micromap-index bake``'s flags: ``level`` an int 0..=12 (the
+    highest DXR allows and Vulkan devices report) or ``"auto"`` (each triangle's useful level up to ``max_level``); ``format``
     2 or 4; ``unknown`` (2-state) ``"fallback"``, ``"opaque"`` or
     ``"transparent"``; ``filter`` ``"nearest"`` or ``"linear"``; ``address``
     one mode or a ``(u, v)`` pair of ``"repeat"``, ``"mirrored-repeat"``,
@@ -177,35 +237,39 @@ def bake(
     ``alpha_factor`` multiplies every texel's alpha (glTF's
     ``baseColorFactor[3]``); ``max_bytes`` (default 1 GiB, as the CLI's
     ``--max-bytes``) refuses, before baking, a bake whose output may exceed
-    it (a ``ValueError``); ``no_mixed_special`` (``--no-mixed-special``): no
+    it (a ``ValueError``; so is a ``uvs`` whose indices alone exceed it,
+    before it is copied); ``no_mixed_special`` (``--no-mixed-special``): no
     geometry mixes special indices with records -- in a geometry that
     references any record each special index becomes a shared level-0
     record of its state, for Vulkan KHR pipelines created with
     ``VK_PIPELINE_CREATE_2_OPACITY_MICROMAP_DISALLOW_MIXED_SPECIAL_INDEX_BIT_KHR``
     (``meshes[i]["mixed_special_indices"]`` says whether a geometry mixes
-    them).
+    them); ``mips`` (``--mips``) the mip levels known states hold for: 0
+    (level 0 only, under the sampler's filter), ``N`` (levels 0..=N under
+    either filter) or ``"all"``; ``threads`` (``--threads``) the threads to
+    bake on, ``None`` for every core (rayon's pool, ``RAYON_NUM_THREADS``),
+    1 for serial: the bytes are the same for every count; ``work_budget``
+    (``--work-budget``, default 67,108,864) work units one triangle may
+    spend, the rest left unknown; ``bake_work_budget``
+    (``--bake-work-budget``, default 17,179,869,184) all triangles
+    together.
 
-    Releases the GIL while baking. Raises ``TypeError`` / ``ValueError``.
+    Releases the GIL while baking, on copies of ``alpha`` and ``uvs``.
+    Raises ``TypeError`` / ``ValueError``, or ``MemoryError`` when a copy
+    does not fit in memory.
     """
     return _result(
         _native.bake(
             alpha,
             uvs,
-            level=level,
-            max_level=max_level,
-            format=format,
-            unknown=unknown,
+            _options(level, max_level, format, unknown, model, budget, index_width, max_bytes,
+                     no_mixed_special, mips, threads, work_budget, bake_work_budget),
             filter=filter,
             address=address,
             border_alpha=border_alpha,
             cutoff=cutoff,
             opaque_above=opaque_above,
-            model=model,
-            budget=budget,
-            index_width=index_width,
             alpha_factor=alpha_factor,
-            max_bytes=max_bytes,
-            no_mixed_special=no_mixed_special,
         )
     )
 
@@ -219,7 +283,7 @@ def bake_gltf(
     unknown: str = "fallback",
     filter: Optional[str] = None,
     address: Optional[Address] = None,
-    border_alpha: float = 0.0,
+    border_alpha: Optional[float] = None,
     cutoff: Optional[float] = None,
     opaque_above: bool = False,
     model: str = "gpu-binary32",
@@ -227,33 +291,49 @@ def bake_gltf(
     index_width: int = 32,
     max_bytes: int = 1 << 30,
     no_mixed_special: bool = False,
+    mips: Union[int, str] = 0,
+    threads: Optional[int] = None,
+    work_budget: Optional[int] = None,
+    bake_work_budget: Optional[int] = None,
+    gltf_out: Optional[Union[str, "os.PathLike[str]"]] = None,
 ) -> BakeResult:
     """Bakes every alpha-masked primitive of a glTF 2.0 asset (``.gltf`` or
     ``.glb``), as ``micromap-index bake --gltf``: one geometry per primitive,
     in the asset's order, micromaps deduplicated across all. Each primitive
     uses its material's ``alphaCutoff``, ``baseColorFactor`` alpha and its
-    texture's sampler unless ``filter``, ``address`` or ``cutoff`` is given.
-    The other options are :func:`bake`'s. Raises ``OSError`` when a file
-    cannot be read and ``ValueError`` for a malformed asset."""
-    return _result(
-        _native.bake_gltf(
-            os.fspath(path),
-            level=level,
-            max_level=max_level,
-            format=format,
-            unknown=unknown,
-            filter=filter,
-            address=address,
-            border_alpha=border_alpha,
-            cutoff=cutoff,
-            opaque_above=opaque_above,
-            model=model,
-            budget=budget,
-            index_width=index_width,
-            max_bytes=max_bytes,
-            no_mixed_special=no_mixed_special,
-        )
+    texture's sampler unless ``filter``, ``address``, ``border_alpha``
+    (default 0), ``cutoff`` or ``opaque_above`` is given. The other options
+    are :func:`bake`'s.
+
+    ``gltf_out``: a path ``DIR/NAME.glb`` or ``DIR/NAME.gltf`` (``DIR`` must
+    exist): the asset is also written back there with
+    ``EXT_mesh_opacity_micromap`` on every baked primitive, as ``bake --gltf
+    ASSET --out DIR --gltf-out NAME`` writes it, byte for byte (the same
+    library code; ``.gltf`` adds ``NAME.micromap.bin``, and ``NAME.bin`` for
+    a ``.glb`` input's ``BIN`` chunk; relative URIs point from ``DIR`` back
+    to the asset's files). Not with ``filter``, ``address``,
+    ``border_alpha``, ``cutoff`` or ``opaque_above`` (a ``ValueError``: the
+    micromaps must match the asset's own sampling). Existing files are
+    replaced; every file is written to a temporary first and renamed only
+    when all are written. ``result.gltf_out`` lists the paths.
+
+    Raises ``OSError`` when a file cannot be read or written and
+    ``ValueError`` for a malformed asset."""
+    raw = _native.bake_gltf(
+        os.fspath(path),
+        _options(level, max_level, format, unknown, model, budget, index_width, max_bytes,
+                 no_mixed_special, mips, threads, work_budget, bake_work_budget),
+        filter=filter,
+        address=address,
+        border_alpha=border_alpha,
+        cutoff=cutoff,
+        opaque_above=opaque_above,
+        gltf_out=None if gltf_out is None else os.fspath(gltf_out),
     )
+    written: List[str] = []
+    if "gltf_files" in raw:
+        written = _write_all(raw["gltf_dir"], raw["gltf_files"])
+    return _result(raw, written)
 
 
 @dataclass(frozen=True)
@@ -317,6 +397,7 @@ def verify(
     border_alpha: float = 0.0,
     cutoff: float = 0.5,
     opaque_above: bool = False,
+    alpha_factor: float = 1.0,
     model: str = "gpu-binary32",
     max_report: int = 20,
     max_checks: Optional[int] = None,
@@ -329,8 +410,10 @@ def verify(
     bytes or arrays -- against ``alpha`` and ``uvs`` (as :func:`bake`
     takes them), as ``micromap-index verify-bake``: the buffers are validated
     (a malformed one is a ``ValueError``), then every known micro-triangle is
-    checked exactly against the texture under the sampler, the cutoff and the
-    model. The first ``max_report`` contradictions are reported with an exact
+    checked exactly against the texture under the sampler, the cutoff, the
+    alpha factor (``alpha_factor``, as :func:`bake` takes it) and the model,
+    by the library's ``bake::mesh::verify_mesh``, the verifier of every front
+    end. The first ``max_report`` contradictions are reported with an exact
     witness point; ``max_checks`` caps the known micro-triangles checked
     (then ``complete`` is false). ``lenient_layout`` accepts overlapping
     records. ``index_width`` defaults to the ``indices`` array's (16 for
@@ -369,6 +452,7 @@ def verify(
         border_alpha=border_alpha,
         cutoff=cutoff,
         opaque_above=opaque_above,
+        alpha_factor=alpha_factor,
         model=model,
         max_report=max_report,
         max_checks=max_checks,

@@ -35,6 +35,7 @@ class BakeResult:
     stats: Dict[str, Any]
     meshes: List[Dict[str, Any]]
     warnings: List[str] = ...
+    gltf_out: List[str] = ...
     def files(self) -> Dict[str, bytes]: ...
 
 @dataclass(frozen=True)
@@ -72,6 +73,10 @@ def bake(
     alpha_factor: float = ...,
     max_bytes: int = ...,
     no_mixed_special: bool = ...,
+    mips: Union[int, str] = ...,
+    threads: Optional[int] = ...,
+    work_budget: Optional[int] = ...,
+    bake_work_budget: Optional[int] = ...,
 ) -> BakeResult: ...
 def bake_gltf(
     path: Union[str, "os.PathLike[str]"],
@@ -82,7 +87,7 @@ def bake_gltf(
     unknown: str = ...,
     filter: Optional[str] = ...,
     address: Optional[Address] = ...,
-    border_alpha: float = ...,
+    border_alpha: Optional[float] = ...,
     cutoff: Optional[float] = ...,
     opaque_above: bool = ...,
     model: str = ...,
@@ -90,6 +95,11 @@ def bake_gltf(
     index_width: int = ...,
     max_bytes: int = ...,
     no_mixed_special: bool = ...,
+    mips: Union[int, str] = ...,
+    threads: Optional[int] = ...,
+    work_budget: Optional[int] = ...,
+    bake_work_budget: Optional[int] = ...,
+    gltf_out: Optional[Union[str, "os.PathLike[str]"]] = ...,
 ) -> BakeResult: ...
 def verify(
     alpha: _Alpha,
@@ -106,6 +116,7 @@ def verify(
     border_alpha: float = ...,
     cutoff: float = ...,
     opaque_above: bool = ...,
+    alpha_factor: float = ...,
     model: str = ...,
     max_report: int = ...,
     max_checks: Optional[int] = ...,

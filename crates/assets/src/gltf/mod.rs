@@ -3,12 +3,16 @@
 //!
 //! This file holds the public types, the entry points and the walk over
 //! meshes; `glb` splits the container, `json` walks the JSON, `uri`,
-//! `accessor`, `material`, `sampler` and `image` read what their names say.
+//! `accessor`, `material`, `sampler` and `image` read what their names say;
+//! `files` reads the asset and the files it names from disk; `write` writes
+//! an asset back with micromaps, `write_dir` does it for a
+//! file on disk and an output directory.
 
+use self::files::{read_file, resolve_beside};
 use self::glb::split_glb;
 use self::json::{short, Obj};
 use self::material::raw_materials;
-use crate::{check_limit, AlphaImage, AssetError, Limits};
+use crate::{AlphaImage, AssetError, Limits};
 use micromap_index::bake::mesh::Material;
 use micromap_index::bake::{Cutoff, Sampler};
 use serde_json::value::RawValue;
@@ -16,11 +20,11 @@ use serde_json::Value;
 use std::borrow::Cow;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::fmt::Write as _;
-use std::io::Read;
 use std::path::Path;
 use std::rc::Rc;
 
 mod accessor;
+mod files;
 mod glb;
 mod image;
 mod json;
@@ -32,6 +36,7 @@ mod sampler;
 mod transform;
 mod uri;
 mod write;
+mod write_dir;
 
 pub use self::micromap_ext::{
     read_gltf_micromaps, GltfMicromap, GltfMicromapPrimitive, GltfMicromaps,
@@ -40,6 +45,7 @@ pub use self::write::{
     relative_uri_prefix, write_gltf_micromaps, GltfContainer, GltfFiles, GltfMicromapWrite,
     EXTENSION, MAX_GLTF_LEVEL,
 };
+pub use self::write_dir::write_gltf_micromaps_file;
 
 pub(crate) use self::sampler::GltfSampler;
 #[cfg(test)]
@@ -192,39 +198,8 @@ pub struct GltfAsset {
 pub fn read_gltf_file(path: &Path, limits: &Limits) -> Result<GltfAsset, AssetError> {
     let bytes = read_file(path, limits.max_bytes)?;
     let base = path.parent().unwrap_or_else(|| Path::new(""));
-    let mut resolve = |uri: &str| -> Result<Vec<u8>, AssetError> {
-        if uri.starts_with(['/', '\\']) || Path::new(uri).is_absolute() {
-            return Err(AssetError::Uri {
-                uri: uri.to_string(),
-                message: "absolute paths are not supported; use a path relative to the glTF"
-                    .to_string(),
-            });
-        }
-        read_file(&base.join(uri), limits.max_bytes)
-    };
+    let mut resolve = resolve_beside(base, limits);
     read_gltf_bytes(&bytes, &mut resolve, limits).map_err(|e| e.within(path.display().to_string()))
-}
-
-/// The whole file, if it is at most `max_bytes` long.
-fn read_file(path: &Path, max_bytes: u64) -> Result<Vec<u8>, AssetError> {
-    let io = |e: std::io::Error| AssetError::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    };
-    let file = std::fs::File::open(path).map_err(io)?;
-    let length = file.metadata().map_err(io)?.len();
-    check_limit(|| format!("file {}", path.display()), length, max_bytes)?;
-    let mut bytes = Vec::with_capacity(usize::try_from(length).unwrap_or(0));
-    // `take`: a file that grows while being read stays within the limit.
-    file.take(max_bytes.saturating_add(1))
-        .read_to_end(&mut bytes)
-        .map_err(io)?;
-    check_limit(
-        || format!("file {}", path.display()),
-        bytes.len() as u64,
-        max_bytes,
-    )?;
-    Ok(bytes)
 }
 
 /// Reads a glTF 2.0 asset from bytes: GLB if they start with the magic
