@@ -22,16 +22,17 @@
 //! middle (`kill -9`, power loss) can leave temporaries (`.NAME.PID.tmp`),
 //! backups (`NAME.PID.old`) or the lock behind.
 
+use crate::output::Program;
 use std::fs::{self, File};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 /// The lock file's name inside the destination directory.
-pub(crate) const LOCK_NAME: &str = ".micromap-index.lock";
+pub const LOCK_NAME: &str = ".micromap-index.lock";
 
 /// Why the destination was refused before anything was written.
-pub(crate) fn check_destination(dir: &Path, names: &[&str], force: bool) -> Result<(), String> {
+pub fn check_destination(dir: &Path, names: &[&str], force: bool) -> Result<(), String> {
     if dir.as_os_str().is_empty() {
         return Err("--out needs a directory path, got an empty one".into());
     }
@@ -66,8 +67,7 @@ pub(crate) fn check_destination(dir: &Path, names: &[&str], force: bool) -> Resu
 
 /// Writes `files` (name, bytes) into `dir`, creating `dir` if needed: all
 /// of them, or (after an error, which the message describes) none.
-#[allow(dead_code)] // micromap-lab's vectors --out (bake stages through Destination)
-pub(crate) fn write_files(dir: &Path, files: &[(String, impl AsRef<[u8]>)]) -> Result<(), String> {
+pub fn write_files(dir: &Path, files: &[(String, impl AsRef<[u8]>)]) -> Result<(), String> {
     fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let staged = Mutex::new(Staged::default());
     let result = Staged::write(&staged, |s| s, dir, files, &[]);
@@ -206,7 +206,7 @@ fn stall_for_tests() {
 }
 
 /// Why [`Destination::claim`] refused a directory.
-pub(crate) enum Refusal {
+pub enum Refusal {
     /// The destination itself is wrong (exit 2): an empty path, not a
     /// directory, an existing output without `--force`.
     Refused(String),
@@ -219,7 +219,7 @@ pub(crate) enum Refusal {
 /// checked; released (lock removed, the directories it created removed
 /// when still empty, anything staged rolled back) when dropped or
 /// interrupted.
-pub(crate) struct Destination {
+pub struct Destination {
     state: Arc<Mutex<Held>>,
 }
 
@@ -260,7 +260,7 @@ impl Destination {
     /// checks it as [`check_destination`] does, all before anything is read
     /// or written. A second writer into the same directory (another `bake`
     /// still running) gets [`Refusal::Io`] naming the lock and its holder.
-    pub(crate) fn claim(dir: &Path, names: &[&str], force: bool) -> Result<Destination, Refusal> {
+    pub fn claim(dir: &Path, names: &[&str], force: bool) -> Result<Destination, Refusal> {
         if dir.as_os_str().is_empty() {
             return Err(Refusal::Refused(
                 "--out needs a directory path, got an empty one".into(),
@@ -350,7 +350,7 @@ impl Destination {
     /// named in `remove` (outputs this run does not produce, so that no
     /// stale one is left beside the new ones): all of it, or (after an
     /// error, which the message describes) nothing.
-    pub(crate) fn write(
+    pub fn write(
         &self,
         files: &[(String, impl AsRef<[u8]>)],
         remove: &[&str],
@@ -379,8 +379,9 @@ impl Drop for Destination {
 /// each destination's lock, so it runs between two steps of a write, and
 /// never gives it back (it exits), so no step follows it. `first` runs
 /// before anything else (`bake` clears its progress bar, so that the
-/// message starts on a clean line).
-pub(crate) fn install_interrupt_handler(first: fn()) -> Result<(), String> {
+/// message starts on a clean line); the message is reported as
+/// `program`'s.
+pub fn install_interrupt_handler(program: Program, first: fn()) -> Result<(), String> {
     ctrlc::set_handler(move || {
         first();
         let held = lock(&HELD);
@@ -388,7 +389,7 @@ pub(crate) fn install_interrupt_handler(first: fn()) -> Result<(), String> {
         for guard in &mut guards {
             guard.release();
         }
-        crate::output::report("interrupted; nothing written");
+        program.report("interrupted; nothing written");
         std::process::exit(130);
     })
     .map_err(|e| format!("cannot catch Ctrl-C ({e})"))
