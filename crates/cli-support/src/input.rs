@@ -11,11 +11,46 @@ use std::io::{self, BufRead, BufReader, Read};
 /// (`micromap_index_conformance::value::MAX_VALUE_LEN`) and a level.
 pub const MAX_LINE_BYTES: usize = 1 << 20;
 
+/// Refuses a named input whose opening or reading can block forever: a
+/// FIFO (named pipe) with no writer blocks `open` itself, a socket its
+/// reads. Regular files and devices (`/dev/zero`, read under a bound) pass.
+/// Standard input (`-`) is read as it is, pipe or not.
+///
+/// # Errors
+///
+/// An `InvalidInput` error naming the kind of file.
+pub fn refuse_blocking(path: &std::path::Path) -> io::Result<()> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt as _;
+        if let Ok(metadata) = std::fs::metadata(path) {
+            let kind = metadata.file_type();
+            let what = if kind.is_fifo() {
+                Some("a FIFO (named pipe)")
+            } else if kind.is_socket() {
+                Some("a socket")
+            } else {
+                None
+            };
+            if let Some(what) = what {
+                return Err(io::Error::new(
+                    io::ErrorKind::InvalidInput,
+                    format!("{what}, not a regular file (reading it could block forever)"),
+                ));
+            }
+        }
+    }
+    #[cfg(not(unix))]
+    let _ = path;
+    Ok(())
+}
+
 /// The file (`-`: stdin) as a buffered reader, or a message naming it.
 pub fn open(path: &str) -> Result<Box<dyn Read>, String> {
     if path == "-" {
         return Ok(Box::new(BufReader::new(io::stdin())));
     }
+    refuse_blocking(path.as_ref()).map_err(|e| format!("cannot read {path}: {e}"))?;
     match std::fs::File::open(path) {
         Ok(file) => Ok(Box::new(BufReader::new(file))),
         Err(e) => Err(format!("cannot read {path}: {e}")),
@@ -31,6 +66,7 @@ pub fn read_bytes(path: &str) -> Result<Vec<u8>, String> {
             .map(|_| bytes)
             .map_err(|e| format!("reading stdin: {e}"));
     }
+    refuse_blocking(path.as_ref()).map_err(|e| format!("cannot read {path}: {e}"))?;
     std::fs::read(path).map_err(|e| format!("cannot read {path}: {e}"))
 }
 

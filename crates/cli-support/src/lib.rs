@@ -11,6 +11,7 @@
 #![forbid(unsafe_code)]
 
 pub mod args;
+mod dir_lock;
 pub mod input;
 pub mod output;
 #[cfg(feature = "testing")]

@@ -8,12 +8,16 @@
 use crate::inputs::sampler::model_option;
 use cli_support::args::{Flag, Parsed};
 use cli_support::output::Failure;
-use micromap_index::bake::mesh::{output_bytes_bound, LevelRule, MeshOptions, Mips};
+use micromap_index::bake::mesh::{
+    chosen_levels, output_bytes_bound, LevelRule, Mesh, MeshOptions, MeshTriangles, Mips,
+};
 use micromap_index::bake::{
     BakeLevel, Threads, DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET,
 };
-use micromap_index::micromap::{BuildOptions, Format, IndexWidth, UnknownPolicy};
+use micromap_index::micromap::{BuildOptions, Format, IndexWidth, Micromap, UnknownPolicy};
 use micromap_index::Level;
+use std::collections::HashSet;
+use std::fmt::Write as _;
 
 /// The level and format flags (in the usage, before the sampler's).
 pub(crate) const LEVELS: [Flag; 5] = [
@@ -204,19 +208,84 @@ impl BakeArgs {
     /// refused (exit 2) over the limit, before any micro-triangle is baked.
     pub(crate) fn check_output_size(
         &self,
-        meshes: &[micromap_index::bake::mesh::Mesh<'_>],
+        meshes: &[Mesh<'_>],
         width: IndexWidth,
     ) -> Result<(), Failure> {
         let estimate = output_bytes_bound(meshes, &self.options, width)
             .map_err(|e| Failure::Malformed(e.to_string()))?;
         let max_bytes = self.max_bytes;
         if estimate > max_bytes {
-            return Err(Failure::Malformed(format!(
+            let mut message = format!(
                 "the output may take up to {estimate} bytes (before deduplication), over the \
                  limit of {max_bytes} bytes; nothing written (--max-bytes raises the limit, \
                  --budget or a lower --level/--max-level shrinks the output)"
-            )));
+            );
+            if let Some(distinct) = self.distinct_bound(meshes, width) {
+                if distinct.bytes < estimate {
+                    let _ = write!(
+                        message,
+                        "; only {} of the {} triangles are distinct (equal UVs, level and \
+                         material bake once): the output will take at most {} bytes, but the \
+                         limit is checked against the estimate before deduplication, so \
+                         --max-bytes {estimate} lets this bake run",
+                        distinct.triangles, distinct.of, distinct.bytes
+                    );
+                }
+            }
+            return Err(Failure::Malformed(message));
         }
         Ok(())
     }
+
+    /// The output's bound after the deduplication of identical triangles,
+    /// cheap to count before baking: triangles with bit-equal UVs, level,
+    /// texture, material and vertex alpha bake to the same map (the key is
+    /// at least as fine as the library's, so the bound holds); `None` when
+    /// the levels cannot be chosen or a mesh is not given as UV triangles.
+    fn distinct_bound(&self, meshes: &[Mesh<'_>], width: IndexWidth) -> Option<Distinct> {
+        let levels = chosen_levels(meshes, &self.options).ok()?;
+        let mut seen = HashSet::new();
+        let mut bytes: u64 = 34 * 12;
+        let mut of = 0;
+        for (mesh, levels) in meshes.iter().zip(&levels) {
+            let MeshTriangles::Uv(triangles) = mesh.triangles else {
+                return None;
+            };
+            // The texture object and the material, bit for bit.
+            let texture = std::ptr::from_ref(mesh.texture).cast::<()>() as usize;
+            let material = format!("{:?}", mesh.material);
+            for (t, (uv, level)) in triangles.iter().zip(levels).enumerate() {
+                of += 1;
+                let alpha = mesh
+                    .vertex_alpha
+                    .and_then(|a| a.get(t))
+                    .map(|a| a.map(f32::to_bits));
+                let key = (
+                    texture,
+                    material.clone(),
+                    uv.map(|c| c.map(f32::to_bits)),
+                    level.get(),
+                    alpha,
+                );
+                bytes = bytes.saturating_add(width.bytes() as u64);
+                if seen.insert(key) {
+                    bytes = bytes
+                        .saturating_add(Micromap::byte_len(*level, self.options.format) as u64)
+                        .saturating_add(8);
+                }
+            }
+        }
+        Some(Distinct {
+            triangles: seen.len(),
+            of,
+            bytes,
+        })
+    }
+}
+
+/// Distinct triangles and the output bound after their deduplication.
+struct Distinct {
+    triangles: usize,
+    of: usize,
+    bytes: u64,
 }

@@ -52,11 +52,13 @@ pub(crate) static BAKE: Command = Command {
                             triangle once, at most 2^27 pixels of
                             micro-triangles (summary.json counts the rest),
                             with a legend of the colours and the model
-  DIR is locked (DIR/.micromap-index.lock) from the check to the last
-  rename: a second bake into the same DIR is refused (exit 3) and never
-  mixes its files with the first one's. Ctrl-C removes the temporaries,
-  backups, lock and any directory the bake created, and leaves DIR as it
-  was (exit 130).
+  DIR is locked (DIR/.micromap-index.lock, an OS lock that dies with the
+  bake) from the check to the last rename: a second bake into the same DIR
+  is refused (exit 3) and never mixes its files with the first one's; a
+  lock left by a killed bake is taken over and its half-done renames
+  undone. Ctrl-C before the last rename removes the temporaries, backups,
+  lock and any directory the bake created and leaves DIR as it was; after
+  it, DIR holds the new files; the message says which (exit 130).
   Exit 0 baked; 2 bad options, malformed input, or existing outputs without
   --force (nothing written); 3 unreadable input, unwritable DIR or DIR in
   use by another bake (nothing written), or stdout unwritable after DIR was
@@ -141,6 +143,12 @@ fn bake(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> 
             Refusal::Io(message) => Failure::Io(message),
         })?;
     let input = read_input(&p, &s)?;
+    // The preview's size is known from the textures: refused before the
+    // bake, not after it.
+    if preview {
+        crate::preview::check_size(&input.images, args.options.model)
+            .map_err(Failure::Malformed)?;
+    }
 
     // The textures as the baker reads them, and one mesh per job.
     let textures = input.textures()?;

@@ -21,7 +21,7 @@
 //! * 141 — stdout closed by its reader (the table in `micromap-index help`).
 
 use cli_support::args::{level_range, Command, Flag, Parsed};
-use cli_support::input::{open, shown_path};
+use cli_support::input::{open, refuse_blocking, shown_path};
 use cli_support::output::{self, print_then, Exit, Failure, Program};
 use micromap_index_conformance::vectors::{
     check_reader, is_known_tag, parse_answers, tag, Selection,
@@ -153,6 +153,7 @@ fn read_answers(path: &str) -> Result<Result<Vec<u8>, String>, String> {
     let reader: Box<dyn Read> = if path == "-" {
         Box::new(io::stdin())
     } else {
+        refuse_blocking(path.as_ref()).map_err(|e| format!("cannot read {path}: {e}"))?;
         Box::new(std::fs::File::open(path).map_err(|e| format!("cannot read {path}: {e}"))?)
     };
     let mut bytes = Vec::new();

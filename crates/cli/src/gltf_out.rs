@@ -81,8 +81,15 @@ impl GltfOut {
         buffers: &MicromapBuffers,
         primitives: &[(usize, usize)],
     ) -> Result<Vec<(String, Vec<u8>)>, Failure> {
-        let malformed =
-            |e: AssetError| Failure::Malformed(format!("--gltf-out {}: {e}", self.name));
+        // The fault is the input asset's (a duplicate member, a malformed
+        // buffer): the message names it, and what was being written.
+        let malformed = |e: AssetError| {
+            Failure::Malformed(format!(
+                "{}: {e} (writing --gltf-out {})",
+                asset.display(),
+                self.name
+            ))
+        };
         let limits = Limits::default();
         let input = read_limited(asset, &limits)?;
         let from = asset.parent().unwrap_or(Path::new(""));

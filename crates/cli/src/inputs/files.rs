@@ -1,6 +1,7 @@
 //! Input files read under a size limit: the `--texture` and `--triangles`
 //! files, bake's buffer files, and the files a glTF asset names.
 
+use cli_support::input::refuse_blocking;
 use cli_support::output::Failure;
 use micromap_index_assets::{AssetError, Limits};
 use std::path::Path;
@@ -21,6 +22,7 @@ const RECORD_FILE_LIMIT: u64 = 1 << 30;
 pub(crate) fn read_file(path: &Path, limit: u64, what: &str) -> Result<Vec<u8>, Failure> {
     use std::io::Read as _;
     let io = |e: std::io::Error| Failure::Io(format!("cannot read {}: {e}", path.display()));
+    refuse_blocking(path).map_err(io)?;
     let file = std::fs::File::open(path).map_err(io)?;
     let too_large = || {
         Failure::Malformed(format!(
@@ -83,6 +85,7 @@ pub(crate) fn read_asset_file(path: &Path, limits: &Limits) -> Result<Vec<u8>, A
         path: path.display().to_string(),
         message: e.to_string(),
     };
+    refuse_blocking(path).map_err(io)?;
     let file = std::fs::File::open(path).map_err(io)?;
     let mut bytes = Vec::new();
     file.take(limits.max_bytes + 1)

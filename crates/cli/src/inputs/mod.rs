@@ -8,6 +8,7 @@ pub(crate) mod flags;
 pub(crate) mod sampler;
 
 use cli_support::args::Parsed;
+use cli_support::input::refuse_blocking;
 use cli_support::output::Failure;
 use files::{read_file, INPUT_FILE_LIMIT};
 use micromap_index::bake::mesh::{Material, Mesh, MeshTriangles};
@@ -83,6 +84,7 @@ pub(crate) fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Fa
     match (p.get("--gltf"), p.get("--texture"), p.get("--triangles")) {
         (Some(asset), None, None) => {
             let path = PathBuf::from(asset);
+            refuse_blocking(&path).map_err(|e| Failure::Io(format!("cannot read {asset}: {e}")))?;
             let gltf = read_gltf_file(&path, &limits).map_err(|e| {
                 let message = format!("{asset}: {e}");
                 if matches!(e.root(), AssetError::Io { .. }) {

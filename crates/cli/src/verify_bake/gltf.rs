@@ -7,6 +7,7 @@ use super::verdict::{verdict, witness_and_texel, witness_texel_space};
 use crate::inputs::files::{read_asset_file, read_limited};
 use crate::inputs::sampler::refuse_overrides;
 use cli_support::args::Parsed;
+use cli_support::input::refuse_blocking;
 use cli_support::output::{Exit, Failure};
 use micromap_index::bake::mesh::{verify_mesh, Mesh, MeshTriangles};
 use micromap_index::bake::Model;
@@ -92,6 +93,7 @@ pub(super) fn verify_gltf(
             Failure::Malformed(message)
         }
     };
+    refuse_blocking(&path).map_err(|e| Failure::Io(format!("cannot read {asset}: {e}")))?;
     let gltf = read_gltf_file(&path, &limits).map_err(classify)?;
     let bytes = read_limited(&path, &limits)?;
     let base = path.parent().unwrap_or(Path::new("")).to_path_buf();

@@ -26,6 +26,16 @@ pub fn run(args: &[&str]) -> Output {
     CLI.run(args)
 }
 
+/// Runs with stdin empty; fails the test on a hang (still running after
+/// [`HANG`]).
+pub fn run_within_hang_guard(args: &[&str]) -> Output {
+    CLI.run_within(args, HANG)
+}
+
+/// The hang guard of the tests: generous, so that only a hang (never a
+/// slow or busy machine) reaches it.
+pub const HANG: std::time::Duration = std::time::Duration::from_secs(600);
+
 /// Runs with `stdin` as its input.
 pub fn run_with_stdin(args: &[&str], stdin: &[u8]) -> Output {
     CLI.run_with_stdin(args, stdin)
