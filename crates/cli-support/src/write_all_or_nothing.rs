@@ -434,7 +434,9 @@ pub fn install_interrupt_handler(program: Program, first: fn()) -> Result<(), St
         let mut rolled_back = Vec::new();
         for guard in &mut guards {
             if guard.staged.committed {
-                written.push(guard.dir.clone());
+                if !written.contains(&guard.dir) {
+                    written.push(guard.dir.clone());
+                }
             } else {
                 rolled_back.push(guard.dir.clone());
             }
