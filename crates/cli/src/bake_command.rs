@@ -1,27 +1,21 @@
-//! `micromap-index bake` and `micromap-index verify-bake`: the exact baker
-//! (library: `micromap_index::bake`, the whole-mesh pipeline in
-//! `bake::mesh`) on real assets read by `micromap_index_assets`, and its
-//! verifier on any baker's buffers. This file parses bake's options, bakes
-//! and serialises the results; `inputs` reads what `bake`, `verify-bake` and
-//! `render` share, `summary` is summary.json, `verify` is `verify-bake`, and
-//! `preview.rs` draws the picture.
+//! `micromap-index bake`: the exact baker (library: `micromap_index::bake`,
+//! the whole-mesh pipeline in `bake::mesh`) on real assets read by
+//! `micromap_index_assets`. This file parses bake's options (the bake's
+//! own in `crate::bake_args`, shared with `render`), bakes and serialises
+//! the results; `crate::inputs` reads what `bake`, `verify-bake` and
+//! `render` share, `summary` is summary.json, and `crate::preview` draws
+//! the picture.
 
-pub(crate) mod inputs;
 mod summary;
-pub(crate) mod verify;
 
-use crate::args::{Command, Flag, Parsed};
-use crate::output::{print_then, report, Exit, Failure};
+use crate::bake_args::{self, BakeArgs};
+use crate::inputs::sampler::sampler_options;
+use crate::inputs::{flags, index_width, read_input};
 use crate::progress::{clear_on_interrupt, Progress};
-use crate::write_all_or_nothing::{install_interrupt_handler, Destination, Refusal};
-use inputs::{
-    flags, format_option, index_width, model_option, parse_level, read_input, sampler_options,
-};
-use micromap_index::bake::mesh::{
-    bake_meshes, output_bytes_bound, LevelRule, MeshBakeError, MeshOptions, Mips,
-};
-use micromap_index::bake::{Threads, DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET};
-use micromap_index::micromap::{BuildOptions, Format, UnknownPolicy};
+use cli_support::args::{Command, Flag};
+use cli_support::output::{print_then, Exit, Failure, Program};
+use cli_support::write_all_or_nothing::{install_interrupt_handler, Destination, Refusal};
+use micromap_index::bake::mesh::{bake_meshes, MeshBakeError};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use summary::{StateCounts, StatusCounts, Summary, Widening};
@@ -58,11 +52,13 @@ pub(crate) static BAKE: Command = Command {
                             triangle once, at most 2^27 pixels of
                             micro-triangles (summary.json counts the rest),
                             with a legend of the colours and the model
-  DIR is locked (DIR/.micromap-index.lock) from the check to the last
-  rename: a second bake into the same DIR is refused (exit 3) and never
-  mixes its files with the first one's. Ctrl-C removes the temporaries,
-  backups, lock and any directory the bake created, and leaves DIR as it
-  was (exit 130).
+  DIR is locked (DIR/.micromap-index.lock, an OS lock that dies with the
+  bake) from the check to the last rename: a second bake into the same DIR
+  is refused (exit 3) and never mixes its files with the first one's; a
+  lock left by a killed bake is taken over and its half-done renames
+  undone. Ctrl-C before the last rename removes the temporaries, backups,
+  lock and any directory the bake created and leaves DIR as it was; after
+  it, DIR holds the new files; the message says which (exit 130).
   Exit 0 baked; 2 bad options, malformed input, or existing outputs without
   --force (nothing written); 3 unreadable input, unwritable DIR or DIR in
   use by another bake (nothing written), or stdout unwritable after DIR was
@@ -81,69 +77,19 @@ pub(crate) static BAKE: Command = Command {
                 flags::TEXTURE,
                 flags::TRIANGLES,
                 flags::OUT,
-                Flag::value(
-                    "--level",
-                    "L|auto",
-                    "fixed level 0..=12, or the paper's eq. 1 per triangle (default auto)",
-                ),
-                flags::MAX_LEVEL,
-                Flag::value(
-                    "--budget",
-                    "BYTES",
-                    "auto: lower the highest levels until the data fits",
-                ),
-                Flag::value("--format", "2|4", "micromap format (default 4)"),
-                Flag::value(
-                    "--unknown-as",
-                    "U",
-                    "2-state: what unknowns become: fallback (default: the texel under
-                         the micro-triangle's centroid), opaque or transparent",
-                ),
             ],
+            &bake_args::LEVELS,
             &flags::SAMPLER,
+            &bake_args::MIPS,
+            &[flags::INDEX_WIDTH],
+            &bake_args::LIMITS,
             &[
-                Flag::value(
-                    "--mips",
-                    "0|N|all",
-                    "the mip levels known states hold for: 0 (default: level 0, which ray
-                         tracing shaders sample), 0..=N or all, each level the box filter of
-                         the one above, under either filter (docs/bake.md)",
-                ),
-                flags::INDEX_WIDTH,
-                Flag::value(
-                    "--max-bytes",
-                    "N",
-                    "refuse (exit 2) before baking when the output may exceed N bytes
-                         (default 1073741824; the estimate counts every map before dedup)",
-                ),
-                Flag::value(
-                    "--work-budget",
-                    "N",
-                    "work units (texel-table lookups) one triangle may spend; the rest
-                         is unknown (default 67108864)",
-                ),
-                Flag::value(
-                    "--bake-work-budget",
-                    "N",
-                    "work units all triangles may spend together (default 17179869184)",
-                ),
-                Flag::value(
-                    "--threads",
-                    "N",
-                    "threads to bake on (default: every core; 1: serial); the bytes are
-                         the same for every N",
-                ),
-                Flag::switch(
-                    "--no-mixed-special",
-                    "no job mixes special indices with records: shared level-0 records
-                         instead (Vulkan KHR no-mixed pipelines)",
-                ),
                 flags::FORCE,
                 Flag::switch("--no-preview", "skip preview.png"),
                 Flag::switch("--quiet", "no progress on stderr"),
             ],
         ];
-        crate::args::concat::<{ crate::args::total(GROUPS) }>(GROUPS)
+        cli_support::args::concat::<{ cli_support::args::total(GROUPS) }>(GROUPS)
     },
 };
 
@@ -158,28 +104,14 @@ const OUTPUTS: [&str; 7] = [
     "preview.png",
 ];
 
-/// `--threads N` (N >= 1); `None`: every core.
-fn threads_option(p: &Parsed<'_>) -> Result<Option<usize>, Failure> {
-    match p.get("--threads") {
-        None => Ok(None),
-        Some(text) => match text.parse::<usize>() {
-            Ok(n) if n >= 1 && text.bytes().all(|b| b.is_ascii_digit()) => Ok(Some(n)),
-            _ => Err(Failure::Malformed(format!(
-                "--threads {text:?}: expected a number of threads, at least 1"
-            ))),
-        },
-    }
+pub(crate) fn run_bake(program: &Program, options: &[&str]) -> Exit {
+    cli_support::output::finish(
+        program,
+        bake(program, options).map(|(text, exit)| print_then(program, &text, exit)),
+    )
 }
 
-/// The default limit on bake's estimated output (`--max-bytes`): 1 GiB, 256
-/// level-12 4-state maps.
-const DEFAULT_MAX_OUTPUT_BYTES: u64 = 1 << 30;
-
-pub(crate) fn run_bake(options: &[&str]) -> Exit {
-    crate::output::finish(bake(options).map(|(text, exit)| print_then(&text, exit)))
-}
-
-fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
+fn bake(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> {
     let p = BAKE
         .parse(options)
         .map_err(|error| Failure::Usage(error.message("bake")))?;
@@ -187,60 +119,8 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         p.get("--out")
             .ok_or_else(|| Failure::Usage("bake needs --out DIR".into()))?,
     );
-    let format = format_option(&p)?;
-    let two_state = match p.get("--unknown-as").unwrap_or("fallback") {
-        "fallback" => UnknownPolicy::Fallback,
-        "opaque" => UnknownPolicy::Opaque,
-        "transparent" => UnknownPolicy::Transparent,
-        other => {
-            return Err(Failure::Malformed(format!(
-                "--unknown-as {other:?}: expected fallback, opaque or transparent"
-            )))
-        }
-    };
-    let fixed_level = match p.get("--level").unwrap_or("auto") {
-        "auto" => None,
-        text => Some(parse_level("--level", text)?),
-    };
-    let max_level = parse_level("--max-level", p.get("--max-level").unwrap_or("12"))?;
-    let budget = p
-        .get("--budget")
-        .map(|t| {
-            t.parse::<u64>()
-                .map_err(|_| Failure::Malformed(format!("--budget {t:?}: expected a byte count")))
-        })
-        .transpose()?;
-    if budget.is_some() && fixed_level.is_some() {
-        return Err(Failure::Usage(
-            "--budget chooses levels: it goes with --level auto".into(),
-        ));
-    }
-    let max_bytes = p
-        .get("--max-bytes")
-        .map(|t| {
-            t.parse::<u64>().map_err(|_| {
-                Failure::Malformed(format!("--max-bytes {t:?}: expected a byte count"))
-            })
-        })
-        .transpose()?
-        .unwrap_or(DEFAULT_MAX_OUTPUT_BYTES);
-    let work_budget = |flag: &str, default: u64| {
-        p.get(flag).map_or(Ok(default), |t| {
-            t.parse::<u64>()
-                .map_err(|_| Failure::Malformed(format!("{flag} {t:?}: expected a count")))
-        })
-    };
-    let triangle_work_budget = work_budget("--work-budget", DEFAULT_TRIANGLE_WORK_BUDGET)?;
-    let bake_work_budget = work_budget("--bake-work-budget", DEFAULT_BAKE_WORK_BUDGET)?;
+    let args = BakeArgs::parse(&p)?;
     let width = index_width(&p)?;
-    let model = model_option(&p)?;
-    let mips = match p.get("--mips") {
-        None => Mips::default(),
-        Some(text) => text
-            .parse()
-            .map_err(|e| Failure::Malformed(format!("--mips {text:?}: {e}")))?,
-    };
-    let threads = threads_option(&p)?;
     let s = sampler_options(&p)?;
     let preview = !p.flag("--no-preview");
     let gltf_out = crate::gltf_out::GltfOut::from_options(&p, &OUTPUTS)?;
@@ -250,8 +130,8 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
         .unwrap_or_default();
     let mut outputs = OUTPUTS.to_vec();
     outputs.extend(gltf_names.iter().map(String::as_str));
-    if let Err(message) = install_interrupt_handler(clear_on_interrupt) {
-        report(format_args!(
+    if let Err(message) = install_interrupt_handler(*program, clear_on_interrupt) {
+        program.report(format_args!(
             "bake: {message}; Ctrl-C may leave temporaries"
         ));
     }
@@ -263,52 +143,26 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
             Refusal::Io(message) => Failure::Io(message),
         })?;
     let input = read_input(&p, &s)?;
+    // The preview's size is known from the textures: refused before the
+    // bake, not after it.
+    if preview {
+        crate::preview::check_size(&input.images, args.options.model)
+            .map_err(Failure::Malformed)?;
+    }
 
     // The textures as the baker reads them, and one mesh per job.
     let textures = input.textures()?;
     let meshes = input.meshes(&textures);
-    let rule = match fixed_level {
-        Some(level) => LevelRule::Fixed(level),
-        None => LevelRule::Useful { max: max_level },
-    };
-    let options = MeshOptions {
-        levels: rule,
-        format,
-        unknown: two_state,
-        budget_bytes: budget,
-        triangle_work_budget,
-        bake_work_budget,
-        model,
-        mips,
-        threads: match threads {
-            Some(n) => Threads::Exactly(n),
-            None => Threads::All,
-        },
-        buffers: BuildOptions {
-            no_mixed_special_indices: p.flag("--no-mixed-special"),
-            ..BuildOptions::default()
-        },
-        ..MeshOptions::default()
-    };
-    // The output's size before deduplication (an upper bound: maps that
-    // dedup or become special indices only shrink it), from the levels
-    // bake_meshes chooses, checked before any micro-triangle is baked.
-    let estimate = output_bytes_bound(&meshes, &options, width)
-        .map_err(|e| Failure::Malformed(e.to_string()))?;
-    if estimate > max_bytes {
-        return Err(Failure::Malformed(format!(
-            "the output may take up to {estimate} bytes (before deduplication), over the \
-             limit of {max_bytes} bytes; nothing written (--max-bytes raises the limit, \
-             --budget or a lower --level/--max-level shrinks the output)"
-        )));
-    }
-    let threads_used = threads.unwrap_or_else(|| {
+    args.check_output_size(&meshes, width)?;
+    let options = &args.options;
+    let (format, model, mips) = (options.format, options.model, options.mips);
+    let threads_used = args.threads.unwrap_or_else(|| {
         std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
     });
     let total = input.jobs.iter().map(|job| job.triangles.len()).sum();
     let progress = Progress::on_stderr("baking", "triangles", total, p.flag("--quiet"));
     let started = Instant::now();
-    let baked = bake_meshes(&meshes, &options, &mut |done, total| {
+    let baked = bake_meshes(&meshes, options, &mut |done, total| {
         progress.update(done, total);
     })
     .map_err(|e| match e {
@@ -357,10 +211,7 @@ fn bake(options: &[&str]) -> Result<(String, Exit), Failure> {
     let summary = Summary {
         triangles: report.triangles,
         distinct_triangles: report.distinct_triangles,
-        format: match format {
-            Format::FourState => "4-state",
-            Format::TwoState => "2-state",
-        },
+        format: format.to_string(),
         format_api_value: u32::from(format.raw()),
         threads: threads_used,
         model: model.name(),

@@ -20,9 +20,9 @@
 //! * 3 — a file that cannot be read;
 //! * 141 — stdout closed by its reader (the table in `micromap-index help`).
 
-use crate::args::{level_range, Command, Flag, Parsed};
-use crate::input::{open, shown_path};
-use crate::output::{self, print_then, Exit, Failure};
+use cli_support::args::{level_range, Command, Flag, Parsed};
+use cli_support::input::{open, refuse_blocking, shown_path};
+use cli_support::output::{self, print_then, Exit, Failure, Program};
 use micromap_index_conformance::vectors::{
     check_reader, is_known_tag, parse_answers, tag, Selection,
 };
@@ -58,11 +58,11 @@ pub(crate) static CHECK: Command = Command {
     ],
 };
 
-pub(crate) fn run(options: &[&str]) -> Exit {
-    output::finish(check(options))
+pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
+    output::finish(program, check(program, options))
 }
 
-fn check(options: &[&str]) -> Result<Exit, Failure> {
+fn check(program: &Program, options: &[&str]) -> Result<Exit, Failure> {
     let options = CHECK
         .parse(options)
         .map_err(|e| Failure::Usage(e.message("check")))?;
@@ -107,7 +107,7 @@ fn check(options: &[&str]) -> Result<Exit, Failure> {
     } else {
         Exit::Failed
     };
-    Ok(print_then(&text, verdict))
+    Ok(print_then(program, &text, verdict))
 }
 
 /// `--levels A..=B` (or `A..B`, `N`), `--tags T,..`, `--exclude-tags T,..`.
@@ -153,6 +153,7 @@ fn read_answers(path: &str) -> Result<Result<Vec<u8>, String>, String> {
     let reader: Box<dyn Read> = if path == "-" {
         Box::new(io::stdin())
     } else {
+        refuse_blocking(path.as_ref()).map_err(|e| format!("cannot read {path}: {e}"))?;
         Box::new(std::fs::File::open(path).map_err(|e| format!("cannot read {path}: {e}"))?)
     };
     let mut bytes = Vec::new();

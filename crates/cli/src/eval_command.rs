@@ -6,9 +6,9 @@
 //! 2 for a bad command line, 3 if stdin cannot be read or stdout written,
 //! 141 if stdout is closed.
 
-use crate::args::{Command, Flag};
-use crate::input::{BoundedLines, Line, MAX_LINE_BYTES};
-use crate::output::{self, Exit, Failure, Stdout};
+use cli_support::args::{Command, Flag};
+use cli_support::input::{BoundedLines, Line, MAX_LINE_BYTES};
+use cli_support::output::{self, Exit, Failure, Program, Stdout};
 use micromap_index_conformance::eval::{eval_line_bytes, Variant};
 use std::io;
 
@@ -32,10 +32,10 @@ pub(crate) static EVAL: Command = Command {
     )],
 };
 
-pub(crate) fn run(options: &[&str]) -> Exit {
+pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
     match variant_option(options) {
-        Ok(variant) => evaluate_stdin(variant),
-        Err(failure) => failure.exit(),
+        Ok(variant) => evaluate_stdin(program, variant),
+        Err(failure) => failure.exit(program),
     }
 }
 
@@ -55,12 +55,12 @@ fn variant_option(options: &[&str]) -> Result<Variant, Failure> {
     })
 }
 
-fn evaluate_stdin(variant: Variant) -> Exit {
+fn evaluate_stdin(program: &Program, variant: Variant) -> Exit {
     let mut lines = BoundedLines::new(
         io::BufReader::with_capacity(1 << 16, io::stdin().lock()),
         MAX_LINE_BYTES,
     );
-    let mut out = Stdout::buffered();
+    let mut out = Stdout::buffered(program);
     let result = (|| loop {
         // Before waiting for more input, pass on the answers so far: a
         // program feeding eval line by line gets each answer back.
@@ -71,7 +71,7 @@ fn evaluate_stdin(variant: Variant) -> Exit {
             Ok(Some(line)) => line,
             Ok(None) => return Ok(Exit::Success),
             Err(e) => {
-                output::report(format_args!("reading stdin: {e}"));
+                program.report(format_args!("reading stdin: {e}"));
                 return Err(Exit::Io);
             }
         };

@@ -14,7 +14,7 @@
 //! that level and format (special indices count for nothing), sorted by
 //! format, then level; no zero counts.
 
-use crate::output::Failure;
+use cli_support::output::Failure;
 use micromap_index::micromap::{MicromapBuffers, MicromapIndex, TriangleRecord, UsageCount};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -160,8 +160,7 @@ pub(crate) fn verify_in(
     }
     // One geometry of at most 26 entries is 316 bytes; the limit leaves room
     // for thousands, and a wrong file is reported by what it holds.
-    let bytes =
-        crate::bake_command::inputs::read_file(&path, 1 << 20, "per-geometry usage counts")?;
+    let bytes = crate::inputs::files::read_file(&path, 1 << 20, "per-geometry usage counts")?;
     let malformed = |message: String| Failure::Malformed(format!("{}: {message}", path.display()));
     let geometries = parse(&bytes).map_err(malformed)?;
     let all: Vec<UsageCount> = geometries.iter().flatten().copied().collect();

@@ -1,13 +1,43 @@
-//! The usage texts, rendered from the commands' flag tables (`crate::args`):
-//! one per command (`COMMAND --help`, `help COMMAND`, and after a usage
-//! error), and the whole (`help`) with the variant list and the exit-code
-//! table.
+//! The usage texts, rendered from the commands' flag tables
+//! (`cli_support::args`): one per command (`COMMAND --help`, `help COMMAND`,
+//! and after a usage error), and the whole (`help`) with the variant list
+//! and the exit-code table; and [`PROGRAM`], the program as its messages
+//! name it, with the usage after a usage error.
 
-use crate::args::{usage_text, Command};
-use crate::output::exit_code_table;
-use crate::PROGRAM;
+use cli_support::args::{usage_text, Command};
+use cli_support::output::{exit_code_table, Program};
 use micromap_index_conformance::eval::Variant;
 use std::fmt::Write as _;
+use std::sync::OnceLock;
+
+/// The program's name, which every message on stderr starts with.
+const NAME: &str = "micromap-index";
+
+/// The running program, passed to every command for its messages.
+pub(crate) static PROGRAM: Program = Program {
+    name: NAME,
+    usage: usage_after_error,
+};
+
+/// The command being run, for the usage text after a usage error.
+static COMMAND: OnceLock<&'static str> = OnceLock::new();
+
+/// `command` (one of [`COMMANDS`]) is the one being run: a usage error
+/// shows its usage.
+pub(crate) fn running(command: &'static str) {
+    let _ = COMMAND.set(command);
+}
+
+/// The usage after a usage error: the command being run's, or all.
+fn usage_after_error() -> String {
+    match COMMAND.get() {
+        Some(command) => format!(
+            "{}\nrun `{NAME} help` for every command and the exit codes",
+            usage_of(command).unwrap_or_default()
+        ),
+        None => full_help(),
+    }
+}
 
 /// Where a command's usage comes from.
 pub(crate) enum Usage {
@@ -34,7 +64,7 @@ pub(crate) static COMMANDS: [(&str, Usage); 7] = [
     ("bake", Usage::Tables(&[&crate::bake_command::BAKE], "")),
     (
         "verify-bake",
-        Usage::Tables(&[&crate::bake_command::verify::VERIFY_BAKE], ""),
+        Usage::Tables(&[&crate::verify_bake::VERIFY_BAKE], ""),
     ),
     (
         "render",
@@ -52,7 +82,7 @@ pub(crate) fn usage_of(command: &str) -> Option<String> {
         .iter()
         .find(|(name, _)| *name == command)
         .map(|(_, usage)| match usage {
-            Usage::Tables(tables, about) => usage_text(PROGRAM, tables, about),
+            Usage::Tables(tables, about) => usage_text(NAME, tables, about),
         })
 }
 
@@ -100,9 +130,9 @@ pub(crate) fn command_help(command: &str) -> Option<String> {
 #[must_use]
 pub(crate) fn full_help() -> String {
     let mut text = format!(
-        "usage: {PROGRAM} COMMAND [OPTIONS]
-       {PROGRAM} COMMAND --help      one command's usage
-       {PROGRAM} help [COMMAND]"
+        "usage: {NAME} COMMAND [OPTIONS]
+       {NAME} COMMAND --help      one command's usage
+       {NAME} help [COMMAND]"
     );
     for (name, _) in &COMMANDS {
         text.push_str("\n\n");

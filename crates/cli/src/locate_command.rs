@@ -9,8 +9,8 @@
 //! number or out of range, is exit 2 (usage error or malformed input; the
 //! message says what is wrong); exit 3 or 141 if stdout cannot be written.
 
-use crate::args::{whole_number, Command, Flag};
-use crate::output::{self, Exit, Failure, Stdout};
+use cli_support::args::{whole_number, Command, Flag};
+use cli_support::output::{self, Exit, Failure, Program, Stdout};
 use micromap_index::inverse::{micro_triangle, MicroTriangle};
 use micromap_index::Level;
 use num_rational::BigRational;
@@ -29,17 +29,17 @@ pub(crate) static LOCATE: Command = Command {
     ],
 };
 
-pub(crate) fn run(options: &[&str]) -> Exit {
+pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
     let parsed = match LOCATE.parse(options) {
         Ok(parsed) => parsed,
-        Err(error) => return Failure::Usage(error.message("locate")).exit(),
+        Err(error) => return Failure::Usage(error.message("locate")).exit(program),
     };
     let (Some(level), Some(index)) = (parsed.get("--level"), parsed.get("--index")) else {
-        return Failure::Usage("locate needs --level L and --index I".into()).exit();
+        return Failure::Usage("locate needs --level L and --index I".into()).exit(program);
     };
     match locate(level, index) {
-        Ok(triangle) => print_line(&triangle),
-        Err(message) => Failure::Malformed(message).exit(),
+        Ok(triangle) => print_line(program, &triangle),
+        Err(message) => Failure::Malformed(message).exit(program),
     }
 }
 
@@ -84,7 +84,7 @@ fn fraction(value: &BigRational) -> String {
     format!("{}/{}", value.numer(), value.denom())
 }
 
-fn print_line(triangle: &MicroTriangle) -> Exit {
+fn print_line(program: &Program, triangle: &MicroTriangle) -> Exit {
     let line = LocateLine {
         level: triangle.level().get(),
         index: triangle.index(),
@@ -93,11 +93,11 @@ fn print_line(triangle: &MicroTriangle) -> Exit {
             .vertices_rational()
             .map(|(u, v)| [fraction(&u), fraction(&v)]),
     };
-    let mut out = Stdout::buffered();
+    let mut out = Stdout::buffered(program);
     let written = match serde_json::to_string(&line) {
         Ok(json) => out.line(json).map(|()| Exit::Success),
         Err(e) => {
-            output::report(format_args!("cannot write JSON: {e}"));
+            program.report(format_args!("cannot write JSON: {e}"));
             Err(Exit::Io)
         }
     };

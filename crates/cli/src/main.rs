@@ -1,9 +1,11 @@
 //! `micromap-index`: the command-line front end. Parsing and printing only;
 //! the work is in the library and in `micromap-index-conformance`. Each
-//! command lives in its own module with its flag table (`args`: one table
-//! per command, which both parses and renders the usage); `help` renders
-//! the usage texts, `output` is the one output layer (stdout and stderr
-//! writers that never panic), the exit-code table and the one failure type;
+//! command lives in its own module with its flag table
+//! (`micromap-index-cli-support`'s `args`: one table per command, which both
+//! parses and renders the usage); `help` renders the usage texts and holds
+//! [`help::PROGRAM`], which every command gets passed in for its messages;
+//! `cli_support::output` is the one output layer (stdout and stderr writers
+//! that never panic), the exit-code table and the one failure type;
 //! `progress` draws a long step's progress bar (on a terminal only).
 //!
 //! `prove` and `vectors` moved to the lab's binary, `micromap-lab`
@@ -26,31 +28,24 @@
 //! A failed write to stderr is ignored (there is nowhere left to report it);
 //! the exit code still tells.
 
-mod args;
+mod bake_args;
 mod bake_command;
 mod check_command;
 mod eval_command;
 mod geometry_usage;
 mod gltf_out;
 mod help;
-mod input;
+mod inputs;
 mod locate_command;
-mod output;
 mod preview;
 mod progress;
 mod render_command;
 mod tree_command;
-mod write_all_or_nothing;
+mod verify_bake;
 
-use output::Exit;
+use cli_support::output::{self, Exit};
+use help::PROGRAM;
 use std::process::ExitCode;
-use std::sync::OnceLock;
-
-/// The program's name, which every message on stderr starts with.
-pub(crate) const PROGRAM: &str = "micromap-index";
-
-/// The command being run, for the usage text after a usage error.
-static COMMAND: OnceLock<&'static str> = OnceLock::new();
 
 fn main() -> ExitCode {
     let mut args = Vec::new();
@@ -68,7 +63,7 @@ fn main() -> ExitCode {
         .iter()
         .any(|&option| option == "--help" || option == "-h");
     if let Some((name, _)) = help::COMMANDS.iter().find(|(name, _)| *name == command) {
-        let _ = COMMAND.set(name);
+        help::running(name);
         if asks_help {
             return print_help(&help::command_help(command).unwrap_or_default()).into();
         }
@@ -77,15 +72,15 @@ fn main() -> ExitCode {
         return print_help(&help::moved_note(command)).into();
     }
     match (command, options) {
-        ("eval", options) => eval_command::run(options).into(),
-        ("locate", options) => locate_command::run(options).into(),
-        ("check", options) => check_command::run(options).into(),
-        ("tree", options) => tree_command::run(options).into(),
-        ("bake", options) => bake_command::run_bake(options).into(),
-        ("verify-bake", options) => bake_command::verify::run(options).into(),
-        ("render", options) => render_command::run(options).into(),
+        ("eval", options) => eval_command::run(&PROGRAM, options).into(),
+        ("locate", options) => locate_command::run(&PROGRAM, options).into(),
+        ("check", options) => check_command::run(&PROGRAM, options).into(),
+        ("tree", options) => tree_command::run(&PROGRAM, options).into(),
+        ("bake", options) => bake_command::run_bake(&PROGRAM, options).into(),
+        ("verify-bake", options) => verify_bake::run(&PROGRAM, options).into(),
+        ("render", options) => render_command::run(&PROGRAM, options).into(),
         (moved, _) if help::MOVED.contains(&moved) => {
-            output::report(help::moved_note(moved));
+            PROGRAM.report(help::moved_note(moved));
             Exit::Usage.into()
         }
         ("help" | "--help" | "-h", []) => print_help(&help::full_help()).into(),
@@ -99,19 +94,11 @@ fn main() -> ExitCode {
 }
 
 fn print_help(text: &str) -> Exit {
-    output::print_then(&format!("{text}\n"), Exit::Success)
+    output::print_then(&PROGRAM, &format!("{text}\n"), Exit::Success)
 }
 
 /// Reports `message` and the usage (of the command being run, or of all) on
 /// stderr; exit code 2.
-pub(crate) fn usage(message: &str) -> Exit {
-    let usage = match COMMAND.get() {
-        Some(command) => format!(
-            "{}\nrun `{PROGRAM} help` for every command and the exit codes",
-            help::usage_of(command).unwrap_or_default()
-        ),
-        None => help::full_help(),
-    };
-    output::report(format_args!("{message}\n{usage}"));
-    Exit::Usage
+fn usage(message: &str) -> Exit {
+    PROGRAM.usage_error(message)
 }

@@ -54,15 +54,25 @@ impl Canvas {
     }
 }
 
-/// The picture as PNG bytes. `jobs`: (image index, sampler, triangles),
-/// job `j` being mesh `j` of `baked`, baked under `model` (named in the
-/// legend).
-pub(crate) fn render<'a>(
-    images: &[AlphaImage],
-    model: Model,
-    jobs: impl Iterator<Item = (usize, Sampler, &'a [UvTriangle])>,
-    baked: &MeshBake,
-) -> Result<Drawn, String> {
+/// The most pixels a preview may have (an 8192 x 8192 picture).
+const MAX_PIXELS: u64 = 1 << 26;
+
+/// Where the tiles go and how large the picture is.
+struct Layout {
+    /// Texels to pixels (1..=8).
+    scale: u32,
+    /// Each image's tile's left edge.
+    offsets: Vec<u32>,
+    width: u32,
+    height: u32,
+    /// The tiles' height (the legend is under it).
+    tiles_height: u32,
+}
+
+/// The picture's layout for `images` and the legend of `model`, or why it
+/// is refused (over [`MAX_PIXELS`]): known before the bake, so a preview
+/// too large to draw is refused before any micro-triangle is baked.
+fn layout(images: &[AlphaImage], model: Model) -> Result<Layout, String> {
     let max_side = images
         .iter()
         .map(|i| i.width.max(i.height))
@@ -81,11 +91,43 @@ pub(crate) fn render<'a>(
     let (legend_width, legend_height) = legend::size(model);
     let width = width.max(legend_width);
     let height = height.saturating_add(legend_height);
-    if u64::from(width) * u64::from(height) > 1 << 26 {
+    if u64::from(width) * u64::from(height) > MAX_PIXELS {
         return Err(format!(
-            "the preview would be {width}x{height} pixels: use --no-preview"
+            "the preview would be {width}x{height} pixels, over the limit of {MAX_PIXELS}: \
+             use --no-preview; nothing written"
         ));
     }
+    Ok(Layout {
+        scale,
+        offsets,
+        width,
+        height,
+        tiles_height,
+    })
+}
+
+/// Why the preview of `images` under `model` would be refused, checked
+/// before the bake.
+pub(crate) fn check_size(images: &[AlphaImage], model: Model) -> Result<(), String> {
+    layout(images, model).map(drop)
+}
+
+/// The picture as PNG bytes. `jobs`: (image index, sampler, triangles),
+/// job `j` being mesh `j` of `baked`, baked under `model` (named in the
+/// legend).
+pub(crate) fn render<'a>(
+    images: &[AlphaImage],
+    model: Model,
+    jobs: impl Iterator<Item = (usize, Sampler, &'a [UvTriangle])>,
+    baked: &MeshBake,
+) -> Result<Drawn, String> {
+    let Layout {
+        scale,
+        offsets,
+        width,
+        height,
+        tiles_height,
+    } = layout(images, model)?;
     let mut canvas = Canvas {
         width: width.max(1),
         height: height.max(1),

@@ -77,7 +77,7 @@ impl Progress {
     /// the bar is drawn.
     pub(crate) fn note(&self, line: &str) {
         if !self.bar.is_hidden() {
-            crate::output::to_stderr(format_args!("{line}\n"));
+            cli_support::output::to_stderr(format_args!("{line}\n"));
         }
     }
 }

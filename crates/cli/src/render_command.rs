@@ -5,15 +5,16 @@
 //! `--check` says whether every 4-state method renders the alpha test's
 //! picture with no contradicted candidate.
 
-use crate::args::{Command, Flag, Parsed};
-use crate::bake_command::inputs::{
-    flags, format_option, index_width, model_option, parse_level, read_buffer_files, read_input,
-    sampler_options, Input,
-};
-use crate::output::{print_then, report, Exit, Failure};
+use crate::bake_args::{self, BakeArgs};
+use crate::inputs::files::read_buffer_files;
+use crate::inputs::sampler::sampler_options;
+use crate::inputs::{flags, index_width, read_input, Input};
 use crate::preview::encode_rgb;
-use crate::write_all_or_nothing::{Destination, Refusal};
-use micromap_index::bake::mesh::{bake_meshes, LevelRule, MeshOptions};
+use cli_support::args::{Command, Flag, Parsed};
+use cli_support::output::{print_then, Exit, Failure, Program};
+use cli_support::write_all_or_nothing::{Destination, Refusal};
+use micromap_index::bake::mesh::{bake_meshes, LevelRule};
+use micromap_index::micromap::IndexWidth;
 use micromap_index_render::{
     classify, Camera, Classified, Faults, Frame, Method, Micromaps, RenderError, Renderer, Scene,
     SceneMesh, SceneTexture, Tracer,
@@ -42,8 +43,8 @@ pub(crate) static RENDER: Command = Command {
     paper-tree        the paper's Algorithm 3, 4-state
   The micromaps are DIR's (bake's micromap-data.bin, micromap-triangles.bin,
   micromap-indices.bin; one index per triangle in the asset's order) or, without
-  --micromaps, baked here (--level, --format, --model as bake). --texture and
-  --triangles lay the UV triangles out flat at (u, -v, 0). glTF meshes are
+  --micromaps, baked here with bake's options and --max-bytes guard. --texture
+  and --triangles lay the UV triangles out flat at (u, -v, 0). glTF meshes are
   drawn in their own space (node transforms are not applied). Every known
   decision is checked against the alpha test; a contradicted candidate is
   explained exactly on the host from its binary32 barycentrics: micromap-wrong
@@ -72,15 +73,11 @@ pub(crate) static RENDER: Command = Command {
                     "the micromaps, in bake's layout (default: bake them here)",
                 ),
                 flags::OUT,
-                Flag::value(
-                    "--level",
-                    "L|auto",
-                    "without --micromaps: fixed level 0..=12 or auto (default auto)",
-                ),
-                flags::MAX_LEVEL,
-                Flag::value("--format", "2|4", "without --micromaps (default 4)"),
             ],
+            &bake_args::LEVELS,
             &flags::SAMPLER,
+            &bake_args::MIPS,
+            &bake_args::LIMITS,
             &[
                 Flag::value(
                     "--index-width",
@@ -124,12 +121,15 @@ pub(crate) static RENDER: Command = Command {
                 flags::FORCE,
             ],
         ];
-        crate::args::concat::<{ crate::args::total(GROUPS) }>(GROUPS)
+        cli_support::args::concat::<{ cli_support::args::total(GROUPS) }>(GROUPS)
     },
 };
 
-pub(crate) fn run(options: &[&str]) -> Exit {
-    crate::output::finish(render(options).map(|(text, exit)| print_then(&text, exit)))
+pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
+    cli_support::output::finish(
+        program,
+        render(program, options).map(|(text, exit)| print_then(program, &text, exit)),
+    )
 }
 
 fn count(p: &Parsed<'_>, name: &str, default: u32, max: u32) -> Result<u32, Failure> {
@@ -170,32 +170,39 @@ fn size(p: &Parsed<'_>) -> Result<(u32, u32), Failure> {
     }
 }
 
-fn camera(p: &Parsed<'_>, scene: &Scene, (w, h): (u32, u32)) -> Result<Camera, Failure> {
+/// `--camera`, checked before any setup; `None`: frame the scene
+/// ([`framing`]).
+fn camera(p: &Parsed<'_>) -> Result<Option<Camera>, Failure> {
     let Some(text) = p.get("--camera") else {
-        return scene
-            .bounds()
-            .map(|b| Camera::framing(b, w as f32 / h as f32))
-            .ok_or_else(|| Failure::Malformed("the scene has no triangles".into()));
+        return Ok(None);
     };
     let numbers: Option<Vec<f32>> = text
         .split(',')
         .map(|t| t.trim().parse::<f32>().ok().filter(|x| x.is_finite()))
         .collect();
     match numbers.as_deref() {
-        Some(&[ex, ey, ez, tx, ty, tz]) => Ok(Camera {
+        Some(&[ex, ey, ez, tx, ty, tz]) => Ok(Some(Camera {
             eye: [ex, ey, ez],
             target: [tx, ty, tz],
             fov_y_degrees: 40.0,
-        }),
-        Some(&[ex, ey, ez, tx, ty, tz, fov]) => Ok(Camera {
+        })),
+        Some(&[ex, ey, ez, tx, ty, tz, fov]) => Ok(Some(Camera {
             eye: [ex, ey, ez],
             target: [tx, ty, tz],
             fov_y_degrees: fov,
-        }),
+        })),
         _ => Err(Failure::Malformed(format!(
             "--camera {text:?}: expected six or seven finite numbers EX,EY,EZ,TX,TY,TZ[,FOV]"
         ))),
     }
+}
+
+/// The camera that frames `scene` from the front and above.
+fn framing(scene: &Scene, (w, h): (u32, u32)) -> Result<Camera, Failure> {
+    scene
+        .bounds()
+        .map(|b| Camera::framing(b, w as f32 / h as f32))
+        .ok_or_else(|| Failure::Malformed("the scene has no triangles".into()))
 }
 
 fn tracers(p: &Parsed<'_>) -> Result<Vec<Tracer>, Failure> {
@@ -298,41 +305,48 @@ fn scene_of(input: &Input, from_gltf: bool) -> Result<Scene, Failure> {
     Ok(scene)
 }
 
-fn micromaps(p: &Parsed<'_>, input: &Input) -> Result<(Micromaps, String), Failure> {
+/// Where the micromaps come from: DIR's files (`--micromaps`, read with
+/// this index width), or a bake here with bake's options.
+enum Source {
+    Dir(PathBuf, IndexWidth),
+    Bake(BakeArgs),
+}
+
+/// The micromap source, checked before any setup: with `--micromaps`, no
+/// bake option may be given.
+fn source(p: &Parsed<'_>) -> Result<Source, Failure> {
     if let Some(dir) = p.get("--micromaps") {
-        for flag in ["--level", "--max-level", "--format", "--model"] {
-            if p.get(flag).is_some() {
+        for flag in bake_args::names().chain(["--model"]) {
+            if p.get(flag).is_some() || p.flag(flag) {
                 return Err(Failure::Usage(format!(
                     "{flag} is for baking here; it does not go with --micromaps"
                 )));
             }
         }
-        let dir = PathBuf::from(dir);
-        let files = read_buffer_files(&dir)?;
-        let maps = Micromaps::from_bytes(files.data, files.records, files.indices, index_width(p)?)
-            .map_err(|e| Failure::Malformed(format!("{}: {e}", dir.display())))?;
-        return Ok((maps, dir.display().to_string()));
+        return Ok(Source::Dir(PathBuf::from(dir), index_width(p)?));
     }
-    let format = format_option(p)?;
-    let max = parse_level("--max-level", p.get("--max-level").unwrap_or("12"))?;
-    let levels = match p.get("--level").unwrap_or("auto") {
-        "auto" => LevelRule::Useful { max },
-        text => LevelRule::Fixed(parse_level("--level", text)?),
+    Ok(Source::Bake(BakeArgs::parse(p)?))
+}
+
+fn micromaps(source: &Source, input: &Input) -> Result<(Micromaps, String), Failure> {
+    let args = match source {
+        Source::Dir(dir, width) => {
+            let files = read_buffer_files(dir)?;
+            let maps = Micromaps::from_bytes(files.data, files.records, files.indices, *width)
+                .map_err(|e| Failure::Malformed(format!("{}: {e}", dir.display())))?;
+            return Ok((maps, dir.display().to_string()));
+        }
+        Source::Bake(args) => args,
     };
-    let model = model_option(p)?;
+    let options = &args.options;
     let textures = input.textures()?;
     let meshes = input.meshes(&textures);
-    let options = MeshOptions {
-        levels,
-        format,
-        model,
-        ..MeshOptions::default()
-    };
-    let baked = bake_meshes(&meshes, &options, &mut |_, _| {})
+    args.check_output_size(&meshes, IndexWidth::U32)?;
+    let baked = bake_meshes(&meshes, options, &mut |_, _| {})
         .map_err(|e| Failure::Malformed(e.to_string()))?;
     let maps =
         Micromaps::from_buffers(&baked.buffers).map_err(|e| Failure::Malformed(e.to_string()))?;
-    let level = match levels {
+    let level = match options.levels {
         LevelRule::Fixed(l) => format!("level {}", l.get()),
         LevelRule::Useful { max } => format!("level auto (max {})", max.get()),
     };
@@ -340,8 +354,8 @@ fn micromaps(p: &Parsed<'_>, input: &Input) -> Result<(Micromaps, String), Failu
         maps,
         format!(
             "baked here: {level}, {}-state, model {}",
-            format.bits_per_state() * 2,
-            model.name()
+            options.format.states(),
+            options.model.name()
         ),
     ))
 }
@@ -444,10 +458,10 @@ fn contradiction_line(label: &str, c: &Classified) -> String {
     )
 }
 
-fn render_failure(e: RenderError) -> Failure {
+fn render_failure(program: &Program, e: RenderError) -> Failure {
     match e {
         RenderError::NoDevice(message) => {
-            report(format_args!("render: {message}"));
+            program.report(format_args!("render: {message}"));
             Failure::Exit(Exit::NoDevice)
         }
         RenderError::Input(message) => Failure::Malformed(message),
@@ -455,7 +469,7 @@ fn render_failure(e: RenderError) -> Failure {
     }
 }
 
-fn render(options: &[&str]) -> Result<(String, Exit), Failure> {
+fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> {
     let p = RENDER
         .parse(options)
         .map_err(|error| Failure::Usage(error.message("render")))?;
@@ -491,6 +505,8 @@ fn render(options: &[&str]) -> Result<(String, Exit), Failure> {
         }
     };
     let s = sampler_options(&p)?;
+    let given_camera = camera(&p)?;
+    let source = source(&p)?;
     let mut names: Vec<String> = vec!["render.json".into()];
     for (i, &t) in tracers.iter().enumerate() {
         for &m in &methods {
@@ -503,11 +519,16 @@ fn render(options: &[&str]) -> Result<(String, Exit), Failure> {
     let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
     let input = read_input(&p, &s)?;
     let scene = scene_of(&input, p.get("--gltf").is_some())?;
-    let camera = camera(&p, &scene, size)?;
-    let (maps, source) = micromaps(&p, &input)?;
-    let renderer = Renderer::new(&scene, Some(&maps)).map_err(render_failure)?;
+    let camera = match given_camera {
+        Some(camera) => camera,
+        None => framing(&scene, size)?,
+    };
+    let (maps, source) = micromaps(&source, &input)?;
+    let renderer = Renderer::new(&scene, Some(&maps)).map_err(|e| render_failure(program, e))?;
     if let Some(missing) = tracers.iter().find(|t| !renderer.tracers().contains(t)) {
-        return Err(render_failure(RenderError::NoDevice(format!(
+        return Err(render_failure(
+            program,
+            RenderError::NoDevice(format!(
             "{}: no VK_KHR_ray_tracing_pipeline for the {} tracer (--tracer query traces without it)",
             renderer.device_name(),
             missing.name()
@@ -528,7 +549,7 @@ fn render(options: &[&str]) -> Result<(String, Exit), Failure> {
             for _ in 0..frames {
                 let frame = renderer
                     .render(tracer, method, &camera, size, faults, max_report)
-                    .map_err(render_failure)?;
+                    .map_err(|e| render_failure(program, e))?;
                 cpu = match (cpu, frame.cpu_seconds) {
                     (Some(a), Some(b)) => Some(a.min(b)),
                     (a, b) => a.or(b),

@@ -7,8 +7,8 @@
 //! leaf data) or a value out of range (level above 16, index not below
 //! `4^level`); 3 standard input unreadable.
 
-use crate::args::{whole_number, Command, Flag, Parsed};
-use crate::output::{self, print_then, Exit, Failure};
+use cli_support::args::{whole_number, Command, Flag, Parsed};
+use cli_support::output::{self, print_then, Exit, Failure, Program};
 use micromap_index::micromap::{Format, State};
 use micromap_index::succinct::{LevelOrderTree, PaperTree, TreeError, MAX_TREE_LEVEL};
 use micromap_index::Level;
@@ -76,7 +76,7 @@ levels: 0..=16. Exit 0 ok, 1 the two lookups disagree (a bug: please report
         it), 2 malformed command line, states, bits or data, or a value out
         of range, 3 standard input unreadable.";
 
-pub(crate) fn run(options: &[&str]) -> Exit {
+pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
     // `tree --help`, `tree encode --help` and `help tree` are handled by
     // main through `help::command_help("tree")`.
     let outcome = match options.split_first() {
@@ -86,7 +86,10 @@ pub(crate) fn run(options: &[&str]) -> Exit {
             "tree needs a subcommand: encode or lookup".into(),
         )),
     };
-    output::finish(outcome.map(|line| print_then(&format!("{line}\n"), Exit::Success)))
+    output::finish(
+        program,
+        outcome.map(|line| print_then(program, &format!("{line}\n"), Exit::Success)),
+    )
 }
 
 /// `given` parsed by `table`.

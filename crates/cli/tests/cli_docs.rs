@@ -6,7 +6,7 @@ mod common;
 
 #[test]
 fn docs_cli_md_shows_every_table_rendered_usage() {
-    common::docs_show_the_usage(
+    common::CLI.docs_show_the_usage(
         "micromap-index",
         &[
             "eval",

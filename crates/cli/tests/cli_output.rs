@@ -17,7 +17,7 @@ use std::process::Stdio;
 #[cfg(target_os = "linux")]
 #[test]
 fn a_full_disk_is_exit_3_with_a_message() {
-    common::assert_full_stdout_is_exit_3(
+    common::CLI.assert_full_stdout_is_exit_3(
         "micromap-index",
         &[
             &["help"][..],
@@ -51,7 +51,7 @@ fn a_full_disk_is_exit_3_with_a_message() {
 #[test]
 fn a_full_or_closed_stderr_keeps_the_exit_code() {
     let spec_f32 = common::committed("spec-f32.json");
-    common::assert_lost_stderr_keeps_exit_codes(&[
+    common::CLI.assert_lost_stderr_keeps_exit_codes(&[
         (&["bogus"][..], 2),
         (&["prove", "--sample", "0", "--levels", "1"][..], 2),
         (&["locate", "--level", "33", "--index", "0"][..], 2),

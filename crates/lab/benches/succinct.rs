@@ -2,7 +2,7 @@
 //! APIs store it), the paper's Algorithm 3 on its depth-first tree, and the
 //! level-order layout. The map is the 2-state micromap of the Crytek Sponza
 //! thorn texture (first triangle, nearest texel at centroids; see
-//! `crates/lab/tests/common/succinct_maps.rs`). Two query streams of 256 indices:
+//! `micromap_index_lab::succinct_maps`). Two query streams of 256 indices:
 //! random (uniform over the map) and coherent (256 consecutive indices from
 //! a random start: neighbours on the curve are neighbours in space).
 //!
@@ -19,8 +19,7 @@
 // `criterion_group!` generates undocumented public functions.
 #![allow(missing_docs)]
 
-#[path = "../tests/common/succinct_maps.rs"]
-mod succinct_maps;
+use micromap_index_lab::succinct_maps;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use micromap_index::micromap::{Format, Micromap, State};

@@ -8,8 +8,7 @@
 //! cargo run --release -p micromap-index-lab --example succinct_sizes
 //! ```
 
-#[path = "../tests/common/succinct_maps.rs"]
-mod succinct_maps;
+use micromap_index_lab::succinct_maps;
 
 use micromap_index::micromap::{Format, State};
 use micromap_index::succinct::{LevelOrderTree, PaperTree};

@@ -9,6 +9,8 @@
 //!   (`micromap-index-conformance`'s, re-exported for the lab's users).
 //! * [`fuzzing`] (feature `fuzzing`): the bodies of the fuzz targets.
 //! * [`rng`]: the deterministic generator every sampled check uses.
+//! * [`succinct_maps`]: the micromaps of the succinct-tree tests, size
+//!   example and benchmark.
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 // The checking functions panic on a disagreement by design: that is how a
@@ -22,5 +24,6 @@ pub mod lattice;
 pub mod prove;
 pub mod prove_all_levels;
 pub mod rng;
+pub mod succinct_maps;
 pub use micromap_index_conformance::value;
 pub mod vectors;

@@ -2,10 +2,11 @@
 //! it from the flag tables (as `crates/cli/tests/cli_docs.rs` does for
 //! `micromap-index`).
 
-#[path = "../../cli/tests/common/mod.rs"]
-mod cli;
+mod common;
+
+use common::cli;
 
 #[test]
 fn docs_cli_md_shows_every_table_rendered_usage() {
-    cli::docs_show_the_usage("micromap-lab", &["prove", "vectors"]);
+    cli::CLI.docs_show_the_usage("micromap-lab", &["prove", "vectors"]);
 }

@@ -1,11 +1,12 @@
-//! The output layer (the user CLI's, `crates/cli/src/output.rs`) on
+//! The output layer (the user CLI's, `crates/cli-support/src/output.rs`) on
 //! `micromap-lab`: a closed stdout ends `prove` quietly with 141, a full
 //! disk is a message and 3, a full or closed stderr changes no exit code,
 //! Ctrl-C is 130, and never a panic (101). The other rows of the exit-code
 //! table are produced by `crates/cli/tests/cli_output.rs`.
 
-#[path = "../../cli/tests/common/mod.rs"]
-mod cli;
+mod common;
+
+use common::cli;
 
 use cli::{binary, close_stdout_after, run, text};
 use std::io::{BufRead, BufReader, Read};
@@ -61,7 +62,7 @@ fn vectors_out_into_a_closed_pipe_writes_every_file() {
 #[cfg(target_os = "linux")]
 #[test]
 fn a_full_disk_is_exit_3_with_a_message() {
-    cli::assert_full_stdout_is_exit_3(
+    cli::CLI.assert_full_stdout_is_exit_3(
         "micromap-lab",
         &[
             &["prove", "--levels", "0..=3"][..],
@@ -78,7 +79,7 @@ fn a_full_disk_is_exit_3_with_a_message() {
 #[cfg(target_os = "linux")]
 #[test]
 fn a_full_or_closed_stderr_keeps_the_exit_code() {
-    cli::assert_lost_stderr_keeps_exit_codes(&[
+    cli::CLI.assert_lost_stderr_keeps_exit_codes(&[
         (&["bogus"][..], 2),
         (&["prove", "--sample", "0", "--levels", "1"][..], 2),
         (&["prove", "--levels", "0..=4", "--version1"][..], 1),

@@ -2,8 +2,9 @@
 //! proves the walk for every level, 1 with a confirmed face for version 1,
 //! 2 on a usage error.
 
-#[path = "../../cli/tests/common/mod.rs"]
-mod cli;
+mod common;
+
+use common::cli;
 
 fn command(args: &[&str]) -> std::process::Output {
     cli::run(args)

@@ -2,8 +2,9 @@
 //! an empty or non-directory path and existing vector files (unless
 //! `--force`), and leaves no temporary behind.
 
-#[path = "../../cli/tests/common/mod.rs"]
-mod cli;
+mod common;
+
+use common::cli;
 
 use std::path::{Path, PathBuf};
 use std::process::Output;

@@ -4,8 +4,7 @@
 //! lookup equals the flat map, the bytes read back, the other layout holds
 //! the same tree.
 
-#[path = "common/succinct_maps.rs"]
-mod succinct_maps;
+use micromap_index_lab::succinct_maps;
 
 use micromap_index::micromap::{Format, State};
 use micromap_index::succinct::{LevelOrderTree, PaperTree, Section, TreeError};

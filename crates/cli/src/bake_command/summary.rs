@@ -1,8 +1,8 @@
 //! `bake`'s summary.json: what the bake made, per state, status and job.
 
-use super::inputs::{address_name, Input};
-use crate::output::Failure;
-use micromap_index::bake::{Comparison, Filter};
+use crate::inputs::Input;
+use cli_support::output::Failure;
+use micromap_index::bake::Comparison;
 use micromap_index::micromap::MicromapBuffers;
 use serde::Serialize;
 
@@ -55,8 +55,8 @@ pub(super) struct Summary {
     pub(super) triangles: usize,
     /// Triangles classified: equal UVs, level and material bake once.
     pub(super) distinct_triangles: usize,
-    /// "4-state" or "2-state".
-    pub(super) format: &'static str,
+    /// "4-state" or "2-state" (`Format`'s `Display`).
+    pub(super) format: String,
     /// The APIs' value of the format (`VkOpacityMicromapFormatEXT`: 1
     /// 2-state, 2 4-state).
     pub(super) format_api_value: u32,
@@ -136,14 +136,8 @@ pub(super) fn jobs(input: &Input, buffers: &MicromapBuffers) -> Result<Vec<JobSu
             let summary = JobSummary {
                 name: job.name.clone(),
                 texture: [image.width, image.height],
-                filter: match job.sampler.filter {
-                    Filter::Nearest => "nearest",
-                    Filter::Linear => "linear",
-                },
-                address: [
-                    address_name(job.sampler.address_u),
-                    address_name(job.sampler.address_v),
-                ],
+                filter: job.sampler.filter.name(),
+                address: [job.sampler.address_u.name(), job.sampler.address_v.name()],
                 cutoff: job.cutoff.alpha(),
                 opaque_when: match job.cutoff.comparison() {
                     Comparison::AtLeast => "alpha >= cutoff",

@@ -1,4 +1,8 @@
-//! Data shared by the integration tests (not a test target itself).
+//! Data and helpers shared by the integration tests (not a test target
+//! itself); each test uses a part.
+#![allow(dead_code)]
+
+pub mod cli;
 
 /// Faces per kind where the talk's version 1 differs from the reference,
 /// levels 0..=10: (vertex, horizontal edge, vertical edge, diagonal edge).

@@ -5,9 +5,8 @@
 //! range or `--sample 0` included: a check of nothing is not a success),
 //! 130 interrupted, 3 or 141 if stdout cannot be written.
 
-use crate::args::{level_range, ArgError, Command, Flag, RangeError};
-use crate::output::{self, Exit, Stdout};
-use crate::usage;
+use cli_support::args::{level_range, ArgError, Command, Flag, RangeError};
+use cli_support::output::{self, Exit, Program, Stdout};
 use micromap_index::Level;
 use micromap_index_lab::prove::{
     prove_level, sample_level, LevelReport, Method, Mismatch, Progress, ProveError, Reference,
@@ -78,17 +77,17 @@ struct Options {
     json: bool,
 }
 
-pub(crate) fn run(options: &[&str]) -> Exit {
+pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
     if options.contains(&"--all-levels") {
-        return crate::prove_all_levels::run(options);
+        return crate::prove_all_levels::run(program, options);
     }
     match parse(options) {
         Ok(options) => {
-            let mut out = Stdout::line_by_line();
-            let result = prove(&options, &mut out);
+            let mut out = Stdout::line_by_line(program);
+            let result = prove(program, &options, &mut out);
             out.finish(output::either(result))
         }
-        Err(message) => usage(&format!("prove: {message}")),
+        Err(message) => program.usage_error(&format!("prove: {message}")),
     }
 }
 
@@ -181,9 +180,9 @@ fn parse_small(text: &str, name: &str) -> Result<usize, String> {
         .ok_or_else(|| format!("bad {name} {text:?}"))
 }
 
-fn prove(options: &Options, out: &mut Stdout) -> Result<Exit, Exit> {
+fn prove(program: &Program, options: &Options, out: &mut Stdout) -> Result<Exit, Exit> {
     let progress = Arc::new(Progress::new());
-    install_ctrl_c(&progress);
+    install_ctrl_c(program, &progress);
     let show_bar = std::io::stderr().is_terminal();
     if !options.json {
         print_header(options, out)?;
@@ -193,7 +192,7 @@ fn prove(options: &Options, out: &mut Stdout) -> Result<Exit, Exit> {
     for level in options.levels.clone() {
         // Levels were checked against the reference's limit when parsing.
         let Ok(level) = Level::new(level) else {
-            return Err(usage("prove: level above 32"));
+            return Err(program.usage_error("prove: level above 32"));
         };
         let report = with_progress_bar(show_bar, level, &progress, || match options.sample {
             Some(samples) => {
@@ -203,21 +202,21 @@ fn prove(options: &Options, out: &mut Stdout) -> Result<Exit, Exit> {
         });
         let report = match report {
             Ok(report) => report,
-            Err(ProveError::Level(e)) => return Err(usage(&format!("prove: {e}"))),
+            Err(ProveError::Level(e)) => return Err(program.usage_error(&format!("prove: {e}"))),
             Err(e) => {
-                output::report(format_args!("prove: {e}"));
+                program.report(format_args!("prove: {e}"));
                 return Err(Exit::Failed);
             }
         };
         any_mismatch |= report.mismatches() > 0
             || (report.complete && report.faces_checked != report.faces_expected);
         if options.json {
-            print_json(&report, &options.settings, out)?;
+            print_json(program, &report, &options.settings, out)?;
         } else {
             print_row(&report, out)?;
         }
         if !report.complete {
-            output::report(format_args!(
+            program.report(format_args!(
                 "prove: interrupted during level {level}; the row above counts only the finished part"
             ));
             return Ok(Exit::Interrupted);
@@ -245,7 +244,7 @@ fn prove(options: &Options, out: &mut Stdout) -> Result<Exit, Exit> {
 
 /// First Ctrl-C: ask the check to stop after the work in flight, so the
 /// finished part is still reported. Second Ctrl-C: exit at once.
-fn install_ctrl_c(progress: &Arc<Progress>) {
+fn install_ctrl_c(program: &Program, progress: &Arc<Progress>) {
     let progress = Arc::clone(progress);
     let result = ctrlc::set_handler(move || {
         if progress.is_cancelled() {
@@ -254,7 +253,7 @@ fn install_ctrl_c(progress: &Arc<Progress>) {
         progress.cancel();
     });
     if let Err(e) = result {
-        output::report(format_args!(
+        program.report(format_args!(
             "prove: cannot catch Ctrl-C ({e}); it will end the run at once"
         ));
     }
@@ -394,7 +393,12 @@ impl From<&Mismatch> for ShownMismatch {
     }
 }
 
-fn print_json(report: &LevelReport, settings: &Settings, out: &mut Stdout) -> Result<(), Exit> {
+fn print_json(
+    program: &Program,
+    report: &LevelReport,
+    settings: &Settings,
+    out: &mut Stdout,
+) -> Result<(), Exit> {
     let (method, seed) = match report.method {
         Method::Exhaustive => ("exhaustive", None),
         Method::Sampled { seed } => ("sampled", Some(seed)),
@@ -432,7 +436,7 @@ fn print_json(report: &LevelReport, settings: &Settings, out: &mut Stdout) -> Re
     match serde_json::to_string(&line) {
         Ok(text) => out.line(text),
         Err(e) => {
-            output::report(format_args!("prove: cannot write JSON: {e}"));
+            program.report(format_args!("prove: cannot write JSON: {e}"));
             Err(Exit::Io)
         }
     }

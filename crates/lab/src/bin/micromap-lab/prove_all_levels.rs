@@ -3,11 +3,10 @@
 //! walk against the reference at every level at once, by exploring the
 //! product of two digit transducers (`micromap_index_lab::prove_all_levels`).
 
-use crate::args::{ArgError, Command, Flag};
-use crate::output::{print_then, report as report_error, Exit};
 use crate::prove::{JSON, VERSION1};
-use crate::usage;
-use crate::write_all_or_nothing::write_files;
+use cli_support::args::{ArgError, Command, Flag};
+use cli_support::output::{print_then, Exit, Program};
+use cli_support::write_all_or_nothing::write_files;
 use micromap_index_lab::prove::WalkVersion;
 use micromap_index_lab::prove_all_levels::{prove_all_levels, AllLevelsReport, Verdict};
 use serde::Serialize;
@@ -46,15 +45,15 @@ pub(crate) static ALL_LEVELS: Command = Command {
     ],
 };
 
-pub(crate) fn run(options: &[&str]) -> Exit {
+pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
     let parsed = match ALL_LEVELS.parse(options) {
         Ok(parsed) => parsed,
         Err(ArgError::Unknown(word) | ArgError::TakesNoValue(_, word)) => {
-            return usage(&format!(
+            return program.usage_error(&format!(
                 "prove --all-levels: unknown option {word:?} (only --version1, --json, --list, --certificate)"
             ))
         }
-        Err(other) => return usage(&other.message("prove --all-levels")),
+        Err(other) => return program.usage_error(&other.message("prove --all-levels")),
     };
     let version = if parsed.flag("--version1") {
         WalkVersion::Version1
@@ -66,7 +65,7 @@ pub(crate) fn run(options: &[&str]) -> Exit {
     let report = match prove_all_levels(version) {
         Ok(report) => report,
         Err(e) => {
-            report_error(format_args!("prove --all-levels: {e}"));
+            program.report(format_args!("prove --all-levels: {e}"));
             return Exit::Failed;
         }
     };
@@ -74,7 +73,7 @@ pub(crate) fn run(options: &[&str]) -> Exit {
     let confirmed = confirmed(&report);
     let mut text = String::new();
     if json {
-        print_json(&mut text, &report, seconds, confirmed);
+        print_json(program, &mut text, &report, seconds, confirmed);
     } else {
         print_text(&mut text, &report, seconds, confirmed);
     }
@@ -92,7 +91,7 @@ pub(crate) fn run(options: &[&str]) -> Exit {
         match report.certificate() {
             Some(certificate) => {
                 if let Err(e) = write_certificate(Path::new(file), certificate) {
-                    report_error(format_args!("prove --all-levels: {e}"));
+                    program.report(format_args!("prove --all-levels: {e}"));
                     verdict = Exit::Io;
                 }
             }
@@ -101,7 +100,7 @@ pub(crate) fn run(options: &[&str]) -> Exit {
             }
         }
     }
-    print_then(&text, verdict)
+    print_then(program, &text, verdict)
 }
 
 /// Writes the certificate to `file`: the whole file or (after an error)
@@ -247,7 +246,13 @@ struct JsonReport {
     seconds: f64,
 }
 
-fn print_json(out: &mut String, report: &AllLevelsReport, seconds: f64, confirmed: Option<bool>) {
+fn print_json(
+    program: &Program,
+    out: &mut String,
+    report: &AllLevelsReport,
+    seconds: f64,
+    confirmed: Option<bool>,
+) {
     let c = &report.counts;
     let (verdict, counterexample, error) = match &report.verdict {
         Verdict::Proved => ("proved", None, None),
@@ -291,6 +296,6 @@ fn print_json(out: &mut String, report: &AllLevelsReport, seconds: f64, confirme
         Ok(text) => {
             let _ = writeln!(out, "{text}");
         }
-        Err(e) => report_error(format_args!("prove --all-levels: cannot write JSON: {e}")),
+        Err(e) => program.report(format_args!("prove --all-levels: cannot write JSON: {e}")),
     }
 }

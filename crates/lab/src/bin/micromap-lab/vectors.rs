@@ -17,11 +17,10 @@
 //!
 //! A command line of the wrong shape is a usage error (exit 2).
 
-use crate::args::{Command, Flag};
-use crate::input::{read_bytes, shown_path};
-use crate::output::{self, Exit, Stdout};
-use crate::usage;
-use crate::write_all_or_nothing::{check_destination, write_files};
+use cli_support::args::{Command, Flag};
+use cli_support::input::{read_bytes, shown_path};
+use cli_support::output::{self, Exit, Program, Stdout};
+use cli_support::write_all_or_nothing::{check_destination, write_files};
 use micromap_index_lab::vectors::{
     compute_answers, generate_sets, parse_vector_file, AnswerSource, VectorFile,
 };
@@ -57,10 +56,10 @@ pub(crate) static VECTORS: Command = Command {
     ],
 };
 
-pub(crate) fn run(options: &[&str]) -> Exit {
+pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
     let options = match VECTORS.parse(options) {
         Ok(options) => options,
-        Err(error) => return usage(&error.message("vectors")),
+        Err(error) => return program.usage_error(&error.message("vectors")),
     };
     let force = options.flag("--force");
     match (
@@ -68,15 +67,17 @@ pub(crate) fn run(options: &[&str]) -> Exit {
         options.get("--answers-from"),
         options.get("--vectors"),
     ) {
-        (Some(dir), None, None) => write_sets(Path::new(dir), force),
+        (Some(dir), None, None) => write_sets(program, Path::new(dir), force),
         (None, Some(name), Some(file)) if !force => match AnswerSource::from_name(name) {
-            Some(source) => print_answers(source, file),
-            None => usage(&format!(
+            Some(source) => print_answers(program, source, file),
+            None => program.usage_error(&format!(
                 "unknown answer source {name:?}; sources: {}",
                 source_names()
             )),
         },
-        _ => usage("vectors needs --out DIR [--force], or --answers-from NAME --vectors FILE"),
+        _ => program.usage_error(
+            "vectors needs --out DIR [--force], or --answers-from NAME --vectors FILE",
+        ),
     }
 }
 
@@ -94,7 +95,7 @@ fn source_names() -> String {
         .join(", ")
 }
 
-fn write_sets(dir: &Path, force: bool) -> Exit {
+fn write_sets(program: &Program, dir: &Path, force: bool) -> Exit {
     let files: Vec<(String, Vec<u8>, usize)> = generate_sets()
         .into_iter()
         .map(|set| {
@@ -107,7 +108,7 @@ fn write_sets(dir: &Path, force: bool) -> Exit {
         .collect();
     let names: Vec<&str> = files.iter().map(|(name, _, _)| name.as_str()).collect();
     if let Err(message) = check_destination(dir, &names, force) {
-        output::report(format_args!("vectors: {message}"));
+        program.report(format_args!("vectors: {message}"));
         return Exit::Usage;
     }
     let contents: Vec<(String, Vec<u8>)> = files
@@ -115,12 +116,12 @@ fn write_sets(dir: &Path, force: bool) -> Exit {
         .map(|(name, bytes, _)| (name.clone(), bytes.clone()))
         .collect();
     if let Err(message) = write_files(dir, &contents) {
-        output::report(format_args!("vectors: {message}; nothing written"));
+        program.report(format_args!("vectors: {message}; nothing written"));
         return Exit::Io;
     }
     // The files are complete before anything is printed: a closed stdout
     // (`| head -1`) can cut the summary short, not the files.
-    let mut out = Stdout::line_by_line();
+    let mut out = Stdout::line_by_line(program);
     let printed = files.iter().try_for_each(|(name, bytes, cases)| {
         out.line(format_args!(
             "{}: {cases} cases, {} bytes",
@@ -131,7 +132,7 @@ fn write_sets(dir: &Path, force: bool) -> Exit {
     out.finish(output::either(printed.map(|()| Exit::Success)))
 }
 
-fn print_answers(source: AnswerSource, file: &str) -> Exit {
+fn print_answers(program: &Program, source: AnswerSource, file: &str) -> Exit {
     // Unreadable (exit 3) is told apart from malformed (exit 2) here.
     if file != "-" {
         let readable = File::open(file).and_then(|f| f.metadata()).and_then(|m| {
@@ -142,19 +143,19 @@ fn print_answers(source: AnswerSource, file: &str) -> Exit {
             }
         });
         if let Err(e) = readable {
-            output::report(format_args!("cannot read {file}: {e}"));
+            program.report(format_args!("cannot read {file}: {e}"));
             return Exit::Io;
         }
     }
     let vectors = match read_vectors(file) {
         Ok(vectors) => vectors,
         Err(message) => {
-            output::report(message);
+            program.report(message);
             return Exit::Usage;
         }
     };
     let text = compute_answers(source, &vectors).to_json_lines();
-    let mut out = Stdout::buffered();
+    let mut out = Stdout::buffered(program);
     let written = out.text(&text).map(|()| Exit::Success);
     out.finish(output::either(written))
 }

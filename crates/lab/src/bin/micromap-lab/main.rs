@@ -7,36 +7,27 @@
 //! `micromap-lab:`.
 //!
 //! The flag tables, the output layer and the exit codes are the user CLI's
-//! (`crates/cli/src/{args,output,input,write_all_or_nothing}.rs`, compiled
-//! in here by `#[path]`), so both binaries parse, render usage and fail the
-//! same way: the table in `micromap-lab help` and `docs/cli.md`.
+//! (`micromap-index-cli-support`), so both binaries parse, render usage and
+//! fail the same way: the table in `micromap-lab help` and `docs/cli.md`.
+//! Each command gets [`PROGRAM`] passed in, for its messages.
 
-#[path = "../../../cli/src/args.rs"]
-#[allow(dead_code)] // the parts the user CLI alone uses
-mod args;
-#[path = "../../../cli/src/input.rs"]
-#[allow(dead_code)]
-mod input;
-#[path = "../../../cli/src/output.rs"]
-#[allow(dead_code)]
-mod output;
-#[path = "micromap-lab/prove.rs"]
 mod prove;
-#[path = "micromap-lab/prove_all_levels.rs"]
 mod prove_all_levels;
-#[path = "micromap-lab/vectors.rs"]
 mod vectors;
-#[path = "../../../cli/src/write_all_or_nothing.rs"]
-#[allow(dead_code)] // bake's lock and roll-back: the user CLI alone uses them
-mod write_all_or_nothing;
 
-use args::{usage_text, Command};
-use output::{exit_code_table, Exit};
+use cli_support::args::{usage_text, Command};
+use cli_support::output::{self, exit_code_table, Exit, Program};
 use std::process::ExitCode;
 use std::sync::OnceLock;
 
 /// The program's name, which every message on stderr starts with.
-pub(crate) const PROGRAM: &str = "micromap-lab";
+const NAME: &str = "micromap-lab";
+
+/// The running program, as the commands report it.
+static PROGRAM: Program = Program {
+    name: NAME,
+    usage: usage_after_error,
+};
 
 /// The commands and their tables, in the order `help` lists them.
 static COMMANDS: [(&str, &[&Command]); 2] = [
@@ -69,8 +60,8 @@ fn main() -> ExitCode {
         }
     }
     let exit = match (command, options) {
-        ("prove", options) => prove::run(options),
-        ("vectors", options) => vectors::run(options),
+        ("prove", options) => prove::run(&PROGRAM, options),
+        ("vectors", options) => vectors::run(&PROGRAM, options),
         ("help" | "--help" | "-h", []) => print_help(&full_help()),
         ("help", [topic]) => match usage_of(topic) {
             Some(text) => print_help(&text),
@@ -87,15 +78,15 @@ fn usage_of(command: &str) -> Option<String> {
     COMMANDS
         .iter()
         .find(|(name, _)| *name == command)
-        .map(|(_, tables)| usage_text(PROGRAM, tables, ""))
+        .map(|(_, tables)| usage_text(NAME, tables, ""))
 }
 
 /// `help`: everything.
 fn full_help() -> String {
     let mut text = format!(
-        "usage: {PROGRAM} COMMAND [OPTIONS]
-       {PROGRAM} COMMAND --help      one command's usage
-       {PROGRAM} help [COMMAND]"
+        "usage: {NAME} COMMAND [OPTIONS]
+       {NAME} COMMAND --help      one command's usage
+       {NAME} help [COMMAND]"
     );
     for (name, _) in &COMMANDS {
         text.push_str("\n\n");
@@ -107,19 +98,22 @@ fn full_help() -> String {
 }
 
 fn print_help(text: &str) -> Exit {
-    output::print_then(&format!("{text}\n"), Exit::Success)
+    output::print_then(&PROGRAM, &format!("{text}\n"), Exit::Success)
 }
 
 /// Reports `message` and the usage (of the command being run, or of all) on
 /// stderr; exit code 2.
-pub(crate) fn usage(message: &str) -> Exit {
-    let usage = match COMMAND.get() {
+fn usage(message: &str) -> Exit {
+    PROGRAM.usage_error(message)
+}
+
+/// The usage after a usage error: the command being run's, or all.
+fn usage_after_error() -> String {
+    match COMMAND.get() {
         Some(command) => format!(
-            "{}\nrun `{PROGRAM} help` for every command and the exit codes",
+            "{}\nrun `{NAME} help` for every command and the exit codes",
             usage_of(command).unwrap_or_default()
         ),
         None => full_help(),
-    };
-    output::report(format_args!("{message}\n{usage}"));
-    Exit::Usage
+    }
 }

@@ -12,19 +12,45 @@
 //! error is dropped and the exit code alone tells.
 //!
 //! Every command returns an [`Exit`]; what ends one early is a [`Failure`],
-//! which says how it is reported and with which code. This file is also
-//! compiled into the lab's binary (`micromap-lab`), by `#[path]`; messages
-//! start with the running program's name, `crate::PROGRAM`.
+//! which says how it is reported and with which code. Messages start with
+//! the running program's name, from the [`Program`] each binary passes in.
 
 use std::fmt;
 use std::fmt::Write as _;
 use std::io::{self, Write};
 use std::process::ExitCode;
 
+/// The running program, as its messages need it: passed in by each binary
+/// (`micromap-index`, `micromap-lab`), so nothing here refers back to it.
+#[derive(Clone, Copy, Debug)]
+pub struct Program {
+    /// The program's name, which every message on stderr starts with.
+    pub name: &'static str,
+    /// The usage text shown after a usage error's message: the running
+    /// command's usage, or the whole help when no command was recognised.
+    pub usage: fn() -> String,
+}
+
+impl Program {
+    /// Writes `NAME: MESSAGE` and a newline to stderr; best effort (see the
+    /// module docs).
+    pub fn report(&self, message: impl fmt::Display) {
+        let _ = writeln!(io::stderr().lock(), "{}: {message}", self.name);
+    }
+
+    /// Reports `message` and the usage ([`Program::usage`]) on stderr;
+    /// exit code 2.
+    #[must_use]
+    pub fn usage_error(&self, message: &str) -> Exit {
+        self.report(format_args!("{message}\n{}", (self.usage)()));
+        Exit::Usage
+    }
+}
+
 /// The exit codes of every command (documented in `micromap-index help`,
 /// the crate docs and `docs/cli.md`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Exit {
+pub enum Exit {
     /// 0: the command did what was asked (for `prove` and `check`: no
     /// mismatch).
     Success,
@@ -54,7 +80,7 @@ pub(crate) enum Exit {
 
 impl Exit {
     /// Every code, in the order of the table.
-    pub(crate) const TABLE: [Exit; 7] = [
+    pub const TABLE: [Exit; 7] = [
         Exit::Success,
         Exit::Failed,
         Exit::Usage,
@@ -66,7 +92,7 @@ impl Exit {
 
     /// The process exit status.
     #[must_use]
-    pub(crate) fn code(self) -> u8 {
+    pub fn code(self) -> u8 {
         match self {
             Exit::Success => 0,
             Exit::Failed => 1,
@@ -80,7 +106,7 @@ impl Exit {
 
     /// One line of the table as `help` prints it.
     #[must_use]
-    pub(crate) fn meaning(self) -> &'static str {
+    pub fn meaning(self) -> &'static str {
         match self {
             Exit::Success => "success (prove, check: no mismatch)",
             Exit::Failed => {
@@ -105,7 +131,8 @@ impl From<Exit> for ExitCode {
 }
 
 /// The exit-code table as `help` prints it.
-pub(crate) fn exit_code_table() -> String {
+#[must_use]
+pub fn exit_code_table() -> String {
     let mut text = String::from("exit codes (all commands):\n");
     for exit in Exit::TABLE {
         let _ = writeln!(text, "  {:>3}  {}", exit.code(), exit.meaning());
@@ -116,7 +143,7 @@ pub(crate) fn exit_code_table() -> String {
 
 /// What ended a command before it finished, by exit code.
 #[derive(Debug)]
-pub(crate) enum Failure {
+pub enum Failure {
     /// Exit 2, the message followed by the command's usage: a command line
     /// of the wrong shape.
     Usage(String),
@@ -133,17 +160,17 @@ pub(crate) enum Failure {
 }
 
 impl Failure {
-    /// Reports the failure on stderr and returns its exit.
+    /// Reports the failure on stderr as `program`'s and returns its exit.
     #[must_use]
-    pub(crate) fn exit(self) -> Exit {
+    pub fn exit(self, program: &Program) -> Exit {
         let (message, exit) = match self {
-            Failure::Usage(message) => return crate::usage(&message),
+            Failure::Usage(message) => return program.usage_error(&message),
             Failure::Malformed(message) => (message, Exit::Usage),
             Failure::Failed(message) => (message, Exit::Failed),
             Failure::Io(message) => (message, Exit::Io),
             Failure::Exit(exit) => return exit,
         };
-        report(message);
+        program.report(message);
         exit
     }
 }
@@ -154,33 +181,29 @@ impl From<Exit> for Failure {
     }
 }
 
-/// The exit of a command's outcome: its verdict, or its failure reported.
+/// The exit of a command's outcome: its verdict, or its failure reported
+/// as `program`'s.
 #[must_use]
-pub(crate) fn finish(outcome: Result<Exit, Failure>) -> Exit {
-    outcome.unwrap_or_else(Failure::exit)
-}
-
-/// Writes `PROGRAM: MESSAGE` and a newline to stderr; best effort (see the
-/// module docs).
-pub(crate) fn report(message: impl fmt::Display) {
-    let _ = writeln!(io::stderr().lock(), "{}: {message}", crate::PROGRAM);
+pub fn finish(program: &Program, outcome: Result<Exit, Failure>) -> Exit {
+    outcome.unwrap_or_else(|failure| failure.exit(program))
 }
 
 /// Writes `text` to stderr as it is (no prefix, no newline); best effort.
-pub(crate) fn to_stderr(text: impl fmt::Display) {
+pub fn to_stderr(text: impl fmt::Display) {
     let mut err = io::stderr().lock();
     let _ = write!(err, "{text}");
     let _ = err.flush();
 }
 
 /// What a failed write to stdout means: [`Exit::BrokenPipe`] (quiet) for a
-/// closed pipe, otherwise the error reported on stderr and [`Exit::Io`].
+/// closed pipe, otherwise the error reported on stderr (as `program`'s) and
+/// [`Exit::Io`].
 #[must_use]
-pub(crate) fn stdout_failure(error: &io::Error) -> Exit {
+pub fn stdout_failure(program: &Program, error: &io::Error) -> Exit {
     if error.kind() == io::ErrorKind::BrokenPipe {
         Exit::BrokenPipe
     } else {
-        report(format_args!("writing stdout: {error}"));
+        program.report(format_args!("writing stdout: {error}"));
         Exit::Io
     }
 }
@@ -189,7 +212,8 @@ pub(crate) fn stdout_failure(error: &io::Error) -> Exit {
 /// [`stdout_failure`]. Call [`Stdout::finish`] at the end: a failure of the
 /// final flush is an error too (dropping without it loses nothing silently
 /// only because Rust's exit flush would then ignore the error).
-pub(crate) struct Stdout {
+pub struct Stdout {
+    program: Program,
     out: io::BufWriter<io::StdoutLock<'static>>,
     /// Flush after each line (for output a person or `head` reads as it
     /// comes, like `prove`'s rows), not only when the buffer fills.
@@ -201,10 +225,11 @@ pub(crate) struct Stdout {
 
 impl Stdout {
     /// Buffered stdout, flushed when the buffer fills and at the end (for
-    /// many short lines: `eval`).
+    /// many short lines: `eval`); failures reported as `program`'s.
     #[must_use]
-    pub(crate) fn buffered() -> Stdout {
+    pub fn buffered(program: &Program) -> Stdout {
         Stdout {
+            program: *program,
             out: io::BufWriter::new(io::stdout().lock()),
             flush_each_line: false,
             failed: false,
@@ -213,16 +238,15 @@ impl Stdout {
 
     /// Stdout flushed after each line.
     #[must_use]
-    #[allow(dead_code)] // used by micromap-lab's `prove` and `vectors`
-    pub(crate) fn line_by_line() -> Stdout {
+    pub fn line_by_line(program: &Program) -> Stdout {
         Stdout {
             flush_each_line: true,
-            ..Stdout::buffered()
+            ..Stdout::buffered(program)
         }
     }
 
     /// Writes `text` and a newline.
-    pub(crate) fn line(&mut self, text: impl fmt::Display) -> Result<(), Exit> {
+    pub fn line(&mut self, text: impl fmt::Display) -> Result<(), Exit> {
         let written = writeln!(self.out, "{text}");
         self.check(written)?;
         if self.flush_each_line {
@@ -232,7 +256,7 @@ impl Stdout {
     }
 
     /// Writes `text` as it is.
-    pub(crate) fn text(&mut self, text: &str) -> Result<(), Exit> {
+    pub fn text(&mut self, text: &str) -> Result<(), Exit> {
         let written = self.out.write_all(text.as_bytes());
         self.check(written)?;
         if self.flush_each_line {
@@ -242,7 +266,7 @@ impl Stdout {
     }
 
     /// Flushes what is buffered.
-    pub(crate) fn flush(&mut self) -> Result<(), Exit> {
+    pub fn flush(&mut self) -> Result<(), Exit> {
         let flushed = self.out.flush();
         self.check(flushed)
     }
@@ -251,14 +275,14 @@ impl Stdout {
     fn check(&mut self, result: io::Result<()>) -> Result<(), Exit> {
         result.map_err(|e| {
             self.failed = true;
-            stdout_failure(&e)
+            stdout_failure(&self.program, &e)
         })
     }
 
     /// Flushes and returns `exit`, or the failure of the flush. After an
     /// earlier failure, returns `exit` (that failure) without writing again.
     #[must_use]
-    pub(crate) fn finish(mut self, exit: Exit) -> Exit {
+    pub fn finish(mut self, exit: Exit) -> Exit {
         if self.failed {
             return exit;
         }
@@ -270,10 +294,11 @@ impl Stdout {
 }
 
 /// Writes `text` to stdout and returns `verdict`, or the failure of the
-/// write (for commands that print one finished report).
+/// write (reported as `program`'s; for commands that print one finished
+/// report).
 #[must_use]
-pub(crate) fn print_then(text: &str, verdict: Exit) -> Exit {
-    let mut out = Stdout::buffered();
+pub fn print_then(program: &Program, text: &str, verdict: Exit) -> Exit {
+    let mut out = Stdout::buffered(program);
     let exit = match out.text(text) {
         Ok(()) => verdict,
         Err(failure) => failure,
@@ -283,7 +308,7 @@ pub(crate) fn print_then(text: &str, verdict: Exit) -> Exit {
 
 /// `Ok(exit)` or `Err(exit)` as one exit.
 #[must_use]
-pub(crate) fn either(result: Result<Exit, Exit>) -> Exit {
+pub fn either(result: Result<Exit, Exit>) -> Exit {
     match result {
         Ok(exit) | Err(exit) => exit,
     }

@@ -1,9 +1,7 @@
 //! Micromaps for the succinct-tree tests, the size example and the
 //! benchmark: synthetic ones and ones sampled from the Crytek Sponza alpha
-//! textures in `assets/crytek-sponza/`. Included by path
-//! (`#[path = ...] mod succinct_maps;`), so each user compiles only what it
-//! calls.
-#![allow(dead_code)]
+//! textures in `assets/crytek-sponza/` (read from the repository, so for
+//! the lab's tests, benches and examples only).
 
 use micromap_index::inverse::micro_triangle;
 use micromap_index::micromap::{Format, State};
@@ -11,6 +9,7 @@ use micromap_index::Level;
 use micromap_index_test_support::SplitMix64;
 
 /// `4^level`.
+#[must_use]
 pub fn count(level: u32) -> usize {
     1 << (2 * level)
 }
@@ -20,6 +19,7 @@ fn level(level: u32) -> Level {
 }
 
 /// Every micro-triangle in `state`.
+#[must_use]
 pub fn uniform(level: u32, state: State) -> Vec<State> {
     vec![state; count(level)]
 }
@@ -27,6 +27,7 @@ pub fn uniform(level: u32, state: State) -> Vec<State> {
 /// The paper's worst case: states alternate along the curve
 /// (transparent, opaque, ... or all four states in turn), so no quadrant
 /// is uniform at any level.
+#[must_use]
 pub fn alternating(level: u32, format: Format) -> Vec<State> {
     let period = format.bits_per_state() as usize * 2;
     (0..count(level)).map(|i| State::ALL[i % period]).collect()
@@ -36,6 +37,7 @@ pub fn alternating(level: u32, format: Format) -> Vec<State> {
 /// of the base triangle, transparent outside. A 2-state map asks about the
 /// micro-triangle's centroid; a 4-state map about its three vertices: all
 /// inside opaque, all outside transparent, otherwise unknown-opaque.
+#[must_use]
 pub fn disc(level_n: u32, format: Format) -> Vec<State> {
     let inside = |(u, v): (f64, f64)| {
         let (du, dv) = (u - 1.0 / 3.0, v - 1.0 / 3.0);
@@ -62,6 +64,7 @@ pub fn disc(level_n: u32, format: Format) -> Vec<State> {
 /// Independent states: opaque with probability `density` (per mille),
 /// otherwise transparent; in a 4-state map a further 1 in 16 of the
 /// micro-triangles is unknown-opaque.
+#[must_use]
 pub fn noise(level: u32, format: Format, density_per_mille: u64, seed: u64) -> Vec<State> {
     let mut rng = SplitMix64::new(seed);
     (0..count(level))
@@ -80,6 +83,7 @@ pub fn noise(level: u32, format: Format, density_per_mille: u64, seed: u64) -> V
 
 /// `states` with micro-triangle `index` changed to the next state the
 /// format holds.
+#[must_use]
 pub fn with_one_change(states: &[State], format: Format, index: usize) -> Vec<State> {
     let mut out = states.to_vec();
     let bits = out[index].bits() + 1;
@@ -89,13 +93,22 @@ pub fn with_one_change(states: &[State], format: Format, index: usize) -> Vec<St
 
 /// An alpha texture: width, height, alpha bytes row by row (row 0 first).
 pub struct AlphaTexture {
+    /// The file name under `assets/crytek-sponza/`.
     pub name: &'static str,
+    /// Texels per row.
     pub width: usize,
+    /// Rows.
     pub height: usize,
+    /// `width * height` alpha bytes, row 0 first.
     pub alpha: Vec<u8>,
 }
 
 /// Reads `assets/crytek-sponza/<file>` (an RGBA or grey+alpha PNG).
+///
+/// # Panics
+///
+/// If the file cannot be read or has no alpha channel.
+#[must_use]
 pub fn sponza_texture(file: &'static str) -> AlphaTexture {
     let path =
         concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/crytek-sponza/").to_string() + file;
@@ -131,6 +144,7 @@ pub fn sponza_texture(file: &'static str) -> AlphaTexture {
 impl AlphaTexture {
     /// Whether the texel nearest to texture coordinate `(s, t)` (in
     /// `[0, 1]`, clamped) has alpha at least 128.
+    #[must_use]
     pub fn opaque_at(&self, (s, t): (f64, f64)) -> bool {
         let x = ((s * self.width as f64) as usize).min(self.width - 1);
         let y = ((t * self.height as f64) as usize).min(self.height - 1);
@@ -144,6 +158,7 @@ impl AlphaTexture {
     /// centroid and three vertices (all opaque: opaque, none: transparent,
     /// otherwise unknown, opaque or transparent as the centroid). A sampler,
     /// not a conservative baker: texels between the samples are not seen.
+    #[must_use]
     pub fn micromap(&self, level_n: u32, format: Format, half: usize) -> Vec<State> {
         let corners = [
             [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)],

@@ -2,20 +2,55 @@
 //! ([`read_bytes`], [`open`]), and lines with a bounded buffer: a line
 //! longer than the cap is skipped (its bytes read and dropped as they come)
 //! and reported, so one 200 MB line costs a bounded amount of memory, not
-//! 200 MB. Also compiled into the lab's binary, by `#[path]`.
+//! 200 MB.
 
 use std::io::{self, BufRead, BufReader, Read};
 
 /// The longest `eval` input line, in bytes (without the newline). A valid
 /// line is far shorter: two values of at most 20,000 characters
 /// (`micromap_index_conformance::value::MAX_VALUE_LEN`) and a level.
-pub(crate) const MAX_LINE_BYTES: usize = 1 << 20;
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// Refuses a named input whose opening or reading can block forever: a
+/// FIFO (named pipe) with no writer blocks `open` itself, a socket its
+/// reads. Regular files and devices (`/dev/zero`, read under a bound) pass.
+/// Standard input (`-`) is read as it is, pipe or not.
+///
+/// # Errors
+///
+/// An `InvalidInput` error naming the kind of file.
+pub fn refuse_blocking(path: &std::path::Path) -> io::Result<()> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt as _;
+        if let Ok(metadata) = std::fs::metadata(path) {
+            let kind = metadata.file_type();
+            let what = if kind.is_fifo() {
+                Some("a FIFO (named pipe)")
+            } else if kind.is_socket() {
+                Some("a socket")
+            } else {
+                None
+            };
+            if let Some(what) = what {
+                return Err(io::Error::new(
+                    io::ErrorKind::InvalidInput,
+                    format!("{what}, not a regular file (reading it could block forever)"),
+                ));
+            }
+        }
+    }
+    #[cfg(not(unix))]
+    let _ = path;
+    Ok(())
+}
 
 /// The file (`-`: stdin) as a buffered reader, or a message naming it.
-pub(crate) fn open(path: &str) -> Result<Box<dyn Read>, String> {
+pub fn open(path: &str) -> Result<Box<dyn Read>, String> {
     if path == "-" {
         return Ok(Box::new(BufReader::new(io::stdin())));
     }
+    refuse_blocking(path.as_ref()).map_err(|e| format!("cannot read {path}: {e}"))?;
     match std::fs::File::open(path) {
         Ok(file) => Ok(Box::new(BufReader::new(file))),
         Err(e) => Err(format!("cannot read {path}: {e}")),
@@ -23,8 +58,7 @@ pub(crate) fn open(path: &str) -> Result<Box<dyn Read>, String> {
 }
 
 /// The file's bytes (`-`: stdin), or a message naming it.
-#[allow(dead_code)] // used by micromap-lab's vectors, which compiles this file in
-pub(crate) fn read_bytes(path: &str) -> Result<Vec<u8>, String> {
+pub fn read_bytes(path: &str) -> Result<Vec<u8>, String> {
     if path == "-" {
         let mut bytes = Vec::new();
         return io::stdin()
@@ -32,11 +66,13 @@ pub(crate) fn read_bytes(path: &str) -> Result<Vec<u8>, String> {
             .map(|_| bytes)
             .map_err(|e| format!("reading stdin: {e}"));
     }
+    refuse_blocking(path.as_ref()).map_err(|e| format!("cannot read {path}: {e}"))?;
     std::fs::read(path).map_err(|e| format!("cannot read {path}: {e}"))
 }
 
 /// `path` as messages name it: `stdin` for `-`.
-pub(crate) fn shown_path(path: &str) -> &str {
+#[must_use]
+pub fn shown_path(path: &str) -> &str {
     if path == "-" {
         "stdin"
     } else {
@@ -46,7 +82,7 @@ pub(crate) fn shown_path(path: &str) -> &str {
 
 /// One input line.
 #[derive(Debug, PartialEq, Eq)]
-pub(crate) enum Line<'a> {
+pub enum Line<'a> {
     /// The line's bytes, without the `\n` (a trailing `\r` is kept).
     Text(&'a [u8]),
     /// The line was longer than the cap; `bytes` is its length without the
@@ -58,14 +94,15 @@ pub(crate) enum Line<'a> {
 }
 
 /// Lines of `reader`, each at most `max` bytes kept in memory.
-pub(crate) struct BoundedLines<R> {
+pub struct BoundedLines<R> {
     reader: R,
     line: Vec<u8>,
     max: usize,
 }
 
 impl<R: BufRead> BoundedLines<R> {
-    pub(crate) fn new(reader: R, max: usize) -> Self {
+    /// Lines of `reader`, each kept up to `max` bytes.
+    pub fn new(reader: R, max: usize) -> Self {
         BoundedLines {
             reader,
             line: Vec::new(),
@@ -74,13 +111,13 @@ impl<R: BufRead> BoundedLines<R> {
     }
 
     /// The reader, to ask whether input is already buffered.
-    pub(crate) fn reader(&self) -> &R {
+    pub fn reader(&self) -> &R {
         &self.reader
     }
 
     /// The next line, or `None` at the end of the input. A last line without
     /// a newline is still a line; an empty input has no lines.
-    pub(crate) fn next_line(&mut self) -> io::Result<Option<Line<'_>>> {
+    pub fn next_line(&mut self) -> io::Result<Option<Line<'_>>> {
         self.line.clear();
         let mut length: u64 = 0;
         let mut any = false;

@@ -11,27 +11,31 @@
 //! partial file). If a rename fails, the files renamed so far are put back
 //! from their backups or removed.
 //!
-//! [`Destination`] (used by `bake`) adds what concurrent and interrupted
-//! use needs: a lock file (`DIR/.micromap-index.lock`, created with
-//! `O_EXCL`, so a second writer into the same directory is refused before it
-//! checks or writes anything, and the existence check and the renames of one
-//! writer cannot interleave with another's), the removal of the directories
-//! it created when nothing was committed, and a Ctrl-C handler
-//! ([`install_interrupt_handler`]) that rolls back and removes temporaries,
-//! backups and the lock before exiting 130. Only a process killed in the
-//! middle (`kill -9`, power loss) can leave temporaries (`.NAME.PID.tmp`),
-//! backups (`NAME.PID.old`) or the lock behind.
+//! [`Destination`] (used by `bake` and `render`) adds what concurrent,
+//! interrupted and killed use needs: a lock (`DIR/.micromap-index.lock`,
+//! an OS file lock that dies with its process: `crate::dir_lock`), so a
+//! second writer into the same directory is refused before it checks or
+//! writes anything, and the existence check and the renames of one writer
+//! cannot interleave with another's; the removal of the directories it
+//! created when nothing was committed; and a Ctrl-C handler
+//! ([`install_interrupt_handler`]) that, at any phase, leaves either the old
+//! set (rolled back: temporaries, backups and lock removed) or the new set
+//! (when every rename was done), says which, and exits 130. A process
+//! killed in the middle (`kill -9`, a file-size limit) can leave
+//! temporaries (`.NAME.PID.tmp`), backups (`NAME.PID.old`) and the lock
+//! file behind; the next writer into the directory takes the dead lock
+//! over and undoes them from the lock file's journal (`crate::dir_lock`).
 
+pub use crate::dir_lock::LOCK_NAME;
+use crate::dir_lock::{DirLock, LockError};
+use crate::output::Program;
 use std::fs::{self, File};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
-/// The lock file's name inside the destination directory.
-pub(crate) const LOCK_NAME: &str = ".micromap-index.lock";
-
 /// Why the destination was refused before anything was written.
-pub(crate) fn check_destination(dir: &Path, names: &[&str], force: bool) -> Result<(), String> {
+pub fn check_destination(dir: &Path, names: &[&str], force: bool) -> Result<(), String> {
     if dir.as_os_str().is_empty() {
         return Err("--out needs a directory path, got an empty one".into());
     }
@@ -66,11 +70,10 @@ pub(crate) fn check_destination(dir: &Path, names: &[&str], force: bool) -> Resu
 
 /// Writes `files` (name, bytes) into `dir`, creating `dir` if needed: all
 /// of them, or (after an error, which the message describes) none.
-#[allow(dead_code)] // micromap-lab's vectors --out (bake stages through Destination)
-pub(crate) fn write_files(dir: &Path, files: &[(String, impl AsRef<[u8]>)]) -> Result<(), String> {
+pub fn write_files(dir: &Path, files: &[(String, impl AsRef<[u8]>)]) -> Result<(), String> {
     fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let staged = Mutex::new(Staged::default());
-    let result = Staged::write(&staged, |s| s, dir, files, &[]);
+    let result = Staged::write(&staged, |s| s, |_, _| {}, dir, files, &[]);
     lock(&staged).clean_up();
     if result.is_ok() {
         sync_dir(dir);
@@ -107,9 +110,11 @@ impl Staged {
     /// Writes `files` and removes the existing files named in `remove`.
     /// Each step takes the lock on its own, so an interrupt handler can
     /// take it between two steps (and never gives it back: it exits).
+    /// `note` appends a line to the writer's journal (`crate::dir_lock`).
     fn write<H>(
         state: &Mutex<H>,
         staged: fn(&mut H) -> &mut Staged,
+        note: fn(&mut H, &str),
         dir: &Path,
         files: &[(String, impl AsRef<[u8]>)],
         remove: &[&str],
@@ -147,14 +152,29 @@ impl Staged {
                 staged(&mut guard).backups.push((target.clone(), backup));
             }
         }
-        stall_for_tests();
-        for (temporary, target) in pairs {
+        {
+            let mut guard = lock(state);
+            for (_, target) in &pairs {
+                if !staged(&mut guard).backups.iter().any(|(t, _)| t == target) {
+                    if let Some(name) = target.file_name() {
+                        note(&mut guard, &format!("new {}", name.to_string_lossy()));
+                    }
+                }
+            }
+            note(&mut guard, "renaming");
+        }
+        stall_for_tests("staged");
+        for (i, (temporary, target)) in pairs.into_iter().enumerate() {
             let mut guard = lock(state);
             fs::rename(&temporary, &target)
                 .map_err(|e| format!("cannot rename into {}: {e}", target.display()))?;
             let staged = staged(&mut guard);
             staged.temporaries.retain(|t| *t != temporary);
             staged.renamed.push(target);
+            drop(guard);
+            if i == 0 {
+                stall_for_tests("renaming");
+            }
         }
         for target in removals {
             let mut guard = lock(state);
@@ -162,7 +182,9 @@ impl Staged {
                 .map_err(|e| format!("cannot remove {}: {e}", target.display()))?;
             staged(&mut guard).removed.push(target);
         }
-        staged(&mut lock(state)).committed = true;
+        let mut guard = lock(state);
+        staged(&mut guard).committed = true;
+        note(&mut guard, "committed");
         Ok(())
     }
 
@@ -193,10 +215,17 @@ impl Staged {
     }
 }
 
-/// For the interrupt tests only: `MICROMAP_INDEX_TEST_STALL_MS=N` waits N
-/// milliseconds after the temporaries and backups are written, before the
-/// first rename (the moment with the most to clean up).
-fn stall_for_tests() {
+/// For the interrupt and kill tests only: `MICROMAP_INDEX_TEST_STALL_MS=N`
+/// waits N milliseconds at the phase `MICROMAP_INDEX_TEST_STALL_AT` names:
+/// `staged` (the default: temporaries and backups written, before the first
+/// rename, the moment with the most to clean up), `renaming` (after the
+/// first rename) or `written` (every rename done and the lock released,
+/// before the command prints).
+fn stall_for_tests(phase: &str) {
+    let at = std::env::var("MICROMAP_INDEX_TEST_STALL_AT");
+    if at.as_deref().unwrap_or("staged") != phase {
+        return;
+    }
     if let Some(ms) = std::env::var("MICROMAP_INDEX_TEST_STALL_MS")
         .ok()
         .and_then(|v| v.parse::<u64>().ok())
@@ -206,7 +235,7 @@ fn stall_for_tests() {
 }
 
 /// Why [`Destination::claim`] refused a directory.
-pub(crate) enum Refusal {
+pub enum Refusal {
     /// The destination itself is wrong (exit 2): an empty path, not a
     /// directory, an existing output without `--force`.
     Refused(String),
@@ -219,15 +248,15 @@ pub(crate) enum Refusal {
 /// checked; released (lock removed, the directories it created removed
 /// when still empty, anything staged rolled back) when dropped or
 /// interrupted.
-pub(crate) struct Destination {
+pub struct Destination {
     state: Arc<Mutex<Held>>,
 }
 
 /// What a [`Destination`] has to undo.
 struct Held {
     dir: PathBuf,
-    /// The lock file, until released.
-    lock: Option<PathBuf>,
+    /// The lock, until released.
+    lock: Option<DirLock>,
     /// Directories this writer created, outermost first.
     created: Vec<PathBuf>,
     staged: Staged,
@@ -240,7 +269,7 @@ impl Held {
         let committed = self.staged.committed;
         self.staged.clean_up();
         if let Some(lock) = self.lock.take() {
-            let _ = fs::remove_file(lock);
+            lock.release();
         }
         if !committed {
             for dir in self.created.drain(..).rev() {
@@ -255,12 +284,16 @@ impl Held {
 /// The destinations held now, for the interrupt handler.
 static HELD: Mutex<Vec<Arc<Mutex<Held>>>> = Mutex::new(Vec::new());
 
+/// The directories this process has written completely (committed), for
+/// the interrupt handler's message after the files are in place.
+static WRITTEN: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
 impl Destination {
     /// Creates `dir` (and missing parents) if needed, takes its lock and
     /// checks it as [`check_destination`] does, all before anything is read
     /// or written. A second writer into the same directory (another `bake`
     /// still running) gets [`Refusal::Io`] naming the lock and its holder.
-    pub(crate) fn claim(dir: &Path, names: &[&str], force: bool) -> Result<Destination, Refusal> {
+    pub fn claim(dir: &Path, names: &[&str], force: bool) -> Result<Destination, Refusal> {
         if dir.as_os_str().is_empty() {
             return Err(Refusal::Refused(
                 "--out needs a directory path, got an empty one".into(),
@@ -283,37 +316,30 @@ impl Destination {
         let destination = Destination { state: held };
         destination.create_dirs(dir)?;
         let lock_path = dir.join(LOCK_NAME);
-        {
-            let mut held = lock(&destination.state);
-            match File::options()
-                .write(true)
-                .create_new(true)
-                .open(&lock_path)
-            {
-                Ok(mut file) => {
-                    held.lock = Some(lock_path.clone());
-                    let _ = writeln!(file, "{}", std::process::id());
+        match DirLock::acquire(dir) {
+            Ok((held_lock, stale)) => {
+                if let Some(stale) = stale {
+                    stale.recover(dir, names);
                 }
-                Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {
-                    let holder = fs::read_to_string(&lock_path).unwrap_or_default();
-                    let holder = holder.trim();
-                    let holder = if holder.is_empty() {
-                        String::new()
-                    } else {
-                        format!(", held by process {holder}")
-                    };
-                    return Err(Refusal::Io(format!(
-                        "{} is in use by another bake (lock {}{holder}); nothing written                          (remove the lock if no bake is running)",
-                        dir.display(),
-                        lock_path.display()
-                    )));
-                }
-                Err(e) => {
-                    return Err(Refusal::Io(format!(
-                        "cannot create the lock {}: {e}; nothing written",
-                        lock_path.display()
-                    )))
-                }
+                lock(&destination.state).lock = Some(held_lock);
+            }
+            Err(LockError::Held(holder)) => {
+                let holder = if holder.is_empty() {
+                    String::new()
+                } else {
+                    format!(", held by process {holder}")
+                };
+                return Err(Refusal::Io(format!(
+                    "{} is in use by another bake (lock {}{holder}); nothing written",
+                    dir.display(),
+                    lock_path.display()
+                )));
+            }
+            Err(LockError::Io(e)) => {
+                return Err(Refusal::Io(format!(
+                    "cannot create the lock {}: {e}; nothing written",
+                    lock_path.display()
+                )))
             }
         }
         check_destination(dir, names, force).map_err(Refusal::Refused)?;
@@ -350,18 +376,34 @@ impl Destination {
     /// named in `remove` (outputs this run does not produce, so that no
     /// stale one is left beside the new ones): all of it, or (after an
     /// error, which the message describes) nothing.
-    pub(crate) fn write(
+    pub fn write(
         &self,
         files: &[(String, impl AsRef<[u8]>)],
         remove: &[&str],
     ) -> Result<(), String> {
         let dir = lock(&self.state).dir.clone();
-        let result = Staged::write(&self.state, |h| &mut h.staged, &dir, files, remove);
+        let result = Staged::write(
+            &self.state,
+            |h| &mut h.staged,
+            |h, line| {
+                if let Some(journal) = &mut h.lock {
+                    journal.note(line);
+                }
+            },
+            &dir,
+            files,
+            remove,
+        );
         let mut held = lock(&self.state);
         if result.is_ok() {
             sync_dir(&dir);
+            lock(&WRITTEN).push(dir);
         }
         held.release();
+        drop(held);
+        if result.is_ok() {
+            stall_for_tests("written");
+        }
         result
     }
 }
@@ -373,22 +415,48 @@ impl Drop for Destination {
     }
 }
 
-/// Catches Ctrl-C (SIGINT) for a writer of [`Destination`]s: every held
-/// destination is rolled back and released (temporaries, backups, the lock,
-/// the directories created), then the process exits 130. The handler takes
-/// each destination's lock, so it runs between two steps of a write, and
-/// never gives it back (it exits), so no step follows it. `first` runs
-/// before anything else (`bake` clears its progress bar, so that the
-/// message starts on a clean line).
-pub(crate) fn install_interrupt_handler(first: fn()) -> Result<(), String> {
+/// Catches Ctrl-C (SIGINT) for a writer of [`Destination`]s, then exits
+/// 130. A held destination whose renames are not all done is rolled back
+/// and released (temporaries, backups, the lock, the directories created):
+/// it holds its old set, and the message says "nothing written"; one whose
+/// renames are all done keeps the new set, and the message says it was
+/// written. The handler takes each destination's lock, so it runs between
+/// two steps of a write, and never gives it back (it exits), so no step
+/// follows it. `first` runs before anything else (`bake` clears its
+/// progress bar, so that the message starts on a clean line); the message
+/// is reported as `program`'s.
+pub fn install_interrupt_handler(program: Program, first: fn()) -> Result<(), String> {
     ctrlc::set_handler(move || {
         first();
         let held = lock(&HELD);
         let mut guards: Vec<_> = held.iter().map(|h| lock(h)).collect();
+        let mut written = lock(&WRITTEN).clone();
+        let mut rolled_back = Vec::new();
         for guard in &mut guards {
+            if guard.staged.committed {
+                if !written.contains(&guard.dir) {
+                    written.push(guard.dir.clone());
+                }
+            } else {
+                rolled_back.push(guard.dir.clone());
+            }
             guard.release();
         }
-        crate::output::report("interrupted; nothing written");
+        if written.is_empty() {
+            match rolled_back.as_slice() {
+                [dir] => program.report(format_args!(
+                    "interrupted; nothing written: {} holds what it held before",
+                    dir.display()
+                )),
+                _ => program.report("interrupted; nothing written"),
+            }
+        } else {
+            let dirs: Vec<String> = written.iter().map(|d| d.display().to_string()).collect();
+            program.report(format_args!(
+                "interrupted after the output was written: {} holds the new files",
+                dirs.join(", ")
+            ));
+        }
         std::process::exit(130);
     })
     .map_err(|e| format!("cannot catch Ctrl-C ({e})"))

@@ -19,8 +19,8 @@
 //! `check: --vectors needs a value`, `vectors: --force given twice`
 //! ([`ArgError::message`]).
 //!
-//! This file is also compiled into the lab's binary (`micromap-lab`), by
-//! `#[path]`, so both binaries share one parser and one usage layout.
+//! Both binaries (`micromap-index`, `micromap-lab`) use these, so they share
+//! one parser and one usage layout.
 //!
 //! Every command of both binaries has its table; `tests/cli_docs.rs` and
 //! `crates/lab/tests/lab_docs.rs` check that `docs/cli.md` shows each
@@ -31,25 +31,26 @@ use std::ops::RangeInclusive;
 
 /// One flag of a command's table.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct Flag {
+#[must_use]
+pub struct Flag {
     /// `--name`.
-    pub(crate) name: &'static str,
+    pub name: &'static str,
     /// The value's placeholder in the usage (`L`, `FILE`); `None` for a
     /// switch.
-    pub(crate) value: Option<&'static str>,
+    pub value: Option<&'static str>,
     /// What a missing value is called in `needs ...` (`a value` unless the
     /// command says better: `A..=B`, `a number of faces`).
-    pub(crate) wants: &'static str,
+    pub wants: &'static str,
     /// One line of help, shown after the flag in the usage.
-    pub(crate) help: &'static str,
+    pub help: &'static str,
     /// Whether the flag may be given again (the last value counts), rather
     /// than being `given twice`.
-    pub(crate) repeatable: bool,
+    pub repeatable: bool,
 }
 
 impl Flag {
     /// `--name VALUE`.
-    pub(crate) const fn value(name: &'static str, value: &'static str, help: &'static str) -> Flag {
+    pub const fn value(name: &'static str, value: &'static str, help: &'static str) -> Flag {
         Flag {
             name,
             value: Some(value),
@@ -60,7 +61,7 @@ impl Flag {
     }
 
     /// A switch `--name`.
-    pub(crate) const fn switch(name: &'static str, help: &'static str) -> Flag {
+    pub const fn switch(name: &'static str, help: &'static str) -> Flag {
         Flag {
             name,
             value: None,
@@ -71,13 +72,12 @@ impl Flag {
     }
 
     /// The same flag, its missing value called `wants` (`needs A..=B`).
-    #[allow(dead_code)] // used by micromap-lab's `prove`
-    pub(crate) const fn wants(self, wants: &'static str) -> Flag {
+    pub const fn wants(self, wants: &'static str) -> Flag {
         Flag { wants, ..self }
     }
 
     /// The same flag, which may be repeated (the last value counts).
-    pub(crate) const fn repeatable(self) -> Flag {
+    pub const fn repeatable(self) -> Flag {
         Flag {
             repeatable: true,
             ..self
@@ -95,21 +95,21 @@ impl Flag {
 
 /// One command's table: its name, its synopsis, its prose and its flags.
 #[derive(Debug)]
-pub(crate) struct Command {
+pub struct Command {
     /// The command's words after the program name (`locate`, `tree encode`).
-    pub(crate) name: &'static str,
+    pub name: &'static str,
     /// The synopsis forms after `PROGRAM NAME ` (one line each; a form may
     /// continue on indented lines).
-    pub(crate) forms: &'static [&'static str],
+    pub forms: &'static [&'static str],
     /// The description, each line indented by two spaces (may be empty).
-    pub(crate) about: &'static str,
+    pub about: &'static str,
     /// The flags.
-    pub(crate) flags: &'static [Flag],
+    pub flags: &'static [Flag],
 }
 
 /// How many flags `groups` hold together: the length of their [`concat`].
-#[allow(dead_code)] // used by micromap-index's bake, verify-bake and render
-pub(crate) const fn total(groups: &[&[Flag]]) -> usize {
+#[must_use]
+pub const fn total(groups: &[&[Flag]]) -> usize {
     let (mut total, mut g) = (0, 0);
     while g < groups.len() {
         total += groups[g].len();
@@ -123,8 +123,11 @@ pub(crate) const fn total(groups: &[&[Flag]]) -> usize {
 /// once): `flags: &concat::<{ total(GROUPS) }>(GROUPS)`. `N` must be
 /// [`total`]`(groups)` (checked when the table is evaluated, at compile
 /// time for a `static`).
-#[allow(dead_code)] // used by micromap-index's bake, verify-bake and render
-pub(crate) const fn concat<const N: usize>(groups: &[&[Flag]]) -> [Flag; N] {
+///
+/// # Panics
+///
+/// If `N` is not the groups' total (at compile time in a `static`).
+pub const fn concat<const N: usize>(groups: &[&[Flag]]) -> [Flag; N] {
     assert!(total(groups) == N, "N is the groups' total");
     let mut table = [Flag::switch("", ""); N];
     let (mut n, mut g) = (0, 0);
@@ -142,7 +145,7 @@ pub(crate) const fn concat<const N: usize>(groups: &[&[Flag]]) -> [Flag; N] {
 
 /// Why a command line does not fit its table.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub(crate) enum ArgError<'a> {
+pub enum ArgError<'a> {
     /// A word that is no flag of the table (the word as given).
     Unknown(&'a str),
     /// A valued flag at the end of the line.
@@ -156,13 +159,15 @@ pub(crate) enum ArgError<'a> {
 impl ArgError<'_> {
     /// The message, prefixed with the command's name: `locate: unknown
     /// option "-x"`.
-    pub(crate) fn message(&self, command: &str) -> String {
+    #[must_use]
+    pub fn message(&self, command: &str) -> String {
         format!("{command}: {}", self.describe())
     }
 
     /// The message without the command's name: `unknown option "-x"`,
     /// `--level needs a value`, `--force given twice`.
-    pub(crate) fn describe(&self) -> String {
+    #[must_use]
+    pub fn describe(&self) -> String {
         match self {
             ArgError::Unknown(word) | ArgError::TakesNoValue(_, word) => {
                 format!("unknown option {word:?}")
@@ -175,14 +180,15 @@ impl ArgError<'_> {
 
 /// The flags found on a command line.
 #[derive(Debug, Default)]
-pub(crate) struct Parsed<'a> {
+pub struct Parsed<'a> {
     values: Vec<(&'static str, &'a str)>,
     switches: Vec<&'static str>,
 }
 
 impl<'a> Parsed<'a> {
     /// The value of `name`, if given (the last one for a repeatable flag).
-    pub(crate) fn get(&self, name: &str) -> Option<&'a str> {
+    #[must_use]
+    pub fn get(&self, name: &str) -> Option<&'a str> {
         self.values
             .iter()
             .rev()
@@ -191,7 +197,8 @@ impl<'a> Parsed<'a> {
     }
 
     /// Whether the switch `name` was given.
-    pub(crate) fn flag(&self, name: &str) -> bool {
+    #[must_use]
+    pub fn flag(&self, name: &str) -> bool {
         self.switches.contains(&name)
     }
 }
@@ -203,7 +210,7 @@ impl Command {
     }
 
     /// Parses `given` by the table (the rules in the module docs).
-    pub(crate) fn parse<'a>(&'static self, given: &[&'a str]) -> Result<Parsed<'a>, ArgError<'a>> {
+    pub fn parse<'a>(&'static self, given: &[&'a str]) -> Result<Parsed<'a>, ArgError<'a>> {
         let mut parsed = Parsed::default();
         // Switches first: a switch is never another flag's value.
         let mut rest = Vec::with_capacity(given.len());
@@ -246,7 +253,8 @@ impl Command {
 /// word: `tree encode` and `tree lookup`) run as `program`: every synopsis
 /// form, then `about`, then `options:` and every flag once with its help, in
 /// table order.
-pub(crate) fn usage_text(program: &str, commands: &[&Command], about: &str) -> String {
+#[must_use]
+pub fn usage_text(program: &str, commands: &[&Command], about: &str) -> String {
     let mut text = String::new();
     let mut first = true;
     for command in commands {
@@ -286,7 +294,7 @@ pub(crate) fn usage_text(program: &str, commands: &[&Command], about: &str) -> S
 
 /// Why a level range does not parse.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub(crate) enum RangeError<'a> {
+pub enum RangeError<'a> {
     /// A part that is not a level (as written).
     BadLevel(&'a str),
     /// The range holds no level (`3..3`, `4..=3`, `0..0`).
@@ -296,7 +304,7 @@ pub(crate) enum RangeError<'a> {
 /// A level range, the one syntax of every `--levels`: `A..=B`, `A..B` (`B`
 /// excluded) or a single level `N`, each level a whole number (spaces
 /// around it allowed). Not empty; the caller checks the highest level.
-pub(crate) fn level_range(text: &str) -> Result<RangeInclusive<u32>, RangeError<'_>> {
+pub fn level_range(text: &str) -> Result<RangeInclusive<u32>, RangeError<'_>> {
     fn level(s: &str) -> Result<u32, RangeError<'_>> {
         s.trim().parse::<u32>().map_err(|_| RangeError::BadLevel(s))
     }
@@ -318,7 +326,9 @@ pub(crate) fn level_range(text: &str) -> Result<RangeInclusive<u32>, RangeError<
 /// A whole number (as `u64` parses it: digits, an optional `+`):
 /// `Ok(Some(n))`, `Ok(None)` when it is above `u64::MAX` (so above every
 /// level and index), `Err(())` when it is no whole number.
-pub(crate) fn whole_number(text: &str) -> Result<Option<u64>, ()> {
+// The callers word the error themselves (it names their flag).
+#[allow(clippy::result_unit_err)]
+pub fn whole_number(text: &str) -> Result<Option<u64>, ()> {
     match text.parse::<u64>() {
         Ok(number) => Ok(Some(number)),
         Err(e) if *e.kind() == std::num::IntErrorKind::PosOverflow => Ok(None),
