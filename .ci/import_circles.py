@@ -136,6 +136,22 @@ def uses(module, code, modules, codes):
     """The modules (files) a file's code names."""
     found = set()
     code = expand_groups(code)
+    # Paths from a child module without `self::` (`use child::X;`,
+    # `child::f()`): a use of the child, except in a `pub use` re-export
+    # (a parent that only re-exports its children does not use them).
+    children = {m[-1] for m in modules if len(m) == len(module) + 1 and m[:-1] == module}
+    if children:
+        child_path = re.compile(
+            r"(?<![:\w])(" + "|".join(map(re.escape, sorted(children))) + r")((?:::[A-Za-z_][A-Za-z0-9_]*)+)"
+        )
+        for line in code.split(";"):
+            if re.search(r"\bpub(?:\([^)]*\))?\s+use\b", line) or re.match(r"\s*(pub(\([^)]*\))?\s+)?mod\s", line.strip() + " "):
+                continue
+            for m in child_path.finditer(line):
+                parts = [m.group(1)] + [p for p in m.group(2).split("::") if p]
+                target = definer(list(module) + parts, modules, codes)
+                if target is not None and target != module:
+                    found.add(target)
     for m in PATH.finditer(code):
         base, rest = resolve(module, m.group(1), [p for p in m.group(2).split("::") if p])
         target = definer(base + rest, modules, codes)

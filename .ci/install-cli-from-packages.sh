@@ -16,7 +16,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-published=(micromap-index micromap-index-assets micromap-index-conformance micromap-index-render micromap-index-cli)
+published=(micromap-index micromap-index-assets micromap-index-conformance micromap-index-render micromap-index-cli-support micromap-index-cli)
 version=$(sed -n 's/^version = "\(.*\)"$/\1/p' Cargo.toml | head -1)
 cargo package --allow-dirty --no-verify --quiet $(printf -- '-p %s ' "${published[@]}")
 cargo vendor --versioned-dirs --quiet "$work/vendor" >/dev/null
