@@ -61,6 +61,7 @@ impl core::error::Error for ParseNameError {}
 /// one list: `named_enum!(Type, "what", "expected names", [(Variant,
 /// "name"), ...]);`. The `expected` text is written by hand (it reads as
 /// prose: "a, b or c"); a unit test per enum checks it lists `NAMES`.
+#[cfg(feature = "alloc")]
 macro_rules! named_enum {
     ($ty:ty, $what:literal, $expected:literal, [$(($variant:ident, $name:literal)),+ $(,)?]) => {
         impl $ty {
@@ -96,6 +97,7 @@ macro_rules! named_enum {
     };
 }
 
+#[cfg(feature = "alloc")]
 pub(crate) use named_enum;
 
 /// Checks that `expected` names every one of `names` (and so that the

@@ -25,8 +25,12 @@
 //! `popcnt` function. So the tree owns its code and `arch` owns the
 //! features, with no circle between them.
 
+mod features;
 #[cfg(target_arch = "x86_64")]
 mod x86_64;
+
+#[cfg(feature = "alloc")]
+pub(crate) use features::PopcntBody;
 
 use crate::kernel;
 use core::fmt;
@@ -61,9 +65,9 @@ impl Backend {
         match self {
             Backend::Portable => true,
             #[cfg(all(feature = "std", target_arch = "x86_64"))]
-            Backend::Avx2 => has_avx2(),
+            Backend::Avx2 => features::has_avx2(),
             #[cfg(all(feature = "std", target_arch = "x86_64"))]
-            Backend::Avx512 => has_avx512(),
+            Backend::Avx512 => features::has_avx512(),
             #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
             Backend::Avx2 | Backend::Avx512 => false,
         }
@@ -121,39 +125,6 @@ impl fmt::Display for Backend {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
     }
-}
-
-/// Whether this CPU runs the AVX2 backend.
-#[cfg(all(feature = "std", target_arch = "x86_64"))]
-fn has_avx2() -> bool {
-    std::arch::is_x86_feature_detected!("avx2")
-}
-
-/// Whether this CPU runs the AVX-512 backend (and this compiler built it):
-/// every feature the AVX-512 functions enable.
-#[cfg(all(feature = "std", target_arch = "x86_64"))]
-fn has_avx512() -> bool {
-    #[cfg(micromap_avx512)]
-    {
-        std::arch::is_x86_feature_detected!("avx512f")
-            && std::arch::is_x86_feature_detected!("avx512bw")
-            && std::arch::is_x86_feature_detected!("avx512vl")
-            && std::arch::is_x86_feature_detected!("avx512dq")
-    }
-    #[cfg(not(micromap_avx512))]
-    {
-        false
-    }
-}
-
-/// Whether this CPU has hardware `popcnt` (not in the x86-64 baseline).
-#[cfg(all(
-    feature = "std",
-    target_arch = "x86_64",
-    not(target_feature = "popcnt")
-))]
-fn has_popcnt() -> bool {
-    std::arch::is_x86_feature_detected!("popcnt")
 }
 
 /// One slice loop of the kernel (`out` of `O`) compiled for each backend;
@@ -224,21 +195,6 @@ pub(crate) const WIDE: Loops<u64> = Loops {
 #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
 fn not_built<O>(_: &[f32], _: &[f32], _: &mut [O], _: &kernel::Params) -> bool {
     false
-}
-
-/// A computation that [`with_popcnt`] runs compiled with hardware
-/// `popcnt` where that helps.
-///
-/// Implementations must mark [`PopcntBody::run`] `#[inline(always)]`, and
-/// keep everything it calls `#[inline(always)]` too: only code inlined
-/// into the `#[target_feature]` function is compiled with the feature.
-/// (Its one user, `succinct`, needs `alloc`.)
-#[cfg(feature = "alloc")]
-pub(crate) trait PopcntBody {
-    /// What the computation returns.
-    type Output;
-    /// The computation, in safe code.
-    fn run(self) -> Self::Output;
 }
 
 /// `body.run()`, compiled with hardware `popcnt` where the CPU has it and

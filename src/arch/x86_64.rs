@@ -22,11 +22,11 @@
 #![allow(unsafe_code)]
 
 #[cfg(feature = "std")]
-use super::has_avx2;
+use super::features::has_avx2;
 #[cfg(all(feature = "std", micromap_avx512))]
-use super::has_avx512;
+use super::features::has_avx512;
 #[cfg(all(feature = "std", not(target_feature = "popcnt")))]
-use super::{has_popcnt, PopcntBody};
+use super::features::{has_popcnt, PopcntBody};
 use crate::kernel::{self, Cells, Halves, Lanes, Narrow, Params, Wide, CHUNK};
 
 /// Stamps a [`Lanes`] for one instruction set from one body: `$ops` names

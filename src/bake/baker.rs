@@ -345,8 +345,8 @@ impl Baker {
         let out = (&mut map, &mut counts);
         let split = split && n >= SPLIT_FROM_LEVEL;
         let walk = |c: &Classifier, out| match root.narrowed(grid) {
-            Some(narrow) => self.walk(c, narrow, (n, grid), two_state, max_work, split, out),
-            None => self.walk(c, root, (n, grid), two_state, max_work, split, out),
+            Some(narrow) => Self::walk(c, narrow, (n, grid), two_state, max_work, split, out),
+            None => Self::walk(c, root, (n, grid), two_state, max_work, split, out),
         };
         let (spent, speculative_work) = walk(&self.classifier, out)?;
         Ok(BakedTriangle {
@@ -368,7 +368,6 @@ impl Baker {
     /// type, split ([`super::split`]) or not.
     #[allow(clippy::too_many_arguments)]
     fn walk<C: GridInt>(
-        &self,
         classifier: &Classifier,
         root: Placed<C>,
         (level, grid): (u32, Grid),
