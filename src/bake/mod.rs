@@ -122,6 +122,7 @@ mod classify;
 mod exact;
 mod gpu;
 mod level;
+mod material;
 pub mod mesh;
 mod mips;
 mod parallel;

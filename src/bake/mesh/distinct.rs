@@ -8,12 +8,11 @@
 //! first-appearance order of the micromaps, and with it every output byte,
 //! is what baking each triangle in turn gives.
 
-use super::{
-    check_vertex_alpha, vertex_range, FactorTexture, Mesh, MeshBakeError, MeshOptions, Mips,
-    VertexBoundTexture,
-};
+use super::input::{check_vertex_alpha, Mesh, MeshBakeError, MeshOptions};
 use crate::bake::baker::Baker;
+use crate::bake::material::{vertex_range, FactorTexture, VertexBoundTexture};
 use crate::bake::mips::mip_bakers;
+use crate::bake::mips::Mips;
 use crate::bake::parallel::Runner;
 use crate::bake::texture::AlphaTexture;
 use crate::bake::triangle::{TriangleStatus, UvTriangle};

@@ -1,15 +1,15 @@
-//! The levels [`bake_meshes`] chooses per triangle, and an upper bound on
+//! The levels [`bake_meshes`](super::bake_meshes) chooses per triangle, and an upper bound on
 //! its output computed from them before anything is baked.
 
-#[cfg(doc)]
-use super::bake_meshes;
-use super::{levels_within_budget, Mesh, MeshBakeError, MeshOptions, UvTriangle};
+use super::input::{Mesh, MeshBakeError, MeshOptions};
+use crate::bake::level::levels_within_budget;
+use crate::bake::triangle::UvTriangle;
 use crate::micromap::{IndexWidth, Micromap};
 use crate::Level;
 use alloc::borrow::Cow;
 use alloc::vec::Vec;
 
-/// Each triangle's level, mesh by mesh, as [`bake_meshes`] chooses them:
+/// Each triangle's level, mesh by mesh, as [`bake_meshes`](super::bake_meshes) chooses them:
 /// the [`LevelRule`](super::LevelRule), then the byte budget over all meshes
 /// ([`levels_within_budget`]).
 pub fn chosen_levels(
@@ -21,7 +21,7 @@ pub fn chosen_levels(
 }
 
 /// An upper bound, before any micro-triangle is baked, on the bytes of
-/// [`bake_meshes`]'s buffers with indices of `width`: the data of every
+/// [`bake_meshes`](super::bake_meshes)'s buffers with indices of `width`: the data of every
 /// triangle's micromap at its [`chosen_levels`] level before deduplication
 /// (maps that deduplicate or become special indices only shrink it), the
 /// 8-byte records, the indices and the usage counts (at most 34 of 12

@@ -2,10 +2,11 @@
 //! texture and material as [`bake_meshes`](super::bake_meshes) models them
 //! (alpha factor, vertex alpha), with [`Baker::verify_each`].
 
-use super::{
-    check_vertex_alpha, vertex_range, FactorTexture, Mesh, MeshBakeError, VertexBoundTexture,
-};
-use crate::bake::{Baker, Contradiction, Model};
+use super::input::{check_vertex_alpha, Mesh, MeshBakeError};
+use crate::bake::baker::Baker;
+use crate::bake::gpu::Model;
+use crate::bake::material::{vertex_range, FactorTexture, VertexBoundTexture};
+use crate::bake::verify::Contradiction;
 use crate::micromap::{State, TriangleOpacity};
 use alloc::collections::BTreeMap;
 use core::fmt;

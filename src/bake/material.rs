@@ -1,0 +1,148 @@
+//! How a material's alpha reaches the cutoff, as a renderer computes it:
+//! the sampler, the cutoff and glTF's alpha factor ([`Material`]), the
+//! factor applied to every texel in binary32 ([`FactorTexture`]), and the
+//! bounds on `texel * factor * vertex alpha` that make vertex alpha sound
+//! ([`VertexBoundTexture`], [`vertex_range`]).
+
+use super::texture::{AlphaTexture, Cutoff, Sampler};
+
+/// How a mesh's texture is alpha-tested: the sampler, the cutoff, and a
+/// factor on every texel's alpha.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    /// The sampler the runtime reads the texture with.
+    pub sampler: Sampler,
+    /// The alpha test.
+    pub cutoff: Cutoff,
+    /// Multiplies every texel's alpha before the cutoff (glTF's
+    /// `pbrMetallicRoughness.baseColorFactor[3]`), as a GPU does: the
+    /// texel's alpha as binary32 (`c / 255` rounded once, for 8-bit
+    /// texels) times the factor, one binary32 product, compared with the
+    /// cutoff; at `1.0` the texel's alpha as it is. Under linear filtering
+    /// the filtered alpha lies between its texels' alphas, and the rounded
+    /// product is monotone in it, so classifying each texel this way stays
+    /// sound.
+    pub alpha_factor: f32,
+}
+
+impl Default for Material {
+    /// The default sampler and cutoff (glTF's `alpha >= 0.5`), factor 1.
+    fn default() -> Self {
+        Material {
+            sampler: Sampler::default(),
+            cutoff: Cutoff::default(),
+            alpha_factor: 1.0,
+        }
+    }
+}
+
+/// A texture whose every alpha is multiplied by `factor` as a GPU does:
+/// the texel's alpha rounded to binary32, times `factor`, one binary32
+/// product (exact in `f64`).
+pub(crate) struct FactorTexture<'a> {
+    pub(crate) inner: &'a dyn AlphaTexture,
+    pub(crate) factor: f32,
+}
+
+impl AlphaTexture for FactorTexture<'_> {
+    fn width(&self) -> u32 {
+        self.inner.width()
+    }
+    fn height(&self) -> u32 {
+        self.inner.height()
+    }
+    fn alpha(&self, x: u32, y: u32) -> f64 {
+        // `as f32` rounds once to nearest (for `c / 255` and `c / 65535`,
+        // correctly: see `texel_f32`).
+        f64::from(texel_f32(self.inner.alpha(x, y)) * self.factor)
+    }
+}
+
+/// A texel's alpha as the binary32 value a GPU reads. The `f64` quotient
+/// `c / 255` (or `c / 65535`) rounds to the same binary32 value as the
+/// exact quotient: double rounding could differ only if the `f64` value
+/// were a binary32 midpoint, whose bits past the 25th are zero, while the
+/// binary expansion of `c / (2^k - 1)`, `0 < c < 2^k - 1`, repeats the
+/// `k`-bit pattern of `c` forever.
+pub(crate) fn texel_f32(alpha: f64) -> f32 {
+    alpha as f32
+}
+
+/// Relative widening that covers a GPU's binary32 rounding of
+/// `texel * factor * vertex` (two products, at most `(1 + 2^-24)^2 - 1`
+/// relative), and of the vertex alpha's interpolation (at most about
+/// `6 * 2^-24` of the largest vertex alpha, see `docs/bake.md`), with room
+/// for the `f64` arithmetic of the bounds.
+pub(crate) const VERTEX_MARGIN: f64 = 1.0 / (1u64 << 20) as f64;
+
+/// Absolute widening for products in binary32's subnormal range (each
+/// rounding there errs by at most `2^-150`).
+pub(crate) const TINY: f64 = 1.0 / (1u64 << 62) as f64 / (1u64 << 62) as f64 / (1u64 << 16) as f64;
+
+/// Vertex alphas are grouped on this grid (bounds rounded outwards), so
+/// that a mesh needs few texel classifications.
+pub(crate) const VERTEX_GRID: f64 = 1024.0;
+
+/// A texture whose alpha is a bound on `texel * factor * v` for every `v`
+/// in `[low, high]`, as a GPU computes it: the lower bound (`upper:
+/// false`), to find what is opaque for sure, or the upper (`upper: true`),
+/// to find what is transparent for sure.
+pub(crate) struct VertexBoundTexture<'a> {
+    pub(crate) inner: &'a dyn AlphaTexture,
+    pub(crate) factor: f64,
+    pub(crate) low: f64,
+    pub(crate) high: f64,
+    pub(crate) upper: bool,
+}
+
+impl AlphaTexture for VertexBoundTexture<'_> {
+    fn width(&self) -> u32 {
+        self.inner.width()
+    }
+    fn height(&self) -> u32 {
+        self.inner.height()
+    }
+    fn alpha(&self, x: u32, y: u32) -> f64 {
+        let t = f64::from(texel_f32(self.inner.alpha(x, y))) * self.factor;
+        // NaN stays NaN: it passes no cutoff, on the GPU either.
+        let (a, b) = (t * self.low, t * self.high);
+        let (min, max) = if a <= b { (a, b) } else { (b, a) };
+        let abs = |x: f64| f64::from_bits(x.to_bits() & !(1 << 63));
+        if self.upper {
+            max + abs(max) * VERTEX_MARGIN + TINY
+        } else {
+            min - abs(min) * VERTEX_MARGIN - TINY
+        }
+    }
+}
+
+/// The range `[low, high]` a GPU's interpolated vertex alpha can take over
+/// a triangle with vertex alphas `v`, widened by the interpolation's
+/// rounding and rounded outwards to [`VERTEX_GRID`]; as bits, to group by.
+pub(crate) fn vertex_range(v: [f32; 3]) -> (u64, u64) {
+    let min = f64::from(v[0].min(v[1]).min(v[2]));
+    let max = f64::from(v[0].max(v[1]).max(v[2]));
+    // Floor and ceiling without `std`: the values are small (alphas in
+    // [0, 1], times the grid), so the casts are exact.
+    let scaled_low = (min - max * VERTEX_MARGIN) * VERTEX_GRID;
+    let scaled_high = (max + max * VERTEX_MARGIN) * VERTEX_GRID;
+    let floor = |x: f64| {
+        let t = x as i64 as f64;
+        if t > x {
+            t - 1.0
+        } else {
+            t
+        }
+    };
+    let ceil = |x: f64| {
+        let t = x as i64 as f64;
+        if t < x {
+            t + 1.0
+        } else {
+            t
+        }
+    };
+    let low = floor(scaled_low) / VERTEX_GRID;
+    let high = ceil(scaled_high) / VERTEX_GRID;
+    (low.max(0.0).to_bits(), high.to_bits())
+}
