@@ -3,7 +3,7 @@
 //! `Display` on the enum itself so that no front end writes a name table
 //! of its own.
 //!
-//! [`named_enum!`] implements both for an enum from one list of
+//! The crate-private macro `named_enum!` implements both for an enum from one list of
 //! `(variant, name)` pairs, plus `NAMES` (every name, in the list's order)
 //! and `name()`. A rejected name is a [`ParseNameError`], whose message
 //! lists what was expected in the same words everywhere:

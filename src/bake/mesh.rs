@@ -1,6 +1,6 @@
 //! Whole meshes: [`bake_meshes`] chooses a level per triangle, fits a byte
 //! budget, bakes every triangle exactly ([`Baker::bake`](super::Baker::bake)), deduplicates the
-//! micromaps into API buffers ([`MicromapBuffers`], one geometry per mesh)
+//! micromaps into API buffers ([`MicromapBuffers`](crate::micromap::MicromapBuffers), one geometry per mesh)
 //! and reports what it found ([`BakeReport`]).
 //!
 //! A [`Mesh`] is its triangles in UV space ([`MeshTriangles`]: one
@@ -366,8 +366,8 @@ fn bake_distinct(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bake::Unorm8Texture;
     use crate::bake::material::vertex_range;
+    use crate::bake::Unorm8Texture;
     use crate::micromap::{BakedOpacity, Format};
     use crate::Level;
 

@@ -28,7 +28,7 @@ pub enum TriangleStatus {
     /// those are unknown (sound, maybe not tight). Never happens to a
     /// micro-triangle whose footprint spans fewer texels than the budget.
     BlockBudgetExceeded,
-    /// The triangle spent its work budget ([`Baker::bake_within`], units
+    /// The triangle spent its work budget ([`Baker::bake_within`](crate::bake::Baker::bake_within), units
     /// in [bounded work](crate::bake#bounded-work)): the micro-triangles not yet decided then
     /// are unknown (sound, maybe not tight).
     WorkBudgetExceeded,
@@ -39,17 +39,17 @@ pub enum TriangleStatus {
 #[derive(Clone, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub struct BakedTriangle {
-    /// The micromap, or [`State::UnknownOpaque`] as a special index when
+    /// The micromap, or [`State::UnknownOpaque`](crate::micromap::State::UnknownOpaque) as a special index when
     /// [`status`](Self::status) is `NotFinite` or `OutOfExactRange`.
     pub opacity: BakedOpacity,
     /// How it went.
     pub status: TriangleStatus,
-    /// Micro-triangles per state, indexed by [`State::bits`], counted
+    /// Micro-triangles per state, indexed by [`State::bits`](crate::micromap::State::bits), counted
     /// before a 2-state format resolves the unknowns (so a 2-state bake
     /// still tells how many were unknown).
     pub counts: [u64; 4],
     /// Of the unknown micro-triangles, those the exact model
-    /// ([`Model::Exact`]) knows: what the GPU model's widening cost this
+    /// ([`Model::Exact`](crate::bake::Model::Exact)) knows: what the GPU model's widening cost this
     /// triangle (always 0 under the exact model). Each is decided exactly,
     /// by the exact model's classification of that micro-triangle on the
     /// same grid, so `counts`' known ones plus these are the exact model's
@@ -68,7 +68,7 @@ pub struct BakedTriangle {
     pub speculative_work: u64,
 }
 
-/// Why [`Baker::bake`] failed.
+/// Why [`Baker::bake`](crate::bake::Baker::bake) failed.
 #[derive(Clone, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum BakeError {

@@ -20,7 +20,7 @@ pub struct Contradiction {
     /// The state the micromap gives it.
     pub state: State,
     /// A point of the closed micro-triangle whose footprint holds a texel of
-    /// the other class; under [`Model::GpuBinary32`] the footprint of the
+    /// the other class; under [`Model::GpuBinary32`](crate::bake::Model::GpuBinary32) the footprint of the
     /// point dilated by the model's margin, so the point itself may lie
     /// just outside that texel's own footprint (`None` only if the exact
     /// point search gave up, in which case the block search alone proved

@@ -66,25 +66,41 @@
 #[cfg(feature = "alloc")]
 mod buffers;
 #[cfg(feature = "alloc")]
+mod builder;
+#[cfg(feature = "alloc")]
+mod index;
+#[cfg(feature = "alloc")]
 mod khr_lossy;
 #[cfg(feature = "alloc")]
 mod map;
 #[cfg(feature = "alloc")]
+mod map_error;
+#[cfg(feature = "alloc")]
+mod map_rules;
+#[cfg(feature = "alloc")]
 mod opacity;
 #[cfg(feature = "alloc")]
 mod read;
+#[cfg(feature = "alloc")]
+mod records;
 mod state;
 
 #[cfg(feature = "alloc")]
-pub use buffers::{
-    records_to_le_bytes, usage_counts_to_le_bytes, Api, BufferError, BuildOptions, IndexWidth,
-    MicromapBuffers, MicromapBuffersBuilder, MicromapIndex, TriangleEntry, TriangleRecord,
-    UsageCount,
-};
+pub use buffers::MicromapBuffers;
 #[cfg(feature = "alloc")]
-pub use map::{MergeRule, Micromap, MicromapError, UnknownPolicy};
+pub use builder::{BuildOptions, MicromapBuffersBuilder, TriangleEntry};
+#[cfg(feature = "alloc")]
+pub use index::{Api, BufferError, IndexWidth, MicromapIndex};
+#[cfg(feature = "alloc")]
+pub use map::Micromap;
+#[cfg(feature = "alloc")]
+pub use map_error::MicromapError;
+#[cfg(feature = "alloc")]
+pub use map_rules::{MergeRule, UnknownPolicy};
 #[cfg(feature = "alloc")]
 pub use opacity::{BakedOpacity, TriangleOpacity};
 #[cfg(feature = "alloc")]
 pub use read::{read_buffers, BufferBytes, Overlap, ReadBuffers, ReadError, ReadOptions};
+#[cfg(feature = "alloc")]
+pub use records::{records_to_le_bytes, usage_counts_to_le_bytes, TriangleRecord, UsageCount};
 pub use state::{Format, State};

@@ -1,7 +1,7 @@
 //! Reading API buffers back from untrusted bytes: every inconsistency is a
 //! [`ReadError`], never a panic.
 
-use super::buffers::record_shape;
+use super::records::record_shape;
 use super::{
     Format, IndexWidth, Micromap, MicromapError, MicromapIndex, TriangleRecord, UsageCount,
 };

@@ -107,7 +107,7 @@ pub struct Command {
     pub flags: &'static [Flag],
 }
 
-/// How many flags `groups` hold together: the length of their [`concat`].
+/// How many flags `groups` hold together: the length of their [`concat()`].
 #[must_use]
 pub const fn total(groups: &[&[Flag]]) -> usize {
     let (mut total, mut g) = (0, 0);

@@ -113,12 +113,12 @@ pub struct Mesh<'a> {
     /// alpha), in the order of the triangles, one entry per triangle;
     /// `None`: alpha 1. The renderer multiplies the sampled alpha by the
     /// alpha factor and by the vertex alpha interpolated at the hit (see
-    /// [`bake_meshes`] for how that is baked soundly). Each value must be
+    /// [`bake_meshes`](crate::bake::mesh::bake_meshes) for how that is baked soundly). Each value must be
     /// in `[0, 1]`.
     pub vertex_alpha: Option<&'a [[f32; 3]]>,
 }
 
-/// How [`bake_meshes`] bakes.
+/// How [`bake_meshes`](crate::bake::mesh::bake_meshes) bakes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MeshOptions {
     /// The level of each triangle.
@@ -129,18 +129,18 @@ pub struct MeshOptions {
     pub unknown: UnknownPolicy,
     /// At most this many bytes of micromap data, before deduplication, for
     /// all meshes together: the highest levels are lowered first
-    /// ([`levels_within_budget`]). `None`: no budget.
+    /// ([`levels_within_budget`](crate::bake::levels_within_budget)). `None`: no budget.
     pub budget_bytes: Option<u64>,
-    /// Block tests a micro-triangle may use ([`Baker::with_block_budget`](super::Baker::with_block_budget)).
+    /// Block tests a micro-triangle may use ([`Baker::with_block_budget`](crate::bake::Baker::with_block_budget)).
     pub block_budget: u32,
-    /// Work units one triangle may spend ([`Baker::bake_within`](super::Baker::bake_within), units in
+    /// Work units one triangle may spend ([`Baker::bake_within`](crate::bake::Baker::bake_within), units in
     /// [bounded work](crate::bake#bounded-work)).
     pub triangle_work_budget: u64,
     /// Work units all triangles together may spend: each triangle gets the
     /// smaller of [`triangle_work_budget`](Self::triangle_work_budget) and
     /// what the triangles before it (meshes in order) left.
     pub bake_work_budget: u64,
-    /// The points known states hold for ([`Baker::with_model`](super::Baker::with_model); default
+    /// The points known states hold for ([`Baker::with_model`](crate::bake::Baker::with_model); default
     /// [`Model::GpuBinary32`]).
     pub model: Model,
     /// The mip levels the known states hold for (default
@@ -179,12 +179,12 @@ impl Default for MeshOptions {
     }
 }
 
-/// Why [`bake_meshes`] failed.
+/// Why [`bake_meshes`](crate::bake::mesh::bake_meshes) failed.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum MeshBakeError {
     /// Mesh `mesh`'s texture, sampler or cutoff was refused by
-    /// [`Baker::new`](super::Baker::new).
+    /// [`Baker::new`](crate::bake::Baker::new).
     Texture {
         /// The mesh, by position.
         mesh: usize,

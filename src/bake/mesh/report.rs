@@ -23,7 +23,7 @@ pub struct StatusCounts {
     pub work_budget_exceeded: usize,
 }
 
-/// What [`bake_meshes`] found, over all meshes.
+/// What [`bake_meshes`](crate::bake::mesh::bake_meshes) found, over all meshes.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct BakeReport {
@@ -63,7 +63,7 @@ pub struct BakeReport {
     /// ([`LevelOrderTree`](crate::succinct::LevelOrderTree)).
     pub bytes_level_order_tree: u64,
     /// Unknown micro-triangles the exact model knows: the GPU model's
-    /// widening cost ([`BakedTriangle::widened`]; 0 under the exact
+    /// widening cost ([`BakedTriangle::widened`](crate::bake::BakedTriangle::widened); 0 under the exact
     /// model). `(counts[0] + counts[1] + widened) / micro-triangles` is
     /// the known fraction the exact model would have.
     pub widened: u64,
@@ -73,16 +73,16 @@ pub struct BakeReport {
     pub work: u64,
     /// Work units spent besides and thrown away by triangles split over
     /// several threads whose budget ran out
-    /// ([`BakedTriangle::speculative_work`]); 0 on one thread. `work +
+    /// ([`BakedTriangle::speculative_work`](crate::bake::BakedTriangle::speculative_work)); 0 on one thread. `work +
     /// speculative_work` is all the work done.
     pub speculative_work: u64,
-    /// Triangles [`LevelRule::Useful`] baked at level 0 because their
+    /// Triangles [`LevelRule::Useful`](crate::bake::mesh::LevelRule::Useful) baked at level 0 because their
     /// micro-triangles would each hold a whole texture period
-    /// ([`level_within_periods`](super::level_within_periods)).
+    /// ([`level_within_periods`](crate::bake::level_within_periods)).
     pub period_level_zero: usize,
 }
 
-/// What [`bake_meshes`] returns: the buffers, the report, and how each
+/// What [`bake_meshes`](crate::bake::mesh::bake_meshes) returns: the buffers, the report, and how each
 /// triangle baked ([`triangle`](Self::triangle), for previews and checks).
 #[derive(Clone, Debug)]
 pub struct MeshBake {
@@ -110,7 +110,7 @@ pub struct TriangleBake {
     /// 2-state format resolves the unknowns.
     pub counts: [u64; 4],
     /// Of the unknown ones, those the exact model knows
-    /// ([`BakedTriangle::widened`]).
+    /// ([`BakedTriangle::widened`](crate::bake::BakedTriangle::widened)).
     pub widened: u64,
     /// Work units the bake of its distinct triangle spent (triangles that
     /// bake alike share one bake, and this figure).
