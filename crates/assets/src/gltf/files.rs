@@ -2,7 +2,8 @@
 //! limit ([`read_file`]) and the files its relative URIs name, beside it
 //! ([`resolve_beside`]), for the reader and the writer alike.
 
-use crate::{check_limit, AssetError, Limits};
+use crate::error::AssetError;
+use crate::limits::{check_limit, Limits};
 use std::io::Read;
 use std::path::Path;
 

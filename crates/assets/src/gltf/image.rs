@@ -1,8 +1,9 @@
 //! Images: each `images[i]` the primitives use, from a URI or a buffer
 //! view, decoded once.
 
+use super::asset::GltfImageInfo;
+use super::reader::Reader;
 use super::uri::uri_label;
-use super::{GltfImageInfo, Reader};
 use crate::{decode_image_alpha, AlphaSource, AssetError, Limits, MissingAlpha};
 use std::borrow::Cow;
 

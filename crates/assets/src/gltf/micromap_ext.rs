@@ -3,9 +3,9 @@
 //! draft's rules (every malformed case an [`AssetError`]).
 
 use super::accessor::Layout;
+use super::extension::{EXTENSION, MAX_GLTF_LEVEL};
 use super::json::{short, Obj};
-use super::write::{EXTENSION, MAX_GLTF_LEVEL};
-use super::{with_reader, Reader};
+use super::reader::{with_reader, Reader};
 use crate::{AssetError, Limits};
 use micromap_index::micromap::State;
 use micromap_index::micromap::{
