@@ -54,10 +54,10 @@ mod cards;
 mod tests;
 
 pub use self::gltf::{
-    read_gltf_bytes, read_gltf_file, read_gltf_micromaps, relative_uri_prefix,
-    write_gltf_micromaps, write_gltf_micromaps_file, GltfAsset, GltfContainer, GltfFiles,
-    GltfImageInfo, GltfMicromap, GltfMicromapPrimitive, GltfMicromapWrite, GltfMicromaps,
-    MaskPrimitive, EXTENSION, MAX_GLTF_LEVEL,
+    read_gltf_bytes, read_gltf_file, read_gltf_micromaps, read_gltf_micromaps_file,
+    relative_uri_prefix, write_gltf_micromaps, write_gltf_micromaps_file, GltfAsset, GltfContainer,
+    GltfFiles, GltfImageInfo, GltfMicromap, GltfMicromapPrimitive, GltfMicromapWrite,
+    GltfMicromaps, MaskPrimitive, EXTENSION, MAX_GLTF_LEVEL,
 };
 pub use self::image::{decode_alpha_image, decode_image_alpha, AlphaSource, MissingAlpha};
 pub use self::tris_json::read_triangles_json;
@@ -65,4 +65,4 @@ pub use self::tris_json::read_triangles_json;
 pub use self::alpha_image::{AlphaImage, AlphaTexels, ImageTexture};
 pub use self::error::AssetError;
 pub use self::image_format::ImageFormat;
-pub use self::limits::Limits;
+pub use self::limits::{Limits, UriScope};

@@ -19,6 +19,7 @@ impl Reader<'_, '_> {
         let limits = Limits {
             max_pixels: self.limits.max_pixels,
             max_bytes: self.budget.left,
+            ..self.limits
         };
         let (bytes, label): (Cow<'_, [u8]>, String) = match (uri, view) {
             (Some(uri), None) => {

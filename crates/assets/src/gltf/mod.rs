@@ -40,7 +40,8 @@ mod write_dir;
 pub use self::asset::{GltfAsset, GltfImageInfo, MaskPrimitive};
 pub use self::extension::{EXTENSION, MAX_GLTF_LEVEL};
 pub use self::micromap_ext::{
-    read_gltf_micromaps, GltfMicromap, GltfMicromapPrimitive, GltfMicromaps,
+    read_gltf_micromaps, read_gltf_micromaps_file, GltfMicromap, GltfMicromapPrimitive,
+    GltfMicromaps,
 };
 pub use self::write::{
     relative_uri_prefix, write_gltf_micromaps, GltfContainer, GltfFiles, GltfMicromapWrite,
