@@ -68,6 +68,7 @@ pub(crate) static BAKE: Command = Command {
         const GROUPS: &[&[Flag]] = &[
             &[
                 flags::GLTF,
+                flags::CONFINE_URIS,
                 Flag::value(
                     "--gltf-out",
                     "NAME",
@@ -253,7 +254,7 @@ fn bake(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> 
             let asset = Path::new(p.get("--gltf").unwrap_or_default());
             let primitives: Vec<(usize, usize)> =
                 input.jobs.iter().filter_map(|j| j.gltf).collect();
-            gltf_out.files(asset, &out, buffers, &primitives)?
+            gltf_out.files(&p, asset, &out, buffers, &primitives)?
         }
         None => Vec::new(),
     };

@@ -65,6 +65,7 @@ pub(crate) static RENDER: Command = Command {
         const GROUPS: &[&[Flag]] = &[
             &[
                 flags::GLTF,
+                flags::CONFINE_URIS,
                 flags::TEXTURE,
                 flags::TRIANGLES,
                 Flag::value(

@@ -41,6 +41,11 @@ pub(super) fn resolve_beside<'a>(
                     return Err(refuse(OUTSIDE));
                 }
                 let inside = canonical_inside(base, &path)?.ok_or_else(|| refuse(OUTSIDE))?;
+                // A FIFO or socket: the same I/O error as under `Anywhere`.
+                refuse_blocking(&inside).map_err(|e| AssetError::Io {
+                    path: path.display().to_string(),
+                    message: e.to_string(),
+                })?;
                 if !std::fs::metadata(&inside).is_ok_and(|m| m.is_file()) {
                     return Err(refuse(
                         "not a regular file (URIs are confined to the asset's folder)",

@@ -9,6 +9,13 @@ pub(crate) const GLTF: Flag = Flag::value(
     "ASSET",
     "a glTF 2.0 asset (.gltf or .glb): its MASK primitives",
 );
+/// `bake`'s, `verify-bake`'s and `render`'s confinement of `--gltf`'s
+/// URIs to the asset's folder (`Limits::uri_scope`, read by
+/// [`asset_limits`](super::files::asset_limits)).
+pub(crate) const CONFINE_URIS: Flag = Flag::switch(
+    "--confine-uris",
+    "read only regular files inside the --gltf asset's folder: refuse URIs that leave it (../, symbolic links) and devices (for untrusted uploads)",
+);
 /// `bake`'s and `render`'s texture input.
 pub(crate) const TEXTURE: Flag =
     Flag::value("--texture", "T.png", "an alpha texture (PNG or JPEG)");

@@ -4,7 +4,7 @@
 //! primitives' textures and materials, by `bake::mesh::verify_mesh`.
 
 use super::verdict::{verdict, witness_and_texel, witness_texel_space};
-use crate::inputs::files::{read_asset_file, read_limited};
+use crate::inputs::files::{asset_failure, asset_limits};
 use crate::inputs::sampler::refuse_overrides;
 use cli_support::args::Parsed;
 use cli_support::input::refuse_blocking;
@@ -12,10 +12,10 @@ use cli_support::output::{Exit, Failure};
 use micromap_index::bake::mesh::{verify_mesh, Mesh, MeshTriangles};
 use micromap_index::bake::Model;
 use micromap_index::micromap::TriangleOpacity;
-use micromap_index_assets::{read_gltf_file, read_gltf_micromaps, AssetError, Limits};
+use micromap_index_assets::{read_gltf_file, read_gltf_micromaps_file};
 use serde::Serialize;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(Serialize)]
 struct PrimitiveReport {
@@ -83,22 +83,12 @@ pub(super) fn verify_gltf(
             )));
         }
     }
-    let limits = Limits::default();
+    let limits = asset_limits(p)?;
     let path = PathBuf::from(asset);
-    let classify = |e: AssetError| {
-        let message = format!("{asset}: {e}");
-        if matches!(e.root(), AssetError::Io { .. }) {
-            Failure::Io(message)
-        } else {
-            Failure::Malformed(message)
-        }
-    };
     refuse_blocking(&path).map_err(|e| Failure::Io(format!("cannot read {asset}: {e}")))?;
-    let gltf = read_gltf_file(&path, &limits).map_err(classify)?;
-    let bytes = read_limited(&path, &limits)?;
-    let base = path.parent().unwrap_or(Path::new("")).to_path_buf();
-    let mut resolve = |uri: &str| read_asset_file(&base.join(uri), &limits);
-    let micromaps = read_gltf_micromaps(&bytes, &mut resolve, &limits).map_err(classify)?;
+    // The errors name the asset (`AssetError::In`).
+    let gltf = read_gltf_file(&path, &limits).map_err(|e| asset_failure(&e, ""))?;
+    let micromaps = read_gltf_micromaps_file(&path, &limits).map_err(|e| asset_failure(&e, ""))?;
     if micromaps.primitives.is_empty() {
         return Err(Failure::Malformed(format!(
             "{asset}: no primitive has EXT_mesh_opacity_micromap: nothing to verify"

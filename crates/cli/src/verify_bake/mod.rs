@@ -62,6 +62,7 @@ pub(crate) static VERIFY_BAKE: Command = Command {
                     "ASSET",
                     "a glTF with EXT_mesh_opacity_micromap, checked against itself",
                 ),
+                flags::CONFINE_URIS,
             ],
             &flags::SAMPLER,
             &[
