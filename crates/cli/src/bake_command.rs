@@ -236,6 +236,7 @@ fn bake(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> 
         bytes_level_order_tree: report.bytes_level_order_tree,
         index_width_bits: width.bytes() * 8,
         work_units: report.work,
+        speculative_work_units: report.speculative_work,
         bake_seconds,
         micro_triangles_per_second: micro as f64 / bake_seconds.max(1e-9),
         preview_seconds,
