@@ -115,7 +115,7 @@ pub(crate) fn run_bake(program: &Program, options: &[&str]) -> Exit {
 fn bake(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> {
     let p = BAKE
         .parse(options)
-        .map_err(|error| Failure::Usage(error.message("bake")))?;
+        .map_err(|error| Failure::Usage(BAKE.error_message(&error)))?;
     let out = PathBuf::from(
         p.get("--out")
             .ok_or_else(|| Failure::Usage("bake needs --out DIR".into()))?,

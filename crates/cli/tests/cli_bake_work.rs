@@ -196,7 +196,11 @@ fn the_bundled_assets_stay_far_under_the_default_budget() {
 #[test]
 fn the_work_flags_show_their_defaults_and_refuse_non_numbers() {
     let help = run(&["help", "bake"]);
-    let help = String::from_utf8_lossy(&help.stdout);
+    // The help is wrapped into its column: the words, one space apart.
+    let help = String::from_utf8_lossy(&help.stdout)
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
     assert!(
         help.contains(&format!("(default {DEFAULT_TRIANGLE_WORK_BUDGET})")),
         "{help}"

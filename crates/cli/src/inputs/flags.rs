@@ -26,11 +26,12 @@ pub(crate) const TRIANGLES: Flag =
 pub(crate) const OUT: Flag = Flag::value("--out", "DIR", "the output directory");
 /// `bake`'s and `render`'s replacing of existing outputs.
 pub(crate) const FORCE: Flag = Flag::switch("--force", "replace existing files in DIR");
-/// `bake`'s and `verify-bake`'s width of micromap-indices.bin.
+/// The width of micromap-indices.bin `bake` writes and `verify-bake` and
+/// `render --micromaps` read: the same three widths everywhere.
 pub(crate) const INDEX_WIDTH: Flag = Flag::value(
     "--index-width",
     "8|16|32",
-    "micromap-indices.bin width (default 32; 8: Vulkan KHR, DXR, glTF only)",
+    "micromap-indices.bin width (default 32; 8 is for Vulkan KHR, DXR and glTF, not Vulkan EXT)",
 );
 
 /// The sampler, cutoff and model flags `bake`, `verify-bake` and

@@ -102,7 +102,7 @@ pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
 fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
     let p = VERIFY_BAKE
         .parse(options)
-        .map_err(|error| Failure::Usage(error.message("verify-bake")))?;
+        .map_err(|error| Failure::Usage(VERIFY_BAKE.error_message(&error)))?;
     let max_report: usize = p
         .get("--max-report")
         .unwrap_or("20")
