@@ -93,9 +93,11 @@ pub(super) struct Summary {
     pub(super) micro_triangles_per_second: f64,
     /// Drawing preview.png (0 with --no-preview).
     pub(super) preview_seconds: f64,
-    /// Micro-triangles drawn in preview.png.
+    /// Micro-triangles of the triangles drawn in preview.png (each pixel
+    /// shows the one under its centre).
     pub(super) preview_micro_triangles: u64,
-    /// Not drawn: repeated triangles, or past the preview's pixel budget.
+    /// Those of triangles not drawn: repeated triangles, or past the
+    /// preview's pixel budget.
     pub(super) preview_micro_triangles_skipped: u64,
     pub(super) jobs: Vec<JobSummary>,
     pub(super) warnings: Vec<String>,
