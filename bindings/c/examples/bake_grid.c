@@ -9,13 +9,21 @@
  *                bytes; then pitch * height bytes of texels
  *   UVS.bin      uint32 vertex count, floats per vertex (>= 2); then the
  *                vertices, (u, v) first; vertices 3t..3t+2 are triangle t
- * Writes OUTDIR/micromap-data.bin, micromap-triangles.bin,
- * micromap-indices.bin (32-bit) and micromap-usage.bin, and prints the
- * statistics. bindings/c/tests/c_api.rs prepares the inputs from the
- * committed assets and compares the files with the CLI's, byte for byte.
+ * make_inputs.py, next to this file, writes them from a PNG and a
+ * TRIS.json (Python's standard library only). Writes
+ * OUTDIR/micromap-data.bin, micromap-triangles.bin, micromap-indices.bin
+ * (32-bit) and micromap-usage.bin, and prints the statistics: the bytes
+ * `micromap-index bake --texture TEXTURE.png --triangles TRIS.json --level
+ * LEVEL` writes (bindings/c/tests/c_api.rs checks it on the committed
+ * assets).
  *
- * Build: cc -std=c99 -Ibindings/c/include bake_grid.c \
- *           target/release/libmicromap_index_capi.a -lpthread -ldl -lm
+ * From the repository's root:
+ *   cargo build --release -p micromap-index-capi
+ *   cc -std=c99 -Ibindings/c/include bindings/c/examples/bake_grid.c \
+ *      target/release/libmicromap_index_capi.a -lpthread -ldl -lm -o bake_grid
+ *   python3 bindings/c/examples/make_inputs.py \
+ *      assets/crytek-sponza/sponza_thorn.png assets/crytek-sponza/grid.tris.json in
+ *   mkdir -p out && ./bake_grid in/texture.raw in/uvs.bin 4 out
  */
 #include "micromap_index.h"
 

@@ -7,7 +7,9 @@
 //!   under the address and undefined-behaviour sanitizers, and the struct
 //!   sizes it prints equal Rust's;
 //! - `examples/bake_grid.c` bakes the committed thorn texture and
-//!   `grid.tris.json` (handed over as raw files: C has no PNG decoder) and
+//!   `grid.tris.json` (handed over as raw files: C has no PNG decoder),
+//!   prepared here with a wide row pitch and a 3-float stride, and as the
+//!   example's own converter `examples/make_inputs.py` writes them, and
 //!   writes the same bytes as `micromap-index bake` (the CLI binary, built
 //!   by cargo with the test profile in a target directory of its own).
 
@@ -347,6 +349,17 @@ fn bake_grid_c_writes_the_clis_bytes() {
         extra,
     )
     .unwrap();
+    // The converter that ships with the example (the documented way to
+    // its inputs), when Python is here: its files bake to the same bytes.
+    let script = dir.join("script");
+    let converted = Command::new("python3")
+        .arg(format!("{HERE}/examples/make_inputs.py"))
+        .args([&texture, &triangles, &script])
+        .status()
+        .is_ok_and(|status| status.success());
+    if !converted {
+        println!("skipped: make_inputs.py (no python3 here)");
+    }
     for level in ["4", "auto"] {
         let c_out = dir.join(format!("c-{level}"));
         let cli_out = dir.join(format!("cli-{level}"));
@@ -354,24 +367,36 @@ fn bake_grid_c_writes_the_clis_bytes() {
         let stdout = run(&exe, &[&raw, &uvs, Path::new(level), &c_out]);
         assert!(stdout.starts_with("triangles 128 "), "{stdout}");
         cli_bake(&texture, &triangles, level, &cli_out);
+        let mut outputs = vec![c_out];
+        if converted {
+            let script_out = dir.join(format!("script-{level}"));
+            std::fs::create_dir_all(&script_out).unwrap();
+            let (raw, uvs) = (script.join("texture.raw"), script.join("uvs.bin"));
+            let stdout = run(&exe, &[&raw, &uvs, Path::new(level), &script_out]);
+            assert!(stdout.starts_with("triangles 128 "), "{stdout}");
+            outputs.push(script_out);
+        }
         for name in [
             "micromap-data.bin",
             "micromap-triangles.bin",
             "micromap-indices.bin",
             "micromap-usage.bin",
         ] {
-            let c = std::fs::read(c_out.join(name)).unwrap();
             let cli = std::fs::read(cli_out.join(name)).unwrap();
             assert!(
                 !cli.is_empty() || name == "micromap-data.bin",
                 "{name} is empty"
             );
-            assert!(
-                c == cli,
-                "level {level}: {name} differs ({} vs {} bytes)",
-                c.len(),
-                cli.len()
-            );
+            for c_out in &outputs {
+                let c = std::fs::read(c_out.join(name)).unwrap();
+                assert!(
+                    c == cli,
+                    "level {level}: {} differs ({} vs {} bytes)",
+                    c_out.join(name).display(),
+                    c.len(),
+                    cli.len()
+                );
+            }
         }
     }
 }

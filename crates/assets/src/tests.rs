@@ -295,6 +295,7 @@ fn image_errors() {
         &Limits {
             max_pixels: 16,
             max_bytes: 63,
+            ..Limits::default()
         },
     )
     .unwrap_err();
@@ -303,7 +304,8 @@ fn image_errors() {
         &good,
         &Limits {
             max_pixels: 16,
-            max_bytes: 64
+            max_bytes: 64,
+            ..Limits::default()
         }
     )
     .is_ok());
@@ -1048,6 +1050,7 @@ fn gltf_limits() {
         &Limits {
             max_pixels: 3,
             max_bytes: 1 << 20,
+            ..Limits::default()
         },
     )
     .unwrap_err();
@@ -1062,7 +1065,8 @@ fn gltf_limits() {
         &bin,
         &Limits {
             max_pixels: 4,
-            max_bytes: 1 << 20
+            max_bytes: 1 << 20,
+            ..Limits::default()
         }
     )
     .is_ok());
@@ -1072,6 +1076,7 @@ fn gltf_limits() {
         &Limits {
             max_pixels: 4,
             max_bytes: 151,
+            ..Limits::default()
         },
     )
     .unwrap_err();
@@ -1090,6 +1095,7 @@ fn gltf_limits() {
     let limits = Limits {
         max_pixels: 4,
         max_bytes: 10_000_000,
+        ..Limits::default()
     };
     let Err(error) = read_with(&json, &bin, &limits) else {
         panic!("accepted");

@@ -1,6 +1,7 @@
 //! [`read_triangles_json`]: triangles in UV space from `TRIS.json`.
 
-use super::{json_number_f32, AssetError};
+use crate::error::AssetError;
+use crate::json_number::json_number_f32;
 use serde::Deserialize;
 use serde_json::value::RawValue;
 

@@ -178,6 +178,42 @@ impl ArgError<'_> {
     }
 }
 
+/// The name of `names` closest to `word` by edit distance (insertions,
+/// deletions, substitutions and swaps of two neighbours, each 1), if one is
+/// close enough to be a slip: at most 2 edits and at most a quarter of the
+/// name's length (`--fromat` -> `--format`, `format` -> `--format`;
+/// `-x` -> nothing). The first of equally close names.
+#[must_use]
+pub fn closest<'n>(word: &str, names: impl IntoIterator<Item = &'n str>) -> Option<&'n str> {
+    names
+        .into_iter()
+        .map(|name| (edit_distance(word, name), name))
+        .filter(|&(distance, name)| distance <= 2 && distance * 4 <= name.chars().count())
+        .min_by_key(|&(distance, _)| distance)
+        .map(|(_, name)| name)
+}
+
+/// The optimal string alignment distance of `a` and `b` (Damerau's edits,
+/// no substring edited twice), in characters.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+    // Rows i - 2, i - 1 and i of the table.
+    let mut before: Vec<usize> = Vec::new();
+    let mut above: Vec<usize> = (0..=b.len()).collect();
+    for i in 1..=a.len() {
+        let mut row = vec![i; b.len() + 1];
+        for j in 1..=b.len() {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            row[j] = (above[j] + 1).min(row[j - 1] + 1).min(above[j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                row[j] = row[j].min(before[j - 2] + 1);
+            }
+        }
+        before = std::mem::replace(&mut above, row);
+    }
+    above[b.len()]
+}
+
 /// The flags found on a command line.
 #[derive(Debug, Default)]
 pub struct Parsed<'a> {
@@ -204,6 +240,22 @@ impl<'a> Parsed<'a> {
 }
 
 impl Command {
+    /// `error`'s message, prefixed with the command's name
+    /// ([`ArgError::message`]); for an unknown option, the table's closest
+    /// flag too ([`closest`]): `bake: unknown option "--fromat" (did you
+    /// mean --format?)`.
+    #[must_use]
+    pub fn error_message(&self, error: &ArgError<'_>) -> String {
+        let mut message = error.message(self.name);
+        if let ArgError::Unknown(word) = error {
+            let name = word.split_once('=').map_or(*word, |(name, _)| name);
+            if let Some(flag) = closest(name, self.flags.iter().map(|flag| flag.name)) {
+                let _ = write!(message, " (did you mean {flag}?)");
+            }
+        }
+        message
+    }
+
     /// The table's flag called `name`.
     fn find(&'static self, name: &str) -> Option<&'static Flag> {
         self.flags.iter().find(|flag| flag.name == name)
@@ -275,21 +327,60 @@ pub fn usage_text(program: &str, commands: &[&Command], about: &str) -> String {
             listed.push(flag);
         }
     }
-    let width = listed
+    let widest = listed
         .iter()
         .map(|flag| flag.shown().len())
         .max()
-        .unwrap_or(0)
-        .max(16)
-        + 2;
+        .unwrap_or(0);
+    let column = 2 + widest.clamp(16, MAX_FLAG_WIDTH) + 2;
     if !listed.is_empty() {
         text.push_str("options:\n");
     }
     for flag in listed {
-        let _ = writeln!(text, "  {:<width$}{}", flag.shown(), flag.help);
+        push_flag(&mut text, &flag.shown(), flag.help, column);
     }
     text.pop();
     text
+}
+
+/// The widest flag (`--name VALUE`) whose help starts on its own line; a
+/// wider one has its help on the next line, in the same column.
+const MAX_FLAG_WIDTH: usize = 22;
+
+/// The width the usage's flag help is wrapped to.
+const USAGE_WIDTH: usize = 80;
+
+/// `  SHOWN  HELP` and a newline: the help's words (the table's line breaks
+/// and indentation are not kept) wrapped at [`USAGE_WIDTH`], every line of
+/// it starting at `column` (the first on the next line when `shown` does
+/// not leave room).
+fn push_flag(text: &mut String, shown: &str, help: &str, column: usize) {
+    let indent = " ".repeat(column);
+    let mut line = format!("  {shown}");
+    if line.len() + 2 > column {
+        // Too wide for the column: the help starts on the next line.
+        text.push_str(&line);
+        text.push('\n');
+        line.clone_from(&indent);
+    } else {
+        line = format!("{line:<column$}");
+    }
+    let mut empty = true;
+    for word in help.split_whitespace() {
+        if !empty && line.len() + 1 + word.len() > USAGE_WIDTH {
+            text.push_str(&line);
+            text.push('\n');
+            line.clone_from(&indent);
+            empty = true;
+        }
+        if !empty {
+            line.push(' ');
+        }
+        line.push_str(word);
+        empty = false;
+    }
+    text.push_str(line.trim_end());
+    text.push('\n');
 }
 
 /// Why a level range does not parse.
@@ -406,6 +497,85 @@ mod tests {
             usage_text("prog", &[&DEMO], ""),
             "usage: prog demo --level L [--json]\n  A demonstration.\noptions:\n  --level L         the level\n  --json            JSON\n  --seed S          a seed"
         );
+    }
+
+    /// Help text is re-wrapped into the flags' column (the table's own line
+    /// breaks and indentation dropped); a flag wider than the column has
+    /// its help on the next line, in the same column.
+    #[test]
+    fn help_wraps_into_one_column() {
+        static WIDE: Command = Command {
+            name: "wide",
+            forms: &["[options]"],
+            about: "",
+            flags: &[
+                Flag::value(
+                    "--mode",
+                    "M",
+                    "one two three four five six seven eight nine ten eleven twelve
+                         thirteen fourteen fifteen",
+                ),
+                Flag::value("--camera", "EX,EY,EZ,TX,TY,TZ[,FOV]", "eye and target"),
+                Flag::switch("--quiet", ""),
+            ],
+        };
+        let usage = usage_text("prog", &[&WIDE], "");
+        assert_eq!(
+            usage,
+            "usage: prog wide [options]
+options:
+  --mode M                one two three four five six seven eight nine ten
+                          eleven twelve thirteen fourteen fifteen
+  --camera EX,EY,EZ,TX,TY,TZ[,FOV]
+                          eye and target
+  --quiet"
+        );
+        for line in usage.lines() {
+            assert!(line.len() <= USAGE_WIDTH, "{line}");
+        }
+    }
+
+    #[test]
+    fn an_unknown_option_names_the_closest_flag() {
+        static FORMAT: Command = Command {
+            name: "bake",
+            forms: &[""],
+            about: "",
+            flags: &[
+                Flag::value("--format", "2|4", "format"),
+                Flag::value("--out", "DIR", "out"),
+                Flag::switch("--force", "force"),
+            ],
+        };
+        let message = |args: &[&str]| FORMAT.error_message(&FORMAT.parse(args).unwrap_err());
+        assert_eq!(
+            message(&["--fromat", "4"]),
+            "bake: unknown option \"--fromat\" (did you mean --format?)"
+        );
+        assert_eq!(
+            message(&["--fromat=4"]),
+            "bake: unknown option \"--fromat=4\" (did you mean --format?)"
+        );
+        assert_eq!(
+            message(&["format"]),
+            "bake: unknown option \"format\" (did you mean --format?)"
+        );
+        assert_eq!(
+            message(&["--ot"]),
+            "bake: unknown option \"--ot\" (did you mean --out?)"
+        );
+        // Nothing close: no guess.
+        assert_eq!(message(&["-x"]), "bake: unknown option \"-x\"");
+        assert_eq!(message(&["--level"]), "bake: unknown option \"--level\"");
+        // Other errors are as they were.
+        assert_eq!(message(&["--out"]), "bake: --out needs a value");
+        assert_eq!(
+            closest("--forcee", ["--format", "--force"]),
+            Some("--force")
+        );
+        assert_eq!(edit_distance("abcd", "acbd"), 1);
+        assert_eq!(edit_distance("", "abc"), 3);
+        assert_eq!(edit_distance("kitten", "sitting"), 3);
     }
 
     #[test]

@@ -26,8 +26,10 @@ use std::process::ExitCode;
 pub struct Program {
     /// The program's name, which every message on stderr starts with.
     pub name: &'static str,
-    /// The usage text shown after a usage error's message: the running
-    /// command's usage, or the whole help when no command was recognised.
+    /// What follows a usage error's message on stderr: `micromap-index`
+    /// points at the usage ("see `micromap-index bake --help`"), so the
+    /// message stays on the screen; `micromap-lab` prints the command's
+    /// usage.
     pub usage: fn() -> String,
 }
 
@@ -38,8 +40,8 @@ impl Program {
         let _ = writeln!(io::stderr().lock(), "{}: {message}", self.name);
     }
 
-    /// Reports `message` and the usage ([`Program::usage`]) on stderr;
-    /// exit code 2.
+    /// Reports `message` and what follows it ([`Program::usage`]) on
+    /// stderr; exit code 2.
     #[must_use]
     pub fn usage_error(&self, message: &str) -> Exit {
         self.report(format_args!("{message}\n{}", (self.usage)()));

@@ -45,13 +45,14 @@ pub(crate) static BAKE: Command = Command {
                             EXT_mesh_opacity_micromap on every baked primitive
                             (.gltf: plus NAME.micromap.bin, and NAME.bin for a
                             .glb input's BIN chunk; docs/gltf-out.md)
-    preview.png             the texture with every micro-triangle coloured by
-                            state (green opaque, blue transparent, yellow
-                            unknown-opaque, red unknown-transparent), wrapped
-                            with the job's address modes; each distinct
-                            triangle once, at most 2^27 pixels of
-                            micro-triangles (summary.json counts the rest),
-                            with a legend of the colours and the model
+    preview.png             the texture, each pixel of a triangle coloured by
+                            the state of the micro-triangle under it (green
+                            opaque, blue transparent, yellow unknown-opaque,
+                            red unknown-transparent), wrapped with the job's
+                            address modes; each distinct triangle once, at
+                            most 2^27 pixels of triangles (summary.json
+                            counts the rest), with a legend of the colours
+                            and the model
   DIR is locked (DIR/.micromap-index.lock, an OS lock that dies with the
   bake) from the check to the last rename: a second bake into the same DIR
   is refused (exit 3) and never mixes its files with the first one's; a
@@ -63,11 +64,13 @@ pub(crate) static BAKE: Command = Command {
   --force (nothing written); 3 unreadable input, unwritable DIR or DIR in
   use by another bake (nothing written), or stdout unwritable after DIR was
   written (DIR complete); 130 interrupted (nothing written); 141 stdout
-  closed (DIR complete).",
+  closed (DIR complete). On a terminal, progress bars follow the bake and
+  the preview on stderr (not with --quiet).",
     flags: &{
         const GROUPS: &[&[Flag]] = &[
             &[
                 flags::GLTF,
+                flags::CONFINE_URIS,
                 Flag::value(
                     "--gltf-out",
                     "NAME",
@@ -114,7 +117,7 @@ pub(crate) fn run_bake(program: &Program, options: &[&str]) -> Exit {
 fn bake(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> {
     let p = BAKE
         .parse(options)
-        .map_err(|error| Failure::Usage(error.message("bake")))?;
+        .map_err(|error| Failure::Usage(BAKE.error_message(&error)))?;
     let out = PathBuf::from(
         p.get("--out")
             .ok_or_else(|| Failure::Usage("bake needs --out DIR".into()))?,
@@ -186,19 +189,25 @@ fn bake(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> 
     // The preview before the summary, which times it.
     let preview_started = Instant::now();
     let drawn = if preview {
-        progress.note("drawing preview.png");
-        Some(
-            crate::preview::render(
-                &input.images,
-                model,
-                input
-                    .jobs
-                    .iter()
-                    .map(|job| (job.image, job.sampler, job.triangles.as_slice())),
-                &baked,
-            )
-            .map_err(Failure::Io)?,
+        let drawing = Progress::on_stderr(
+            "drawing",
+            "triangles of preview.png",
+            total,
+            p.flag("--quiet"),
+        );
+        let drawn = crate::preview::render(
+            &input.images,
+            model,
+            input
+                .jobs
+                .iter()
+                .map(|job| (job.image, job.sampler, job.triangles.as_slice())),
+            &baked,
+            &mut |done| drawing.update(done, total),
         )
+        .map_err(Failure::Io)?;
+        drawing.finish();
+        Some(drawn)
     } else {
         None
     };
@@ -235,6 +244,7 @@ fn bake(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> 
         bytes_level_order_tree: report.bytes_level_order_tree,
         index_width_bits: width.bytes() * 8,
         work_units: report.work,
+        speculative_work_units: report.speculative_work,
         bake_seconds,
         micro_triangles_per_second: micro as f64 / bake_seconds.max(1e-9),
         preview_seconds,
@@ -253,7 +263,7 @@ fn bake(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> 
             let asset = Path::new(p.get("--gltf").unwrap_or_default());
             let primitives: Vec<(usize, usize)> =
                 input.jobs.iter().filter_map(|j| j.gltf).collect();
-            gltf_out.files(asset, &out, buffers, &primitives)?
+            gltf_out.files(&p, asset, &out, buffers, &primitives)?
         }
         None => Vec::new(),
     };

@@ -65,7 +65,7 @@ pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
 fn check(program: &Program, options: &[&str]) -> Result<Exit, Failure> {
     let options = CHECK
         .parse(options)
-        .map_err(|e| Failure::Usage(e.message("check")))?;
+        .map_err(|e| Failure::Usage(CHECK.error_message(&e)))?;
     let json = options.flag("--json");
     let (Some(vectors_path), Some(answers_path)) =
         (options.get("--vectors"), options.get("--answers"))

@@ -6,7 +6,7 @@
 //! 2 for a bad command line, 3 if stdin cannot be read or stdout written,
 //! 141 if stdout is closed.
 
-use cli_support::args::{Command, Flag};
+use cli_support::args::{ArgError, Command, Flag};
 use cli_support::input::{BoundedLines, Line, MAX_LINE_BYTES};
 use cli_support::output::{self, Exit, Failure, Program, Stdout};
 use micromap_index_conformance::eval::{eval_line_bytes, Variant};
@@ -41,10 +41,12 @@ pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
 
 /// `--variant NAME` or `--variant=NAME`, and nothing else.
 fn variant_option(options: &[&str]) -> Result<Variant, Failure> {
-    let name = EVAL
-        .parse(options)
-        .ok()
-        .and_then(|parsed| parsed.get("--variant"))
+    let parsed = EVAL.parse(options).map_err(|error| match error {
+        ArgError::Unknown(_) => Failure::Usage(EVAL.error_message(&error)),
+        _ => Failure::Usage("eval needs exactly --variant NAME".into()),
+    })?;
+    let name = parsed
+        .get("--variant")
         .ok_or_else(|| Failure::Usage("eval needs exactly --variant NAME".into()))?;
     Variant::from_name(name).ok_or_else(|| {
         let names: Vec<&str> = Variant::ALL.map(Variant::name).to_vec();

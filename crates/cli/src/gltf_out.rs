@@ -1,15 +1,18 @@
 //! `bake --gltf-out NAME`: the asset written back into DIR with
-//! `EXT_mesh_opacity_micromap`, by `micromap_index_assets`'s writer.
+//! `EXT_mesh_opacity_micromap`, by `micromap_index_assets`'s
+//! [`write_gltf_micromaps_file`] (the container from the name,
+//! [`GltfContainer::from_file_name`]; the files it may make,
+//! [`GltfContainer::file_names`]), under the limits the asset was read
+//! with (`--confine-uris` included). Like the reader, the writer refuses
+//! absolute URIs.
 
-use crate::inputs::files::{read_asset_file, read_limited};
+use crate::inputs::files::{asset_failure, asset_limits};
 use crate::inputs::sampler::refuse_overrides;
 use cli_support::args::Parsed;
 use cli_support::output::Failure;
 use micromap_index::micromap::MicromapBuffers;
-use micromap_index_assets::{
-    relative_uri_prefix, write_gltf_micromaps, AssetError, GltfContainer, GltfMicromapWrite, Limits,
-};
-use std::path::{Component, Path};
+use micromap_index_assets::{write_gltf_micromaps_file, GltfContainer};
+use std::path::Path;
 
 /// `--gltf-out NAME`: the file name and its container, checked.
 pub(crate) struct GltfOut {
@@ -34,22 +37,11 @@ impl GltfOut {
             ));
         }
         refuse_overrides(p, "--gltf-out")?;
-        let bare = !name.contains(['/', '\\'])
-            && !matches!(
-                Path::new(name).components().next(),
-                Some(Component::ParentDir)
-            );
-        let container = match (bare, name.rsplit_once('.')) {
-            (true, Some((stem, "gltf"))) if !stem.is_empty() => GltfContainer::Json {
-                stem: stem.to_string(),
-            },
-            (true, Some((stem, "glb"))) if !stem.is_empty() => GltfContainer::Glb,
-            _ => {
-                return Err(Failure::Usage(format!(
-                    "--gltf-out {name:?}: expected a file name NAME.gltf or NAME.glb (written into --out DIR)"
-                )))
-            }
-        };
+        let container = GltfContainer::from_file_name(name).ok_or_else(|| {
+            Failure::Usage(format!(
+                "--gltf-out {name:?}: expected a file name NAME.gltf or NAME.glb (written into --out DIR)"
+            ))
+        })?;
         let out = GltfOut {
             name: name.to_string(),
             container,
@@ -64,51 +56,31 @@ impl GltfOut {
 
     /// Every file this may write into DIR (for the existence check).
     pub(crate) fn names(&self) -> Vec<String> {
-        let mut names = vec![self.name.clone()];
-        if let GltfContainer::Json { stem } = &self.container {
-            names.push(format!("{stem}.micromap.bin"));
-            names.push(format!("{stem}.bin"));
-        }
-        names
+        self.container.file_names(&self.name)
     }
 
     /// The files of the asset at `asset` written back with `buffers` (one
-    /// geometry per `(mesh, primitive)` of `primitives`), for DIR `out`.
+    /// geometry per `(mesh, primitive)` of `primitives`), for DIR `out`,
+    /// under the asset's limits of `p`.
     pub(crate) fn files(
         &self,
+        p: &Parsed<'_>,
         asset: &Path,
         out: &Path,
         buffers: &MicromapBuffers,
         primitives: &[(usize, usize)],
     ) -> Result<Vec<(String, Vec<u8>)>, Failure> {
+        let limits = asset_limits(p)?;
         // The fault is the input asset's (a duplicate member, a malformed
         // buffer): the message names it, and what was being written.
-        let malformed = |e: AssetError| {
-            Failure::Malformed(format!(
-                "{}: {e} (writing --gltf-out {})",
-                asset.display(),
-                self.name
-            ))
-        };
-        let limits = Limits::default();
-        let input = read_limited(asset, &limits)?;
-        let from = asset.parent().unwrap_or(Path::new(""));
-        let prefix = relative_uri_prefix(out, from).map_err(|e| match e {
-            AssetError::Io { .. } => Failure::Io(format!("cannot resolve {e}")),
-            other => Failure::Malformed(other.to_string()),
-        })?;
-        let mut resolve = |uri: &str| read_asset_file(&from.join(uri), &limits);
-        let written = write_gltf_micromaps(
-            &input,
-            &mut resolve,
-            &GltfMicromapWrite {
-                buffers,
-                primitives,
-                uri_prefix: &prefix,
-            },
-            &self.container,
-        )
-        .map_err(malformed)?;
+        let written =
+            write_gltf_micromaps_file(asset, out, buffers, primitives, &self.container, &limits)
+                .map_err(|e| {
+                    asset_failure(
+                        &e.within(asset.display().to_string()),
+                        &format!(" (writing --gltf-out {})", self.name),
+                    )
+                })?;
         let mut files = vec![(self.name.clone(), written.main)];
         files.extend(written.sidecars);
         Ok(files)

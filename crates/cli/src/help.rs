@@ -1,8 +1,10 @@
 //! The usage texts, rendered from the commands' flag tables
-//! (`cli_support::args`): one per command (`COMMAND --help`, `help COMMAND`,
-//! and after a usage error), and the whole (`help`) with the variant list
-//! and the exit-code table; and [`PROGRAM`], the program as its messages
-//! name it, with the usage after a usage error.
+//! (`cli_support::args`): one per command (`COMMAND --help`, `help
+//! COMMAND`), and the whole (`help`) with the variant list and the
+//! exit-code table; [`PROGRAM`], the program as its messages name it, whose
+//! usage errors end in one line pointing at the usage ("see
+//! `micromap-index bake --help`") rather than the usage itself; and
+//! [`version`].
 
 use cli_support::args::{usage_text, Command};
 use cli_support::output::{exit_code_table, Program};
@@ -28,15 +30,38 @@ pub(crate) fn running(command: &'static str) {
     let _ = COMMAND.set(command);
 }
 
-/// The usage after a usage error: the command being run's, or all.
+/// What follows a usage error's message: one line saying where the usage
+/// is (the command being run's `--help`, or `help`), so the message stays
+/// on the screen.
 fn usage_after_error() -> String {
     match COMMAND.get() {
-        Some(command) => format!(
-            "{}\nrun `{NAME} help` for every command and the exit codes",
-            usage_of(command).unwrap_or_default()
-        ),
-        None => full_help(),
+        Some(command) => format!("see `{NAME} {command} --help`"),
+        None => format!("see `{NAME} help`"),
     }
+}
+
+/// `--version` and `-V`: the program and its version.
+#[must_use]
+pub(crate) fn version() -> String {
+    format!("{NAME} {}", env!("CARGO_PKG_VERSION"))
+}
+
+/// Why `command` is no command, with the closest command if one is close
+/// (`unknown command "bkae" (did you mean bake?)`).
+#[must_use]
+pub(crate) fn unknown_command(command: &str) -> String {
+    let names = COMMANDS.iter().map(|(name, _)| *name).chain(["help"]);
+    match cli_support::args::closest(command, names) {
+        Some(name) => format!("unknown command {command:?} (did you mean {name}?)"),
+        None => format!("unknown command {command:?}"),
+    }
+}
+
+/// The commands, for "expected a command".
+#[must_use]
+pub(crate) fn command_list() -> String {
+    let names: Vec<&str> = COMMANDS.iter().map(|(name, _)| *name).collect();
+    names.join(", ")
 }
 
 /// Where a command's usage comes from.
@@ -132,7 +157,8 @@ pub(crate) fn full_help() -> String {
     let mut text = format!(
         "usage: {NAME} COMMAND [OPTIONS]
        {NAME} COMMAND --help      one command's usage
-       {NAME} help [COMMAND]"
+       {NAME} help [COMMAND]
+       {NAME} --version           the version (also -V)"
     );
     for (name, _) in &COMMANDS {
         text.push_str("\n\n");

@@ -32,7 +32,7 @@ pub(crate) static LOCATE: Command = Command {
 pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
     let parsed = match LOCATE.parse(options) {
         Ok(parsed) => parsed,
-        Err(error) => return Failure::Usage(error.message("locate")).exit(program),
+        Err(error) => return Failure::Usage(LOCATE.error_message(&error)).exit(program),
     };
     let (Some(level), Some(index)) = (parsed.get("--level"), parsed.get("--index")) else {
         return Failure::Usage("locate needs --level L and --index I".into()).exit(program);

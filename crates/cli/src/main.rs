@@ -3,7 +3,9 @@
 //! command lives in its own module with its flag table
 //! (`micromap-index-cli-support`'s `args`: one table per command, which both
 //! parses and renders the usage); `help` renders the usage texts and holds
-//! [`help::PROGRAM`], which every command gets passed in for its messages;
+//! [`help::PROGRAM`], which every command gets passed in for its messages
+//! (a usage error is its message and one line pointing at the usage;
+//! `--version`/`-V` prints the version);
 //! `cli_support::output` is the one output layer (stdout and stderr writers
 //! that never panic), the exit-code table and the one failure type;
 //! `progress` draws a long step's progress bar (on a terminal only).
@@ -57,8 +59,11 @@ fn main() -> ExitCode {
     }
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let Some((&command, options)) = args.split_first() else {
-        return usage("expected a command").into();
+        return usage(&format!("expected a command: {}", help::command_list())).into();
     };
+    if matches!(command, "--version" | "-V") && options.is_empty() {
+        return print_help(&help::version()).into();
+    }
     let asks_help = options
         .iter()
         .any(|&option| option == "--help" || option == "-h");
@@ -86,10 +91,10 @@ fn main() -> ExitCode {
         ("help" | "--help" | "-h", []) => print_help(&help::full_help()).into(),
         ("help", [topic]) => match help::command_help(topic) {
             Some(text) => print_help(&text).into(),
-            None => usage(&format!("help: unknown command {topic:?}")).into(),
+            None => usage(&format!("help: {}", help::unknown_command(topic))).into(),
         },
         ("help", _) => usage("help takes at most one command").into(),
-        _ => usage(&format!("unknown command {command:?}")).into(),
+        _ => usage(&help::unknown_command(command)).into(),
     }
 }
 
@@ -97,8 +102,8 @@ fn print_help(text: &str) -> Exit {
     output::print_then(&PROGRAM, &format!("{text}\n"), Exit::Success)
 }
 
-/// Reports `message` and the usage (of the command being run, or of all) on
-/// stderr; exit code 2.
+/// Reports `message` and where the usage is (the command being run's
+/// `--help`, or `help`) on stderr; exit code 2.
 fn usage(message: &str) -> Exit {
     PROGRAM.usage_error(message)
 }

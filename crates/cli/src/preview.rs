@@ -1,14 +1,23 @@
 //! `preview.png` of a bake: each texture (side by side when there are
-//! several) in grey, every micro-triangle of every triangle tinted by its
-//! state, the mesh triangles' edges in white, and under them a legend of
-//! the colours and the model ([`legend`]).
+//! several) in grey, every triangle tinted by the states of its
+//! micro-triangles, the mesh triangles' edges in white, and under them a
+//! legend of the colours and the model ([`legend`]).
+//!
+//! The picture is drawn at its own resolution, not per micro-triangle:
+//! each pixel whose centre lies in a triangle takes the state of the
+//! micro-triangle under that centre, found by the library's index function
+//! (`micromap_index::index` of the centre's barycentrics, as a GPU finds a
+//! hit's micro-triangle). The cost is the pixels the triangles cover, not
+//! `4^level` per triangle, so a level-8 bake's preview costs what a level-2
+//! one does; micro-triangles smaller than a pixel are sampled, not
+//! averaged.
 
 mod legend;
 
 use micromap_index::bake::mesh::MeshBake;
 use micromap_index::bake::{AddressMode, Model, Sampler, UvTriangle};
-use micromap_index::inverse::micro_triangles;
 use micromap_index::micromap::State;
+use micromap_index::SpecLevel;
 use micromap_index_assets::{AlphaImage, AlphaTexels};
 
 /// Colours by state value: transparent blue, opaque green, unknown-
@@ -18,17 +27,19 @@ const COLOURS: [[u8; 3]; 4] = [[40, 90, 255], [40, 200, 60], [235, 60, 40], [250
 /// The largest side of the picture we aim for.
 const TARGET: u32 = 1024;
 
-/// The most pixels the micro-triangles of one preview may cover in total
-/// (2^27: about a second of drawing). Past it the rest are not drawn and
-/// are counted in [`Drawn::skipped`], so a bake of 10^6 overlapping
-/// triangles cannot make the preview take hours.
+/// The most pixels the triangles of one preview may cover in total (their
+/// bounding boxes: 2^27, about a second of drawing). Past it the rest are
+/// not drawn and their micro-triangles are counted in [`Drawn::skipped`],
+/// so a bake of 10^6 overlapping triangles cannot make the preview take
+/// hours.
 pub(crate) const PIXEL_BUDGET: u64 = 1 << 27;
 
 /// What [`render`] drew.
 pub(crate) struct Drawn {
     /// The PNG bytes.
     pub(crate) png: Vec<u8>,
-    /// Micro-triangles drawn.
+    /// Micro-triangles of the triangles drawn (each pixel shows the one
+    /// under its centre).
     pub(crate) micro_triangles: u64,
     /// Micro-triangles not drawn: past [`PIXEL_BUDGET`], or of a triangle
     /// already drawn (the same UVs in the same job bake the same way).
@@ -47,9 +58,11 @@ impl Canvas {
             return;
         }
         let at = (y as usize * self.width as usize + x as usize) * 3;
+        // In fixed point (weight in 256ths, rounded): no float rounding
+        // call per channel; weight 1 copies the colour exactly.
+        let w = (weight.clamp(0.0, 1.0) * 256.0 + 0.5) as u32;
         for (slot, &c) in self.rgb[at..at + 3].iter_mut().zip(&colour) {
-            let old = f32::from(*slot);
-            *slot = (old * (1.0 - weight) + f32::from(c) * weight).round() as u8;
+            *slot = ((u32::from(*slot) * (256 - w) + u32::from(c) * w + 128) >> 8) as u8;
         }
     }
 }
@@ -114,12 +127,14 @@ pub(crate) fn check_size(images: &[AlphaImage], model: Model) -> Result<(), Stri
 
 /// The picture as PNG bytes. `jobs`: (image index, sampler, triangles),
 /// job `j` being mesh `j` of `baked`, baked under `model` (named in the
-/// legend).
+/// legend); `progress` is told how many triangles (of all jobs together)
+/// have been drawn or skipped.
 pub(crate) fn render<'a>(
     images: &[AlphaImage],
     model: Model,
     jobs: impl Iterator<Item = (usize, Sampler, &'a [UvTriangle])>,
     baked: &MeshBake,
+    progress: &mut dyn FnMut(usize),
 ) -> Result<Drawn, String> {
     let Layout {
         scale,
@@ -149,6 +164,7 @@ pub(crate) fn render<'a>(
     }
     let mut pixels_left = PIXEL_BUDGET;
     let (mut drawn, mut skipped) = (0u64, 0u64);
+    let mut done = 0;
     for (job, (image_index, sampler, triangles)) in jobs.enumerate() {
         let image = &images[image_index];
         let tile = Tile {
@@ -159,12 +175,13 @@ pub(crate) fn render<'a>(
         };
         let mut seen = std::collections::HashSet::new();
         for (t, uv) in triangles.iter().enumerate() {
+            done += 1;
+            progress(done);
             let Some(b) = baked.triangle(job, t) else {
                 continue;
             };
-            let level = b.level;
-            let count = 1u64 << (2 * level.get());
-            if !seen.insert((job, uv.map(|c| c.map(f32::to_bits)))) {
+            let count = 1u64 << (2 * b.level.get());
+            if !seen.insert(uv.map(|c| c.map(f32::to_bits))) {
                 skipped += count;
                 continue;
             }
@@ -175,38 +192,31 @@ pub(crate) fn render<'a>(
             {
                 continue;
             }
-            // One copy of the map per drawn triangle.
-            let Some(opacity) = baked.opacity(job, t) else {
-                continue;
-            };
-            for t in micro_triangles(level) {
-                let state = opacity.state(t.index()).unwrap_or(State::UnknownOpaque);
-                let n = f64::from(1u32 << level.get());
-                let corners = t.vertices_scaled().map(|(a, bb)| {
-                    let (a, bb) = (a as f64 / n, bb as f64 / n);
-                    let w = 1.0 - a - bb;
-                    let at = |k: usize, size: u32| {
-                        (w * f64::from(uv[0][k])
-                            + a * f64::from(uv[1][k])
-                            + bb * f64::from(uv[2][k]))
-                            * f64::from(size)
-                    };
-                    (at(0, tile.width), at(1, tile.height))
-                });
-                let area = bounding_pixels(&corners);
-                if area > pixels_left {
-                    skipped += 1;
-                    continue;
-                }
-                pixels_left -= area;
-                drawn += 1;
-                tile.fill(&mut canvas, corners, COLOURS[state.bits() as usize], 0.55);
-            }
             let corners = uv.map(|c| {
                 (
                     f64::from(c[0]) * f64::from(tile.width),
                     f64::from(c[1]) * f64::from(tile.height),
                 )
+            });
+            let (Some(opacity), Ok(level)) = (baked.opacity(job, t), SpecLevel::new(b.level.get()))
+            else {
+                continue;
+            };
+            let area = bounding_pixels(&corners);
+            if area > pixels_left {
+                skipped += count;
+                continue;
+            }
+            pixels_left -= area;
+            drawn += count;
+            // Each pixel whose centre lies in the triangle takes the state
+            // of the micro-triangle under that centre, found as a GPU finds
+            // it: the library's index of the centre's barycentrics.
+            tile.fill(&mut canvas, corners, |u, v| {
+                let state = opacity
+                    .state(u64::from(micromap_index::index(u, v, level)))
+                    .unwrap_or(State::UnknownOpaque);
+                (COLOURS[state.bits() as usize], 0.55)
             });
             for k in 0..3 {
                 tile.line(&mut canvas, corners[k], corners[(k + 1) % 3]);
@@ -214,8 +224,9 @@ pub(crate) fn render<'a>(
         }
     }
     legend::draw(&mut canvas, tiles_height, model);
+    let png = encode(&canvas)?;
     Ok(Drawn {
-        png: encode(&canvas)?,
+        png,
         micro_triangles: drawn,
         skipped,
     })
@@ -279,8 +290,18 @@ impl Tile {
         canvas.blend(i64::from(self.x0) + x, y, colour, weight);
     }
 
-    /// Fills the pixels whose centres lie in the triangle.
-    fn fill(&self, canvas: &mut Canvas, p: [(f64, f64); 3], colour: [u8; 3], weight: f32) {
+    /// Blends the pixels whose centres lie in the triangle `p` (edges
+    /// included), each with the colour and weight `paint` gives for the
+    /// centre's barycentrics `(u, v)`: the weights of `p[1]` and `p[2]`, in
+    /// binary32 (the corners' order is the triangle's; either winding).
+    /// A triangle whose bounding box exceeds 2^22 pixels, or with no area,
+    /// is not drawn.
+    fn fill(
+        &self,
+        canvas: &mut Canvas,
+        p: [(f64, f64); 3],
+        mut paint: impl FnMut(f32, f32) -> ([u8; 3], f32),
+    ) {
         let min_x = p.iter().map(|q| q.0).fold(f64::INFINITY, f64::min).floor() as i64;
         let max_x = p
             .iter()
@@ -296,27 +317,30 @@ impl Tile {
         if (max_x - min_x) * (max_y - min_y) > 1 << 22 {
             return;
         }
-        let edge = |a: (f64, f64), b: (f64, f64), c: (f64, f64)| {
-            (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0)
-        };
-        let area = edge(p[0], p[1], p[2]);
-        if area == 0.0 {
+        let area = (p[1].0 - p[0].0) * (p[2].1 - p[0].1) - (p[1].1 - p[0].1) * (p[2].0 - p[0].0);
+        if area == 0.0 || !area.is_finite() {
             return;
         }
+        // The weight of corner `k` at `c` is the edge function of the edge
+        // opposite `k` over the area: affine in `c`, `dx * c.0 + dy * c.1 + at0`.
+        let weight = |k: usize| {
+            let (a, b) = (p[(k + 1) % 3], p[(k + 2) % 3]);
+            let (dx, dy) = (-(b.1 - a.1) / area, (b.0 - a.0) / area);
+            (dx, dy, -(dx * a.0 + dy * a.1))
+        };
+        let w = [weight(0), weight(1), weight(2)];
         for y in min_y..=max_y {
+            let cy = y as f64 + 0.5;
+            let row = w.map(|(_, dy, at0)| dy * cy + at0);
             for x in min_x..=max_x {
-                let c = (x as f64 + 0.5, y as f64 + 0.5);
-                let e = [
-                    edge(p[0], p[1], c),
-                    edge(p[1], p[2], c),
-                    edge(p[2], p[0], c),
-                ];
-                let inside = if area > 0.0 {
-                    e.iter().all(|&v| v >= 0.0)
-                } else {
-                    e.iter().all(|&v| v <= 0.0)
-                };
-                if inside {
+                let cx = x as f64 + 0.5;
+                let (w0, w1, w2) = (
+                    w[0].0 * cx + row[0],
+                    w[1].0 * cx + row[1],
+                    w[2].0 * cx + row[2],
+                );
+                if w0 >= 0.0 && w1 >= 0.0 && w2 >= 0.0 {
+                    let (colour, weight) = paint(w1 as f32, w2 as f32);
                     self.put(canvas, x, y, colour, weight);
                 }
             }
@@ -345,6 +369,9 @@ pub(crate) fn encode_rgb(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>,
         let mut encoder = png::Encoder::new(&mut bytes, width, height);
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);
+        // A preview, not an archive: fast compression keeps encoding well
+        // under the bake's time.
+        encoder.set_compression(png::Compression::Fast);
         let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
         writer.write_image_data(rgb).map_err(|e| e.to_string())?;
     }
@@ -387,6 +414,7 @@ mod tests {
                 model,
                 std::iter::empty(),
                 &nothing,
+                &mut |_| {},
             )
             .unwrap();
             decode(&drawn.png)
@@ -402,6 +430,70 @@ mod tests {
             (0..w * h).find(|&i| gpu[3 * i..3 * i + 3] != exact[3 * i..3 * i + 3]);
         let row = first_difference.expect("the model line differs") / w;
         assert!(row >= 16, "row {row}: above the legend");
+    }
+
+    /// Each pixel takes the state of the micro-triangle under its centre:
+    /// a level-3 map drawn over a 256-pixel right triangle, every
+    /// micro-triangle its own colour; every pixel centre off the
+    /// micro-triangles' edges has the colour of the micro-triangle
+    /// (`inverse::micro_triangle`, exact vertices) that contains it.
+    #[test]
+    fn each_pixel_shows_the_micro_triangle_under_its_centre() {
+        let level = SpecLevel::new(3).unwrap();
+        let size = 256u32;
+        let mut canvas = Canvas {
+            width: size,
+            height: size,
+            rgb: vec![0; (size * size * 3) as usize],
+        };
+        let tile = Tile {
+            x0: 0,
+            width: size,
+            height: size,
+            address: [AddressMode::ClampToEdge; 2],
+        };
+        let s = f64::from(size);
+        tile.fill(&mut canvas, [(0.0, 0.0), (s, 0.0), (0.0, s)], |u, v| {
+            let i = micromap_index::index(u, v, level);
+            ([1 + i as u8, 7, 7], 1.0)
+        });
+        let n = 8; // 2^level micro-triangle edges per side
+        let mut checked = 0;
+        for y in 0..size {
+            for x in 0..size {
+                let at = ((y * size + x) * 3) as usize;
+                let inside = x + y < size;
+                if !inside {
+                    assert_eq!(canvas.rgb[at], 0, "({x}, {y}) is outside");
+                    continue;
+                }
+                // Centres on a diagonal edge (u + v = m / 8) belong to either side.
+                if (x + y + 1) % (size / n) == 0 {
+                    continue;
+                }
+                let (u, v) = ((f64::from(x) + 0.5) / s, (f64::from(y) + 0.5) / s);
+                let containing = (0..64u64)
+                    .find(|&i| {
+                        let t = micromap_index::inverse::micro_triangle(level.level(), i).unwrap();
+                        let p = t
+                            .vertices_scaled()
+                            .map(|(a, b)| (a as f64 / f64::from(n), b as f64 / f64::from(n)));
+                        let edge = |a: (f64, f64), b: (f64, f64)| {
+                            (b.0 - a.0) * (v - a.1) - (b.1 - a.1) * (u - a.0)
+                        };
+                        let e = [edge(p[0], p[1]), edge(p[1], p[2]), edge(p[2], p[0])];
+                        e.iter().all(|&e| e >= 0.0) || e.iter().all(|&e| e <= 0.0)
+                    })
+                    .unwrap();
+                assert_eq!(
+                    canvas.rgb[at],
+                    1 + containing as u8,
+                    "pixel ({x}, {y}) at ({u}, {v})"
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked > 30_000, "{checked}");
     }
 
     /// Pixels past the tile land where the sampler reads them: repeat

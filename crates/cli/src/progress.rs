@@ -72,14 +72,6 @@ impl Progress {
         self.bar.finish();
         *shown() = None;
     }
-
-    /// `line` on stderr, under the finished bar (the next step), only when
-    /// the bar is drawn.
-    pub(crate) fn note(&self, line: &str) {
-        if !self.bar.is_hidden() {
-            cli_support::output::to_stderr(format_args!("{line}\n"));
-        }
-    }
 }
 
 impl Drop for Progress {

@@ -65,6 +65,7 @@ pub(crate) static RENDER: Command = Command {
         const GROUPS: &[&[Flag]] = &[
             &[
                 flags::GLTF,
+                flags::CONFINE_URIS,
                 flags::TEXTURE,
                 flags::TRIANGLES,
                 Flag::value(
@@ -79,11 +80,7 @@ pub(crate) static RENDER: Command = Command {
             &bake_args::MIPS,
             &bake_args::LIMITS,
             &[
-                Flag::value(
-                    "--index-width",
-                    "16|32",
-                    "micromap-indices.bin width (default 32)",
-                ),
+                flags::INDEX_WIDTH,
                 Flag::value("--size", "WxH", "pixels (default 256x256; at most 2^22)"),
                 Flag::value(
                     "--camera",
@@ -472,7 +469,7 @@ fn render_failure(program: &Program, e: RenderError) -> Failure {
 fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> {
     let p = RENDER
         .parse(options)
-        .map_err(|error| Failure::Usage(error.message("render")))?;
+        .map_err(|error| Failure::Usage(RENDER.error_message(&error)))?;
     let out = PathBuf::from(
         p.get("--out")
             .ok_or_else(|| Failure::Usage("render needs --out DIR".into()))?,

@@ -96,7 +96,7 @@ pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
 fn options<'a>(table: &'static Command, given: &[&'a str]) -> Result<Parsed<'a>, Failure> {
     table
         .parse(given)
-        .map_err(|e| Failure::Usage(e.message(table.name)))
+        .map_err(|e| Failure::Usage(table.error_message(&e)))
 }
 
 fn required<'a>(table: &Command, found: &Parsed<'a>, name: &str) -> Result<&'a str, Failure> {

@@ -244,9 +244,10 @@ fn usage_errors_and_out_of_range_values_exit_2() {
         let (code, err) = failure(args);
         assert_eq!(code, 2, "{args:?}: {err}");
         assert!(
-            err.contains("usage: micromap-index tree"),
+            err.ends_with("\nsee `micromap-index tree --help`\n"),
             "{args:?}: {err}"
         );
+        assert!(!err.contains("usage:"), "{args:?}: {err}");
     }
     let (code, err) = failure(&[
         "lookup", "--format", "2", "--level", "1", "--tree", "10000", "--data", "1101", "--index",

@@ -2,8 +2,8 @@
 //! included), indices, sparse substitution, and the triangles they make.
 
 use super::json::Obj;
+use super::reader::{bytes_of, Reader};
 use super::uri::uri_label;
-use super::{bytes_of, Reader};
 use crate::AssetError;
 use std::borrow::Cow;
 use std::rc::Rc;

@@ -1,8 +1,9 @@
 //! Images: each `images[i]` the primitives use, from a URI or a buffer
 //! view, decoded once.
 
+use super::asset::GltfImageInfo;
+use super::reader::Reader;
 use super::uri::uri_label;
-use super::{GltfImageInfo, Reader};
 use crate::{decode_image_alpha, AlphaSource, AssetError, Limits, MissingAlpha};
 use std::borrow::Cow;
 
@@ -18,6 +19,7 @@ impl Reader<'_, '_> {
         let limits = Limits {
             max_pixels: self.limits.max_pixels,
             max_bytes: self.budget.left,
+            ..self.limits
         };
         let (bytes, label): (Cow<'_, [u8]>, String) = match (uri, view) {
             (Some(uri), None) => {

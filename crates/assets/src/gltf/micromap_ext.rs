@@ -3,15 +3,17 @@
 //! draft's rules (every malformed case an [`AssetError`]).
 
 use super::accessor::Layout;
+use super::extension::{EXTENSION, MAX_GLTF_LEVEL};
+use super::files::{read_file, resolve_beside};
 use super::json::{short, Obj};
-use super::write::{EXTENSION, MAX_GLTF_LEVEL};
-use super::{with_reader, Reader};
+use super::reader::{with_reader, Reader};
 use crate::{AssetError, Limits};
 use micromap_index::micromap::State;
 use micromap_index::micromap::{
     read_buffers, usage_counts_to_le_bytes, BufferBytes, Micromap, MicromapIndex, Overlap,
     ReadOptions, TriangleOpacity, TriangleRecord, UsageCount,
 };
+use std::path::Path;
 
 /// One entry of the root `extensions.EXT_mesh_opacity_micromap.micromaps`.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -126,6 +128,19 @@ pub fn read_gltf_micromaps(
     // A closure: the method's lifetimes are not general enough for `with_reader`.
     #[allow(clippy::redundant_closure_for_method_calls)]
     with_reader(bytes, resolve, limits, |reader| reader.read_micromaps())
+}
+
+/// [`read_gltf_micromaps`] of the glTF file at `path`, its relative URIs
+/// resolved against the file's directory as
+/// [`read_gltf_file`](crate::read_gltf_file) resolves them (within
+/// [`Limits::max_bytes`] and [`Limits::uri_scope`]; absolute paths
+/// refused). Errors name the file.
+pub fn read_gltf_micromaps_file(path: &Path, limits: &Limits) -> Result<GltfMicromaps, AssetError> {
+    let within = |e: AssetError| e.within(path.display().to_string());
+    let bytes = read_file(path, limits.max_bytes).map_err(within)?;
+    let base = path.parent().unwrap_or_else(|| Path::new(""));
+    let mut resolve = resolve_beside(base, limits);
+    read_gltf_micromaps(&bytes, &mut resolve, limits).map_err(within)
 }
 
 impl Reader<'_, '_> {

@@ -1,29 +1,27 @@
 //! [`read_gltf_file`] and [`read_gltf_bytes`]: the alpha-tested triangles of
 //! a glTF 2.0 asset, with their UVs, cutoffs, samplers and images.
 //!
-//! This file holds the public types, the entry points and the walk over
-//! meshes; `glb` splits the container, `json` walks the JSON, `uri`,
+//! This file holds the entry points and the walk over meshes; `asset` the
+//! public types they return, `reader` the [`Reader`] every part is read
+//! with; `glb` splits the container, `json` walks the JSON, `uri`,
 //! `accessor`, `material`, `sampler` and `image` read what their names say;
+//! `micromap_ext` reads `EXT_mesh_opacity_micromap` (`extension`: its name
+//! and highest level);
 //! `files` reads the asset and the files it names from disk; `write` writes
 //! an asset back with micromaps, `write_dir` does it for a
 //! file on disk and an output directory.
 
 use self::files::{read_file, resolve_beside};
-use self::glb::split_glb;
-use self::json::{short, Obj};
-use self::material::raw_materials;
-use crate::{AlphaImage, AssetError, Limits};
-use micromap_index::bake::mesh::Material;
-use micromap_index::bake::{Cutoff, Sampler};
-use serde_json::value::RawValue;
-use serde_json::Value;
-use std::borrow::Cow;
-use std::collections::{BTreeMap, BTreeSet, HashMap};
+use self::material::material_numbers;
+use self::reader::{with_reader, Reader};
+use crate::{AssetError, Limits};
+use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::path::Path;
-use std::rc::Rc;
 
 mod accessor;
+mod asset;
+mod extension;
 mod files;
 mod glb;
 mod image;
@@ -32,148 +30,28 @@ mod material;
 mod micromap_ext;
 mod position;
 mod raw;
+mod reader;
 mod sampler;
 mod transform;
 mod uri;
 mod write;
 mod write_dir;
 
+pub use self::asset::{GltfAsset, GltfImageInfo, MaskPrimitive};
+pub use self::extension::{EXTENSION, MAX_GLTF_LEVEL};
 pub use self::micromap_ext::{
-    read_gltf_micromaps, GltfMicromap, GltfMicromapPrimitive, GltfMicromaps,
+    read_gltf_micromaps, read_gltf_micromaps_file, GltfMicromap, GltfMicromapPrimitive,
+    GltfMicromaps,
 };
 pub use self::write::{
     relative_uri_prefix, write_gltf_micromaps, GltfContainer, GltfFiles, GltfMicromapWrite,
-    EXTENSION, MAX_GLTF_LEVEL,
 };
 pub use self::write_dir::write_gltf_micromaps_file;
 
-pub(crate) use self::sampler::GltfSampler;
 #[cfg(test)]
-pub(crate) use self::sampler::{CLAMP_TO_EDGE, LINEAR, MIRRORED_REPEAT, NEAREST, REPEAT};
-
-/// One triangle primitive of a glTF mesh whose material is alpha-tested
-/// (`alphaMode: "MASK"`) with a base colour texture.
-#[derive(Clone, Debug, PartialEq)]
-pub struct MaskPrimitive {
-    /// The mesh: index into the glTF's `meshes`.
-    pub mesh: usize,
-    /// The primitive: index into the mesh's `primitives`.
-    pub primitive: usize,
-    /// The material: index into the glTF's `materials`.
-    pub material: usize,
-    /// `material.alphaCutoff` (default 0.5), rounded once from its decimal
-    /// text to binary32, with glTF's comparison
-    /// ([`Comparison::AtLeast`](micromap_index::bake::Comparison::AtLeast)):
-    /// a texel is opaque where `alpha * alpha_factor >= cutoff`. Never
-    /// negative.
-    pub cutoff: Cutoff,
-    /// `pbrMetallicRoughness.baseColorFactor[3]` (default 1), rounded once
-    /// from its decimal text; it multiplies the texture's alpha.
-    pub alpha_factor: f32,
-    /// The texture: index into the glTF's `textures`.
-    pub texture: usize,
-    /// The decoded image: index into [`GltfAsset::images`] (not into the
-    /// glTF's `images`; [`GltfAsset::image_info`] maps back).
-    pub image: usize,
-    /// The texture's sampler (`samplers[i]`, or glTF's defaults), as the
-    /// runtime samples: `magFilter` `NEAREST` is
-    /// [`Filter::Nearest`](micromap_index::bake::Filter::Nearest), `LINEAR`
-    /// or unspecified `Linear`; `wrapS` and `wrapT` (default `REPEAT`) are
-    /// the address modes along `u` and `v` of the same names; border alpha 0
-    /// (glTF has no clamp-to-border). The reader checks that every code is
-    /// one glTF defines (`minFilter` too, which magnification-free baking
-    /// does not use).
-    pub sampler: Sampler,
-    /// `baseColorTexture.texCoord` (or the `texCoord` of its
-    /// `KHR_texture_transform`, which overrides it): the triangles are
-    /// `TEXCOORD_<tex_coord>`.
-    pub tex_coord: u32,
-    /// The UVs of each triangle, in order, with the indices applied and the
-    /// texture's `KHR_texture_transform` (if any) applied exactly (or
-    /// vertices `3i, 3i + 1, 3i + 2` without indices). Integer UVs
-    /// (`KHR_mesh_quantization`) are converted as glTF says: normalized
-    /// `c / 255`, `c / 65535`, `max(c / 127, -1)`, `max(c / 32767, -1)`,
-    /// each one binary32 division; others as the integer's value.
-    pub triangles: Vec<[[f32; 2]; 3]>,
-    /// The `COLOR_0` alpha of each triangle's vertices (as
-    /// [`triangles`](Self::triangles), one entry per triangle), which
-    /// multiplies the texture's alpha; `None` without `COLOR_0` or with a
-    /// `VEC3` one (alpha 1). `FLOAT` values as stored (each in `[0, 1]`),
-    /// normalized `c / 255` and `c / 65535`, each one binary32 division.
-    pub vertex_alpha: Option<Vec<[f32; 3]>>,
-    /// The `POSITION` of each triangle's vertices (as
-    /// [`triangles`](Self::triangles), one entry per triangle), in the
-    /// mesh's own space (node transforms are not applied), for renderers;
-    /// `None` without `POSITION`. `VEC3` of `FLOAT`, every value finite.
-    pub positions: Option<Vec<[[f32; 3]; 3]>>,
-}
-
-impl MaskPrimitive {
-    /// Its material as [`bake::mesh`](micromap_index::bake::mesh) takes it:
-    /// sampler, cutoff and alpha factor (the vertex alpha is
-    /// [`vertex_alpha`](Self::vertex_alpha), for
-    /// [`Mesh::vertex_alpha`](micromap_index::bake::mesh::Mesh::vertex_alpha)).
-    ///
-    /// ```
-    /// use micromap_index_assets::{read_gltf_file, Limits};
-    /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/crytek-sponza/cards.gltf");
-    /// let asset = read_gltf_file(path.as_ref(), &Limits::default()).unwrap();
-    /// let material = asset.primitives[1].material();
-    /// assert_eq!(material.cutoff.alpha(), 0.3);
-    /// assert_eq!(material.alpha_factor, 1.0);
-    /// ```
-    #[must_use]
-    pub fn material(&self) -> Material {
-        Material {
-            sampler: self.sampler,
-            cutoff: self.cutoff,
-            alpha_factor: self.alpha_factor,
-        }
-    }
-}
-
-/// Where a decoded image of [`GltfAsset::images`] came from.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct GltfImageInfo {
-    /// Its index into the glTF's `images`.
-    pub index: usize,
-    /// `images[index].uri` as written (percent-encoded), `data:` URIs cut
-    /// to their header (`data:image/png;base64,...`), if it has one.
-    pub uri: Option<String>,
-    /// `images[index].bufferView`, if it has one.
-    pub buffer_view: Option<usize>,
-    /// `images[index].mimeType`, if given (the format is detected from the
-    /// bytes, not from this).
-    pub mime_type: Option<String>,
-    /// `images[index].name`, if given.
-    pub name: Option<String>,
-    /// Where its alpha came from: its alpha channel, or
-    /// [`AlphaSource::One`](crate::AlphaSource::One) for an image without
-    /// one (glTF: alpha 1; never its grey value).
-    pub alpha: crate::AlphaSource,
-}
-
-/// What [`read_gltf_file`] and [`read_gltf_bytes`] read from a glTF.
-#[derive(Clone, Debug, PartialEq, Default)]
-pub struct GltfAsset {
-    /// Every alpha-tested triangle primitive, in the order of `meshes` and
-    /// their `primitives`.
-    pub primitives: Vec<MaskPrimitive>,
-    /// The images the primitives use, each decoded once
-    /// ([`decode_image_alpha`](crate::decode_image_alpha) with
-    /// [`MissingAlpha::One`](crate::MissingAlpha::One): an image without an
-    /// alpha channel is opaque, as glTF says), in order of first use.
-    pub images: Vec<AlphaImage>,
-    /// For each of [`GltfAsset::images`], where it came from.
-    pub image_info: Vec<GltfImageInfo>,
-    /// What was skipped or is not applied, one line each: primitives that
-    /// are not triangles, materials that are not `MASK` (counted), `MASK`
-    /// materials without a base colour texture, base-colour images without
-    /// an alpha channel (read as alpha 1), `COLOR_0` alpha (multiplied in),
-    /// `KHR_texture_transform` (applied to the UVs), oddities of the GLB
-    /// container.
-    pub warnings: Vec<String>,
-}
+pub(crate) use self::sampler::{
+    GltfSampler, CLAMP_TO_EDGE, LINEAR, MIRRORED_REPEAT, NEAREST, REPEAT,
+};
 
 /// Reads a `.gltf` (JSON, with buffers and images in files next to it or in
 /// `data:` URIs) or a `.glb` (told apart by the GLB magic `glTF`, not by
@@ -275,109 +153,6 @@ pub fn read_gltf_bytes(
     })
 }
 
-/// `f` on a [`Reader`] of the glTF `bytes` whose header is checked.
-fn with_reader<T>(
-    bytes: &[u8],
-    resolve: &mut dyn FnMut(&str) -> Result<Vec<u8>, AssetError>,
-    limits: &Limits,
-    f: impl FnOnce(&mut Reader<'_, '_>) -> Result<T, AssetError>,
-) -> Result<T, AssetError> {
-    let mut warnings = Vec::new();
-    let (json, bin) = if bytes.starts_with(b"glTF") {
-        split_glb(bytes, &mut warnings)?
-    } else {
-        (bytes, None)
-    };
-    let json = json.strip_prefix(b"\xef\xbb\xbf").unwrap_or(json);
-    let root: Value = serde_json::from_slice(json).map_err(|e| AssetError::Json {
-        message: e.to_string(),
-    })?;
-    let Value::Object(root) = &root else {
-        return Err(AssetError::gltf("(top level)", "is not a JSON object"));
-    };
-    let raw_materials = raw_materials(json)?;
-    let mut reader = Reader {
-        root: Obj {
-            map: root,
-            path: String::new(),
-        },
-        raw_materials,
-        bin,
-        resolve,
-        limits: *limits,
-        budget: Budget {
-            left: limits.max_bytes,
-            limit: limits.max_bytes,
-        },
-        buffers: HashMap::new(),
-        uvs: HashMap::new(),
-        images: HashMap::new(),
-        asset: GltfAsset {
-            warnings,
-            ..GltfAsset::default()
-        },
-    };
-    reader.check_header()?;
-    f(&mut reader)
-}
-
-/// What may still be held, of [`Limits::max_bytes`].
-struct Budget {
-    left: u64,
-    limit: u64,
-}
-
-impl Budget {
-    fn take(&mut self, what: impl FnOnce() -> String, bytes: u64) -> Result<(), AssetError> {
-        if bytes <= self.left {
-            self.left -= bytes;
-            Ok(())
-        } else {
-            Err(AssetError::LimitExceeded {
-                what: format!("{} (bytes, with what is already loaded)", what()),
-                size: (self.limit - self.left).saturating_add(bytes),
-                limit: self.limit,
-            })
-        }
-    }
-}
-
-/// `a * b` in bytes, or `u64::MAX` on overflow (then over any budget).
-fn bytes_of(count: u64, size: u64) -> u64 {
-    count.saturating_mul(size)
-}
-
-/// How the reader walks a glTF.
-struct Reader<'a, 'r> {
-    root: Obj<'a>,
-    raw_materials: Vec<&'a RawValue>,
-    bin: Option<&'a [u8]>,
-    resolve: &'r mut dyn FnMut(&str) -> Result<Vec<u8>, AssetError>,
-    limits: Limits,
-    budget: Budget,
-    /// Loaded buffers by index, each exactly `byteLength` bytes.
-    buffers: HashMap<usize, Cow<'a, [u8]>>,
-    /// Decoded UV accessors by index.
-    uvs: HashMap<usize, Rc<Vec<[f32; 2]>>>,
-    /// glTF image index -> index into `asset.images`.
-    images: HashMap<usize, usize>,
-    asset: GltfAsset,
-}
-
-/// Extensions a glTF may require that the reader models
-/// (`KHR_mesh_quantization`, `KHR_texture_transform`) or that do not change
-/// the mask.
-fn supported_required(name: &str) -> bool {
-    matches!(
-        name,
-        "KHR_mesh_quantization"
-            | "KHR_texture_transform"
-            | "KHR_lights_punctual"
-            | "KHR_mesh_gpu_instancing"
-            | "EXT_mesh_opacity_micromap"
-    ) || (name.starts_with("KHR_materials_") && name != "KHR_materials_pbrSpecularGlossiness")
-}
-
 fn mode_name(mode: u64) -> &'static str {
     match mode {
         0 => "POINTS",
@@ -391,46 +166,6 @@ fn mode_name(mode: u64) -> &'static str {
 }
 
 impl Reader<'_, '_> {
-    fn warn(&mut self, warning: String) {
-        self.asset.warnings.push(warning);
-    }
-
-    /// `asset.version` is 2.x, and every required extension is supported.
-    fn check_header(&self) -> Result<(), AssetError> {
-        let asset = self.root.obj("asset")?;
-        let version = asset.str("version")?;
-        if version.split('.').next() != Some("2") {
-            return Err(asset.error(
-                "version",
-                format!("{version:?}: only glTF 2.x is supported"),
-            ));
-        }
-        if let Some(min) = asset.opt_str("minVersion")? {
-            if min != "2.0" {
-                return Err(
-                    asset.error("minVersion", format!("{min:?}: only glTF 2.0 is supported"))
-                );
-            }
-        }
-        let required = self
-            .root
-            .opt_array("extensionsRequired")?
-            .unwrap_or_default();
-        for (i, name) in required.iter().enumerate() {
-            let field = format!("extensionsRequired[{i}]");
-            let name = name.as_str().ok_or_else(|| {
-                AssetError::gltf(&field, format!("{}, expected a string", short(name)))
-            })?;
-            if !supported_required(name) {
-                return Err(AssetError::gltf(
-                    field,
-                    format!("the asset requires extension {name}, which is not supported"),
-                ));
-            }
-        }
-        Ok(())
-    }
-
     fn read_meshes(&mut self) -> Result<(), AssetError> {
         let meshes = self.root.opt_array("meshes")?.unwrap_or_default();
         let (mut opaque, mut blend) = (0usize, 0usize);
@@ -495,7 +230,8 @@ impl Reader<'_, '_> {
                     None => texture_info.opt_u32("texCoord")?.unwrap_or(0),
                 };
                 let attributes = primitive.obj("attributes")?;
-                let (cutoff, alpha_factor) = self.material_numbers(material_index, &material)?;
+                let (cutoff, alpha_factor) =
+                    material_numbers(self.raw_materials.get(material_index).copied(), &material)?;
                 let uv_key = format!("TEXCOORD_{tex_coord}");
                 let uv_accessor = attributes.opt_usize(&uv_key)?.ok_or_else(|| {
                     attributes.error(
@@ -569,7 +305,7 @@ impl Reader<'_, '_> {
                         .element("textures", texture_index, &texture_info.field("index"))?;
                 let sampler = match texture.opt_usize("sampler")? {
                     Some(s) => self.sampler(s, &texture.field("sampler"))?,
-                    None => GltfSampler::default(),
+                    None => sampler::GltfSampler::default(),
                 }
                 .to_sampler();
                 let source = texture.opt_usize("source")?.ok_or_else(|| {

@@ -2,7 +2,7 @@
 //! for renderers (`micromap-index render` traces rays against them).
 
 use super::accessor::component_name;
-use super::{bytes_of, Reader};
+use super::reader::{bytes_of, Reader};
 use crate::AssetError;
 
 impl Reader<'_, '_> {

@@ -1,7 +1,7 @@
 //! Samplers: glTF's codes (`samplers[i]`) and the library's
 //! [`Sampler`] they become.
 
-use super::Reader;
+use super::reader::Reader;
 use crate::AssetError;
 use micromap_index::bake::{AddressMode, Filter, Sampler};
 

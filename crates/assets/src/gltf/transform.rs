@@ -3,8 +3,9 @@
 //! applied to the UVs where the result is exact in binary32.
 
 use super::json::{short, Obj};
-use super::Reader;
-use crate::{json_number_f32, AssetError};
+use super::reader::Reader;
+use crate::json_number::json_number_f32;
+use crate::AssetError;
 use serde_json::value::RawValue;
 use std::collections::HashMap;
 

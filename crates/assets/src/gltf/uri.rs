@@ -1,7 +1,7 @@
 //! URIs: `data:` (base64 or percent-encoded), relative paths through the
 //! caller's resolver, and the labels of URIs in messages.
 
-use super::Reader;
+use super::reader::Reader;
 use crate::AssetError;
 
 impl Reader<'_, '_> {

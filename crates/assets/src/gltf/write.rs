@@ -2,10 +2,11 @@
 //! `EXT_mesh_opacity_micromap` on the baked primitives, everything else
 //! kept (members the writer does not touch are copied as their raw text).
 
+use super::extension::{EXTENSION, MAX_GLTF_LEVEL};
 use super::glb::{split_glb, GLB_BIN, GLB_JSON};
 use super::raw::{field, parse_raw, to_raw, RawObject};
 use super::uri::{decode_data_uri, has_scheme, percent_decode, uri_label};
-use crate::AssetError;
+use crate::{AssetError, Limits};
 use micromap_index::micromap::{
     Api, IndexWidth, MicromapBuffers, MicromapIndex, TriangleRecord, UsageCount,
 };
@@ -13,18 +14,6 @@ use serde_json::value::RawValue;
 use serde_json::{json, Value};
 use std::fmt::Write as _;
 use std::path::Path;
-
-/// The extension's name, as it appears in `extensionsUsed` and in the
-/// `extensions` of the root and of each primitive.
-pub const EXTENSION: &str = "EXT_mesh_opacity_micromap";
-
-/// The highest subdivision level the extension allows (records and
-/// `usageLevels`, schema `maximum: 12`): [`Api::max_level`] of
-/// [`Api::Gltf`].
-pub const MAX_GLTF_LEVEL: u32 = match Api::Gltf.max_level() {
-    Some(level) => level,
-    None => 12,
-};
 
 /// The container [`write_gltf_micromaps`] writes.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -124,7 +113,7 @@ pub fn write_gltf_micromaps(
         .windows(EXTENSION.len())
         .any(|w| w == EXTENSION.as_bytes())
     {
-        super::read_gltf_micromaps(input, resolve, &crate::Limits::default())
+        super::read_gltf_micromaps(input, resolve, &Limits::default())
             .map_err(|e| e.within(format!("the input's own {EXTENSION}")))?;
     }
     let mut root: RawObject = serde_json::from_slice(json).map_err(|e| AssetError::Json {

@@ -81,15 +81,23 @@ pub(super) struct Summary {
     pub(super) bytes_paper_tree: u64,
     pub(super) bytes_level_order_tree: u64,
     pub(super) index_width_bits: usize,
-    /// Work units spent (texel-table lookups, `micromap_index::bake::work`).
+    /// Work units spent (texel-table lookups): the serial walk's, the same
+    /// for every `--threads` (`BakeReport::work`; the budgets count these).
     pub(super) work_units: u64,
+    /// Work units spent besides and thrown away by triangles split over
+    /// several threads whose budget ran out (`BakeReport::speculative_work`);
+    /// 0 on one thread. `work_units + speculative_work_units` is all the
+    /// work done.
+    pub(super) speculative_work_units: u64,
     pub(super) bake_seconds: f64,
     pub(super) micro_triangles_per_second: f64,
     /// Drawing preview.png (0 with --no-preview).
     pub(super) preview_seconds: f64,
-    /// Micro-triangles drawn in preview.png.
+    /// Micro-triangles of the triangles drawn in preview.png (each pixel
+    /// shows the one under its centre).
     pub(super) preview_micro_triangles: u64,
-    /// Not drawn: repeated triangles, or past the preview's pixel budget.
+    /// Those of triangles not drawn: repeated triangles, or past the
+    /// preview's pixel budget.
     pub(super) preview_micro_triangles_skipped: u64,
     pub(super) jobs: Vec<JobSummary>,
     pub(super) warnings: Vec<String>,

@@ -1,9 +1,12 @@
 //! Input files read under a size limit: the `--texture` and `--triangles`
-//! files, bake's buffer files, and the files a glTF asset names.
+//! files and bake's buffer files; and the limits a glTF asset is read and
+//! written back under ([`asset_limits`]), with its errors' exit codes
+//! ([`asset_failure`]).
 
+use cli_support::args::Parsed;
 use cli_support::input::refuse_blocking;
 use cli_support::output::Failure;
-use micromap_index_assets::{AssetError, Limits};
+use micromap_index_assets::{AssetError, Limits, UriScope};
 use std::path::Path;
 
 /// The most bytes `--texture` and `--triangles` may hold (the 1 GiB the glTF
@@ -78,33 +81,31 @@ pub(crate) fn read_buffer_files(dir: &Path) -> Result<BufferFiles, Failure> {
     })
 }
 
-/// A file of at most `limits.max_bytes` (the glTF reader's limit).
-pub(crate) fn read_asset_file(path: &Path, limits: &Limits) -> Result<Vec<u8>, AssetError> {
-    use std::io::Read as _;
-    let io = |e: std::io::Error| AssetError::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    };
-    refuse_blocking(path).map_err(io)?;
-    let file = std::fs::File::open(path).map_err(io)?;
-    let mut bytes = Vec::new();
-    file.take(limits.max_bytes + 1)
-        .read_to_end(&mut bytes)
-        .map_err(io)?;
-    if bytes.len() as u64 > limits.max_bytes {
-        return Err(AssetError::LimitExceeded {
-            what: format!("file {}", path.display()),
-            size: bytes.len() as u64,
-            limit: limits.max_bytes,
-        });
+/// The limits of the glTF readers and writer: the defaults, the asset's
+/// URIs confined to its folder with `--confine-uris` (which goes with
+/// `--gltf`: exit 2 without it).
+pub(crate) fn asset_limits(p: &Parsed<'_>) -> Result<Limits, Failure> {
+    if !p.flag("--confine-uris") {
+        return Ok(Limits::default());
     }
-    Ok(bytes)
+    if p.get("--gltf").is_none() {
+        return Err(Failure::Usage(
+            "--confine-uris confines a glTF asset's URIs: it goes with --gltf".into(),
+        ));
+    }
+    Ok(Limits {
+        uri_scope: UriScope::AssetFolder,
+        ..Limits::default()
+    })
 }
 
-/// [`read_asset_file`] for the CLI: unreadable exit 3, too large exit 2.
-pub(crate) fn read_limited(path: &Path, limits: &Limits) -> Result<Vec<u8>, Failure> {
-    read_asset_file(path, limits).map_err(|e| match e {
-        AssetError::Io { .. } => Failure::Io(e.to_string()),
-        other => Failure::Malformed(other.to_string()),
-    })
+/// A glTF reader's or writer's error about `asset`: unreadable (exit 3) or
+/// malformed (exit 2); `suffix` is added to the message.
+pub(crate) fn asset_failure(error: &AssetError, suffix: &str) -> Failure {
+    let message = format!("{error}{suffix}");
+    if matches!(error.root(), AssetError::Io { .. }) {
+        Failure::Io(message)
+    } else {
+        Failure::Malformed(message)
+    }
 }

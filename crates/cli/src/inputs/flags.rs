@@ -9,6 +9,13 @@ pub(crate) const GLTF: Flag = Flag::value(
     "ASSET",
     "a glTF 2.0 asset (.gltf or .glb): its MASK primitives",
 );
+/// `bake`'s, `verify-bake`'s and `render`'s confinement of `--gltf`'s
+/// URIs to the asset's folder (`Limits::uri_scope`, read by
+/// [`asset_limits`](super::files::asset_limits)).
+pub(crate) const CONFINE_URIS: Flag = Flag::switch(
+    "--confine-uris",
+    "read only regular files inside the --gltf asset's folder: refuse URIs that leave it (../, symbolic links) and devices (for untrusted uploads)",
+);
 /// `bake`'s and `render`'s texture input.
 pub(crate) const TEXTURE: Flag =
     Flag::value("--texture", "T.png", "an alpha texture (PNG or JPEG)");
@@ -19,11 +26,12 @@ pub(crate) const TRIANGLES: Flag =
 pub(crate) const OUT: Flag = Flag::value("--out", "DIR", "the output directory");
 /// `bake`'s and `render`'s replacing of existing outputs.
 pub(crate) const FORCE: Flag = Flag::switch("--force", "replace existing files in DIR");
-/// `bake`'s and `verify-bake`'s width of micromap-indices.bin.
+/// The width of micromap-indices.bin `bake` writes and `verify-bake` and
+/// `render --micromaps` read: the same three widths everywhere.
 pub(crate) const INDEX_WIDTH: Flag = Flag::value(
     "--index-width",
     "8|16|32",
-    "micromap-indices.bin width (default 32; 8: Vulkan KHR, DXR, glTF only)",
+    "micromap-indices.bin width (default 32; 8 is for Vulkan KHR, DXR and glTF, not Vulkan EXT)",
 );
 
 /// The sampler, cutoff and model flags `bake`, `verify-bake` and

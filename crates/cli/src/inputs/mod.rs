@@ -10,13 +10,12 @@ pub(crate) mod sampler;
 use cli_support::args::Parsed;
 use cli_support::input::refuse_blocking;
 use cli_support::output::Failure;
-use files::{read_file, INPUT_FILE_LIMIT};
+use files::{asset_failure, asset_limits, read_file, INPUT_FILE_LIMIT};
 use micromap_index::bake::mesh::{Material, Mesh, MeshTriangles};
 use micromap_index::bake::{Cutoff, Sampler, UvTriangle};
 use micromap_index::micromap::IndexWidth;
 use micromap_index_assets::{
-    decode_alpha_image, read_gltf_file, read_triangles_json, AlphaImage, AssetError, ImageTexture,
-    Limits,
+    decode_alpha_image, read_gltf_file, read_triangles_json, AlphaImage, ImageTexture,
 };
 use sampler::SamplerOptions;
 use std::path::{Path, PathBuf};
@@ -76,8 +75,11 @@ impl Input {
     }
 }
 
+/// The input of `p`: `--gltf` (read under [`files::asset_limits`]: with
+/// `--confine-uris` its URIs stay in its folder), or `--texture` and
+/// `--triangles`.
 pub(crate) fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Failure> {
-    let limits = Limits::default();
+    let limits = asset_limits(p)?;
     let cutoff_of = |value: f32| {
         Cutoff::new(value, s.comparison).map_err(|e| Failure::Malformed(e.to_string()))
     };
@@ -85,14 +87,8 @@ pub(crate) fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Fa
         (Some(asset), None, None) => {
             let path = PathBuf::from(asset);
             refuse_blocking(&path).map_err(|e| Failure::Io(format!("cannot read {asset}: {e}")))?;
-            let gltf = read_gltf_file(&path, &limits).map_err(|e| {
-                let message = format!("{asset}: {e}");
-                if matches!(e.root(), AssetError::Io { .. }) {
-                    Failure::Io(message)
-                } else {
-                    Failure::Malformed(message)
-                }
-            })?;
+            // The error names the asset (`AssetError::In`).
+            let gltf = read_gltf_file(&path, &limits).map_err(|e| asset_failure(&e, ""))?;
             let mut jobs = Vec::new();
             for prim in &gltf.primitives {
                 jobs.push(Job {

@@ -3,19 +3,21 @@
 //! checked first by `micromap_index_assets`) against its own MASK
 //! primitives' textures and materials, by `bake::mesh::verify_mesh`.
 
+use super::chunked::verify_with_progress;
 use super::verdict::{verdict, witness_and_texel, witness_texel_space};
-use crate::inputs::files::{read_asset_file, read_limited};
+use crate::inputs::files::{asset_failure, asset_limits};
 use crate::inputs::sampler::refuse_overrides;
+use crate::progress::Progress;
 use cli_support::args::Parsed;
 use cli_support::input::refuse_blocking;
 use cli_support::output::{Exit, Failure};
-use micromap_index::bake::mesh::{verify_mesh, Mesh, MeshTriangles};
+use micromap_index::bake::mesh::{Mesh, MeshTriangles};
 use micromap_index::bake::Model;
 use micromap_index::micromap::TriangleOpacity;
-use micromap_index_assets::{read_gltf_file, read_gltf_micromaps, AssetError, Limits};
+use micromap_index_assets::{read_gltf_file, read_gltf_micromaps_file};
 use serde::Serialize;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(Serialize)]
 struct PrimitiveReport {
@@ -83,22 +85,12 @@ pub(super) fn verify_gltf(
             )));
         }
     }
-    let limits = Limits::default();
+    let limits = asset_limits(p)?;
     let path = PathBuf::from(asset);
-    let classify = |e: AssetError| {
-        let message = format!("{asset}: {e}");
-        if matches!(e.root(), AssetError::Io { .. }) {
-            Failure::Io(message)
-        } else {
-            Failure::Malformed(message)
-        }
-    };
     refuse_blocking(&path).map_err(|e| Failure::Io(format!("cannot read {asset}: {e}")))?;
-    let gltf = read_gltf_file(&path, &limits).map_err(classify)?;
-    let bytes = read_limited(&path, &limits)?;
-    let base = path.parent().unwrap_or(Path::new("")).to_path_buf();
-    let mut resolve = |uri: &str| read_asset_file(&base.join(uri), &limits);
-    let micromaps = read_gltf_micromaps(&bytes, &mut resolve, &limits).map_err(classify)?;
+    // The errors name the asset (`AssetError::In`).
+    let gltf = read_gltf_file(&path, &limits).map_err(|e| asset_failure(&e, ""))?;
+    let micromaps = read_gltf_micromaps_file(&path, &limits).map_err(|e| asset_failure(&e, ""))?;
     if micromaps.primitives.is_empty() {
         return Err(Failure::Malformed(format!(
             "{asset}: no primitive has EXT_mesh_opacity_micromap: nothing to verify"
@@ -124,6 +116,13 @@ pub(super) fn verify_gltf(
         sound: true,
     };
     let mut known_so_far = 0u64;
+    let total = gltf
+        .primitives
+        .iter()
+        .map(|prim| prim.triangles.len())
+        .sum();
+    let progress = Progress::on_stderr("verifying", "triangles", total, p.flag("--quiet"));
+    let mut done_before = 0;
     for prim in &gltf.primitives {
         let Some(found) = micromaps.primitive(prim.mesh, prim.primitive) else {
             report.primitives.push(PrimitiveReport {
@@ -138,6 +137,8 @@ pub(super) fn verify_gltf(
                 contradictions: 0,
                 sound: true,
             });
+            done_before += prim.triangles.len();
+            progress.update(done_before, total);
             continue;
         };
         let opacities = (0..found.indices.len())
@@ -156,7 +157,8 @@ pub(super) fn verify_gltf(
             vertex_alpha: prim.vertex_alpha.as_deref(),
         };
         let first = &mut report.first_contradictions;
-        let v = verify_mesh(
+        let before = done_before;
+        let v = verify_with_progress(
             &mesh,
             &opacities,
             model,
@@ -174,6 +176,7 @@ pub(super) fn verify_gltf(
                     });
                 }
             },
+            &mut |done| progress.update(before + done, total),
         )
         .map_err(|e| {
             Failure::Malformed(format!(
@@ -182,6 +185,7 @@ pub(super) fn verify_gltf(
             ))
         })?;
         known_so_far += v.known;
+        done_before += prim.triangles.len();
         let sound = v.is_sound(prim.triangles.len());
         report.contradictions += v.contradictions;
         report.complete &= v.unchecked == 0 && v.triangles_checked == prim.triangles.len();
@@ -198,6 +202,7 @@ pub(super) fn verify_gltf(
             sound,
         });
     }
+    progress.finish();
     for found in &micromaps.primitives {
         if !gltf
             .primitives

@@ -3,8 +3,11 @@
 //! one verifier, `micromap_index::bake::mesh::verify_mesh`: bake's buffer
 //! layout against `--texture` and `--triangles` ([`texture`]), or a glTF's
 //! own `EXT_mesh_opacity_micromap` against its own textures and materials
-//! ([`gltf`]); [`verdict`] is the verdict and witness text both print.
+//! ([`gltf`]); [`verdict`] is the verdict and witness text both print;
+//! [`chunked`] runs the verifier in chunks of triangles for the progress bar
+//! (on a terminal only, not with `--quiet`).
 
+mod chunked;
 mod gltf;
 mod texture;
 mod verdict;
@@ -62,6 +65,7 @@ pub(crate) static VERIFY_BAKE: Command = Command {
                     "ASSET",
                     "a glTF with EXT_mesh_opacity_micromap, checked against itself",
                 ),
+                flags::CONFINE_URIS,
             ],
             &flags::SAMPLER,
             &[
@@ -85,6 +89,7 @@ pub(crate) static VERIFY_BAKE: Command = Command {
                     "--lenient-layout",
                     "accept overlapping blocks and trailing data",
                 ),
+                Flag::switch("--quiet", "no progress on stderr"),
             ],
         ];
         cli_support::args::concat::<{ cli_support::args::total(GROUPS) }>(GROUPS)
@@ -101,7 +106,7 @@ pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
 fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
     let p = VERIFY_BAKE
         .parse(options)
-        .map_err(|error| Failure::Usage(error.message("verify-bake")))?;
+        .map_err(|error| Failure::Usage(VERIFY_BAKE.error_message(&error)))?;
     let max_report: usize = p
         .get("--max-report")
         .unwrap_or("20")

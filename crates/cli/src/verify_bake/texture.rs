@@ -2,15 +2,15 @@
 //! buffer layout (any baker's) read and checked as `micromap::read_buffers`
 //! does, then every triangle's map against the texture by `verify_mesh`.
 
+use super::chunked::verify_with_progress;
 use super::verdict::{verdict, witness_and_texel, witness_texel_space};
 use crate::inputs::files::{read_buffer_files, read_file, BufferFiles, DATA_FILE_LIMIT};
 use crate::inputs::sampler::sampler_options;
 use crate::inputs::{index_width, read_input};
+use crate::progress::Progress;
 use cli_support::args::Parsed;
 use cli_support::output::{Exit, Failure};
-use micromap_index::bake::mesh::{
-    verify_mesh, Material, Mesh, MeshBakeError, MeshTriangles, MeshVerifyError,
-};
+use micromap_index::bake::mesh::{Material, Mesh, MeshBakeError, MeshTriangles, MeshVerifyError};
 use micromap_index::bake::{AlphaTexture, Model};
 use micromap_index::micromap::{
     read_buffers, BufferBytes, MicromapIndex, ReadOptions, TriangleOpacity,
@@ -170,32 +170,42 @@ pub(super) fn verify_texture(
     let mut first = Vec::new();
     // Only the first --max-report contradictions are kept (the rest are
     // counted), so memory stays bounded however wrong the maps are.
-    let v = verify_mesh(&mesh, &opacities, model, max_checks, &mut |t, c| {
-        if first.len() >= max_report {
-            return;
-        }
-        first.push(ContradictionJson {
-            triangle: t,
-            micro_triangle: c.micro_triangle,
-            state: c.state.to_string(),
-            witness_texel_space: witness_texel_space(c.witness),
-            witness_uv: c.witness.map(|w| {
-                let (u, v) = w.uv_f64(image.width, image.height);
-                [u, v]
-            }),
-            texel: c.texel.map(|(x, y)| [x, y]),
-            texel_alpha: match c.texel {
-                Some((x, y)) => texture.alpha(x, y),
-                None => f64::from(job.sampler.border_alpha),
-            },
-        });
-    })
+    let total = opacities.len();
+    let progress = Progress::on_stderr("verifying", "triangles", total, p.flag("--quiet"));
+    let v = verify_with_progress(
+        &mesh,
+        &opacities,
+        model,
+        max_checks,
+        &mut |t, c| {
+            if first.len() >= max_report {
+                return;
+            }
+            first.push(ContradictionJson {
+                triangle: t,
+                micro_triangle: c.micro_triangle,
+                state: c.state.to_string(),
+                witness_texel_space: witness_texel_space(c.witness),
+                witness_uv: c.witness.map(|w| {
+                    let (u, v) = w.uv_f64(image.width, image.height);
+                    [u, v]
+                }),
+                texel: c.texel.map(|(x, y)| [x, y]),
+                texel_alpha: match c.texel {
+                    Some((x, y)) => texture.alpha(x, y),
+                    None => f64::from(job.sampler.border_alpha),
+                },
+            });
+        },
+        &mut |done| progress.update(done, total),
+    )
     .map_err(|e| match e {
         MeshVerifyError::Mesh(MeshBakeError::Texture { error, .. }) => {
             Failure::Malformed(error.to_string())
         }
         other => Failure::Malformed(other.to_string()),
     })?;
+    progress.finish();
     let mut out = VerifyJson {
         model: model.name(),
         triangles: job.triangles.len(),

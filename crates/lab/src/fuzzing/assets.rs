@@ -11,7 +11,7 @@ use micromap_index::Level;
 use micromap_index_assets::{
     decode_alpha_image, read_gltf_bytes, read_gltf_micromaps, read_triangles_json,
     write_gltf_micromaps, AlphaSource, AlphaTexels, AssetError, GltfAsset, GltfContainer,
-    GltfMicromapWrite, GltfMicromaps, Limits, MaskPrimitive, MAX_GLTF_LEVEL,
+    GltfMicromapWrite, GltfMicromaps, Limits, MaskPrimitive, UriScope, MAX_GLTF_LEVEL,
 };
 
 /// The limits of the asset targets: 2^16 pixels and 16 MiB, so that no
@@ -19,6 +19,7 @@ use micromap_index_assets::{
 pub const FUZZ_LIMITS: Limits = Limits {
     max_pixels: 1 << 16,
     max_bytes: 1 << 24,
+    uri_scope: UriScope::Anywhere,
 };
 
 /// A 2 x 2 grey + alpha PNG (alpha 0, 85, 170, 255), which the

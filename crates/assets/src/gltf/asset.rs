@@ -1,0 +1,130 @@
+//! What the reader returns: [`GltfAsset`], its [`MaskPrimitive`]s and
+//! [`GltfImageInfo`]s.
+
+use crate::AlphaImage;
+use micromap_index::bake::mesh::Material;
+use micromap_index::bake::{Cutoff, Sampler};
+
+/// One triangle primitive of a glTF mesh whose material is alpha-tested
+/// (`alphaMode: "MASK"`) with a base colour texture.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MaskPrimitive {
+    /// The mesh: index into the glTF's `meshes`.
+    pub mesh: usize,
+    /// The primitive: index into the mesh's `primitives`.
+    pub primitive: usize,
+    /// The material: index into the glTF's `materials`.
+    pub material: usize,
+    /// `material.alphaCutoff` (default 0.5), rounded once from its decimal
+    /// text to binary32, with glTF's comparison
+    /// ([`Comparison::AtLeast`](micromap_index::bake::Comparison::AtLeast)):
+    /// a texel is opaque where `alpha * alpha_factor >= cutoff`. Never
+    /// negative.
+    pub cutoff: Cutoff,
+    /// `pbrMetallicRoughness.baseColorFactor[3]` (default 1), rounded once
+    /// from its decimal text; it multiplies the texture's alpha.
+    pub alpha_factor: f32,
+    /// The texture: index into the glTF's `textures`.
+    pub texture: usize,
+    /// The decoded image: index into [`GltfAsset::images`] (not into the
+    /// glTF's `images`; [`GltfAsset::image_info`] maps back).
+    pub image: usize,
+    /// The texture's sampler (`samplers[i]`, or glTF's defaults), as the
+    /// runtime samples: `magFilter` `NEAREST` is
+    /// [`Filter::Nearest`](micromap_index::bake::Filter::Nearest), `LINEAR`
+    /// or unspecified `Linear`; `wrapS` and `wrapT` (default `REPEAT`) are
+    /// the address modes along `u` and `v` of the same names; border alpha 0
+    /// (glTF has no clamp-to-border). The reader checks that every code is
+    /// one glTF defines (`minFilter` too, which magnification-free baking
+    /// does not use).
+    pub sampler: Sampler,
+    /// `baseColorTexture.texCoord` (or the `texCoord` of its
+    /// `KHR_texture_transform`, which overrides it): the triangles are
+    /// `TEXCOORD_<tex_coord>`.
+    pub tex_coord: u32,
+    /// The UVs of each triangle, in order, with the indices applied and the
+    /// texture's `KHR_texture_transform` (if any) applied exactly (or
+    /// vertices `3i, 3i + 1, 3i + 2` without indices). Integer UVs
+    /// (`KHR_mesh_quantization`) are converted as glTF says: normalized
+    /// `c / 255`, `c / 65535`, `max(c / 127, -1)`, `max(c / 32767, -1)`,
+    /// each one binary32 division; others as the integer's value.
+    pub triangles: Vec<[[f32; 2]; 3]>,
+    /// The `COLOR_0` alpha of each triangle's vertices (as
+    /// [`triangles`](Self::triangles), one entry per triangle), which
+    /// multiplies the texture's alpha; `None` without `COLOR_0` or with a
+    /// `VEC3` one (alpha 1). `FLOAT` values as stored (each in `[0, 1]`),
+    /// normalized `c / 255` and `c / 65535`, each one binary32 division.
+    pub vertex_alpha: Option<Vec<[f32; 3]>>,
+    /// The `POSITION` of each triangle's vertices (as
+    /// [`triangles`](Self::triangles), one entry per triangle), in the
+    /// mesh's own space (node transforms are not applied), for renderers;
+    /// `None` without `POSITION`. `VEC3` of `FLOAT`, every value finite.
+    pub positions: Option<Vec<[[f32; 3]; 3]>>,
+}
+
+impl MaskPrimitive {
+    /// Its material as [`bake::mesh`](micromap_index::bake::mesh) takes it:
+    /// sampler, cutoff and alpha factor (the vertex alpha is
+    /// [`vertex_alpha`](Self::vertex_alpha), for
+    /// [`Mesh::vertex_alpha`](micromap_index::bake::mesh::Mesh::vertex_alpha)).
+    ///
+    /// ```
+    /// use micromap_index_assets::{read_gltf_file, Limits};
+    /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/crytek-sponza/cards.gltf");
+    /// let asset = read_gltf_file(path.as_ref(), &Limits::default()).unwrap();
+    /// let material = asset.primitives[1].material();
+    /// assert_eq!(material.cutoff.alpha(), 0.3);
+    /// assert_eq!(material.alpha_factor, 1.0);
+    /// ```
+    #[must_use]
+    pub fn material(&self) -> Material {
+        Material {
+            sampler: self.sampler,
+            cutoff: self.cutoff,
+            alpha_factor: self.alpha_factor,
+        }
+    }
+}
+
+/// Where a decoded image of [`GltfAsset::images`] came from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GltfImageInfo {
+    /// Its index into the glTF's `images`.
+    pub index: usize,
+    /// `images[index].uri` as written (percent-encoded), `data:` URIs cut
+    /// to their header (`data:image/png;base64,...`), if it has one.
+    pub uri: Option<String>,
+    /// `images[index].bufferView`, if it has one.
+    pub buffer_view: Option<usize>,
+    /// `images[index].mimeType`, if given (the format is detected from the
+    /// bytes, not from this).
+    pub mime_type: Option<String>,
+    /// `images[index].name`, if given.
+    pub name: Option<String>,
+    /// Where its alpha came from: its alpha channel, or
+    /// [`AlphaSource::One`](crate::AlphaSource::One) for an image without
+    /// one (glTF: alpha 1; never its grey value).
+    pub alpha: crate::AlphaSource,
+}
+
+/// What [`read_gltf_file`] and [`read_gltf_bytes`] read from a glTF.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct GltfAsset {
+    /// Every alpha-tested triangle primitive, in the order of `meshes` and
+    /// their `primitives`.
+    pub primitives: Vec<MaskPrimitive>,
+    /// The images the primitives use, each decoded once
+    /// ([`decode_image_alpha`](crate::decode_image_alpha) with
+    /// [`MissingAlpha::One`](crate::MissingAlpha::One): an image without an
+    /// alpha channel is opaque, as glTF says), in order of first use.
+    pub images: Vec<AlphaImage>,
+    /// For each of [`GltfAsset::images`], where it came from.
+    pub image_info: Vec<GltfImageInfo>,
+    /// What was skipped or is not applied, one line each: primitives that
+    /// are not triangles, materials that are not `MASK` (counted), `MASK`
+    /// materials without a base colour texture, base-colour images without
+    /// an alpha channel (read as alpha 1), `COLOR_0` alpha (multiplied in),
+    /// `KHR_texture_transform` (applied to the UVs), oddities of the GLB
+    /// container.
+    pub warnings: Vec<String>,
+}
