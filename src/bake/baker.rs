@@ -2,12 +2,13 @@
 //! [`super::verify`], verifies them). Construction, the triangle's frames
 //! on the exact grid, and the choice of walk.
 
-use super::classify::{Classifier, Grid, Placed, TexelClasses};
+use super::classify::{Classifier, Grid, Margin, Placed, TexelClasses};
 use super::exact::{AxisFrame, FrameError};
-use super::gpu::{margin_exponent, Model};
+use super::gpu::{margin, Model};
 use super::parallel::Runner;
 use super::split::{walk_split, SPLIT_FROM_LEVEL};
 use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
+use super::texture_unit::TextureUnit;
 use super::triangle::{BakeError, BakedTriangle, TriangleStatus, UvTriangle};
 use super::walk::{walk_whole, Spent};
 use super::work::DEFAULT_TRIANGLE_WORK_BUDGET;
@@ -66,6 +67,7 @@ pub struct Baker {
     pub(super) classifier: Classifier,
     work_budget: u64,
     pub(super) model: Model,
+    pub(super) texture_unit: TextureUnit,
 }
 
 impl Baker {
@@ -108,6 +110,7 @@ impl Baker {
             },
             work_budget: DEFAULT_TRIANGLE_WORK_BUDGET,
             model: Model::default(),
+            texture_unit: TextureUnit::default(),
         })
     }
 
@@ -118,6 +121,20 @@ impl Baker {
     pub fn with_model(mut self, model: Model) -> Baker {
         self.model = model;
         self
+    }
+
+    /// The same baker for another [`TextureUnit`] (the default is
+    /// [`TextureUnit::default`]; [`Model::Exact`] ignores it).
+    #[must_use]
+    pub fn with_texture_unit(mut self, unit: TextureUnit) -> Baker {
+        self.texture_unit = unit;
+        self
+    }
+
+    /// The texture unit it bakes and verifies for.
+    #[must_use]
+    pub fn texture_unit(&self) -> TextureUnit {
+        self.texture_unit
     }
 
     /// The model it bakes and verifies for.
@@ -173,9 +190,9 @@ impl Baker {
     }
 
     /// The triangle's frames on both axes and their grid: for the GPU
-    /// model, fine enough to hold the margin `2^e` texels of
-    /// [`margin_exponent`] (a grid unit of at most `2^e`), which is then
-    /// `2^(shift + e)` grid units.
+    /// model, fine enough to hold the margin `units * 2^e` texels of
+    /// [`margin`] (a grid unit of at most `2^e`), which is then
+    /// `units * 2^(shift + e)` grid units.
     pub(super) fn frames(
         &self,
         model: Model,
@@ -183,7 +200,7 @@ impl Baker {
         level: Level,
     ) -> Result<(AxisFrame, AxisFrame, Grid), FrameError> {
         let n = level.get();
-        let axis = |k: usize, size: u32| -> Result<(AxisFrame, Option<u32>), FrameError> {
+        let axis = |k: usize, size: u32| -> Result<(AxisFrame, Option<Margin>), FrameError> {
             let c = uv.map(|c| c[k]);
             match model {
                 Model::Exact => Ok((AxisFrame::new(c, size, n, 0)?, None)),
@@ -191,13 +208,19 @@ impl Baker {
                     if c.iter().any(|x| !x.is_finite()) {
                         return Err(FrameError::NotFinite);
                     }
-                    let e = margin_exponent(c, size, n);
-                    let frame = AxisFrame::new(c, size, n, (-e).max(0) as u32)?;
-                    let k = frame.shift as i32 + e;
-                    if k > MARGIN_LIMIT as i32 {
+                    let m = margin(c, size, n, &self.texture_unit).ok_or(FrameError::OutOfRange)?;
+                    // A grid unit of at most 2^exponent texels, on which the
+                    // margin is `units` times a power of two.
+                    let frame = AxisFrame::new(c, size, n, (-m.exponent).max(0) as u32)?;
+                    let shift = frame.shift as i32 + m.exponent;
+                    if shift < 0 || shift + 3 > MARGIN_LIMIT as i32 {
                         return Err(FrameError::OutOfRange);
                     }
-                    Ok((frame, Some(k as u32)))
+                    let margin = Margin {
+                        units: m.units,
+                        shift: shift as u32,
+                    };
+                    Ok((frame, Some(margin)))
                 }
             }
         };

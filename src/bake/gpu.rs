@@ -1,9 +1,10 @@
-//! The GPU model ([`Model::GpuBinary32`]): how far the texel a GPU reads for
-//! a binary32 hit can be from the exact model's footprint, as a margin per
-//! axis (a power of two in texels) by which the baker dilates every
-//! micro-triangle. The derivation is in `docs/bake.md` ("The GPU model");
+//! The GPU model ([`Model::GpuBinary32`]): how far the texel coordinate a
+//! GPU filters with for a binary32 hit can be from the exact point, as a
+//! margin per axis (four significant bits, in texels) by which the baker
+//! dilates every micro-triangle. The derivation is in `docs/bake.md` ("The GPU model");
 //! the names below follow it.
 
+use super::texture_unit::{Interpolation, TextureUnit};
 use crate::names::named_enum;
 
 /// Which points a known state must hold for.
@@ -61,19 +62,39 @@ fn ceil_log2(x: f64) -> i32 {
     }
 }
 
-/// The GPU model's margin on one axis, in texels, as the exponent `e` of
-/// a power of two `2^e` at least the bound of `docs/bake.md`:
+/// A margin of `units * 2^exponent` texels, `units` in `1..=8`: four
+/// significant bits, so that it exceeds the bound it covers by less than
+/// a quarter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct TexelMargin {
+    pub(crate) exponent: i32,
+    pub(crate) units: u32,
+}
+
+/// The GPU model's margin on one axis, in texels, at least the bound of
+/// `docs/bake.md` ("The GPU model", "The texture unit"):
 ///
-/// `m = S·D·2^(-25-n) + S·A·(2^-20 + 2^-21) + 2^-21`
+/// `m = S·D·2^(-25-n) + r·S·A·(2^-20 + 2^-21) + 2^-21 + 2^-k` (+ `S·2^-22`
+/// for 16-bit interpolation)
 ///
 /// for the axis's three (finite) coordinates `c` of a triangle baked at
 /// level `n` over `S = size` texels, with `A = max |c_k|` and
 /// `D = max(|c1 - c0|, |c2 - c0|)`: the index function's rounding window
 /// mapped through the triangle's edges, the shader's texture-coordinate
-/// formulas, and the sampler's scaling (and linear filtering's half-texel
-/// offset). Computed in `f64` and enlarged by `2^-30` relative, far more
-/// than the few `f64` roundings can lose.
-pub(crate) fn margin_exponent(c: [f32; 3], size: u32, level: u32) -> i32 {
+/// formulas (`r = 1` in binary32; in 16-bit floats, whose unit roundoff is
+/// `2^13` times binary32's, `r = 2^13 (1 + 2^-6)`, the last factor for the
+/// second-order terms, and `S·2^-22` for their subnormal spacing), the
+/// sampler's scaling (and linear filtering's half-texel offset), and the
+/// sub-texel snapping `2^-k` of `unit`. Computed in `f64` and enlarged by
+/// `2^-30` relative, far more than the few `f64` roundings can lose.
+/// `None` when 16-bit interpolation cannot hold the coordinates
+/// (`A >= 2^15`).
+pub(crate) fn margin(
+    c: [f32; 3],
+    size: u32,
+    level: u32,
+    unit: &TextureUnit,
+) -> Option<TexelMargin> {
     // |x| and max by hand: neither is in `core` at the minimum Rust.
     let abs = |x: f64| f64::from_bits(x.to_bits() & !(1 << 63));
     let max = |x: f64, y: f64| if x >= y { x } else { y };
@@ -83,8 +104,32 @@ pub(crate) fn margin_exponent(c: [f32; 3], size: u32, level: u32) -> i32 {
         abs(f64::from(c[2]) - f64::from(c[0])),
     );
     let s = f64::from(size);
-    let m = s * d * exp2(-25 - level as i32) + s * a * (exp2(-20) + exp2(-21)) + exp2(-21);
-    ceil_log2(m * (1.0 + exp2(-30)))
+    let (r, floor) = match unit.interpolation {
+        Interpolation::F32 => (1.0, 0.0),
+        Interpolation::F16 => {
+            if a >= exp2(15) {
+                return None;
+            }
+            (exp2(13) * (1.0 + exp2(-6)), s * exp2(-22))
+        }
+    };
+    let m = s * d * exp2(-25 - level as i32)
+        + r * s * a * (exp2(-20) + exp2(-21))
+        + exp2(-21)
+        + floor
+        + unit.snap_radius();
+    let m = m * (1.0 + exp2(-30));
+    let exponent = ceil_log2(m);
+    // m / 2^(e - 3) is in (4, 8]: its ceiling, 5..=8 units of 2^(e - 3).
+    let scaled = m / exp2(exponent - 3);
+    let mut units = scaled as u32;
+    if f64::from(units) < scaled {
+        units += 1;
+    }
+    Some(TexelMargin {
+        exponent: exponent - 3,
+        units: units.clamp(1, 8),
+    })
 }
 
 #[cfg(test)]
@@ -92,16 +137,38 @@ mod tests {
     use super::*;
 
     #[test]
-    fn margins_are_the_stated_powers_of_two() {
-        // No extent: only the half-texel offset's 2^-21 remains, and the
-        // f64 allowance rounds it up to the next power of two.
-        assert_eq!(margin_exponent([0.0; 3], 512, 8), -20);
+    fn margins_cover_the_stated_bounds_with_four_bits() {
+        let unit = TextureUnit::default();
+        let m = |c, size, level, unit: &TextureUnit| {
+            let t = margin(c, size, level, unit).unwrap();
+            f64::from(t.units) * exp2(t.exponent)
+        };
+        // No extent: the half-texel offset's 2^-21 and the snapping 2^-8,
+        // to four bits: 5/8 of 2^-7 (2^-8 + 2^-21 is just above 2^-8).
+        assert_eq!(m([0.0; 3], 512, 8, &unit), 5.0 * exp2(-10));
         // The unit square over 512 texels at level 8:
-        // 512 (2^-33 + 1.5 2^-20) + 2^-21 = 2^-24 + 1.5 2^-11 + 2^-21,
-        // just above 2^-10.5: 2^-10.
-        assert_eq!(margin_exponent([0.0, 1.0, 0.0], 512, 8), -10);
+        // 512 (2^-33 + 1.5 2^-20) + 2^-21 + 2^-8, about 2^-8 + 2^-10.4.
+        let square = m([0.0, 1.0, 0.0], 512, 8, &unit);
+        assert!(
+            square >= exp2(-8) + 512.0 * 1.5 * exp2(-20)
+                && square <= 1.25 * (exp2(-8) + 2.0 * exp2(-10))
+        );
         // Far outside [0, 1] the margin grows with the coordinates.
-        assert_eq!(margin_exponent([1000.0, 1001.0, 1000.0], 512, 8), 0);
+        assert!(m([1000.0, 1001.0, 1000.0], 512, 8, &unit) >= 512.0 * 1001.0 * 3.0 * exp2(-21));
+        // Four snapping bits: 2^-4 dominates.
+        let coarse = TextureUnit {
+            subtexel_bits: 4,
+            ..unit
+        };
+        assert_eq!(m([0.0; 3], 512, 8, &coarse), 5.0 * exp2(-6));
+        // 16-bit interpolation: 2^13 times the coordinates' term, and no
+        // coordinate of 2^15 or more.
+        let half = TextureUnit {
+            interpolation: Interpolation::F16,
+            ..unit
+        };
+        assert!(m([0.0, 1.0, 0.0], 512, 8, &half) > 512.0 * 1.5 * exp2(-7));
+        assert!(margin([40000.0, 0.0, 0.0], 512, 8, &half).is_none());
         assert_eq!(ceil_log2(1.0), 0);
         assert_eq!(ceil_log2(1.5), 1);
         assert_eq!(ceil_log2(0.75), 0);

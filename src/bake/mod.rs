@@ -128,6 +128,7 @@ mod mips;
 mod parallel;
 mod split;
 mod texture;
+mod texture_unit;
 mod triangle;
 mod verify;
 mod walk;
@@ -145,6 +146,7 @@ pub use texture::{
     AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Sampler, SliceTexture,
     Texel, TextureError, Unorm16Texture, Unorm8Texture,
 };
+pub use texture_unit::{Interpolation, LinearRule, TextureUnit, TextureUnitError};
 pub use triangle::{BakeError, BakedTriangle, TriangleStatus, UvTriangle};
 pub use verify::{Contradiction, Verification, VerifyCounts};
 pub use work::{DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET};

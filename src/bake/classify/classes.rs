@@ -94,7 +94,30 @@ pub(crate) struct Block<C = i128> {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Grid {
     pub(crate) shifts: (u32, u32),
-    pub(crate) margin: (Option<u32>, Option<u32>),
+    pub(crate) margin: (Option<Margin>, Option<Margin>),
+}
+
+/// A margin of `units * 2^shift` grid units (`units` in `1..=8`, see
+/// [`TexelMargin`](crate::bake::gpu::TexelMargin)).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Margin {
+    pub(crate) units: u32,
+    pub(crate) shift: u32,
+}
+
+impl Margin {
+    /// The same margin on a grid `2^extra` times finer.
+    pub(crate) fn finer(self, extra: u32) -> Margin {
+        Margin {
+            shift: self.shift + extra,
+            ..self
+        }
+    }
+
+    /// The margin's bits: it is below `2^(shift + 4)`.
+    pub(crate) fn bits(self) -> u32 {
+        self.shift + 4
+    }
 }
 
 impl Grid {
@@ -107,10 +130,10 @@ impl Grid {
     }
 }
 
-/// A margin `2^k` grid units (0 for `None`) in the type `C`.
+/// A margin in grid units (0 for `None`) in the type `C`.
 #[inline]
-pub(crate) fn margin_in<C: GridInt>(margin: Option<u32>) -> C {
-    margin.map_or(C::from(0), |k| C::from(1) << k)
+pub(crate) fn margin_in<C: GridInt>(margin: Option<Margin>) -> C {
+    margin.map_or(C::from(0), |m| C::from(m.units) << m.shift)
 }
 
 /// A texel coordinate known to be in `0..size` (`size < 2^32`), as `u32`.
@@ -170,7 +193,7 @@ impl Placed<i128> {
     /// stays in range: see [`NARROW_WALK_COORDINATE`].
     pub(crate) fn narrowed(&self, grid: Grid) -> Option<Placed<i64>> {
         let (sx, sy) = grid.shifts;
-        let wide_margin = |m: Option<u32>| m.is_some_and(|k| k > NARROW_MARGIN);
+        let wide_margin = |m: Option<Margin>| m.is_some_and(|m| m.bits() > NARROW_MARGIN + 1);
         if sx.max(sy) > NARROW_SHIFT || wide_margin(grid.margin.0) || wide_margin(grid.margin.1) {
             return None;
         }

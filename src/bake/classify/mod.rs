@@ -11,7 +11,7 @@ mod search;
 mod tables;
 mod wrap;
 
-pub(crate) use classes::{is_small, Block, Classes, Grid, Placed};
+pub(crate) use classes::{is_small, Block, Classes, Grid, Margin, Placed};
 #[cfg(test)]
 pub(crate) use classes::{NARROW_SHIFT, NARROW_WALK_COORDINATE};
 pub(crate) use leaf::{Classifier, Points};

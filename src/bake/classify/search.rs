@@ -3,7 +3,7 @@
 //! part is uniform or misses it; and the footprints and reaches it tests
 //! with.
 
-use super::classes::{is_small, margin_in, Block, Classes, Grid};
+use super::classes::{is_small, margin_in, Block, Classes, Grid, Margin};
 use super::tables::TexelClasses;
 use crate::bake::exact::ExactTriangle;
 use crate::bake::texture::Filter;
@@ -33,7 +33,7 @@ impl TexelClasses {
     /// `hi` and half a grid cell's offset from them in range.
     /// With a `margin` (`2^k` grid units), of the interval dilated by it.
     #[inline]
-    fn footprint<C: GridInt>(&self, lo: C, hi: C, shift: u32, margin: Option<u32>) -> (C, C) {
+    fn footprint<C: GridInt>(&self, lo: C, hi: C, shift: u32, margin: Option<Margin>) -> (C, C) {
         let m = margin_in::<C>(margin);
         let (lo, hi) = (lo - m, hi + m);
         match self.sampler.filter {
@@ -49,7 +49,7 @@ impl TexelClasses {
     /// footprint meets the texel range `lo..=hi`, widened by `margin`
     /// (`2^k` grid units) on both sides.
     #[inline]
-    fn reach(&self, lo: i128, hi: i128, shift: u32, margin: Option<u32>) -> (i128, i128) {
+    fn reach(&self, lo: i128, hi: i128, shift: u32, margin: Option<Margin>) -> (i128, i128) {
         let m = margin_in::<i128>(margin);
         match self.sampler.filter {
             Filter::Nearest => ((lo << shift) - m, ((hi + 1) << shift) + m),
@@ -243,7 +243,7 @@ impl TexelClasses {
         extra: u32,
     ) -> (i128, i128) {
         let (sx, sy) = grid.shifts;
-        let fine = |m: Option<u32>| m.map(|k| k + extra);
+        let fine = |m: Option<Margin>| m.map(|m| m.finer(extra));
         let (fx0, fx1) = self.footprint(px, px, sx + extra, fine(grid.margin.0));
         let (fy0, fy1) = self.footprint(py, py, sy + extra, fine(grid.margin.1));
         (
