@@ -7,8 +7,8 @@ use super::exact::{AxisFrame, FrameError};
 use super::gpu::{margin, Model};
 use super::parallel::Runner;
 use super::split::{walk_split, SPLIT_FROM_LEVEL};
-use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
-use super::texture_unit::TextureUnit;
+use super::texture::{AlphaTexture, Cutoff, Filter, Sampler, TextureError};
+use super::texture_unit::{AlphaTest, LinearRule, TextureUnit};
 use super::triangle::{BakeError, BakedTriangle, TriangleStatus, UvTriangle};
 use super::walk::{walk_whole, Spent};
 use super::work::DEFAULT_TRIANGLE_WORK_BUDGET;
@@ -71,8 +71,9 @@ pub struct Baker {
 }
 
 impl Baker {
-    /// Classifies every texel of `texture` once (one pass, `2 (w + 1)
-    /// (h + 1)` bytes of prefix sums).
+    /// Classifies every texel of `texture` once under the default
+    /// [`TextureUnit`] (one pass, `2 (w + 1) (h + 1)` bytes of prefix sums,
+    /// and 8 bytes of values per texel for linear filtering by value).
     pub fn new(
         texture: &(impl AlphaTexture + ?Sized),
         sampler: Sampler,
@@ -81,36 +82,68 @@ impl Baker {
         Self::new_within(texture, sampler, cutoff, u64::MAX)
     }
 
-    /// [`new`](Self::new) with the tables held to `max_bytes` (`w h +
-    /// 2 (w + 1) (h + 1)` bytes): over it, or refused by the allocator,
-    /// the answer is [`TextureError::AllocationFailed`], never an abort
-    /// (`new` gives the same error when the allocator refuses).
+    /// [`new`](Self::new) with the tables held to `max_bytes`
+    /// ([`table_bytes`](Self::table_bytes)): over it, or refused by the
+    /// allocator, the answer is [`TextureError::AllocationFailed`], never
+    /// an abort (`new` gives the same error when the allocator refuses).
     pub fn new_within(
         texture: &(impl AlphaTexture + ?Sized),
         sampler: Sampler,
         cutoff: Cutoff,
         max_bytes: u64,
     ) -> Result<Baker, TextureError> {
-        Self::new_on(texture, sampler, cutoff, max_bytes, &Runner::serial())
+        Self::new_for(texture, sampler, cutoff, TextureUnit::default(), max_bytes)
     }
 
-    /// [`new_within`](Self::new_within), its tables built on `runner`'s
-    /// threads (the same tables on any).
-    pub(crate) fn new_on(
+    /// [`new_within`](Self::new_within) for the texture unit `unit` (its
+    /// sub-texel snapping, interpolation and filter; the tables depend on
+    /// the filter's error, so a unit is chosen when the baker is made). A
+    /// unit outside its ranges ([`TextureUnit::check`]) is refused.
+    pub fn new_for(
         texture: &(impl AlphaTexture + ?Sized),
         sampler: Sampler,
         cutoff: Cutoff,
+        unit: TextureUnit,
+        max_bytes: u64,
+    ) -> Result<Baker, TextureError> {
+        Self::new_on(
+            texture,
+            (sampler, cutoff, unit, 1.0),
+            max_bytes,
+            &Runner::serial(),
+        )
+    }
+
+    /// The bytes the tables of a `width x height` texture take under
+    /// `sampler` and `unit`: `w h` class bytes, `2 (w + 1) (h + 1)` bytes
+    /// of prefix sums, and under linear filtering by value 8 bytes of
+    /// values per texel (saturated). A texture with texels whose binary32
+    /// values straddle the cutoff takes a second `2 (w + 1) (h + 1)`.
+    #[must_use]
+    pub fn table_bytes(width: u32, height: u32, sampler: Sampler, unit: TextureUnit) -> u64 {
+        let by_value = sampler.filter == Filter::Linear && unit.linear == LinearRule::Value;
+        TexelClasses::table_bytes(width, height, by_value)
+    }
+
+    /// [`new_for`](Self::new_for), its tables built on `runner`'s threads
+    /// (the same tables on any), for a texture whose values carry a factor
+    /// of `scale` (the filter's error scales with it).
+    pub(crate) fn new_on(
+        texture: &(impl AlphaTexture + ?Sized),
+        (sampler, cutoff, unit, scale): (Sampler, Cutoff, TextureUnit, f64),
         max_bytes: u64,
         runner: &Runner,
     ) -> Result<Baker, TextureError> {
+        let unit = unit.check().map_err(TextureError::TextureUnit)?;
+        let test = AlphaTest::new(cutoff, sampler.filter, &unit, scale);
         Ok(Baker {
             classifier: Classifier {
-                classes: TexelClasses::new_within(texture, sampler, cutoff, max_bytes, runner)?,
+                classes: TexelClasses::new_within(texture, sampler, test, max_bytes, runner)?,
                 block_budget: DEFAULT_BLOCK_BUDGET,
             },
             work_budget: DEFAULT_TRIANGLE_WORK_BUDGET,
             model: Model::default(),
-            texture_unit: TextureUnit::default(),
+            texture_unit: unit,
         })
     }
 
@@ -120,14 +153,6 @@ impl Baker {
     #[must_use]
     pub fn with_model(mut self, model: Model) -> Baker {
         self.model = model;
-        self
-    }
-
-    /// The same baker for another [`TextureUnit`] (the default is
-    /// [`TextureUnit::default`]; [`Model::Exact`] ignores it).
-    #[must_use]
-    pub fn with_texture_unit(mut self, unit: TextureUnit) -> Baker {
-        self.texture_unit = unit;
         self
     }
 
@@ -173,20 +198,6 @@ impl Baker {
     #[must_use]
     pub fn sampler(&self) -> Sampler {
         self.classifier.classes.sampler
-    }
-
-    /// Is the texel `(x, y)` (or the border, `None`) opaque under the
-    /// cutoff? `false` for coordinates outside the texture.
-    #[must_use]
-    pub fn texel_is_opaque(&self, texel: Option<(u32, u32)>) -> bool {
-        match texel {
-            Some((x, y))
-                if x >= self.classifier.classes.width || y >= self.classifier.classes.height =>
-            {
-                false
-            }
-            t => self.classifier.classes.class_of(t),
-        }
     }
 
     /// The triangle's frames on both axes and their grid: for the GPU

@@ -56,6 +56,18 @@ impl AlphaTexture for FactorTexture<'_> {
         // correctly: see `texel_f32`).
         f64::from(texel_f32(self.inner.alpha(x, y)) * self.factor)
     }
+    /// The texel's binary32 values times the factor, each one binary32
+    /// product (rounded to nearest, which is monotone: the products of the
+    /// lowest and the highest value bound every other).
+    fn gpu_alpha(&self, x: u32, y: u32) -> (f32, f32) {
+        let (lo, hi) = self.inner.gpu_alpha(x, y);
+        let (a, b) = (lo * self.factor, hi * self.factor);
+        if a.is_nan() || b.is_nan() {
+            (f32::NAN, f32::NAN)
+        } else {
+            (a.min(b), a.max(b))
+        }
+    }
 }
 
 /// A texel's alpha as the binary32 value a GPU reads. The `f64` quotient

@@ -143,8 +143,8 @@ pub use level::{
 };
 pub use parallel::Threads;
 pub use texture::{
-    AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Sampler, SliceTexture,
-    Texel, TextureError, Unorm16Texture, Unorm8Texture,
+    faithful_f32, AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Sampler,
+    SliceTexture, Texel, TextureError, Unorm16Texture, Unorm8Texture,
 };
 pub use texture_unit::{Interpolation, LinearRule, TextureUnit, TextureUnitError};
 pub use triangle::{BakeError, BakedTriangle, TriangleStatus, UvTriangle};

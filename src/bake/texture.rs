@@ -8,11 +8,10 @@ use core::fmt;
 /// at `v = 0` (the top row of an image, as in Vulkan and glTF).
 ///
 /// Implement it to bake from your own texel storage. [`alpha`](Self::alpha)
-/// must be exact: the baker compares it with the cutoff without rounding
-/// (see [`Cutoff`]); `f64` holds every `u8`, `u16`, `f16` and `f32` texel
-/// value, and the unorm quotients `c / 255` and `c / 65535` compare with any
-/// binary32 cutoff as the exact quotients do (their distance from any
-/// binary32 value other than 0 and 1 is far above `f64`'s rounding error).
+/// is the texel's exact value (`f64` holds every `u8`, `u16`, `f16` and
+/// `f32` texel value, and the unorm quotients `c / 255` and `c / 65535`
+/// closely enough: see [`faithful_f32`]); [`gpu_alpha`](Self::gpu_alpha) is
+/// what a GPU's texture unit may read for it, as binary32.
 pub trait AlphaTexture {
     /// Texels per row; must be at least 1.
     fn width(&self) -> u32;
@@ -21,31 +20,84 @@ pub trait AlphaTexture {
     /// The alpha of texel `(x, y)`, `x < width`, `y < height`.
     fn alpha(&self, x: u32, y: u32) -> f64;
 
-    /// Whether texel `(x, y)` passes `cutoff`: by default
-    /// `cutoff.is_opaque(self.alpha(x, y))`. An implementation may answer
-    /// faster (the bake reads every texel once through this), never
-    /// differently.
-    fn is_opaque(&self, x: u32, y: u32, cutoff: &Cutoff) -> bool {
-        cutoff.is_opaque(self.alpha(x, y))
+    /// The lowest and highest binary32 value a texture unit may convert
+    /// texel `(x, y)` to: by default the two binary32 neighbours of
+    /// [`alpha`](Self::alpha) ([`faithful_f32`]: a conversion rounded either
+    /// way; one value when it is exact). An implementation may answer
+    /// faster, never with a narrower range.
+    fn gpu_alpha(&self, x: u32, y: u32) -> (f32, f32) {
+        faithful_f32(self.alpha(x, y))
     }
 
-    /// Appends row `y`'s classes to `out`, one byte per texel, `x = 0`
-    /// first: 1 where [`is_opaque`](Self::is_opaque) is true, else 0. By
-    /// default it asks `is_opaque` texel by texel; an implementation may
-    /// answer faster (the bake classifies the whole texture through this,
-    /// one call per row), never differently.
+    /// Appends row `y`'s [`gpu_alpha`](Self::gpu_alpha) ranges, `x = 0`
+    /// first, the lows to `low` and the highs to `high`. By default it asks
+    /// `gpu_alpha` texel by texel; an implementation may answer faster (the
+    /// bake reads the whole texture through this, one call per row), never
+    /// differently.
     ///
     /// ```
-    /// use micromap_index::bake::{AlphaTexture, Cutoff, Unorm8Texture};
-    /// let texels = [0u8, 255, 128, 127, 1, 200];
-    /// let texture = Unorm8Texture::new(3, 2, &texels).unwrap();
-    /// let mut row = Vec::new();
-    /// texture.extend_opaque_row(1, &Cutoff::default(), &mut row);
-    /// assert_eq!(row, [0, 0, 1]); // 127 and 1 are below 0.5, 200 is not
+    /// use micromap_index::bake::{AlphaTexture, Unorm8Texture};
+    /// let texels = [0u8, 255, 51];
+    /// let texture = Unorm8Texture::new(3, 1, &texels).unwrap();
+    /// let (mut low, mut high) = (Vec::new(), Vec::new());
+    /// texture.extend_gpu_alpha_row(0, &mut low, &mut high);
+    /// assert_eq!((low[0], high[0], low[1], high[1]), (0.0, 0.0, 1.0, 1.0));
+    /// // 51 / 255 = 0.2 is no binary32 value: either neighbour may be read.
+    /// assert!(low[2] < high[2] && f64::from(low[2]) < 0.2 && f64::from(high[2]) > 0.2);
+    /// assert_eq!(high[2], 0.2f32);
     /// ```
-    fn extend_opaque_row(&self, y: u32, cutoff: &Cutoff, out: &mut Vec<u8>) {
-        out.extend((0..self.width()).map(|x| u8::from(self.is_opaque(x, y, cutoff))));
+    fn extend_gpu_alpha_row(&self, y: u32, low: &mut Vec<f32>, high: &mut Vec<f32>) {
+        for x in 0..self.width() {
+            let (lo, hi) = self.gpu_alpha(x, y);
+            low.push(lo);
+            high.push(hi);
+        }
     }
+}
+
+/// The binary32 values a faithful conversion of `value` can give: `value`
+/// itself twice when it is a binary32 value, else the binary32 values just
+/// below and above it (rounding either way). A NaN gives NaN twice; values
+/// past binary32's range give the largest finite value and infinity.
+///
+/// ```
+/// use micromap_index::bake::faithful_f32;
+/// assert_eq!(faithful_f32(0.5), (0.5, 0.5));
+/// let (lo, hi) = faithful_f32(0.2);
+/// assert_eq!(hi, 0.2f32); // f32(0.2) lies above 0.2
+/// assert_eq!(lo, f32::from_bits(0.2f32.to_bits() - 1));
+/// ```
+#[must_use]
+pub fn faithful_f32(value: f64) -> (f32, f32) {
+    let nearest = value as f32;
+    let back = f64::from(nearest);
+    if back == value || value.is_nan() {
+        (nearest, nearest)
+    } else if back > value {
+        (next_toward_zero_or_down(nearest), nearest)
+    } else {
+        (nearest, next_up(nearest))
+    }
+}
+
+/// The binary32 value just above `x` (finite `x`).
+fn next_up(x: f32) -> f32 {
+    if x.is_infinite() && x > 0.0 {
+        return x;
+    }
+    let bits = x.to_bits();
+    if x == 0.0 {
+        f32::from_bits(1)
+    } else if bits >> 31 == 0 {
+        f32::from_bits(bits + 1)
+    } else {
+        f32::from_bits(bits - 1)
+    }
+}
+
+/// The binary32 value just below `x`.
+fn next_toward_zero_or_down(x: f32) -> f32 {
+    -next_up(-x)
 }
 
 /// Why a texture view or a sampler was refused.
@@ -73,6 +125,8 @@ pub enum TextureError {
     },
     /// The cutoff or the border alpha is NaN.
     NanThreshold,
+    /// A texture-unit parameter is outside its range.
+    TextureUnit(super::texture_unit::TextureUnitError),
     /// The baker's tables (`w h` class bytes and `2 (w + 1) (h + 1)` bytes
     /// of prefix sums) could not be allocated: over the caller's limit
     /// ([`Baker::new_within`](super::Baker::new_within)), past the address
@@ -97,6 +151,7 @@ impl fmt::Display for TextureError {
                 write!(f, "a {width}x{height} texture has 2^32 texels or more")
             }
             TextureError::NanThreshold => f.write_str("the cutoff or the border alpha is NaN"),
+            TextureError::TextureUnit(e) => e.fmt(f),
             TextureError::AllocationFailed { bytes, limit } => {
                 if *limit == u64::MAX {
                     write!(f, "cannot allocate the baker's {bytes}-byte texel tables")
@@ -133,12 +188,41 @@ pub trait Texel: Copy {
     /// The texel's alpha, exactly (see [`AlphaTexture`]).
     fn alpha(self) -> f64;
 
-    /// Whether the texel passes `cutoff`: by default
-    /// `cutoff.is_opaque(self.alpha())`; an implementation may answer
-    /// faster, never differently.
-    fn is_opaque(self, cutoff: &Cutoff) -> bool {
-        cutoff.is_opaque(self.alpha())
+    /// The binary32 values a texture unit may convert it to (see
+    /// [`AlphaTexture::gpu_alpha`]); by default [`faithful_f32`] of the
+    /// alpha. An implementation may answer faster, never with a narrower
+    /// range.
+    fn gpu_alpha(self) -> (f32, f32) {
+        faithful_f32(self.alpha())
     }
+}
+
+/// The faithful binary32 conversions of every `c / 255` (see
+/// [`faithful_f32`]), as bits, computed once.
+static UNORM8_GPU: [[u32; 2]; 256] = unorm8_table();
+
+/// [`UNORM8_GPU`] by integer arithmetic (a `const fn`: no floating point
+/// at compile time at the minimum Rust). For `0 < c < 255`, `c / 255` is
+/// in `[2^e, 2^(e+1))` with `e = floor(log2(c / 255))`; its 24 significant
+/// bits are `floor(c 2^(23 - e) / 255)`, and never exact (the binary
+/// expansion of `c / 255` repeats `c`'s byte), so the value above has the
+/// next significand. `faithful_f32` gives the same (a test checks all 256).
+const fn unorm8_table() -> [[u32; 2]; 256] {
+    let mut table = [[0u32; 2]; 256];
+    table[255] = [0x3f80_0000, 0x3f80_0000];
+    let mut c = 1u64;
+    while c < 255 {
+        // k = -e: the least with c 2^k >= 255 (then c 2^k < 510).
+        let mut k = 1u64;
+        while c << k < 255 {
+            k += 1;
+        }
+        let significand = (c << (23 + k)) / 255;
+        let bits = ((127 - k as u32) << 23) | (significand as u32 & 0x7f_ffff);
+        table[c as usize] = [bits, bits + 1];
+        c += 1;
+    }
+    table
 }
 
 impl Texel for u8 {
@@ -147,11 +231,10 @@ impl Texel for u8 {
         f64::from(self) / 255.0
     }
 
-    /// One integer comparison with the first code that passes, which the
-    /// cutoff finds once (`c / 255` rounded grows with `c`), instead of a
-    /// division per texel.
-    fn is_opaque(self, cutoff: &Cutoff) -> bool {
-        u16::from(self) >= cutoff.first_opaque_unorm8
+    /// From a table of all 256 codes.
+    fn gpu_alpha(self) -> (f32, f32) {
+        let [lo, hi] = UNORM8_GPU[usize::from(self)];
+        (f32::from_bits(lo), f32::from_bits(hi))
     }
 }
 
@@ -167,6 +250,11 @@ impl Texel for f32 {
     /// false), so it is transparent.
     fn alpha(self) -> f64 {
         f64::from(self)
+    }
+
+    /// Exact: the texel is binary32 already.
+    fn gpu_alpha(self) -> (f32, f32) {
+        (self, self)
     }
 }
 
@@ -217,15 +305,19 @@ impl<T: Texel> AlphaTexture for SliceTexture<'_, T> {
     fn alpha(&self, x: u32, y: u32) -> f64 {
         self.texels[y as usize * self.width as usize + x as usize].alpha()
     }
-    fn is_opaque(&self, x: u32, y: u32, cutoff: &Cutoff) -> bool {
-        self.texels[y as usize * self.width as usize + x as usize].is_opaque(cutoff)
+    fn gpu_alpha(&self, x: u32, y: u32) -> (f32, f32) {
+        self.texels[y as usize * self.width as usize + x as usize].gpu_alpha()
     }
     /// One loop over the row's slice, specialised for `T` (no per-texel
-    /// indexing or dynamic call: the compiler vectorises it for `u8`).
-    fn extend_opaque_row(&self, y: u32, cutoff: &Cutoff, out: &mut Vec<u8>) {
+    /// indexing or dynamic call).
+    fn extend_gpu_alpha_row(&self, y: u32, low: &mut Vec<f32>, high: &mut Vec<f32>) {
         let width = self.width as usize;
         let row = &self.texels[y as usize * width..][..width];
-        out.extend(row.iter().map(|&texel| u8::from(texel.is_opaque(cutoff))));
+        for &texel in row {
+            let (lo, hi) = texel.gpu_alpha();
+            low.push(lo);
+            high.push(hi);
+        }
     }
 }
 
@@ -375,9 +467,6 @@ pub enum Comparison {
 pub struct Cutoff {
     alpha: f32,
     comparison: Comparison,
-    /// The smallest 8-bit unorm code `c` whose `c / 255` passes (256 if
-    /// none): a function of the two fields above.
-    first_opaque_unorm8: u16,
 }
 
 impl Default for Cutoff {
@@ -399,23 +488,7 @@ impl Cutoff {
 
     /// The cutoff for a non-NaN `alpha`.
     fn with(alpha: f32, comparison: Comparison) -> Cutoff {
-        let mut cutoff = Cutoff {
-            alpha,
-            comparison,
-            first_opaque_unorm8: 0,
-        };
-        // Passing is monotone in the code: binary search for the first.
-        let (mut low, mut high) = (0u16, 256u16);
-        while low < high {
-            let mid = (low + high) / 2;
-            if cutoff.is_opaque(f64::from(mid) / 255.0) {
-                high = mid;
-            } else {
-                low = mid + 1;
-            }
-        }
-        cutoff.first_opaque_unorm8 = low;
-        cutoff
+        Cutoff { alpha, comparison }
     }
 
     /// The cutoff value.
@@ -446,56 +519,35 @@ mod tests {
     use super::*;
     use alloc::vec;
 
-    /// The 8-bit shortcut answers like the alpha it stands for: every code
-    /// against cutoffs on, just below and just above every `c / 255` (as
-    /// binary32), the ends, the infinities and signed zeros, both
-    /// comparisons.
+    /// The 8-bit table holds what [`faithful_f32`] gives for every code,
+    /// and every pair brackets `c / 255` (the two neighbours when it is
+    /// not a binary32 value, which it is only for 0 and 255).
     #[test]
-    fn unorm8_cutoff_shortcut_equals_the_alpha_test() {
-        let mut alphas = vec![
-            0.0f32,
-            -0.0,
-            0.5,
-            1.0,
-            f32::INFINITY,
-            f32::NEG_INFINITY,
-            1e-30,
-            -1e-30,
-        ];
+    fn unorm8_table_is_the_faithful_conversion() {
         for c in 0..=255u8 {
-            let a = (f64::from(c) / 255.0) as f32;
-            let bits = a.to_bits();
-            alphas.extend([
-                a,
-                f32::from_bits(bits + 1),
-                f32::from_bits(bits.saturating_sub(1)),
-            ]);
-        }
-        for alpha in alphas {
-            for comparison in [Comparison::AtLeast, Comparison::Above] {
-                let cutoff = Cutoff::new(alpha, comparison).unwrap();
-                for c in 0..=255u8 {
-                    assert_eq!(
-                        Texel::is_opaque(c, &cutoff),
-                        cutoff.is_opaque(c.alpha()),
-                        "code {c}, cutoff {alpha:e} ({:#010x}) {comparison:?}",
-                        alpha.to_bits()
-                    );
-                }
+            let exact = f64::from(c) / 255.0;
+            let (lo, hi) = Texel::gpu_alpha(c);
+            assert_eq!((lo, hi), faithful_f32(exact), "code {c}");
+            assert!(f64::from(lo) <= exact && exact <= f64::from(hi), "code {c}");
+            if c == 0 || c == 255 {
+                assert_eq!(lo, hi);
+            } else {
+                assert_eq!(hi.to_bits(), lo.to_bits() + 1, "code {c}");
             }
         }
-        assert_eq!(
-            Cutoff::default(),
-            Cutoff::new(0.5, Comparison::AtLeast).unwrap()
-        );
+        for v in [0.0, -0.0, 1e-40, -0.3, 1e39, f64::INFINITY] {
+            let (lo, hi) = faithful_f32(v);
+            assert!(f64::from(lo) <= v && v <= f64::from(hi), "{v}");
+        }
+        assert!(faithful_f32(f64::NAN).0.is_nan());
     }
 
-    /// The slice textures' row loop gives, byte for byte, what the
+    /// The slice textures' row loop gives, bit for bit, what the
     /// trait's per-texel default gives (every row of textures of each
     /// texel type, odd widths, codes on both sides of the cutoffs).
     #[test]
     fn slice_rows_equal_the_per_texel_default() {
-        /// Only the required methods: `extend_opaque_row` is the default.
+        /// Only the required methods: `extend_gpu_alpha_row` is the default.
         struct PerTexel<'a, T>(SliceTexture<'a, T>);
         impl<T: Texel> AlphaTexture for PerTexel<'_, T> {
             fn width(&self) -> u32 {
@@ -512,20 +564,18 @@ mod tests {
             let height = texels.len() as u32 / width;
             let fast = SliceTexture::new(width, height, texels).unwrap();
             let slow = PerTexel(fast);
-            for alpha in [0.0f32, 0.25, 0.5, 0.75, 1.0] {
-                for comparison in [Comparison::AtLeast, Comparison::Above] {
-                    let cutoff = Cutoff::new(alpha, comparison).unwrap();
-                    for y in 0..height {
-                        let (mut a, mut b) = (vec![9u8], vec![9u8]);
-                        fast.extend_opaque_row(y, &cutoff, &mut a);
-                        slow.extend_opaque_row(y, &cutoff, &mut b);
-                        assert_eq!(
-                            a, b,
-                            "row {y} of {width} wide, cutoff {alpha} {comparison:?}"
-                        );
-                        assert_eq!(a.len(), width as usize + 1);
-                    }
-                }
+            for y in 0..height {
+                let (mut a, mut b) = ((vec![9.0f32], vec![9.0f32]), (vec![9.0f32], vec![9.0f32]));
+                fast.extend_gpu_alpha_row(y, &mut a.0, &mut a.1);
+                slow.extend_gpu_alpha_row(y, &mut b.0, &mut b.1);
+                let bits = |v: &[f32]| {
+                    v.iter()
+                        .map(|x| x.to_bits())
+                        .collect::<alloc::vec::Vec<_>>()
+                };
+                assert_eq!(bits(&a.0), bits(&b.0), "row {y} of {width} wide");
+                assert_eq!(bits(&a.1), bits(&b.1), "row {y} of {width} wide");
+                assert_eq!(a.0.len(), width as usize + 1);
             }
         }
         let codes: alloc::vec::Vec<u8> = (0..=255u8).chain(0..=255).take(37 * 13).collect();

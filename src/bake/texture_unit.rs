@@ -82,9 +82,9 @@ named_enum!(
 /// assert_eq!(unit.interpolation, Interpolation::F32);
 /// assert_eq!(unit.linear, LinearRule::Value);
 /// assert_eq!(unit.snap_radius(), 1.0 / 256.0);
-/// assert!(TextureUnit { subtexel_bits: 3, ..unit }.check().is_err());
+/// assert!(unit.with_subtexel_bits(3).check().is_err());
 /// ```
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug)]
 #[non_exhaustive]
 pub struct TextureUnit {
     /// `k`: texel coordinates snap to multiples of `2^-k` texels (4..=16;
@@ -100,6 +100,19 @@ pub struct TextureUnit {
     /// How a linear filter is judged (default by value).
     pub linear: LinearRule,
 }
+
+/// Equal when every parameter is, the filter error bit for bit (so that
+/// equality is an equivalence, NaN included).
+impl PartialEq for TextureUnit {
+    fn eq(&self, other: &Self) -> bool {
+        self.subtexel_bits == other.subtexel_bits
+            && self.interpolation == other.interpolation
+            && self.filter_error.to_bits() == other.filter_error.to_bits()
+            && self.linear == other.linear
+    }
+}
+
+impl Eq for TextureUnit {}
 
 impl Default for TextureUnit {
     fn default() -> Self {
@@ -139,6 +152,34 @@ impl core::fmt::Display for TextureUnitError {
 impl core::error::Error for TextureUnitError {}
 
 impl TextureUnit {
+    /// The same unit with `k` sub-texel bits.
+    #[must_use]
+    pub fn with_subtexel_bits(mut self, k: u32) -> TextureUnit {
+        self.subtexel_bits = k;
+        self
+    }
+
+    /// The same unit with another interpolation precision.
+    #[must_use]
+    pub fn with_interpolation(mut self, interpolation: Interpolation) -> TextureUnit {
+        self.interpolation = interpolation;
+        self
+    }
+
+    /// The same unit with another filter error.
+    #[must_use]
+    pub fn with_filter_error(mut self, error: f32) -> TextureUnit {
+        self.filter_error = error;
+        self
+    }
+
+    /// The same unit with another rule for linear filtering.
+    #[must_use]
+    pub fn with_linear_rule(mut self, linear: LinearRule) -> TextureUnit {
+        self.linear = linear;
+        self
+    }
+
     /// The unit, if every parameter is in its range.
     pub fn check(self) -> Result<TextureUnit, TextureUnitError> {
         if !(4..=16).contains(&self.subtexel_bits) {
@@ -160,5 +201,91 @@ impl TextureUnit {
             r *= 0.5;
         }
         r
+    }
+}
+
+/// Relative widening for one binary32 rounding of a filtered value times a
+/// factor (`2^-24`), doubled, with room for `f64`'s own.
+const PRODUCT_ROUNDING: f64 = 1.0 / (1u64 << 23) as f64;
+
+/// Absolute widening for products in binary32's subnormal range.
+const SUBNORMAL: f64 = 1.0 / (1u64 << 62) as f64 / (1u64 << 62) as f64 / (1u64 << 24) as f64;
+
+/// The alpha test as a GPU applies it to what the texture unit returns:
+/// the binary32 cutoff compared with a texel's value (nearest filtering)
+/// or with the filtered value, which lies within the filter's error of
+/// the bilinear mix of its texels' values, then multiplied by a factor in
+/// binary32 (linear filtering). The one place the baker and the verifier
+/// turn values into decisions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct AlphaTest {
+    pub(crate) cutoff: super::texture::Cutoff,
+    /// Linear filtering: the filter's error in the texture's alpha units
+    /// ([`TextureUnit::filter_error`] times the factor the texture's
+    /// values carry); `None` for nearest filtering.
+    linear_slack: Option<f64>,
+    /// Linear filtering judged by value ([`LinearRule::Value`]).
+    pub(crate) by_value: bool,
+}
+
+impl AlphaTest {
+    /// The test for `cutoff` under `filter` and `unit`, on a texture whose
+    /// values are the texels' times `scale` (an alpha factor, at most 1 for
+    /// vertex alpha bounds).
+    pub(crate) fn new(
+        cutoff: super::texture::Cutoff,
+        filter: super::texture::Filter,
+        unit: &TextureUnit,
+        scale: f64,
+    ) -> AlphaTest {
+        let linear = filter == super::texture::Filter::Linear;
+        let abs = |x: f64| f64::from_bits(x.to_bits() & !(1 << 63));
+        AlphaTest {
+            cutoff,
+            linear_slack: linear.then(|| f64::from(unit.filter_error) * abs(scale)),
+            by_value: linear && unit.linear == LinearRule::Value,
+        }
+    }
+
+    /// The lowest value the GPU may compare when the values read mix to
+    /// at least `v`: `v` itself under nearest filtering; under linear, less
+    /// the filter's error, then the product's rounding.
+    pub(crate) fn low(&self, v: f64) -> f64 {
+        match self.linear_slack {
+            None => v,
+            Some(e) => {
+                let x = v - e;
+                x - f64::from_bits(x.to_bits() & !(1 << 63)) * PRODUCT_ROUNDING - SUBNORMAL
+            }
+        }
+    }
+
+    /// The highest value the GPU may compare when the values read mix to at
+    /// most `v` (see [`low`](Self::low)).
+    pub(crate) fn high(&self, v: f64) -> f64 {
+        match self.linear_slack {
+            None => v,
+            Some(e) => {
+                let x = v + e;
+                x + f64::from_bits(x.to_bits() & !(1 << 63)) * PRODUCT_ROUNDING + SUBNORMAL
+            }
+        }
+    }
+
+    /// A texel's class bits from the binary32 values it may convert to:
+    /// bit 0, it may pass (a GPU value from it can be opaque); bit 1, it
+    /// may fail. A texel whose range straddles the cutoff has both.
+    pub(crate) fn class_bits(&self, lo: f32, hi: f32) -> u8 {
+        let may_pass = self.cutoff.is_opaque(self.high(f64::from(hi)));
+        let may_fail = !self.cutoff.is_opaque(self.low(f64::from(lo)));
+        u8::from(may_pass) | (u8::from(may_fail) << 1)
+    }
+
+    /// What values mixed to at least `min` and at most `max` everywhere on
+    /// a region make of it: `(may pass, may fail)` as class bits.
+    pub(crate) fn range_bits(&self, min: f64, max: f64) -> u8 {
+        let may_pass = self.cutoff.is_opaque(self.high(max));
+        let may_fail = !self.cutoff.is_opaque(self.low(min));
+        u8::from(may_pass) | (u8::from(may_fail) << 1)
     }
 }

@@ -4,7 +4,7 @@
 //! exact witness point where one is found.
 
 use super::baker::Baker;
-use super::classify::{Block, Classes, Grid};
+use super::classify::{is_small, Block, Classes, Grid};
 use super::exact::{ExactTriangle, TexelPoint};
 use super::triangle::UvTriangle;
 use crate::inverse::micro_triangles;
@@ -70,6 +70,13 @@ pub struct VerifyCounts {
     /// then nothing was checked.
     pub checked: bool,
 }
+
+/// A value witness's coordinates are multiples of `2^-40` texels (within
+/// `2^-40` of the point where the value is lowest or highest).
+const VALUE_WITNESS_SHIFT: u32 = 40;
+
+/// `2^VALUE_WITNESS_SHIFT`.
+const VALUE_WITNESS_SCALE: f64 = (1u64 << VALUE_WITNESS_SHIFT) as f64;
 
 impl Baker {
     /// Checks another baker's answer for one triangle: every micro-triangle
@@ -148,6 +155,40 @@ impl Baker {
                 &mut stack,
             );
             let witness_block = search.witness_block[usize::from(other.opaque)];
+            // Linear filtering by value: texels of the other class are read,
+            // but the filtered value may still pass (fail) everywhere; where
+            // it does not, the point where it is lowest (highest) is the
+            // witness.
+            let classes = &self.classifier.classes;
+            if witness_block.is_some()
+                && classes.test.by_value
+                && is_small(self.classifier.bounding_block(&p, grid))
+            {
+                let r = classes.region_value(&p, grid);
+                let may = Classes::of_bits(r.bits);
+                let (holds, at) = if state == State::Opaque {
+                    (!may.transparent, r.argmin)
+                } else {
+                    (!may.opaque, r.argmax)
+                };
+                if !holds {
+                    report.contradictions += 1;
+                    let dyadic = |c: f64| (c * VALUE_WITNESS_SCALE) as i128;
+                    let floor = |c: f64| i128::from(c as i64 - i64::from((c as i64 as f64) > c));
+                    visit(Contradiction {
+                        micro_triangle: t.index(),
+                        state,
+                        witness: Some(TexelPoint {
+                            x: dyadic(at.0),
+                            shift_x: VALUE_WITNESS_SHIFT,
+                            y: dyadic(at.1),
+                            shift_y: VALUE_WITNESS_SHIFT,
+                        }),
+                        texel: classes.wrap(floor(at.0), floor(at.1)),
+                    });
+                }
+                continue;
+            }
             match witness_block {
                 Some(found) => {
                     let (block, witness) = self.witness(&exact, found, grid, other.opaque);
@@ -208,12 +249,15 @@ impl Baker {
         if (b.x1 - b.x0 + 1).saturating_mul(b.y1 - b.y0 + 1) <= 4096 {
             for y in b.y0..=b.y1 {
                 for x in b.x0..=b.x1 {
-                    if self
+                    let classes = self
                         .classifier
                         .classes
-                        .class_of(self.classifier.classes.wrap(x, y))
-                        != opaque
-                    {
+                        .class_of(self.classifier.classes.wrap(x, y));
+                    if !(if opaque {
+                        classes.opaque
+                    } else {
+                        classes.transparent
+                    }) {
                         continue;
                     }
                     let texel = Block {

@@ -293,6 +293,14 @@ impl<'a, C: GridInt> Walk<'a, C> {
         if let Some(state) = classes.known_state() {
             return self.set_known(index, up, state);
         }
+        // Linear filtering by value: a node reading both classes may still
+        // have a value that passes (fails) everywhere; then so do all its
+        // leaves, which are not visited.
+        let (state, work) = self.classifier.value_state(&p, self.grid);
+        self.work += work;
+        if let Some(state) = state {
+            return self.set_known(index, up, state);
+        }
         if depth + 1 == n {
             return self.visit_leaves(index, vertices, top_flip);
         }

@@ -1,9 +1,7 @@
 //! The decoded alpha channel of an image ([`AlphaImage`], its texels
 //! [`AlphaTexels`]) and its view as the baker's texture ([`ImageTexture`]).
 
-use micromap_index::bake::{
-    AlphaTexture, Cutoff, F32Texture, TextureError, Unorm16Texture, Unorm8Texture,
-};
+use micromap_index::bake::{AlphaTexture, F32Texture, TextureError, Unorm16Texture, Unorm8Texture};
 
 /// The texels of an [`AlphaImage`]: one value per pixel, row-major, row 0 the
 /// image's top row, in the texel types of [`micromap_index::bake`]
@@ -149,20 +147,20 @@ impl AlphaTexture for ImageTexture<'_> {
             ImageTexture::Float(t) => t.alpha(x, y),
         }
     }
-    fn is_opaque(&self, x: u32, y: u32, cutoff: &Cutoff) -> bool {
+    fn gpu_alpha(&self, x: u32, y: u32) -> (f32, f32) {
         match self {
-            ImageTexture::Unorm8(t) => t.is_opaque(x, y, cutoff),
-            ImageTexture::Unorm16(t) => t.is_opaque(x, y, cutoff),
-            ImageTexture::Float(t) => t.is_opaque(x, y, cutoff),
+            ImageTexture::Unorm8(t) => t.gpu_alpha(x, y),
+            ImageTexture::Unorm16(t) => t.gpu_alpha(x, y),
+            ImageTexture::Float(t) => t.gpu_alpha(x, y),
         }
     }
     // The slice textures' row loop: without it the bake's texel
-    // classification asks `is_opaque` (through this match) per texel.
-    fn extend_opaque_row(&self, y: u32, cutoff: &Cutoff, out: &mut Vec<u8>) {
+    // classification asks `gpu_alpha` (through this match) per texel.
+    fn extend_gpu_alpha_row(&self, y: u32, low: &mut Vec<f32>, high: &mut Vec<f32>) {
         match self {
-            ImageTexture::Unorm8(t) => t.extend_opaque_row(y, cutoff, out),
-            ImageTexture::Unorm16(t) => t.extend_opaque_row(y, cutoff, out),
-            ImageTexture::Float(t) => t.extend_opaque_row(y, cutoff, out),
+            ImageTexture::Unorm8(t) => t.extend_gpu_alpha_row(y, low, high),
+            ImageTexture::Unorm16(t) => t.extend_gpu_alpha_row(y, low, high),
+            ImageTexture::Float(t) => t.extend_gpu_alpha_row(y, low, high),
         }
     }
 }

@@ -13,8 +13,10 @@ use micromap_index_test_support::SplitMix64;
 /// searches look only for the classes its points did not read) has
 /// the state the plain search gives it alone: every class its closed
 /// (for the GPU model, dilated) area reads, with no points, no
-/// shortcut and no budget. Known where that is one class, else unknown
-/// by its centroid texel. Random blobby textures, both filters, wrapping and
+/// shortcut and no budget, or under linear filtering by value (a small
+/// footprint reading both) what the value over the region allows, decided
+/// whole (no node above it, no points). Known where that is one class, else
+/// unknown by its centroid texel. Random blobby textures, both filters, wrapping and
 /// bordered samplers, both models, levels 1..=6, triangles reaching
 /// past the texture.
 #[test]
@@ -78,7 +80,16 @@ fn each_leaf_is_what_it_alone_classifies_as() {
                     .classes
                     .search(&t, grid, Classes::BOTH, u32::MAX, &mut stack);
             assert!(!search.exhausted);
-            let expected = match search.classes.known_state() {
+            // Linear filtering by value: a small footprint reading both
+            // classes is decided by the value over the region.
+            let classes = &baker.classifier.classes;
+            let small = crate::bake::classify::is_small(baker.classifier.bounding_block(&p, grid));
+            let known = if search.classes.is_mixed() && classes.test.by_value && small {
+                Classes::of_bits(classes.region_value(&p, grid).bits)
+            } else {
+                search.classes
+            };
+            let expected = match known.known_state() {
                 Some(state) => state,
                 None if baker.classifier.centroid_is_opaque(&p, grid.shifts) => {
                     State::UnknownOpaque

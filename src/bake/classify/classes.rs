@@ -33,10 +33,12 @@ impl Classes {
         transparent: true,
     };
 
-    pub(crate) fn of(opaque: bool) -> Classes {
+    /// The classes of class bits: bit 0, may pass (opaque); bit 1, may
+    /// fail (transparent).
+    pub(crate) fn of_bits(bits: u8) -> Classes {
         Classes {
-            opaque,
-            transparent: !opaque,
+            opaque: bits & 1 != 0,
+            transparent: bits & 2 != 0,
         }
     }
 

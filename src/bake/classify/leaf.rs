@@ -169,6 +169,12 @@ impl Classifier {
                 }
             }
         }
+        // Linear filtering by value, a small block: the value over the
+        // region decides, not which texels it reads.
+        if self.classes.test.by_value && is_small(bounding) {
+            let r = self.classes.region_value(p, grid);
+            return (Classes::of_bits(r.bits), false, work + u64::from(r.cells));
+        }
         // Only the classes the points did not read are searched for.
         let wide = p.wide();
         let t = ExactTriangle::new(wide.x, wide.y);
@@ -187,15 +193,41 @@ impl Classifier {
         )
     }
 
-    /// The classes of the footprint of the grid point `doubled / 2` (a
-    /// point of the twice finer grid, `shifts + 1`: vertices and edge
-    /// midpoints are), without margin.
+    /// Under linear filtering by value, the state the filtered value gives
+    /// the placed node (dilated by `grid`'s margin) when it is known and its
+    /// bounding block small, with the work spent; `(None, 0)` otherwise.
+    pub(crate) fn value_state<C: GridInt>(
+        &self,
+        p: &Placed<C>,
+        grid: Grid,
+    ) -> (Option<crate::micromap::State>, u64) {
+        if !self.classes.test.by_value {
+            return (None, 0);
+        }
+        // Nodes whose footprint is at most 3 x 3 texels: larger ones mostly
+        // meet the cutoff's level line, and cost more cells.
+        let b = self.bounding_block(p, grid);
+        let three = C::from(2);
+        if b.x1 - b.x0 > three || b.y1 - b.y0 > three {
+            return (None, 0);
+        }
+        let r = self.classes.region_value(p, grid);
+        (Classes::of_bits(r.bits).known_state(), u64::from(r.cells))
+    }
+
+    /// The classes the grid point `doubled / 2` (a point of the twice
+    /// finer grid, `shifts + 1`: vertices and edge midpoints are) reads,
+    /// without margin: its footprint's, or under linear filtering by value
+    /// what its filtered value may do (pass, fail).
     #[inline]
     pub(crate) fn point_classes<C: GridInt>(
         &self,
         (x, y): (C, C),
         (sx, sy): (u32, u32),
     ) -> Classes {
+        if self.classes.test.by_value {
+            return Classes::of_bits(self.classes.point_bits((x, y), (sx + 1, sy + 1)));
+        }
         let fine = Grid::exact((sx + 1, sy + 1));
         self.classes
             .quick(self.classes.bounding_block((x, x), (y, y), fine))
@@ -225,6 +257,6 @@ impl Classifier {
         // floor(s / (3 2^shift)) = floor(floor(s / 2^shift) / 3).
         let cx = floor_third(((p.x[0] + p.x[1] + p.x[2]) >> sx).into());
         let cy = floor_third(((p.y[0] + p.y[1] + p.y[2]) >> sy).into());
-        self.classes.class_of(self.classes.wrap(cx, cy))
+        self.classes.class_of(self.classes.wrap(cx, cy)).opaque
     }
 }

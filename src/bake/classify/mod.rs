@@ -3,8 +3,10 @@
 //! ([`classes`]), the texel tables with prefix sums ([`tables`]), the
 //! image of a block of texel coordinates under the address modes
 //! ([`wrap`]), the exact block search ([`search`]), and the per-leaf
-//! classifier the walk calls ([`leaf`]).
+//! classifier the walk calls ([`leaf`]), and linear filtering by value
+//! ([`bilinear`]).
 
+mod bilinear;
 mod classes;
 mod leaf;
 mod search;

@@ -25,6 +25,18 @@ pub(crate) struct Search {
     pub(crate) tests: u32,
 }
 
+impl Search {
+    /// Records `block` as the witness of each of `classes`.
+    fn witness(&mut self, classes: Classes, block: Block) {
+        if classes.opaque {
+            self.witness_block[1] = Some(block);
+        }
+        if classes.transparent {
+            self.witness_block[0] = Some(block);
+        }
+    }
+}
+
 impl TexelClasses {
     /// The texel coordinates whose footprint can hold the sample point
     /// `p` in grid units (`unit = 2^shift` per texel): nearest
@@ -122,8 +134,9 @@ impl TexelClasses {
                 break;
             }
             // Classes first: a block that can add nothing needs no geometry.
-            let classes = if block.x0 == block.x1 && block.y0 == block.y1 {
-                Classes::of(self.class_of(self.wrap(block.x0, block.y0)))
+            let single = block.x0 == block.x1 && block.y0 == block.y1;
+            let classes = if single {
+                self.class_of(self.wrap(block.x0, block.y0))
             } else {
                 self.block_classes(block)
             };
@@ -135,9 +148,11 @@ impl TexelClasses {
             if !t.meets(rx0, rx1, ry0, ry1) {
                 continue;
             }
-            if !classes.is_mixed() {
+            // Uniform, or one texel (which may pass and fail both, when its
+            // binary32 values straddle the cutoff).
+            if !classes.is_mixed() || single {
                 found.classes = found.classes.union(classes);
-                found.witness_block[usize::from(classes.opaque)] = Some(block);
+                found.witness(classes, block);
                 continue;
             }
             // Mixed and small: test its texels one by one (cheaper than
@@ -155,7 +170,7 @@ impl TexelClasses {
                 }
                 continue;
             }
-            // Mixed: split the longer side (a single texel is never mixed).
+            // Mixed: split the longer side (a single texel was handled).
             if block.x1 - block.x0 >= block.y1 - block.y0 {
                 let mid = block.x0 + (block.x1 - block.x0) / 2;
                 stack.push(Block {
@@ -195,7 +210,7 @@ impl TexelClasses {
             for dx in 0..=side(block.x0, block.x1) {
                 let x = block.x0 + C::from(dx);
                 found.tests += 1;
-                let classes = Classes::of(self.class_of(self.wrap(x, y)));
+                let classes = self.class_of(self.wrap(x, y));
                 if found.classes.union(want.complement()).contains(classes) {
                     continue;
                 }
@@ -209,7 +224,7 @@ impl TexelClasses {
                         y0: y,
                         y1: y,
                     };
-                    found.witness_block[usize::from(classes.opaque)] = Some(texel.wide());
+                    found.witness(classes, texel.wide());
                     if found.classes.contains(want) {
                         return found;
                     }
@@ -283,7 +298,13 @@ mod tests {
                 address_v: address,
                 border_alpha: 0.0,
             };
-            let classes = TexelClasses::new(&texture, sampler, Cutoff::default()).unwrap();
+            let test = crate::bake::texture_unit::AlphaTest::new(
+                Cutoff::default(),
+                sampler.filter,
+                &crate::bake::TextureUnit::default(),
+                1.0,
+            );
+            let classes = TexelClasses::new(&texture, sampler, test).unwrap();
             let shifts = Grid::exact((1 + (next() % 4) as u32, 1 + (next() % 4) as u32));
             // A block of up to 6 x 6 texels ending just inside +-2^62.
             let side = |r: u64, sign: i128| {

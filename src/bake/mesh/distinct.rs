@@ -15,6 +15,7 @@ use crate::bake::mips::mip_bakers;
 use crate::bake::mips::Mips;
 use crate::bake::parallel::Runner;
 use crate::bake::texture::AlphaTexture;
+use crate::bake::texture_unit::LinearRule;
 use crate::bake::triangle::{TriangleStatus, UvTriangle};
 use crate::micromap::TriangleEntry;
 use crate::Level;
@@ -220,16 +221,32 @@ impl Plan {
                 } else {
                     &factored
                 };
-                let make = |texture: &dyn AlphaTexture, sampler| {
-                    Ok(
-                        Baker::new_on(texture, sampler, material.cutoff, u64::MAX, runner)?
+                let scale = f64::from(material.alpha_factor);
+                let make_for = |unit| {
+                    move |texture: &dyn AlphaTexture, sampler| {
+                        let test = (sampler, material.cutoff, unit, scale);
+                        Ok(Baker::new_on(texture, test, u64::MAX, runner)?
                             .with_block_budget(options.block_budget)
-                            .with_model(options.model),
-                    )
+                            .with_model(options.model))
+                    }
                 };
-                let baker = make(texture, material.sampler).map_err(texture_error)?;
-                let mips = mip_bakers(options.mips, texture, material.sampler, &make)
-                    .map_err(texture_error)?;
+                // The mip levels' bounds hold for linear filtering by
+                // footprint (`docs/bake.md`, "Every mip level"): with mip
+                // levels below 0, level 0 is judged so too.
+                let footprint = options.texture_unit.with_linear_rule(LinearRule::Footprint);
+                let unit = if options.mips == Mips::Level0 {
+                    options.texture_unit
+                } else {
+                    footprint
+                };
+                let baker = make_for(unit)(texture, material.sampler).map_err(texture_error)?;
+                let mips = mip_bakers(
+                    options.mips,
+                    texture,
+                    material.sampler,
+                    &make_for(footprint),
+                )
+                .map_err(texture_error)?;
                 let id = plan.bakers.len() as u32;
                 plan.bakers.push(baker);
                 plan.mips.push(mips);
@@ -253,7 +270,13 @@ impl Plan {
                                     high: f64::from_bits(range.1),
                                     upper,
                                 };
-                                Ok(Baker::new(&texture, material.sampler, material.cutoff)
+                                let test = (
+                                    material.sampler,
+                                    material.cutoff,
+                                    options.texture_unit,
+                                    f64::from(material.alpha_factor),
+                                );
+                                Ok(Baker::new_on(&texture, test, u64::MAX, &Runner::serial())
                                     .map_err(texture_error)?
                                     .with_block_budget(options.block_budget)
                                     .with_model(options.model))

@@ -10,6 +10,7 @@ use crate::bake::material::Material;
 use crate::bake::mips::Mips;
 use crate::bake::parallel::Threads;
 use crate::bake::texture::{AlphaTexture, TextureError};
+use crate::bake::texture_unit::TextureUnit;
 use crate::bake::triangle::{BakeError, UvTriangle};
 use crate::bake::work::{DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET};
 use crate::micromap::{BufferError, BuildOptions, Format, UnknownPolicy};
@@ -151,6 +152,11 @@ pub struct MeshOptions {
     /// with the `rayon` feature, one without). The output is the same
     /// bytes for every choice.
     pub threads: Threads,
+    /// The texture unit the known states hold for (default
+    /// [`TextureUnit::default`]: 8 sub-texel bits, binary32 interpolation,
+    /// linear filtering judged by value; see `docs/bake.md`, "The texture
+    /// unit").
+    pub texture_unit: TextureUnit,
     /// How the API buffers are laid out (default: uniform maps become
     /// special indices, which may mix with records; set
     /// [`BuildOptions::no_mixed_special_indices`] for Vulkan KHR's
@@ -174,6 +180,7 @@ impl Default for MeshOptions {
             model: Model::default(),
             mips: Mips::default(),
             threads: Threads::default(),
+            texture_unit: TextureUnit::default(),
             buffers: BuildOptions::default(),
         }
     }

@@ -125,7 +125,8 @@ impl MeshBake {
     ///
     /// ```
     /// use micromap_index::bake::mesh::{bake_mesh, Material, Mesh, MeshOptions, MeshTriangles};
-    /// use micromap_index::bake::{BakedOpacity, Unorm8Texture};
+    /// use micromap_index::bake::Unorm8Texture;
+    /// use micromap_index::micromap::BakedOpacity;
     /// let texels: Vec<u8> = (0..64).map(|i| if (i % 8) < 3 { 255 } else { 0 }).collect();
     /// let texture = Unorm8Texture::new(8, 8, &texels).unwrap();
     /// let triangles = [[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]; 2];

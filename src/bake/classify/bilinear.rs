@@ -1,0 +1,449 @@
+//! Linear filtering by value: what the bilinear filter's value may do (pass
+//! the cutoff, fail it) at a point, and over a micro-triangle dilated by
+//! the grid's margin.
+//!
+//! The filter's value at texel coordinate `(u, v)` is the bilinear mix of
+//! the 2x2 texels from `floor(u - 1/2), floor(v - 1/2)`, with weights
+//! `u - 1/2 - i` and `v - 1/2 - j`: in each cell between four texel
+//! centres, a bilinear function. On a convex piece of a cell a bilinear
+//! function takes its extremes at the piece's vertices or at the one
+//! stationary point of an edge (along a segment it is a quadratic; inside,
+//! it has no extremum: its Hessian's determinant is `-K^2 <= 0`). So, for a
+//! region:
+//!
+//! 1. **The region.** The micro-triangle's vertices, each moved to the four
+//!    corners of the margin's box, and their convex hull: the dilated
+//!    micro-triangle (a Minkowski sum of the triangle and the box).
+//! 2. **A quick bound.** Per cell its bounding box meets, the value at the
+//!    corners of the box's part in the cell (on a box, a bilinear function's
+//!    extremes are at its corners): a range that holds the region's. Most
+//!    regions are decided here.
+//! 3. **The exact extremes** where the quick bound does not decide: the
+//!    region clipped to each cell, the value at each piece's vertices and
+//!    its edges' stationary points.
+//!
+//! The values are the texels' highest binary32 values; the lowest are at
+//! most [`TexelClasses::spread`] below, and a mix of them (weights summing
+//! to 1) too, so the lowest value is taken as the highest's minus the
+//! spread.
+//!
+//! In `f64` from the exact grid, relative to the region's first texel: the
+//! coordinates are below 64 texels there (the callers pass small blocks
+//! only), so each rounding moves a point by at most `2^-46` texels, and a
+//! value (whose gradient is below twice the largest texel value per texel)
+//! by less than `2^-44` of the largest value; the few roundings of
+//! clipping and evaluation add less than that again. [`VALUE_SLACK`]
+//! (`2^-36` of the largest value, at least 1) covers all of it, with room:
+//! the extremes are widened by it.
+
+use super::classes::{margin_in, Block, Grid, Placed};
+use super::tables::TexelClasses;
+use crate::num::wide::GridInt;
+
+/// The widening of the extremes for this module's own `f64` arithmetic, in
+/// units of the largest texel value (at least 1): see the module docs.
+const VALUE_SLACK: f64 = 1.0 / (1u64 << 36) as f64;
+
+/// `2^k` as `f64`, for `-1022 <= k <= 1023`.
+fn exp2(k: i32) -> f64 {
+    f64::from_bits(((1023 + k) as u64) << 52)
+}
+
+/// `c` as `f64`: through `i64` where it fits (an `i128` conversion is a
+/// library call).
+#[inline]
+fn to_f64(c: i128) -> f64 {
+    match i64::try_from(c) {
+        Ok(c) => c as f64,
+        Err(_) => {
+            // The top 63 bits, scaled back: one more rounding (below
+            // 2^-62 relative), far inside the module's slack.
+            let bits = 128 - c.unsigned_abs().leading_zeros();
+            let shift = bits.saturating_sub(62);
+            ((c >> shift) as i64) as f64 * exp2(shift as i32)
+        }
+    }
+}
+
+/// `floor(t)` for the small `t` of a region.
+#[inline]
+fn floor(t: f64) -> i128 {
+    let i = t as i64;
+    i128::from(if (i as f64) > t { i - 1 } else { i })
+}
+
+/// What a region's filtered value may do, as class bits (bit 0: may pass,
+/// bit 1: may fail), with a point of it where the value is lowest and one
+/// where it is highest (texel coordinates from the texture's corner; the
+/// corners of the quick bound's box when that decided).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RegionValue {
+    pub(crate) bits: u8,
+    pub(crate) argmin: (f64, f64),
+    pub(crate) argmax: (f64, f64),
+    /// Cells evaluated (work units).
+    pub(crate) cells: u32,
+}
+
+/// A polygon of at most 16 vertices (the hull has at most 12; each of four
+/// clips adds at most one).
+#[derive(Clone, Copy)]
+struct Polygon {
+    points: [(f64, f64); 16],
+    len: usize,
+}
+
+impl Polygon {
+    fn push(&mut self, p: (f64, f64)) {
+        if self.len < self.points.len() {
+            self.points[self.len] = p;
+            self.len += 1;
+        }
+    }
+
+    fn points(&self) -> &[(f64, f64)] {
+        &self.points[..self.len]
+    }
+
+    /// The part where `inside(p) >= 0` (`inside` affine), by
+    /// Sutherland-Hodgman.
+    fn clip(&self, inside: impl Fn((f64, f64)) -> f64) -> Polygon {
+        let mut out = Polygon {
+            points: [(0.0, 0.0); 16],
+            len: 0,
+        };
+        let n = self.len;
+        for k in 0..n {
+            let (p, q) = (self.points[k], self.points[(k + 1) % n]);
+            let (dp, dq) = (inside(p), inside(q));
+            if dp >= 0.0 {
+                out.push(p);
+            }
+            if (dp >= 0.0) != (dq >= 0.0) {
+                let t = dp / (dp - dq);
+                out.push((p.0 + t * (q.0 - p.0), p.1 + t * (q.1 - p.1)));
+            }
+        }
+        out
+    }
+}
+
+/// The convex hull (Andrew's monotone chain) of `points`; degenerate
+/// inputs keep what the chain keeps (a segment's ends, a point).
+fn hull(points: &mut [(f64, f64)]) -> Polygon {
+    points.sort_unstable_by(|a, b| a.partial_cmp(b).unwrap_or(core::cmp::Ordering::Equal));
+    let cross = |o: (f64, f64), a: (f64, f64), b: (f64, f64)| {
+        (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
+    };
+    let mut h = [(0.0, 0.0); 32];
+    let mut k = 0;
+    for &p in points.iter() {
+        while k >= 2 && cross(h[k - 2], h[k - 1], p) <= 0.0 {
+            k -= 1;
+        }
+        h[k] = p;
+        k += 1;
+    }
+    let lower = k + 1;
+    for &p in points.iter().rev().skip(1) {
+        while k >= lower && cross(h[k - 2], h[k - 1], p) <= 0.0 {
+            k -= 1;
+        }
+        h[k] = p;
+        k += 1;
+    }
+    let mut out = Polygon {
+        points: [(0.0, 0.0); 16],
+        len: 0,
+    };
+    // The last point repeats the first.
+    for &p in &h[..k.saturating_sub(1).max(1)] {
+        out.push(p);
+    }
+    out
+}
+
+/// The triangle `t` dilated by the box `[-mx, mx] x [-my, my]` (their
+/// Minkowski sum): walking the triangle counter-clockwise, each vertex
+/// moved to the box corners whose quadrants its edges' outward normals
+/// sweep (at most seven vertices). A degenerate triangle, or no box, goes
+/// through [`hull`].
+fn dilated(t: [(f64, f64); 3], (mx, my): (f64, f64)) -> Polygon {
+    let cross = (t[1].0 - t[0].0) * (t[2].1 - t[0].1) - (t[1].1 - t[0].1) * (t[2].0 - t[0].0);
+    if mx == 0.0 && my == 0.0 {
+        let mut out = Polygon {
+            points: [(0.0, 0.0); 16],
+            len: 0,
+        };
+        for p in t {
+            out.push(p);
+        }
+        return out;
+    }
+    if cross == 0.0 || cross.is_nan() {
+        let mut corners = [(0.0, 0.0); 12];
+        for (k, p) in t.iter().enumerate() {
+            for (c, (ex, ey)) in [(-mx, -my), (mx, -my), (mx, my), (-mx, my)]
+                .into_iter()
+                .enumerate()
+            {
+                corners[4 * k + c] = (p.0 + ex, p.1 + ey);
+            }
+        }
+        return hull(&mut corners);
+    }
+    let t = if cross > 0.0 { t } else { [t[0], t[2], t[1]] };
+    // Box corners counter-clockwise, and the one an outward normal's
+    // quadrant picks.
+    let corner = [(mx, -my), (mx, my), (-mx, my), (-mx, -my)];
+    let quadrant = |n: (f64, f64)| -> usize {
+        if n.0 > 0.0 && n.1 <= 0.0 {
+            0
+        } else if n.0 >= 0.0 && n.1 > 0.0 {
+            1
+        } else if n.0 < 0.0 && n.1 >= 0.0 {
+            2
+        } else {
+            3
+        }
+    };
+    let normal = |a: (f64, f64), b: (f64, f64)| (b.1 - a.1, -(b.0 - a.0));
+    let mut out = Polygon {
+        points: [(0.0, 0.0); 16],
+        len: 0,
+    };
+    for i in 0..3 {
+        let (prev, here, next) = (t[(i + 2) % 3], t[i], t[(i + 1) % 3]);
+        let (from, to) = (quadrant(normal(prev, here)), quadrant(normal(here, next)));
+        let mut q = from;
+        loop {
+            out.push((here.0 + corner[q].0, here.1 + corner[q].1));
+            if q == to {
+                break;
+            }
+            q = (q + 1) % 4;
+        }
+    }
+    out
+}
+
+/// The bilinear value at `(a, b)` in `[0, 1]^2` of a cell whose corners
+/// hold `v = [v00, v10, v01, v11]`.
+#[inline]
+fn bilinear(v: [f64; 4], a: f64, b: f64) -> f64 {
+    let k = v[0] - v[1] - v[2] + v[3];
+    v[0] + a * (v[1] - v[0]) + b * (v[2] - v[0]) + a * b * k
+}
+
+/// The candidate points of one clipped piece (cell coordinates): its
+/// vertices and its edges' stationary points; `visit` gets each.
+fn candidates(piece: &Polygon, v: [f64; 4], mut visit: impl FnMut(f64, f64)) {
+    let k = v[0] - v[1] - v[2] + v[3];
+    let n = piece.len;
+    for i in 0..n {
+        let (a0, b0) = piece.points[i];
+        visit(a0, b0);
+        let (a1, b1) = piece.points[(i + 1) % n];
+        let (da, db) = (a1 - a0, b1 - b0);
+        let curvature = k * da * db;
+        if curvature != 0.0 {
+            // d/dt of the value along the edge, at t = 0, and its zero.
+            let slope = (v[1] - v[0]) * da + (v[2] - v[0]) * db + k * (a0 * db + b0 * da);
+            let t = -slope / (2.0 * curvature);
+            if t > 0.0 && t < 1.0 {
+                visit(a0 + t * da, b0 + t * db);
+            }
+        }
+    }
+}
+
+/// Running extremes and where they are.
+struct Running {
+    min: f64,
+    max: f64,
+    argmin: (f64, f64),
+    argmax: (f64, f64),
+    largest: f64,
+    nan: bool,
+}
+
+impl Running {
+    fn new() -> Running {
+        Running {
+            min: f64::INFINITY,
+            max: f64::NEG_INFINITY,
+            argmin: (0.0, 0.0),
+            argmax: (0.0, 0.0),
+            largest: 1.0,
+            nan: false,
+        }
+    }
+
+    #[inline]
+    fn add(&mut self, value: f64, at: (f64, f64)) {
+        if value.is_nan() {
+            self.nan = true;
+        } else {
+            if value < self.min {
+                self.min = value;
+                self.argmin = at;
+            }
+            if value > self.max {
+                self.max = value;
+                self.argmax = at;
+            }
+        }
+    }
+
+    /// The class bits under `classes`' test: the lowest value less the
+    /// spread and the slack, the highest plus the slack. A NaN texel gives
+    /// a NaN mix, which passes no cutoff: a value that fails.
+    fn bits(&self, classes: &TexelClasses) -> u8 {
+        let slack = VALUE_SLACK * self.largest;
+        let min = if self.nan {
+            f64::NAN
+        } else {
+            self.min - classes.spread - slack
+        };
+        classes.test.range_bits(min, self.max + slack)
+    }
+}
+
+impl TexelClasses {
+    /// The highest values of the texels around cell `(i, j)` (texel
+    /// coordinates of its top-left texel, before wrapping),
+    /// `[v00, v10, v01, v11]`, and the largest magnitude among them.
+    #[inline]
+    fn cell_values(&self, i: i128, j: i128) -> [f64; 4] {
+        let v = |dx: i128, dy: i128| f64::from(self.value_of(self.wrap(i + dx, j + dy)));
+        [v(0, 0), v(1, 0), v(0, 1), v(1, 1)]
+    }
+
+    /// What the filtered value may do at the grid point `(x, y)` (grid
+    /// `shifts`), as class bits: its footprint's classes when they are one,
+    /// else the value itself, widened as the module docs say.
+    pub(crate) fn point_bits<C: GridInt>(&self, (x, y): (C, C), (sx, sy): (u32, u32)) -> u8 {
+        let block: Block<C> = self.bounding_block((x, x), (y, y), Grid::exact((sx, sy)));
+        let classes = self.quick(block);
+        if !classes.is_mixed() {
+            return u8::from(classes.opaque) | (u8::from(classes.transparent) << 1);
+        }
+        let block = block.wide();
+        let (x, y): (i128, i128) = (x.into(), y.into());
+        // The weights: the point's offset from the centre of texel x0.
+        let frac =
+            |c: i128, i: i128, s: u32| to_f64(c - ((2 * i + 1) << (s - 1))) * exp2(-(s as i32));
+        let (a, b) = (frac(x, block.x0, sx), frac(y, block.y0, sy));
+        let v = self.cell_values(block.x0, block.y0);
+        let mut running = Running::new();
+        for value in v {
+            running.largest = running.largest.max(value.abs());
+        }
+        running.add(
+            bilinear(v, a.clamp(0.0, 1.0), b.clamp(0.0, 1.0)),
+            (0.0, 0.0),
+        );
+        running.bits(self)
+    }
+
+    /// What the filtered value may do over `p` dilated by `grid`'s margin
+    /// (see the [module docs](self)). Only for a micro-triangle whose
+    /// bounding block of texels is small (below 64 texels on a side) and
+    /// a table holding values.
+    pub(crate) fn region_value<C: GridInt>(&self, p: &Placed<C>, grid: Grid) -> RegionValue {
+        let (sx, sy) = grid.shifts;
+        let x: [i128; 3] = p.x.map(Into::into);
+        let y: [i128; 3] = p.y.map(Into::into);
+        // The region's first texel, and coordinates relative to it.
+        let ox = x[0].min(x[1]).min(x[2]) >> sx;
+        let oy = y[0].min(y[1]).min(y[2]) >> sy;
+        let (ux, uy) = (exp2(-(sx as i32)), exp2(-(sy as i32)));
+        let mx = to_f64(margin_in::<i128>(grid.margin.0)) * ux;
+        let my = to_f64(margin_in::<i128>(grid.margin.1)) * uy;
+        let vertices = [0, 1, 2].map(|k| {
+            (
+                to_f64(x[k] - (ox << sx)) * ux,
+                to_f64(y[k] - (oy << sy)) * uy,
+            )
+        });
+        let region = dilated(vertices, (mx, my));
+        let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+        for &(px, py) in region.points() {
+            x0 = x0.min(px);
+            x1 = x1.max(px);
+            y0 = y0.min(py);
+            y1 = y1.max(py);
+        }
+        let at = |ci: f64, cj: f64, a: f64, b: f64| {
+            (
+                to_f64(ox) + ci + a.clamp(0.0, 1.0),
+                to_f64(oy) + cj + b.clamp(0.0, 1.0),
+            )
+        };
+        let cells_x = floor(x0 - 0.5)..=floor(x1 - 0.5);
+        let cells_y = floor(y0 - 0.5)..=floor(y1 - 0.5);
+        let mut cells = 0u32;
+        // 2. The quick bound: the bounding box's part in each cell, at its
+        //    corners.
+        let mut quick = Running::new();
+        for j in cells_y.clone() {
+            for i in cells_x.clone() {
+                let (ci, cj) = (to_f64(i) + 0.5, to_f64(j) + 0.5);
+                let v = self.cell_values(ox + i, oy + j);
+                cells += 1;
+                for value in v {
+                    quick.largest = quick.largest.max(value.abs());
+                }
+                let (a0, a1) = ((x0 - ci).clamp(0.0, 1.0), (x1 - ci).clamp(0.0, 1.0));
+                let (b0, b1) = ((y0 - cj).clamp(0.0, 1.0), (y1 - cj).clamp(0.0, 1.0));
+                for (a, b) in [(a0, b0), (a1, b0), (a0, b1), (a1, b1)] {
+                    quick.add(bilinear(v, a, b), at(ci, cj, a, b));
+                }
+            }
+        }
+        let bits = quick.bits(self);
+        if bits != 3 {
+            return RegionValue {
+                bits,
+                argmin: quick.argmin,
+                argmax: quick.argmax,
+                cells,
+            };
+        }
+        // 3. The exact extremes: the region clipped to each cell.
+        let mut exact = Running::new();
+        exact.largest = quick.largest;
+        for j in cells_y {
+            for i in cells_x.clone() {
+                let (ci, cj) = (to_f64(i) + 0.5, to_f64(j) + 0.5);
+                let mut piece = region;
+                for q in &mut piece.points[..piece.len] {
+                    *q = (q.0 - ci, q.1 - cj);
+                }
+                let inside = x0 >= ci && x1 <= ci + 1.0 && y0 >= cj && y1 <= cj + 1.0;
+                if !inside {
+                    piece = piece
+                        .clip(|q| q.0)
+                        .clip(|q| 1.0 - q.0)
+                        .clip(|q| q.1)
+                        .clip(|q| 1.0 - q.1);
+                }
+                if piece.len == 0 {
+                    continue;
+                }
+                cells += 1;
+                let v = self.cell_values(ox + i, oy + j);
+                candidates(&piece, v, |a, b| {
+                    let value = bilinear(v, a.clamp(0.0, 1.0), b.clamp(0.0, 1.0));
+                    exact.add(value, at(ci, cj, a, b));
+                });
+            }
+        }
+        RegionValue {
+            bits: exact.bits(self),
+            argmin: exact.argmin,
+            argmax: exact.argmax,
+            cells,
+        }
+    }
+}
