@@ -16,8 +16,8 @@ use cli_support::write_all_or_nothing::{Destination, Refusal};
 use micromap_index::bake::mesh::{bake_meshes, LevelRule};
 use micromap_index::micromap::IndexWidth;
 use micromap_index_render::{
-    classify, Camera, Classified, Faults, Frame, Method, Micromaps, RenderError, Renderer, Scene,
-    SceneMesh, SceneTexture, Tracer,
+    classify, Camera, Classified, ErrorClass, Faults, Frame, Method, Micromaps, RenderError,
+    Renderer, Scene, SceneMesh, SceneTexture, Tracer,
 };
 use serde_json::{json, Value};
 use std::fmt::Write as _;
@@ -458,14 +458,17 @@ fn contradiction_line(label: &str, c: &Classified) -> String {
     )
 }
 
-fn render_failure(program: &Program, e: RenderError) -> Failure {
-    match e {
-        RenderError::NoDevice(message) => {
-            program.report(format_args!("render: {message}"));
-            Failure::Exit(Exit::NoDevice)
-        }
-        RenderError::Input(message) => Failure::Malformed(message),
-        other => Failure::Io(format!("render: {other}")),
+/// Exit 4 after saying why there is no device.
+fn no_device(program: &Program, message: &str) -> Failure {
+    program.report(format_args!("render: {message}"));
+    Failure::Exit(Exit::NoDevice)
+}
+
+fn render_failure(program: &Program, e: &RenderError) -> Failure {
+    match e.class() {
+        ErrorClass::NoDevice => no_device(program, &e.to_string()),
+        ErrorClass::Input => Failure::Malformed(e.to_string()),
+        ErrorClass::Device => Failure::Io(format!("render: {e}")),
     }
 }
 
@@ -524,15 +527,16 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
         None => framing(&scene, size)?,
     };
     let (maps, source) = micromaps(&source, &input)?;
-    let renderer = Renderer::new(&scene, Some(&maps)).map_err(|e| render_failure(program, e))?;
+    let renderer = Renderer::new(&scene, Some(&maps)).map_err(|e| render_failure(program, &e))?;
     if let Some(missing) = tracers.iter().find(|t| !renderer.tracers().contains(t)) {
-        return Err(render_failure(
+        return Err(no_device(
             program,
-            RenderError::NoDevice(format!(
-            "{}: no VK_KHR_ray_tracing_pipeline for the {} tracer (--tracer query traces without it)",
-            renderer.device_name(),
-            missing.name()
-        ))));
+            &format!(
+                "{}: no VK_KHR_ray_tracing_pipeline for the {} tracer (--tracer query traces without it)",
+                renderer.device_name(),
+                missing.name()
+            ),
+        ));
     }
     // Claimed once the device is there: exit 4 leaves DIR untouched.
     let destination = Destination::claim(&out, &name_refs, p.flag("--force")).map_err(
@@ -549,7 +553,7 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
             for _ in 0..frames {
                 let frame = renderer
                     .render(tracer, method, &camera, size, faults, max_report)
-                    .map_err(|e| render_failure(program, e))?;
+                    .map_err(|e| render_failure(program, &e))?;
                 cpu = match (cpu, frame.cpu_seconds) {
                     (Some(a), Some(b)) => Some(a.min(b)),
                     (a, b) => a.or(b),

@@ -1,7 +1,7 @@
 //! What a frame traces: the scene (triangles with positions and UVs, their
 //! textures and materials) and the micromaps for its triangles.
 
-use crate::RenderError;
+use crate::error::{RenderError, SceneError};
 use micromap_index::bake::mesh::Material;
 use micromap_index::bake::{AddressMode, Comparison, Filter, UvTriangle};
 use micromap_index::micromap::{
@@ -62,45 +62,46 @@ impl Scene {
         positions: &[[[f32; 3]; 3]],
         uvs: &[UvTriangle],
     ) -> Result<(), RenderError> {
-        let bad = |m: String| Err(RenderError::Input(m));
+        let mesh_number = self.meshes.len();
         let Some(t) = self.textures.get(mesh.texture) else {
-            return bad(format!(
-                "mesh {}: no texture {}",
-                self.meshes.len(),
-                mesh.texture
-            ));
+            return Err(SceneError::NoTexture {
+                mesh: mesh_number,
+                texture: mesh.texture,
+            }
+            .into());
         };
         if t.width == 0
             || t.height == 0
             || t.alphas.len() as u64 != u64::from(t.width) * u64::from(t.height)
         {
-            return bad(format!(
-                "texture {}: {} alphas for {}x{}",
-                mesh.texture,
-                t.alphas.len(),
-                t.width,
-                t.height
-            ));
+            return Err(SceneError::TextureSize {
+                texture: mesh.texture,
+                alphas: t.alphas.len(),
+                width: t.width,
+                height: t.height,
+            }
+            .into());
         }
         if positions.len() != uvs.len() {
-            return bad(format!(
-                "mesh {}: {} positions for {} UV triangles",
-                self.meshes.len(),
-                positions.len(),
-                uvs.len()
-            ));
+            return Err(SceneError::Lengths {
+                mesh: mesh_number,
+                positions: positions.len(),
+                uvs: uvs.len(),
+            }
+            .into());
         }
-        if let Some(i) = (0..uvs.len()).find(|&i| {
+        if let Some(triangle) = (0..uvs.len()).find(|&i| {
             positions[i].iter().flatten().any(|x| !x.is_finite())
                 || uvs[i].iter().flatten().any(|x| !x.is_finite())
         }) {
-            return bad(format!(
-                "mesh {} triangle {i}: a position or UV is not finite",
-                self.meshes.len()
-            ));
+            return Err(SceneError::NotFinite {
+                mesh: mesh_number,
+                triangle,
+            }
+            .into());
         }
         if self.uvs.len() + uvs.len() > (1 << 24) {
-            return bad("more than 2^24 triangles".into());
+            return Err(SceneError::TooManyTriangles.into());
         }
         let m = self.meshes.len() as u32;
         self.meshes.push(mesh);
@@ -243,7 +244,7 @@ impl Micromaps {
                 ..ReadOptions::default()
             },
         )
-        .map_err(|e| RenderError::Input(format!("micromaps: {e}")))?;
+        .map_err(RenderError::Micromaps)?;
         Ok(Micromaps {
             data,
             records,
@@ -260,7 +261,7 @@ impl Micromaps {
             indices.extend(
                 buffers
                     .index_bytes(g, IndexWidth::U32)
-                    .map_err(|e| RenderError::Input(e.to_string()))?,
+                    .map_err(RenderError::MicromapBuffers)?,
             );
         }
         Micromaps::from_bytes(
@@ -301,10 +302,10 @@ impl Micromaps {
     pub(crate) fn check_for(&self, scene: &Scene) -> Result<(), RenderError> {
         let n = self.read.indices.as_ref().map_or(0, Vec::len);
         if n != scene.triangle_count() {
-            return Err(RenderError::Input(format!(
-                "micromaps: {n} indices for {} triangles",
-                scene.triangle_count()
-            )));
+            return Err(RenderError::IndexCount {
+                indices: n,
+                triangles: scene.triangle_count(),
+            });
         }
         Ok(())
     }
