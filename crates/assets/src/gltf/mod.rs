@@ -30,6 +30,7 @@ mod image;
 mod json;
 mod material;
 mod micromap_ext;
+mod nodes;
 mod position;
 mod raw;
 mod sampler;
@@ -41,6 +42,7 @@ mod write_dir;
 pub use self::micromap_ext::{
     read_gltf_micromaps, GltfMicromap, GltfMicromapPrimitive, GltfMicromaps,
 };
+pub use self::nodes::IDENTITY_TRANSFORM;
 pub use self::write::{
     relative_uri_prefix, write_gltf_micromaps, GltfContainer, GltfFiles, GltfMicromapWrite,
     EXTENSION, MAX_GLTF_LEVEL,
@@ -106,6 +108,15 @@ pub struct MaskPrimitive {
     /// mesh's own space (node transforms are not applied), for renderers;
     /// `None` without `POSITION`. `VEC3` of `FLOAT`, every value finite.
     pub positions: Option<Vec<[[f32; 3]; 3]>>,
+    /// Where a renderer draws the mesh: the world transforms (row-major
+    /// 3x4, binary32, rounded once from binary64 products) of the default
+    /// scene's nodes that instance [`mesh`](Self::mesh), depth first from
+    /// the scene's roots: `matrix`, or `translation * rotation * scale`,
+    /// composed from the roots down. Empty when no node of the scene
+    /// instances the mesh; [`IDENTITY_TRANSFORM`] once when the asset has no `nodes`,
+    /// or when its node tree is malformed (a warning says why).
+    /// `KHR_mesh_gpu_instancing` instances are not included.
+    pub instances: Vec<[f32; 12]>,
 }
 
 impl MaskPrimitive {
@@ -209,8 +220,9 @@ pub fn read_gltf_file(path: &Path, limits: &Limits) -> Result<GltfAsset, AssetEr
 /// percent-encoded) are decoded here, and URIs with any other scheme are
 /// refused without calling it. For fuzzing without a filesystem.
 ///
-/// For every primitive of every mesh (in order; nodes and scenes are not
-/// read, so every mesh counts once):
+/// For every primitive of every mesh (in order; every mesh is baked once,
+/// however many nodes instance it; the node tree only places the mesh for
+/// renderers, [`MaskPrimitive::instances`]):
 ///
 /// * mode 4 (`TRIANGLES`, the default) is read; other modes are skipped
 ///   with a warning;
@@ -592,6 +604,7 @@ impl Reader<'_, '_> {
                     triangles,
                     vertex_alpha,
                     positions,
+                    instances: vec![IDENTITY_TRANSFORM],
                 });
             }
         }
@@ -622,7 +635,24 @@ impl Reader<'_, '_> {
                 "materials[{material}].pbrMetallicRoughness.baseColorTexture has KHR_texture_transform: applied to the UVs (exactly)"
             ));
         }
+        self.place_primitives(meshes.len());
         Ok(())
+    }
+
+    /// Each primitive's [`MaskPrimitive::instances`] from the node tree
+    /// (bakes do not need it: a malformed tree is a warning).
+    fn place_primitives(&mut self, meshes: usize) {
+        match nodes::mesh_instances(&self.root, meshes) {
+            Ok(None) => {}
+            Ok(Some(instances)) => {
+                for p in &mut self.asset.primitives {
+                    p.instances.clone_from(&instances[p.mesh]);
+                }
+            }
+            Err(why) => self.warn(format!(
+                "node transforms not applied ({why}): renderers draw each mesh once, in its own space"
+            )),
+        }
     }
 }
 
