@@ -36,6 +36,11 @@ fn compose(a: &Affine, b: &Affine) -> Affine {
     out
 }
 
+/// A reader's error as the reason a tree is not applied.
+fn error(e: impl std::fmt::Display) -> String {
+    e.to_string()
+}
+
 /// `count` finite numbers at `node[key]`, or `None` when absent.
 fn numbers(node: &Obj<'_>, key: &str, count: usize) -> Result<Option<Vec<f64>>, String> {
     let Some(value) = node.map.get(key) else {
@@ -113,7 +118,6 @@ pub(super) fn mesh_instances(
     root: &Obj<'_>,
     meshes: usize,
 ) -> Result<Option<Vec<Vec<[f32; 12]>>>, String> {
-    let error = |e: crate::AssetError| e.to_string();
     let nodes = root.opt_array("nodes").map_err(error)?.unwrap_or_default();
     if nodes.is_empty() {
         return Ok(None);
