@@ -63,6 +63,16 @@ pub enum SceneError {
     },
     /// More than `2^24` triangles in all.
     TooManyTriangles,
+    /// A transform that is not finite.
+    Transform {
+        /// The mesh's number.
+        mesh: usize,
+        /// The instance.
+        instance: usize,
+    },
+    /// More than [`MAX_INSTANCES`](crate::MAX_INSTANCES) instances
+    /// in all.
+    TooManyInstances,
 }
 
 impl fmt::Display for SceneError {
@@ -90,6 +100,11 @@ impl fmt::Display for SceneError {
                 "mesh {mesh} triangle {triangle}: a position or UV is not finite"
             ),
             SceneError::TooManyTriangles => f.write_str("more than 2^24 triangles"),
+            SceneError::Transform { mesh, instance } => write!(
+                f,
+                "mesh {mesh} instance {instance}: a transform that is not finite"
+            ),
+            SceneError::TooManyInstances => f.write_str("more than 2^20 mesh instances"),
         }
     }
 }
@@ -107,13 +122,35 @@ pub enum RenderError {
     NoInstance(vk::Result),
     /// The instance has no physical device.
     NoPhysicalDevice,
-    /// No physical device has what the request needs.
+    /// No physical device (or not the one selected) has what the request
+    /// needs.
     NoSuitableDevice {
         /// The extensions the request names (besides Vulkan 1.2).
         needed: Vec<&'static str>,
-        /// The devices that were there.
+        /// The devices considered and what each lacks (`Vulkan 1.2` or
+        /// extension names).
+        found: Vec<(String, Vec<&'static str>)>,
+    },
+    /// No physical device is the one a selector names.
+    DeviceNotFound {
+        /// The selector, as text (`number 3`, `named like "nvidia"`).
+        selector: String,
+        /// The devices there are, `N: name`.
         found: Vec<String>,
     },
+    /// The device's driver cannot take a micromap this deep.
+    MicromapLevel {
+        /// The record.
+        record: usize,
+        /// Its level.
+        level: u32,
+        /// Its format's states (2 or 4).
+        states: u32,
+        /// The device's most.
+        max: u32,
+    },
+    /// `VK_EXT_opacity_micromap` takes 16- and 32-bit indices only.
+    MicromapIndexWidth,
     /// The chosen device has no compute queue.
     NoComputeQueue {
         /// The device.
@@ -132,6 +169,12 @@ pub enum RenderError {
         device: String,
         /// The tracer.
         tracer: Tracer,
+    },
+    /// A hardware method was asked of a renderer built without the
+    /// driver's micromaps.
+    NoHardwareMicromaps {
+        /// The device.
+        device: String,
     },
     /// A Vulkan call failed.
     Vulkan {
@@ -199,9 +242,11 @@ impl RenderError {
             | RenderError::NoInstance(_)
             | RenderError::NoPhysicalDevice
             | RenderError::NoSuitableDevice { .. }
+            | RenderError::DeviceNotFound { .. }
             | RenderError::NoComputeQueue { .. }
             | RenderError::DeviceCreation { .. }
-            | RenderError::NoTracer { .. } => ErrorClass::NoDevice,
+            | RenderError::NoTracer { .. }
+            | RenderError::NoHardwareMicromaps { .. } => ErrorClass::NoDevice,
             RenderError::Vulkan { .. }
             | RenderError::Allocation { .. }
             | RenderError::NoHostVisibleMemory => ErrorClass::Device,
@@ -212,8 +257,19 @@ impl RenderError {
             | RenderError::Tree { .. }
             | RenderError::Camera { .. }
             | RenderError::Size { .. }
-            | RenderError::NeedsMicromaps(_) => ErrorClass::Input,
+            | RenderError::NeedsMicromaps(_)
+            | RenderError::MicromapLevel { .. }
+            | RenderError::MicromapIndexWidth => ErrorClass::Input,
         }
+    }
+}
+
+/// `a`, `a and b`, `a, b and c`.
+fn listed(names: &[&str]) -> String {
+    match names {
+        [] => String::new(),
+        [one] => (*one).to_string(),
+        [rest @ .., last] => format!("{} and {last}", rest.join(", ")),
     }
 }
 
@@ -231,11 +287,47 @@ impl fmt::Display for RenderError {
             RenderError::NoPhysicalDevice => f.write_str(
                 "no Vulkan device (no ICD found: Debian: mesa-vulkan-drivers from bookworm-backports)",
             ),
-            RenderError::NoSuitableDevice { needed, found } => write!(
+            RenderError::NoSuitableDevice { needed, found } => {
+                let lacking: Vec<String> = found
+                    .iter()
+                    .map(|(name, lacks)| format!("{name} without {}", listed(lacks)))
+                    .collect();
+                write!(
+                    f,
+                    "no Vulkan device with {} (found: {})",
+                    listed(needed),
+                    lacking.join("; ")
+                )?;
+                let lacks = |name| found.iter().any(|(_, l)| l.contains(&name));
+                if lacks("VK_EXT_opacity_micromap") {
+                    f.write_str(
+                        "; no CPU Vulkan driver has VK_EXT_opacity_micromap (Mesa's lavapipe neither)",
+                    )?;
+                }
+                if ["Vulkan 1.2", "VK_KHR_acceleration_structure", "VK_KHR_ray_query"]
+                    .into_iter()
+                    .any(lacks)
+                {
+                    f.write_str("; lavapipe has ray queries from Mesa 25, Debian bookworm-backports")?;
+                }
+                Ok(())
+            }
+            RenderError::DeviceNotFound { selector, found } => write!(
                 f,
-                "no Vulkan device with {} (found: {}; lavapipe has them from Mesa 25, Debian bookworm-backports)",
-                needed.join(" and "),
+                "no Vulkan device {selector} (found: {})",
                 found.join(", ")
+            ),
+            RenderError::MicromapLevel {
+                record,
+                level,
+                states,
+                max,
+            } => write!(
+                f,
+                "micromaps: record {record} has level {level}, above the device's most for {states}-state micromaps, {max}"
+            ),
+            RenderError::MicromapIndexWidth => f.write_str(
+                "micromaps: VK_EXT_opacity_micromap takes 16- and 32-bit indices only (8-bit given)",
             ),
             RenderError::NoComputeQueue { device } => write!(f, "{device}: no compute queue"),
             RenderError::DeviceCreation { device, result } => {
@@ -243,8 +335,12 @@ impl fmt::Display for RenderError {
             }
             RenderError::NoTracer { device, tracer } => write!(
                 f,
-                "{device}: no {} tracer (VK_KHR_ray_tracing_pipeline is missing)",
+                "{device}: no {} tracer was built",
                 tracer.name()
+            ),
+            RenderError::NoHardwareMicromaps { device } => write!(
+                f,
+                "{device}: the driver's micromaps were not built (they need VK_EXT_opacity_micromap)"
             ),
             RenderError::Vulkan { call, result } => write!(f, "{call}: {result}"),
             RenderError::Allocation { bytes, result } => {

@@ -7,6 +7,9 @@ use crate::method::{Method, Tracer};
 /// Most pixels of a frame (the pixel buffer's words stay below 2^31).
 pub const MAX_PIXELS: u64 = 1 << 22;
 
+/// Words per pixel (shader `PIXEL_WORDS`): committed triangle + 1, t's
+/// bits, contradicted candidates.
+pub(crate) const PIXEL_WORDS: usize = 3;
 /// Counter words before the contradiction records (shader `COUNTERS`).
 pub(crate) const COUNTER_WORDS: usize = 8;
 /// Words per contradiction record (shader `RECORD_WORDS`).
@@ -71,58 +74,74 @@ pub struct Frame {
     pub hits: Vec<[u32; 2]>,
     /// The counters.
     pub counters: Counters,
-    /// The first contradictions (at most the `max_records` asked for).
+    /// The first contradictions in pixel order (row-major; within a pixel
+    /// by triangle and barycentrics), at most the `max_records` asked for:
+    /// the same records whatever order the device ran the candidates in.
     pub contradictions: Vec<Contradiction>,
     /// Process CPU seconds of the dispatch (the CPU device's threads are
     /// the process's), where the platform has a process clock.
     pub cpu_seconds: Option<f64>,
     /// Wall-clock seconds of the dispatch.
     pub wall_seconds: f64,
+    /// Seconds between the device's timestamps around the dispatch, where
+    /// its queue writes timestamps (the frame time on a GPU).
+    pub device_seconds: Option<f64>,
 }
 
 impl Frame {
-    /// The frame of `tracer` and `method` from the shader's pixel words
-    /// (two per pixel) and counter words (the counters, then the records).
-    pub(crate) fn from_words(
-        (tracer, method): (Tracer, Method),
-        (width, height): (u32, u32),
-        pixel_words: &[u32],
-        c: &[u32],
-        max_records: u32,
-    ) -> Frame {
-        let recorded = (c[7] as usize).min(max_records as usize);
-        let contradictions = (0..recorded)
-            .map(|r| {
-                let w = &c[COUNTER_WORDS + RECORD_WORDS * r..][..RECORD_WORDS];
-                Contradiction {
-                    x: w[0] % width,
-                    y: w[0] / width,
-                    triangle: w[1],
-                    micro_triangle: w[2],
-                    b1_bits: w[3],
-                    b2_bits: w[4],
-                    state: w[5],
-                }
-            })
-            .collect();
-        Frame {
-            tracer,
-            method,
-            width,
-            height,
-            hits: pixel_words.chunks_exact(2).map(|h| [h[0], h[1]]).collect(),
-            counters: Counters {
-                rays: u64::from(c[0]),
-                candidates: u64::from(c[1]),
-                texture_fetches: u64::from(c[2]),
-                known: u64::from(c[3]),
-                unknown: u64::from(c[4]),
-                contradicted: u64::from(c[5]),
-                invalid: u64::from(c[6]),
-            },
-            contradictions,
-            cpu_seconds: None,
-            wall_seconds: 0.0,
+    /// The fraction of pixels whose ray committed a hit.
+    #[must_use]
+    pub fn hit_fraction(&self) -> f64 {
+        if self.hits.is_empty() {
+            return 0.0;
         }
+        self.hits.iter().filter(|h| h[0] != 0).count() as f64 / self.hits.len() as f64
     }
+}
+
+/// The counters of the shader's counter words.
+pub(crate) fn counters_from_words(c: &[u32]) -> Counters {
+    Counters {
+        rays: u64::from(c[0]),
+        candidates: u64::from(c[1]),
+        texture_fetches: u64::from(c[2]),
+        known: u64::from(c[3]),
+        unknown: u64::from(c[4]),
+        contradicted: u64::from(c[5]),
+        invalid: u64::from(c[6]),
+    }
+}
+
+/// The contradiction records of the shader's counter words (at most
+/// `max_records`), for a frame `width` pixels wide, ordered by pixel (then
+/// triangle, barycentrics, state, micro-triangle): the order does not
+/// depend on the order the device ran the candidates in.
+pub(crate) fn records_from_words(c: &[u32], max_records: u32, width: u32) -> Vec<Contradiction> {
+    let recorded = (c[7] as usize).min(max_records as usize);
+    let mut records: Vec<(u32, Contradiction)> = (0..recorded)
+        .map(|r| {
+            let w = &c[COUNTER_WORDS + RECORD_WORDS * r..][..RECORD_WORDS];
+            let record = Contradiction {
+                x: w[0] % width,
+                y: w[0] / width,
+                triangle: w[1],
+                micro_triangle: w[2],
+                b1_bits: w[3],
+                b2_bits: w[4],
+                state: w[5],
+            };
+            (w[0], record)
+        })
+        .collect();
+    records.sort_by_key(|(pixel, r)| {
+        (
+            *pixel,
+            r.triangle,
+            r.b1_bits,
+            r.b2_bits,
+            r.state,
+            r.micro_triangle,
+        )
+    });
+    records.into_iter().map(|(_, r)| r).collect()
 }

@@ -52,11 +52,34 @@ pub enum Method {
     /// The paper's Algorithm 3 over `PaperTree` bytes (`paper_tree.glsl`),
     /// 4-state.
     PaperTree,
+    /// The driver's own opacity micromap (`VK_EXT_opacity_micromap`)
+    /// built from the same buffers and attached to the BLAS: the traversal
+    /// decides known states, the shader runs the alpha test on what it is
+    /// handed. Its picture must equal the alpha test's.
+    Hardware,
+    /// [`Method::Hardware`] with every instance forced to 2 states
+    /// (`VK_GEOMETRY_INSTANCE_FORCE_OPACITY_MICROMAP_2_STATE_EXT`): the
+    /// traversal decides every micromapped candidate. Its picture must
+    /// equal [`Method::Flat2`]'s, which checks the driver's index function
+    /// and state decoding against the shader library's.
+    Hardware2,
 }
 
 impl Method {
     /// Every method, in the order of the shader's numbering.
-    pub const ALL: [Method; 5] = [
+    pub const ALL: [Method; 7] = [
+        Method::AlphaTest,
+        Method::Flat4,
+        Method::Flat2,
+        Method::LevelOrderTree,
+        Method::PaperTree,
+        Method::Hardware,
+        Method::Hardware2,
+    ];
+
+    /// The methods every device with ray tracing runs: all but the
+    /// hardware ones, which need `VK_EXT_opacity_micromap`.
+    pub const EMULATED: [Method; 5] = [
         Method::AlphaTest,
         Method::Flat4,
         Method::Flat2,
@@ -73,6 +96,8 @@ impl Method {
             Method::Flat2 => "flat-2-state",
             Method::LevelOrderTree => "level-order-tree",
             Method::PaperTree => "paper-tree",
+            Method::Hardware => "hardware",
+            Method::Hardware2 => "hardware-2-state",
         }
     }
 
@@ -88,8 +113,27 @@ impl Method {
     pub fn is_four_state(self) -> bool {
         matches!(
             self,
-            Method::Flat4 | Method::LevelOrderTree | Method::PaperTree
+            Method::Flat4 | Method::LevelOrderTree | Method::PaperTree | Method::Hardware
         )
+    }
+
+    /// Whether the driver's micromap decides (`VK_EXT_opacity_micromap`).
+    #[must_use]
+    pub fn is_hardware(self) -> bool {
+        matches!(self, Method::Hardware | Method::Hardware2)
+    }
+
+    /// The method whose picture this one's must equal: the alpha test for
+    /// the 4-state methods (and itself), flat 2-state for the forced
+    /// hardware micromap; `None` for flat 2-state, which decides unknowns
+    /// without the texture by design.
+    #[must_use]
+    pub fn reference(self) -> Option<Method> {
+        match self {
+            Method::Flat2 => None,
+            Method::Hardware2 => Some(Method::Flat2),
+            _ => Some(Method::AlphaTest),
+        }
     }
 
     /// The shader's number of the method (push constant `method`).

@@ -1,12 +1,14 @@
 //! Acceleration structures: a bottom-level one of triangles (not opaque,
-//! so every candidate reaches the shader; no duplicate any-hit calls) and
-//! a top-level one of instances of them. Each is built on the device and
+//! so every candidate the traversal does not decide itself reaches the
+//! shader; no duplicate any-hit calls), with an opacity micromap attached
+//! where asked, and a top-level one of instances of them. Each is built on the device and
 //! waited for; its storage lives with it, its scratch and inputs only for
 //! the build. Destroyed when dropped.
 
 use super::conv::failed;
 use super::device::{Core, Device};
 use super::memory::Buffer;
+use super::micromap::Micromap;
 use crate::error::RenderError;
 use ash::vk;
 use std::rc::Rc;
@@ -43,6 +45,18 @@ pub(crate) struct BlasInstance<'a> {
     /// `gl_InstanceCustomIndexEXT` (24 bits).
     pub(crate) custom_index: u32,
     pub(crate) flags: vk::GeometryInstanceFlagsKHR,
+}
+
+/// A micromap for a bottom-level structure's triangles: triangle `i`
+/// takes the index at `index_address + i * index_stride`.
+pub(crate) struct MicromapAttachment<'a> {
+    pub(crate) micromap: &'a Micromap,
+    pub(crate) index_address: vk::DeviceAddress,
+    /// `UINT16` or `UINT32`.
+    pub(crate) index_type: vk::IndexType,
+    pub(crate) index_stride: u64,
+    /// How many of the triangles use each (level, format).
+    pub(crate) usage: &'a [vk::MicromapUsageEXT],
 }
 
 impl Device {
@@ -128,10 +142,11 @@ impl Device {
     }
 
     /// The bottom-level structure of `vertices` (three per triangle, not
-    /// indexed), not opaque.
+    /// indexed), not opaque, with `micromap` attached where given.
     pub(crate) fn triangle_blas(
         &self,
         vertices: &[[f32; 3]],
+        micromap: Option<&MicromapAttachment<'_>>,
     ) -> Result<AccelerationStructure, RenderError> {
         let bytes: Vec<u8> = vertices
             .iter()
@@ -139,7 +154,17 @@ impl Device {
             .flat_map(|x| x.to_le_bytes())
             .collect();
         let vertex_buffer = self.build_input(&bytes)?;
-        let triangles = vk::AccelerationStructureGeometryTrianglesDataKHR::default()
+        let mut attachment = micromap.map(|m| {
+            vk::AccelerationStructureTrianglesOpacityMicromapEXT::default()
+                .index_type(m.index_type)
+                .index_buffer(vk::DeviceOrHostAddressConstKHR {
+                    device_address: m.index_address,
+                })
+                .index_stride(m.index_stride)
+                .usage_counts(m.usage)
+                .micromap(m.micromap.handle)
+        });
+        let mut triangles = vk::AccelerationStructureGeometryTrianglesDataKHR::default()
             .vertex_format(vk::Format::R32G32B32_SFLOAT)
             .vertex_data(vk::DeviceOrHostAddressConstKHR {
                 device_address: vertex_buffer.address,
@@ -147,6 +172,9 @@ impl Device {
             .vertex_stride(12)
             .max_vertex(vertices.len().saturating_sub(1) as u32)
             .index_type(vk::IndexType::NONE_KHR);
+        if let Some(attachment) = &mut attachment {
+            triangles = triangles.push_next(attachment);
+        }
         // Not OPAQUE: every candidate reaches the shader.
         let geometry = vk::AccelerationStructureGeometryKHR::default()
             .geometry_type(vk::GeometryTypeKHR::TRIANGLES)

@@ -9,6 +9,7 @@ use super::conv::failed;
 use super::instance::Instance;
 use super::{DeviceInfo, DeviceRequest, Features};
 use crate::error::RenderError;
+use ash::ext::opacity_micromap;
 use ash::khr::{acceleration_structure, ray_tracing_pipeline};
 use ash::vk;
 use std::rc::Rc;
@@ -34,6 +35,10 @@ pub(crate) struct Core {
     pub(crate) accel: Option<acceleration_structure::Device>,
     /// `VK_KHR_ray_tracing_pipeline`, where enabled.
     pub(crate) ray_tracing: Option<RayTracing>,
+    /// `VK_EXT_opacity_micromap`'s functions, where enabled.
+    pub(crate) micromap: Option<opacity_micromap::Device>,
+    /// Nanoseconds per timestamp tick, where the queue writes timestamps.
+    pub(crate) timestamp_period: Option<f64>,
     /// Whether buffers get device addresses (`bufferDeviceAddress`,
     /// enabled with acceleration structures).
     pub(crate) buffer_addresses: bool,
@@ -68,13 +73,13 @@ impl Device {
     pub fn open(request: &DeviceRequest) -> Result<Device, RenderError> {
         let instance = Instance::new()?;
         let adapter = Adapter::choose(&instance, request)?;
-        let wanted = request.required.union(request.optional);
-        let enabled = Features {
-            acceleration_structure: wanted.acceleration_structure
-                && adapter.has.acceleration_structure,
-            ray_query: wanted.ray_query && adapter.has.ray_query,
-            ray_tracing_pipeline: wanted.ray_tracing_pipeline && adapter.has.ray_tracing_pipeline,
-        };
+        let mut enabled = request
+            .required
+            .union(request.optional)
+            .and(adapter.info.has);
+        // Each ray tracing extension needs acceleration structures.
+        enabled.acceleration_structure |=
+            enabled.ray_query || enabled.ray_tracing_pipeline || enabled.opacity_micromap;
         Device::create(instance, &adapter, enabled)
     }
 
@@ -86,10 +91,11 @@ impl Device {
         let (raw, physical) = (&instance.raw, adapter.physical);
         let name = adapter.info.label();
         // SAFETY: a physical device of this instance.
-        let (families, memory) = unsafe {
+        let (families, memory, limits) = unsafe {
             (
                 raw.get_physical_device_queue_family_properties(physical),
                 raw.get_physical_device_memory_properties(physical),
+                raw.get_physical_device_properties(physical).limits,
             )
         };
         let family = families
@@ -98,23 +104,25 @@ impl Device {
             .ok_or_else(|| RenderError::NoComputeQueue {
                 device: name.clone(),
             })? as u32;
+        let timestamp_period = (families[family as usize].timestamp_valid_bits > 0
+            && limits.timestamp_period > 0.0)
+            .then_some(f64::from(limits.timestamp_period));
         let priorities = [1.0f32];
         let queues = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(family)
             .queue_priorities(&priorities)];
-        let mut extensions: Vec<_> = extension_names(enabled)
+        let extensions: Vec<_> = extension_names(enabled)
             .iter()
             .map(|n| n.as_ptr())
             .collect();
-        if enabled.acceleration_structure {
-            extensions.push(vk::KHR_DEFERRED_HOST_OPERATIONS_NAME.as_ptr());
-        }
         let mut v12 = vk::PhysicalDeviceVulkan12Features::default().buffer_device_address(true);
         let mut accel_features = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default()
             .acceleration_structure(true);
         let mut query_features = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
         let mut pipeline_features =
             vk::PhysicalDeviceRayTracingPipelineFeaturesKHR::default().ray_tracing_pipeline(true);
+        let mut micromap_features =
+            vk::PhysicalDeviceOpacityMicromapFeaturesEXT::default().micromap(true);
         let mut info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
             .enabled_extension_names(&extensions);
@@ -126,6 +134,9 @@ impl Device {
         }
         if enabled.ray_tracing_pipeline {
             info = info.push_next(&mut pipeline_features);
+        }
+        if enabled.opacity_micromap {
+            info = info.push_next(&mut micromap_features);
         }
         // SAFETY: `info` and its chain outlive the call.
         let device = unsafe { raw.create_device(physical, &info, None) }.map_err(|result| {
@@ -148,6 +159,9 @@ impl Device {
                 base_alignment: rt.shader_group_base_alignment.max(1),
             }
         });
+        let micromap = enabled
+            .opacity_micromap
+            .then(|| opacity_micromap::Device::new(raw, &device));
         // SAFETY: the family exists and has one queue.
         let queue = unsafe { device.get_device_queue(family, 0) };
         let mut core = Core {
@@ -157,6 +171,8 @@ impl Device {
             memory,
             accel,
             ray_tracing,
+            micromap,
+            timestamp_period,
             buffer_addresses: enabled.acceleration_structure,
             info: adapter.info.clone(),
             enabled,

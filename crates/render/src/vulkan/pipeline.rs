@@ -183,6 +183,12 @@ impl Device {
         stages: &RayTracingStages<'_>,
         bindings: Bindings,
     ) -> Result<Pipeline, RenderError> {
+        // Allowed to meet opacity micromaps where the device has them.
+        let flags = if self.core.micromap.is_some() {
+            vk::PipelineCreateFlags::RAY_TRACING_OPACITY_MICROMAP_EXT
+        } else {
+            vk::PipelineCreateFlags::empty()
+        };
         let Some(rt) = &self.core.ray_tracing else {
             return Err(RenderError::Vulkan {
                 call: "vkCreateRayTracingPipelinesKHR",
@@ -228,6 +234,7 @@ impl Device {
                 .intersection_shader(vk::SHADER_UNUSED_KHR),
         ];
         let info = [vk::RayTracingPipelineCreateInfoKHR::default()
+            .flags(flags)
             .stages(&infos)
             .groups(&groups)
             .max_pipeline_ray_recursion_depth(1)

@@ -22,14 +22,17 @@ pub(crate) enum Launch {
     Rays(u32, u32),
 }
 
-/// How long a run took.
+/// How long a run took, in seconds.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Timing {
-    /// Process CPU seconds (a CPU device's threads are the process's),
-    /// where the platform has a process clock.
-    pub(crate) cpu_seconds: Option<f64>,
-    /// Wall-clock seconds.
-    pub(crate) wall_seconds: f64,
+    /// Process CPU time (a CPU device's threads are the process's), where
+    /// the platform has a process clock.
+    pub(crate) cpu: Option<f64>,
+    /// Wall-clock time of the submission.
+    pub(crate) wall: f64,
+    /// Between the device's timestamps before and after the dispatch or
+    /// launch, where its queue writes timestamps.
+    pub(crate) device: Option<f64>,
 }
 
 /// Process CPU time in seconds (every thread, lavapipe's included), where
@@ -87,6 +90,24 @@ impl Device {
         // SAFETY: a valid create info.
         let pool = unsafe { d.create_descriptor_pool(&pool_info, None) }
             .map_err(failed("vkCreateDescriptorPool"))?;
+        let mut queries = vk::QueryPool::null();
+        if self.core.timestamp_period.is_some() {
+            let info = vk::QueryPoolCreateInfo::default()
+                .query_type(vk::QueryType::TIMESTAMP)
+                .query_count(2);
+            // SAFETY: a valid create info; destroyed below.
+            match unsafe { d.create_query_pool(&info, None) } {
+                Ok(q) => queries = q,
+                Err(result) => {
+                    // SAFETY: unused.
+                    unsafe { d.destroy_descriptor_pool(pool, None) };
+                    return Err(RenderError::Vulkan {
+                        call: "vkCreateQueryPool",
+                        result,
+                    });
+                }
+            }
+        }
         let result = (|| {
             let set_layouts = [pipeline.set_layout];
             let alloc = vk::DescriptorSetAllocateInfo::default()
@@ -139,7 +160,12 @@ impl Device {
             // SAFETY: the pipeline, set and push range match its layout; the
             // table's regions lie in its live buffer; the submission is
             // waited for inside `submit`.
+            let timed = queries != vk::QueryPool::null();
             self.submit(|cmd| unsafe {
+                if timed {
+                    d.cmd_reset_query_pool(cmd, queries, 0, 2);
+                    d.cmd_write_timestamp(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, queries, 0);
+                }
                 d.cmd_bind_pipeline(cmd, point, pipeline.handle);
                 d.cmd_bind_descriptor_sets(cmd, point, pipeline.layout, 0, &[set], &[]);
                 if !push.is_empty() {
@@ -157,19 +183,43 @@ impl Device {
                     // nothing (the callers pair them).
                     _ => {}
                 }
+                if timed {
+                    d.cmd_write_timestamp(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, queries, 1);
+                }
             })?;
             let wall_seconds = wall0.elapsed().as_secs_f64();
             let cpu_seconds = match (cpu0, process_cpu_seconds()) {
                 (Some(a), Some(b)) => Some(b - a),
                 _ => None,
             };
+            let mut device_seconds = None;
+            if let (true, Some(period)) = (timed, self.core.timestamp_period) {
+                let mut ticks = [0u64; 2];
+                // SAFETY: both queries were written by the finished
+                // submission; `ticks` holds two 64-bit results.
+                unsafe {
+                    d.get_query_pool_results(
+                        queries,
+                        0,
+                        &mut ticks,
+                        vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+                    )
+                }
+                .map_err(failed("vkGetQueryPoolResults"))?;
+                device_seconds = Some(ticks[1].wrapping_sub(ticks[0]) as f64 * period * 1e-9);
+            }
             Ok(Timing {
-                cpu_seconds,
-                wall_seconds,
+                cpu: cpu_seconds,
+                wall: wall_seconds,
+                device: device_seconds,
             })
         })();
-        // SAFETY: the submission finished (or never started).
-        unsafe { d.destroy_descriptor_pool(pool, None) };
+        // SAFETY: the submission finished (or never started); a null query
+        // pool is ignored.
+        unsafe {
+            d.destroy_query_pool(queries, None);
+            d.destroy_descriptor_pool(pool, None);
+        }
         result
     }
 }
