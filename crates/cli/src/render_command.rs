@@ -128,7 +128,7 @@ pub(crate) static RENDER: Command = Command {
                 Flag::value(
                     "--frames",
                     "N",
-                    "frames per method; the CPU time is the least per frame (default 1)",
+                    "frames per method; each time is the least per frame (default 1)",
                 ),
                 Flag::value(
                     "--fault",
