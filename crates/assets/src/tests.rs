@@ -3,8 +3,8 @@
 
 use super::gltf::{CLAMP_TO_EDGE, MIRRORED_REPEAT, NEAREST};
 use super::{
-    decode_alpha_image, read_gltf_bytes, read_triangles_json, AlphaImage, AlphaTexels, AssetError,
-    GltfAsset, ImageFormat, Limits,
+    decode_alpha_image, read_gltf_bytes, read_gltf_file, read_triangles_json, AlphaImage,
+    AlphaTexels, AssetError, GltfAsset, ImageFormat, Limits, IDENTITY_TRANSFORM,
 };
 use micromap_index::bake::{AddressMode, Filter, Sampler};
 use serde_json::{json, Value};
@@ -1137,4 +1137,116 @@ fn errors_display_on_one_line_and_chain() {
         "{error}"
     );
     assert!(!error.to_string().contains('\n'));
+}
+
+/// The fixture's mesh placed by `nodes` (and `scenes`, if given).
+fn placed(nodes: Value, scenes: Option<Value>) -> GltfAsset {
+    let (mut json, bin) = fixture();
+    json["nodes"] = nodes;
+    if let Some(scenes) = scenes {
+        json["scenes"] = scenes;
+    }
+    read(&json, &bin).unwrap()
+}
+
+#[test]
+fn gltf_node_transforms_place_the_mesh() {
+    // No nodes: the mesh once, in its own space.
+    let (json, bin) = fixture();
+    assert_eq!(
+        read(&json, &bin).unwrap().primitives[0].instances,
+        [IDENTITY_TRANSFORM]
+    );
+    // A parent's translation and scale, a child's matrix (column-major:
+    // x -> y, y -> -x, translate z by 3), composed root first.
+    let asset = placed(
+        json!([
+            {"translation": [1, 2, 3], "scale": [2, 2, 2], "children": [1]},
+            {"matrix": [0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 3, 1], "mesh": 0},
+            {"mesh": 0, "rotation": [0, 0, 0, 2]},
+        ]),
+        None,
+    );
+    assert_eq!(asset.warnings, Vec::<String>::new());
+    assert_eq!(
+        asset.primitives[0].instances,
+        [
+            [0.0, -2.0, 0.0, 1.0, 2.0, 0.0, 0.0, 2.0, 0.0, 0.0, 2.0, 9.0],
+            // Not a child of another node: a root too (no scenes). Its
+            // quaternion is normalised.
+            IDENTITY_TRANSFORM,
+        ]
+    );
+    // The default scene holds only node 2; a node outside it places
+    // nothing, a scene without the mesh's node leaves it unplaced.
+    let nodes = json!([{"mesh": 0, "translation": [5, 0, 0]}, {}, {"mesh": 0}]);
+    let asset = placed(nodes.clone(), Some(json!([{"nodes": [0]}, {"nodes": [1]}])));
+    assert_eq!(
+        asset.primitives[0].instances,
+        [[1.0, 0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0]]
+    );
+    let (mut json, bin) = fixture();
+    json["nodes"] = nodes;
+    json["scenes"] = json!([{"nodes": [0]}, {"nodes": [1]}]);
+    json["scene"] = json!(1);
+    assert!(read(&json, &bin).unwrap().primitives[0]
+        .instances
+        .is_empty());
+}
+
+#[test]
+fn gltf_malformed_node_trees_are_warnings_not_errors() {
+    for (nodes, why) in [
+        (
+            json!([{"children": [1]}, {"children": [0], "mesh": 0}]),
+            "reached twice",
+        ),
+        (json!([{"children": [7]}]), "nodes[7] does not exist"),
+        (json!([{"mesh": 3}]), "meshes[3] does not exist"),
+        (
+            json!([{"mesh": 0, "scale": [1, 1]}]),
+            "expected 3 finite numbers",
+        ),
+        (
+            json!([{"mesh": 0, "rotation": [0, 0, 0, 0]}]),
+            "a zero quaternion",
+        ),
+        (
+            json!([{"mesh": 0, "translation": [1e39, 0, 0]}]),
+            "not finite in binary32",
+        ),
+    ] {
+        let asset = placed(nodes, Some(json!([{"nodes": [0]}])));
+        // The bake's input is unchanged; the mesh is drawn once, unplaced.
+        assert_eq!(asset.primitives[0].triangles, QUAD);
+        assert_eq!(asset.primitives[0].instances, [IDENTITY_TRANSFORM]);
+        assert_eq!(asset.warnings.len(), 1, "{why}");
+        assert!(
+            asset.warnings[0].contains(why),
+            "{why}: {:?}",
+            asset.warnings
+        );
+    }
+}
+
+#[test]
+fn gltf_committed_assets_are_placed_by_their_nodes() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/");
+    let fern = read_gltf_file(
+        format!("{root}polyhaven-fern02/fern_02.gltf").as_ref(),
+        &Limits::default(),
+    )
+    .unwrap();
+    // Four meshes, one node each; three translated by about 1 in x or z.
+    let offsets: Vec<[f32; 3]> = fern
+        .primitives
+        .iter()
+        .map(|p| {
+            assert_eq!(p.instances.len(), 1);
+            let t = p.instances[0];
+            [t[3], t[7], t[11]]
+        })
+        .collect();
+    assert_eq!(offsets[0], [0.0, 0.0, 0.0]);
+    assert!(offsets[1][0] > 0.99 && offsets[2][2] > 0.99 && offsets[3][0] > 0.99);
 }

@@ -70,7 +70,7 @@ pub enum Exit {
     /// directory as stdin) or an output that cannot be written (a full disk).
     /// Nothing is left half-written by `vectors --out`.
     Io,
-    /// 4: `render` found no Vulkan device with ray queries (nothing traced).
+    /// 4: `render` found no Vulkan device with what it needs (nothing traced).
     NoDevice,
     /// 130: interrupted by Ctrl-C (`prove`), as shells report a SIGINT death.
     Interrupted,
@@ -119,7 +119,7 @@ impl Exit {
                  vectors --out refusing an existing file); nothing done"
             }
             Exit::Io => "I/O error: unreadable input, unwritable output (full disk)",
-            Exit::NoDevice => "no Vulkan device with ray queries (render); nothing traced",
+            Exit::NoDevice => "no Vulkan device with what render needs; nothing traced",
             Exit::Interrupted => "interrupted (Ctrl-C)",
             Exit::BrokenPipe => "stdout closed by its reader (| head); stopped quietly",
         }

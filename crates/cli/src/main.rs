@@ -23,7 +23,7 @@
 //! | 1 | the check failed: a mismatch (`prove`, `check`), a missing or unknown id (`check`) |
 //! | 2 | usage error or malformed input: a bad option or value (`locate --level 33`, `prove --sample 0`), a malformed file, `vectors --out` refusing an existing file; nothing was done |
 //! | 3 | I/O error: unreadable input (a missing file, a directory as stdin), unwritable output (a full disk) |
-//! | 4 | `render`: no Vulkan device with ray queries; nothing written |
+//! | 4 | `render`: no Vulkan device with what it needs; nothing written |
 //! | 130 | interrupted by Ctrl-C |
 //! | 141 | stdout closed by its reader (`... \| head -1`): the command stops quietly, as shells report a GNU tool killed by SIGPIPE |
 //!

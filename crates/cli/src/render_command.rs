@@ -1,9 +1,14 @@
 //! `micromap-index render`: the render check (library:
 //! `micromap_index_render`). Reads the bake's input and its micromaps (or
-//! bakes them), traces every method on a Vulkan device with ray queries,
+//! bakes them), traces every method on a Vulkan device with each tracer,
 //! writes the pictures, the difference pictures and `render.json`, and with
-//! `--check` says whether every 4-state method renders the alpha test's
-//! picture with no contradicted candidate.
+//! `--check` says whether every 4-state method (the driver's micromap
+//! included) renders the alpha test's picture with no contradicted
+//! candidate, and the driver's forced 2-state micromap the emulated one's.
+//! What it writes about the frames is in `report`.
+
+mod options;
+mod report;
 
 use crate::bake_args::{self, BakeArgs};
 use crate::inputs::files::read_buffer_files;
@@ -16,10 +21,12 @@ use cli_support::write_all_or_nothing::{Destination, Refusal};
 use micromap_index::bake::mesh::{bake_meshes, LevelRule};
 use micromap_index::micromap::IndexWidth;
 use micromap_index_render::{
-    classify, Camera, Classified, Faults, Frame, Method, Micromaps, RenderError, Renderer, Scene,
-    SceneMesh, SceneTexture, Tracer,
+    classify, Camera, Classified, ErrorClass, Faults, Frame, Method, Micromaps, RenderError,
+    Renderer, RendererOptions, Scene, SceneMesh, SceneTexture, Tracer,
 };
-use serde_json::{json, Value};
+use options::{camera, count, device, faults, max_report, methods, size, tracers};
+use report::{contradiction_json, contradiction_line, difference, picture, picture_name};
+use serde_json::json;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -31,9 +38,10 @@ pub(crate) static RENDER: Command = Command {
                            [--micromaps DIR] --out DIR [options]",
     ],
     about: "  The render check: traces one primary ray per pixel on a Vulkan device (Mesa's
-  lavapipe on a CPU) against a BLAS of the asset's alpha-masked triangles (not
-  opaque: every candidate reaches the shader) with each tracer: query
-  (GL_EXT_ray_query, decisions in the rayQueryProceedEXT loop) and pipeline
+  lavapipe on a CPU) against the asset's alpha-masked meshes (one BLAS each,
+  placed by glTF's node transforms; not opaque: every candidate the traversal
+  does not decide reaches the shader) with each tracer: query (GL_EXT_ray_query,
+  decisions in the rayQueryProceedEXT loop) and pipeline
   (VK_KHR_ray_tracing_pipeline, decisions in the any-hit shader; the same
   shader code decides), and decides each candidate by each method:
     alpha-test        the alpha test only (the reference picture)
@@ -41,26 +49,35 @@ pub(crate) static RENDER: Command = Command {
     flat-2-state      the same micromap forced to 2 states (no texture fetch)
     level-order-tree  the level-order succinct tree, 4-state
     paper-tree        the paper's Algorithm 3, 4-state
+    hardware          the driver's micromap (VK_EXT_opacity_micromap) built from
+                      the same buffers; any-hit runs the alpha test on what the
+                      traversal hands it (only with --methods)
+    hardware-2-state  the same, every instance forced to 2 states (with it,
+                      flat-2-state runs too)
   The micromaps are DIR's (bake's micromap-data.bin, micromap-triangles.bin,
   micromap-indices.bin; one index per triangle in the asset's order) or, without
   --micromaps, baked here with bake's options and --max-bytes guard. --texture
-  and --triangles lay the UV triangles out flat at (u, -v, 0). glTF meshes are
-  drawn in their own space (node transforms are not applied). Every known
+  and --triangles lay the UV triangles out flat at (u, -v, 0). Every known
   decision is checked against the alpha test; a contradicted candidate is
   explained exactly on the host from its binary32 barycentrics: micromap-wrong
   (the exact hit point's alpha test disagrees) or binary32-rounding (the
-  shader's texture coordinate crossed a texel boundary). Writes into DIR, all
-  or nothing: METHOD.png per method (pipeline-METHOD.png for the pipeline
-  tracer), METHOD-diff.png (magenta: pixels that differ from the first
-  tracer's alpha-test picture) and render.json (counters per tracer and
-  method, CPU time per frame with the device's name, the contradictions).
-  --check: exit 0 only if, under every tracer, the alpha test and every
-  4-state method render the first tracer's alpha-test picture pixel for pixel
-  (the same primitive and t bits) and no 4-state candidate is contradicted.
-  Exit 0 rendered (and checked); 1 the check failed (the first contradictions
-  on stdout); 2 bad options or input (nothing written); 3 unreadable input,
-  unwritable DIR or a Vulkan call failing; 4 no Vulkan device with ray
-  queries (nothing written).",
+  shader's texture coordinate crossed a texel boundary); the first ones are
+  listed in pixel order. Writes into DIR, all or nothing: METHOD.png per method
+  (pipeline-METHOD.png for the pipeline tracer), METHOD-diff.png (magenta:
+  pixels that differ from the picture the method must equal: the first
+  tracer's alpha test, or flat-2-state for hardware-2-state) and render.json
+  (the device, driver and Vulkan version; counters, the hit fraction and times
+  per tracer and method; the micromaps' levels per primitive; the
+  contradictions). --check: exit 0 only if, under every tracer, the alpha test,
+  every 4-state method and hardware render the first tracer's alpha-test
+  picture pixel for pixel (the same primitive and t bits), hardware-2-state
+  renders the same tracer's flat-2-state picture, and no 4-state candidate is
+  contradicted. Exit 0 rendered (and checked); 1 the check failed (the first
+  contradictions on stdout); 2 bad options or input (nothing written); 3
+  unreadable input, unwritable DIR or a Vulkan call failing; 4 no Vulkan device
+  with what the tracers and methods need: VK_KHR_ray_query (query),
+  VK_KHR_ray_tracing_pipeline (pipeline), VK_EXT_opacity_micromap (hardware)
+  (nothing written).",
     flags: &{
         const GROUPS: &[&[Flag]] = &[
             &[
@@ -86,12 +103,13 @@ pub(crate) static RENDER: Command = Command {
                     "--camera",
                     "EX,EY,EZ,TX,TY,TZ[,FOV]",
                     "eye, target and vertical field of view in degrees (default: one that
-                         frames the asset from the front and above, 40 degrees)",
+                         fits the drawn triangles from the front and above, 40 degrees)",
                 ),
                 Flag::value(
                     "--methods",
                     "LIST",
-                    "comma-separated methods (default all; alpha-test always runs)",
+                    "comma-separated methods (default: the five emulated ones; alpha-test
+                         always runs)",
                 ),
                 Flag::value(
                     "--tracer",
@@ -99,9 +117,15 @@ pub(crate) static RENDER: Command = Command {
                     "query, pipeline or both (default both: the check needs both to agree)",
                 ),
                 Flag::value(
+                    "--device",
+                    "N|NAME",
+                    "the Vulkan device: its number in the loader's order or a part of its
+                         name (default: the first with what the tracers and methods need)",
+                ),
+                Flag::value(
                     "--frames",
                     "N",
-                    "frames per method; the CPU time is the least per frame (default 1)",
+                    "frames per method; each time is the least per frame (default 1)",
                 ),
                 Flag::value(
                     "--fault",
@@ -129,117 +153,10 @@ pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
     )
 }
 
-fn count(p: &Parsed<'_>, name: &str, default: u32, max: u32) -> Result<u32, Failure> {
-    match p.get(name) {
-        None => Ok(default),
-        Some(text) => match text.parse::<u32>() {
-            Ok(n) if (1..=max).contains(&n) && text.bytes().all(|b| b.is_ascii_digit()) => Ok(n),
-            _ => Err(Failure::Malformed(format!(
-                "{name} {text:?}: expected a count 1..={max}"
-            ))),
-        },
-    }
-}
-
-fn size(p: &Parsed<'_>) -> Result<(u32, u32), Failure> {
-    let text = p.get("--size").unwrap_or("256x256");
-    let parsed = text.split_once('x').and_then(|(w, h)| {
-        let n = |t: &str| {
-            t.bytes()
-                .all(|b| b.is_ascii_digit())
-                .then(|| t.parse::<u32>().ok())
-                .flatten()
-        };
-        Some((n(w)?, n(h)?))
-    });
-    match parsed {
-        Some((w, h))
-            if w > 0
-                && h > 0
-                && u64::from(w) * u64::from(h) <= micromap_index_render::MAX_PIXELS =>
-        {
-            Ok((w, h))
-        }
-        _ => Err(Failure::Malformed(format!(
-            "--size {text:?}: expected WxH with at least one pixel and at most {} pixels",
-            micromap_index_render::MAX_PIXELS
-        ))),
-    }
-}
-
-/// `--camera`, checked before any setup; `None`: frame the scene
-/// ([`framing`]).
-fn camera(p: &Parsed<'_>) -> Result<Option<Camera>, Failure> {
-    let Some(text) = p.get("--camera") else {
-        return Ok(None);
-    };
-    let numbers: Option<Vec<f32>> = text
-        .split(',')
-        .map(|t| t.trim().parse::<f32>().ok().filter(|x| x.is_finite()))
-        .collect();
-    match numbers.as_deref() {
-        Some(&[ex, ey, ez, tx, ty, tz]) => Ok(Some(Camera {
-            eye: [ex, ey, ez],
-            target: [tx, ty, tz],
-            fov_y_degrees: 40.0,
-        })),
-        Some(&[ex, ey, ez, tx, ty, tz, fov]) => Ok(Some(Camera {
-            eye: [ex, ey, ez],
-            target: [tx, ty, tz],
-            fov_y_degrees: fov,
-        })),
-        _ => Err(Failure::Malformed(format!(
-            "--camera {text:?}: expected six or seven finite numbers EX,EY,EZ,TX,TY,TZ[,FOV]"
-        ))),
-    }
-}
-
-/// The camera that frames `scene` from the front and above.
+/// The camera that fits `scene`'s drawn triangles from the front and above.
 fn framing(scene: &Scene, (w, h): (u32, u32)) -> Result<Camera, Failure> {
-    scene
-        .bounds()
-        .map(|b| Camera::framing(b, w as f32 / h as f32))
-        .ok_or_else(|| Failure::Malformed("the scene has no triangles".into()))
-}
-
-fn tracers(p: &Parsed<'_>) -> Result<Vec<Tracer>, Failure> {
-    match p.get("--tracer") {
-        None | Some("both") => Ok(Tracer::ALL.to_vec()),
-        Some(name) => Tracer::from_name(name).map(|t| vec![t]).ok_or_else(|| {
-            Failure::Malformed(format!(
-                "--tracer {name:?}: expected query, pipeline or both"
-            ))
-        }),
-    }
-}
-
-/// The name of `method`'s picture under `tracer` (`suffix` "" or "-diff").
-fn picture_name(tracer: Tracer, method: Method, suffix: &str) -> String {
-    match tracer {
-        Tracer::Query => format!("{}{suffix}.png", method.name()),
-        Tracer::Pipeline => format!("pipeline-{}{suffix}.png", method.name()),
-    }
-}
-
-fn methods(p: &Parsed<'_>) -> Result<Vec<Method>, Failure> {
-    let mut chosen = vec![Method::AlphaTest];
-    match p.get("--methods") {
-        None => chosen.extend(&Method::ALL[1..]),
-        Some(text) => {
-            for name in text.split(',') {
-                let method = Method::from_name(name).ok_or_else(|| {
-                    Failure::Malformed(format!(
-                        "--methods: {name:?} is not one of {}",
-                        Method::ALL.map(Method::name).join(", ")
-                    ))
-                })?;
-                if !chosen.contains(&method) {
-                    chosen.push(method);
-                }
-            }
-        }
-    }
-    Ok(chosen)
+    Camera::fitting(&scene.world_triangles(), w as f32 / h as f32)
+        .ok_or_else(|| Failure::Malformed("the scene draws no triangle".into()))
 }
 
 /// The scene of the input: positions from glTF, or the UV layout for
@@ -285,7 +202,7 @@ fn scene_of(input: &Input, from_gltf: bool) -> Result<Scene, Failure> {
             }
         };
         scene
-            .add_mesh(
+            .add_placed_mesh(
                 SceneMesh {
                     texture: job.image,
                     material: micromap_index::bake::mesh::Material {
@@ -296,6 +213,7 @@ fn scene_of(input: &Input, from_gltf: bool) -> Result<Scene, Failure> {
                 },
                 positions,
                 &job.triangles,
+                &job.instances,
             )
             .map_err(|e| Failure::Malformed(format!("{}: {e}", job.name)))?;
     }
@@ -357,113 +275,123 @@ fn micromaps(source: &Source, input: &Input) -> Result<(Micromaps, String), Fail
     ))
 }
 
-/// A colour per mesh, a little brighter or darker per triangle.
-fn picture(frame: &Frame, scene: &Scene) -> Vec<u8> {
-    const PALETTE: [[u8; 3]; 6] = [
-        [96, 170, 72],
-        [214, 160, 64],
-        [80, 140, 210],
-        [190, 96, 160],
-        [220, 110, 80],
-        [120, 190, 180],
-    ];
-    let mut mesh_index = std::collections::HashMap::new();
-    frame
-        .hits
-        .iter()
-        .flat_map(|&[hit, _]| {
-            if hit == 0 {
-                return [24, 24, 32];
+/// Exit 4 after saying why there is no device.
+fn no_device(program: &Program, message: &str) -> Failure {
+    program.report(format_args!("render: {message}"));
+    Failure::Exit(Exit::NoDevice)
+}
+
+fn render_failure(program: &Program, e: &RenderError) -> Failure {
+    match e.class() {
+        ErrorClass::NoDevice => {
+            let mut message = e.to_string();
+            if let RenderError::NoSuitableDevice { found, .. } = e {
+                let lacks = |name| found.iter().any(|(_, l)| l.contains(&name));
+                if lacks("VK_KHR_ray_query") {
+                    message.push_str(" (--tracer pipeline traces without VK_KHR_ray_query)");
+                }
+                if lacks("VK_KHR_ray_tracing_pipeline") {
+                    message
+                        .push_str(" (--tracer query traces without VK_KHR_ray_tracing_pipeline)");
+                }
+                if lacks("VK_EXT_opacity_micromap") {
+                    message.push_str(" (--methods without hardware traces without it)");
+                }
             }
-            let t = (hit - 1) as usize;
-            let key = scene
-                .mesh_of(t)
-                .map(|m| (m.texture, m.material.cutoff.alpha().to_bits()));
-            let next = mesh_index.len();
-            let m = *mesh_index.entry(key).or_insert(next);
-            let shade = 0.8 + 0.2 * ((t.wrapping_mul(2654435761) >> 8) % 256) as f32 / 255.0;
-            PALETTE[m % PALETTE.len()].map(|c| (f32::from(c) * shade) as u8)
-        })
-        .collect()
-}
-
-fn difference(frame: &Frame, reference: &Frame, reference_rgb: &[u8]) -> (Vec<u8>, u64) {
-    let mut differing = 0;
-    let rgb = frame
-        .hits
-        .iter()
-        .zip(&reference.hits)
-        .enumerate()
-        .flat_map(|(i, (a, b))| {
-            if a == b {
-                [0, 1, 2].map(|k| reference_rgb[3 * i + k] / 3)
-            } else {
-                differing += 1;
-                [255, 0, 255]
-            }
-        })
-        .collect();
-    (rgb, differing)
-}
-
-fn hex(bits: u32) -> String {
-    format!("0x{bits:08x}")
-}
-
-fn contradiction_json(c: &Classified) -> Value {
-    let r = &c.contradiction;
-    json!({
-        "pixel": [r.x, r.y],
-        "triangle": r.triangle,
-        "micro_triangle": c.micro_triangle,
-        "shader_micro_triangle": r.micro_triangle,
-        "level": c.level,
-        "b1": hex(r.b1_bits),
-        "b2": hex(r.b2_bits),
-        "state": if r.state == 1 { "opaque" } else { "transparent" },
-        "class": c.class.name(),
-        "exact_texel_point": c.exact_texel_point,
-        "exact_alpha_test": if c.exact_opaque { "opaque" } else { "transparent" },
-        "texels": c.texels.iter().map(|&(x, y, a)| json!({"x": x, "y": y, "alpha": a})).collect::<Vec<_>>(),
-        "binary32_uv": c.binary32_uv,
-    })
-}
-
-fn contradiction_line(label: &str, c: &Classified) -> String {
-    let r = &c.contradiction;
-    let texels: Vec<String> = c
-        .texels
-        .iter()
-        .map(|(x, y, a)| format!("({x}, {y}) alpha {a}"))
-        .collect();
-    format!(
-        "{}: pixel ({}, {}) triangle {} micro-triangle {} (level {}) known {} at b1 = {}, b2 = {}: {}; exact point ({}, {}) texels reads {} -> {}",
-        label,
-        r.x,
-        r.y,
-        r.triangle,
-        c.micro_triangle,
-        c.level.map_or("special".into(), |l| l.to_string()),
-        if r.state == 1 { "opaque" } else { "transparent" },
-        hex(r.b1_bits),
-        hex(r.b2_bits),
-        c.class.name(),
-        c.exact_texel_point[0],
-        c.exact_texel_point[1],
-        if texels.is_empty() { "the border".into() } else { texels.join(", ") },
-        if c.exact_opaque { "opaque" } else { "transparent" },
-    )
-}
-
-fn render_failure(program: &Program, e: RenderError) -> Failure {
-    match e {
-        RenderError::NoDevice(message) => {
-            program.report(format_args!("render: {message}"));
-            Failure::Exit(Exit::NoDevice)
+            no_device(program, &message)
         }
-        RenderError::Input(message) => Failure::Malformed(message),
-        other => Failure::Io(format!("render: {other}")),
+        ErrorClass::Input => Failure::Malformed(e.to_string()),
+        ErrorClass::Device => Failure::Io(format!("render: {e}")),
     }
+}
+
+/// One traced method: its (first) frame, the classified contradictions
+/// and the least times of its frames.
+struct Traced {
+    frame: Frame,
+    classified: Vec<Classified>,
+    cpu: Option<f64>,
+    wall: f64,
+    device: Option<f64>,
+}
+
+/// The least of two optional times.
+fn least(a: Option<f64>, b: Option<f64>) -> Option<f64> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    }
+}
+
+/// What `render` traces, and how.
+struct Plan<'a> {
+    tracers: &'a [Tracer],
+    methods: &'a [Method],
+    camera: Camera,
+    size: (u32, u32),
+    faults: Faults,
+    max_report: u32,
+    frames: u32,
+}
+
+/// Every method under every tracer, `frames` times each (the frames must
+/// agree), with its contradictions classified.
+fn trace_all(
+    program: &Program,
+    renderer: &Renderer,
+    plan: &Plan<'_>,
+    (scene, maps): (&Scene, &Micromaps),
+) -> Result<Vec<Traced>, Failure> {
+    let mut traced = Vec::new();
+    for &tracer in plan.tracers {
+        for &method in plan.methods {
+            let mut best: Option<Frame> = None;
+            let (mut cpu, mut wall, mut device) = (None, f64::INFINITY, None);
+            for _ in 0..plan.frames {
+                let frame = renderer
+                    .render(
+                        tracer,
+                        method,
+                        &plan.camera,
+                        plan.size,
+                        plan.faults,
+                        plan.max_report,
+                    )
+                    .map_err(|e| render_failure(program, &e))?;
+                cpu = least(cpu, frame.cpu_seconds);
+                device = least(device, frame.device_seconds);
+                wall = wall.min(frame.wall_seconds);
+                if let Some(previous) = &best {
+                    if previous.hits != frame.hits || previous.counters != frame.counters {
+                        return Err(Failure::Failed(format!(
+                            "{} {}: two frames of the same method differ (the device is not deterministic)",
+                            tracer.name(),
+                            method.name()
+                        )));
+                    }
+                }
+                best.get_or_insert(frame);
+            }
+            let frame = best.expect("at least one frame");
+            let classified = frame
+                .contradictions
+                .iter()
+                .filter_map(|c| classify(scene, maps, c))
+                .collect();
+            traced.push(Traced {
+                frame,
+                classified,
+                cpu,
+                wall,
+                device,
+            });
+        }
+    }
+    Ok(traced)
+}
+
+fn ms(seconds: Option<f64>) -> String {
+    seconds.map_or("-".into(), |s| format!("{:.2}", 1e3 * s))
 }
 
 fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> {
@@ -477,33 +405,14 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
     let size = size(&p)?;
     let methods = methods(&p)?;
     let tracers = tracers(&p)?;
+    let device = device(&p)?;
     let frames = count(&p, "--frames", 1, 1000)?;
-    let max_report = p
-        .get("--max-report")
-        .map_or(Ok(20), |t| {
-            t.parse::<u32>()
-                .map_err(|_| Failure::Malformed(format!("--max-report {t:?}: expected a count")))
-        })?
-        .min(1 << 16);
-    let faults = match p.get("--fault") {
-        None => Faults::default(),
-        Some("swap-barycentrics") => Faults {
-            swap_barycentrics: true,
-            ..Faults::default()
-        },
-        Some("flip-known") => Faults {
-            flip_known: true,
-            ..Faults::default()
-        },
-        Some(other) => {
-            return Err(Failure::Malformed(format!(
-                "--fault {other:?}: expected swap-barycentrics or flip-known"
-            )))
-        }
-    };
+    let max_report = max_report(&p)?;
+    let faults = faults(&p)?;
     let s = sampler_options(&p)?;
     let given_camera = camera(&p)?;
     let source = source(&p)?;
+    let auto_levels = matches!(&source, Source::Bake(args) if matches!(args.options.levels, LevelRule::Useful { .. }));
     let mut names: Vec<String> = vec!["render.json".into()];
     for (i, &t) in tracers.iter().enumerate() {
         for &m in &methods {
@@ -521,16 +430,13 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
         None => framing(&scene, size)?,
     };
     let (maps, source) = micromaps(&source, &input)?;
-    let renderer = Renderer::new(&scene, Some(&maps)).map_err(|e| render_failure(program, e))?;
-    if let Some(missing) = tracers.iter().find(|t| !renderer.tracers().contains(t)) {
-        return Err(render_failure(
-            program,
-            RenderError::NoDevice(format!(
-            "{}: no VK_KHR_ray_tracing_pipeline for the {} tracer (--tracer query traces without it)",
-            renderer.device_name(),
-            missing.name()
-        ))));
-    }
+    let options = RendererOptions {
+        device,
+        tracers: tracers.clone(),
+        hardware: methods.iter().any(|m| m.is_hardware()),
+    };
+    let renderer =
+        Renderer::new(&scene, Some(&maps), &options).map_err(|e| render_failure(program, &e))?;
     // Claimed once the device is there: exit 4 leaves DIR untouched.
     let destination = Destination::claim(&out, &name_refs, p.flag("--force")).map_err(
         |refusal| match refusal {
@@ -538,54 +444,45 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
             Refusal::Io(message) => Failure::Io(message),
         },
     )?;
-    let mut traced: Vec<(Frame, Vec<Classified>, Option<f64>, f64)> = Vec::new();
-    for &tracer in &tracers {
-        for &method in &methods {
-            let mut best: Option<Frame> = None;
-            let (mut cpu, mut wall) = (None::<f64>, f64::INFINITY);
-            for _ in 0..frames {
-                let frame = renderer
-                    .render(tracer, method, &camera, size, faults, max_report)
-                    .map_err(|e| render_failure(program, e))?;
-                cpu = match (cpu, frame.cpu_seconds) {
-                    (Some(a), Some(b)) => Some(a.min(b)),
-                    (a, b) => a.or(b),
-                };
-                wall = wall.min(frame.wall_seconds);
-                if let Some(previous) = &best {
-                    if previous.hits != frame.hits || previous.counters != frame.counters {
-                        return Err(Failure::Failed(format!(
-                        "{} {}: two frames of the same method differ (the device is not deterministic)",
-                        tracer.name(),
-                        method.name()
-                    )));
-                    }
-                }
-                best = Some(frame);
-            }
-            let frame = best.expect("at least one frame");
-            let classified = frame
-                .contradictions
-                .iter()
-                .filter_map(|c| classify(&scene, &maps, c))
-                .collect();
-            traced.push((frame, classified, cpu, wall));
-        }
-    }
-    let reference = traced[0].0.clone();
+    let plan = Plan {
+        tracers: &tracers,
+        methods: &methods,
+        camera,
+        size,
+        faults,
+        max_report,
+        frames,
+    };
+    let traced = trace_all(program, &renderer, &plan, (&scene, &maps))?;
+    let reference = traced[0].frame.clone();
     let reference_rgb = picture(&reference, &scene);
+    let mut level_json = Vec::new();
+    let mut level_lines = Vec::new();
+    for (m, job) in input.jobs.iter().enumerate() {
+        let range = scene.mesh_triangles(m);
+        let (value, line) = report::levels(&job.name, range.len(), &maps.level_counts(range));
+        level_json.push(value);
+        level_lines.push(line);
+    }
     let mut files = Vec::new();
     let mut method_json = Vec::new();
     let mut text = format!(
-        "device: {}\nmicromaps: {source}\nsize: {}x{}, {} triangles\n",
+        "device: {}\nmicromaps: {source}\nsize: {}x{}, {} triangles, {:.1}% of the pixels hit (the first tracer's alpha test)\n",
         renderer.device_name(),
         size.0,
         size.1,
-        scene.triangle_count()
+        scene.triangle_count(),
+        100.0 * reference.hit_fraction()
     );
+    if auto_levels {
+        let _ = writeln!(text, "levels (--level auto):");
+        for line in &level_lines {
+            let _ = writeln!(text, "  {line}");
+        }
+    }
     let _ = writeln!(
         text,
-        "{:<8} {:<17} {:>10} {:>10} {:>9} {:>10} {:>8} {:>9} {:>10}",
+        "{:<8} {:<17} {:>10} {:>10} {:>9} {:>10} {:>8} {:>9} {:>9} {:>9}",
         "tracer",
         "method",
         "candidates",
@@ -594,13 +491,20 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
         "unknown",
         "contra",
         "differ",
-        "cpu ms"
+        "cpu ms",
+        "device ms"
     );
     let mut failures = Vec::new();
     let encode = |rgb: &[u8]| {
         encode_rgb(size.0, size.1, rgb).map_err(|e| Failure::Io(format!("render: PNG: {e}")))
     };
-    for (i, (frame, classified, cpu, wall)) in traced.iter().enumerate() {
+    let find = |tracer: Tracer, method: Method| {
+        traced
+            .iter()
+            .find(|t| t.frame.tracer == tracer && t.frame.method == method)
+    };
+    for (i, t) in traced.iter().enumerate() {
+        let frame = &t.frame;
         let (tracer, method) = (frame.tracer, frame.method);
         // The label in messages: the method, with the tracer when both run.
         let label = if tracers.len() > 1 {
@@ -614,24 +518,37 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
             picture(frame, &scene)
         };
         files.push((picture_name(tracer, method, ""), encode(&rgb)?));
-        let mut differing = 0;
-        if i > 0 {
-            let (diff, n) = difference(frame, &reference, &reference_rgb);
-            differing = n;
+        // Against the first tracer's alpha test: the "differ" column.
+        let differing = if i > 0 {
+            difference(frame, &reference, &reference_rgb).1
+        } else {
+            0
+        };
+        // Against the picture it must equal (and its difference picture).
+        let must_equal = match method.reference() {
+            Some(Method::AlphaTest) | None => Some(&reference),
+            Some(other) => find(tracer, other).map(|r| &r.frame),
+        };
+        let mut differing_from_reference = None;
+        if let (true, Some(r)) = (i > 0, must_equal) {
+            let r_rgb = if std::ptr::eq(r, &reference) {
+                reference_rgb.clone()
+            } else {
+                picture(r, &scene)
+            };
+            let (diff, n) = difference(frame, r, &r_rgb);
             files.push((picture_name(tracer, method, "-diff"), encode(&diff)?));
+            differing_from_reference = method.reference().map(|_| n);
         }
         let c = frame.counters;
         let ratio = |a: u64, b: u64| if b == 0 { 0.0 } else { a as f64 / b as f64 };
         // Against the same tracer's alpha test (the candidates it sees
         // depend on its traversal).
-        let alpha_fetches = traced
-            .iter()
-            .find(|(f, ..)| f.tracer == tracer && f.method == Method::AlphaTest)
-            .map_or(0, |(f, ..)| f.counters.texture_fetches);
-        let fetches_saved = 1.0 - ratio(c.texture_fetches, alpha_fetches);
+        let alpha = find(tracer, Method::AlphaTest).map_or(c, |a| a.frame.counters);
+        let fetches_saved = 1.0 - ratio(c.texture_fetches, alpha.texture_fetches);
         let _ = writeln!(
             text,
-            "{:<8} {:<17} {:>10} {:>10} {:>9} {:>10} {:>8} {:>9} {:>10}",
+            "{:<8} {:<17} {:>10} {:>10} {:>9} {:>10} {:>8} {:>9} {:>9} {:>9}",
             tracer.name(),
             method.name(),
             c.candidates,
@@ -640,15 +557,21 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
             c.unknown,
             c.contradicted,
             differing,
-            cpu.map_or("-".into(), |s| format!("{:.1}", 1e3 * s))
+            ms(t.cpu),
+            ms(t.device)
         );
-        // The other tracer's alpha test must render the same picture too.
-        if (method.is_four_state() || method == Method::AlphaTest) && differing > 0 {
-            failures.push(format!(
-                "{label}: {differing} pixels differ from {} (see {})",
-                picture_name(reference.tracer, Method::AlphaTest, ""),
-                picture_name(tracer, method, "-diff")
-            ));
+        if let (Some(n), Some(r)) = (differing_from_reference, method.reference()) {
+            if n > 0 {
+                let r_name = if r == Method::AlphaTest {
+                    picture_name(reference.tracer, Method::AlphaTest, "")
+                } else {
+                    picture_name(tracer, r, "")
+                };
+                failures.push(format!(
+                    "{label}: {n} pixels differ from {r_name} (see {})",
+                    picture_name(tracer, method, "-diff")
+                ));
+            }
         }
         if method.is_four_state() {
             if c.contradicted > 0 {
@@ -657,7 +580,7 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
                     c.contradicted
                 ));
                 failures.extend(
-                    classified
+                    t.classified
                         .iter()
                         .take(5)
                         .map(|x| contradiction_line(&label, x)),
@@ -671,14 +594,15 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
             }
         }
         let mut by_class = serde_json::Map::new();
-        for x in classified {
+        for x in &t.classified {
             let e = by_class.entry(x.class.name()).or_insert(json!(0));
             *e = json!(e.as_u64().unwrap_or(0) + 1);
         }
-        method_json.push(json!({
+        let mut entry = json!({
             "tracer": tracer.name(),
             "method": method.name(),
             "four_state": method.is_four_state(),
+            "hardware": method.is_hardware(),
             "rays": c.rays,
             "candidates": c.candidates,
             "texture_fetches": c.texture_fetches,
@@ -686,24 +610,39 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
             "unknown": c.unknown,
             "invalid": c.invalid,
             "contradicted": c.contradicted,
+            "hit_fraction": frame.hit_fraction(),
             "pixels_differing_from_alpha_test": differing,
+            "must_equal": method.reference().map(Method::name),
+            "pixels_differing_from_must_equal": differing_from_reference,
             "texture_fetches_saved_fraction": if method == Method::AlphaTest { 0.0 } else { fetches_saved },
             "decided_without_texture_fraction": ratio(c.known, c.candidates),
-            "cpu_seconds_per_frame": cpu,
-            "wall_seconds_per_frame": wall,
+            "cpu_seconds_per_frame": t.cpu,
+            "wall_seconds_per_frame": t.wall,
+            "device_seconds_per_frame": t.device,
             "frames": frames,
             "contradictions_classified": by_class,
-            "contradictions": classified.iter().map(contradiction_json).collect::<Vec<_>>(),
-        }));
+            "contradictions": t.classified.iter().map(contradiction_json).collect::<Vec<_>>(),
+        });
+        if method.is_hardware() {
+            // The shader sees only what the traversal hands it.
+            entry["any_hit_invocations"] = json!(c.candidates);
+            entry["alpha_test_candidates"] = json!(alpha.candidates);
+            entry["any_hit_saved_fraction"] = json!(1.0 - ratio(c.candidates, alpha.candidates));
+        }
+        method_json.push(entry);
     }
     let passed = failures.is_empty();
     let report_json = json!({
         "device": renderer.device_name(),
-        "time": "process CPU seconds per frame on this device (a CPU device's threads are the process's), least of the frames",
+        "device_info": report::device_json(renderer.device_info(), renderer.enabled()),
+        "sampling": "shader code (render_common.glsl): binary32 nearest or bilinear, Vulkan's address modes, no hardware sampler",
+        "time": "cpu: process CPU seconds per frame (a CPU device's threads are the process's); wall: the submission, waited for; device: between the device's timestamps around the dispatch (a GPU's frame time); each the least of the frames",
         "size": [size.0, size.1],
-        "camera": {"eye": camera.eye, "target": camera.target, "fov_y_degrees": camera.fov_y_degrees},
+        "camera": {"eye": camera.eye, "target": camera.target, "fov_y_degrees": camera.fov_y_degrees, "fitted": given_camera.is_none()},
+        "hit_fraction": reference.hit_fraction(),
         "triangles": scene.triangle_count(),
         "micromaps": source,
+        "levels": level_json,
         "fault": p.get("--fault"),
         "tracers": tracers.iter().map(|t| t.name()).collect::<Vec<_>>(),
         "methods": method_json,
@@ -726,7 +665,7 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
         if p.flag("--check") {
             let _ = writeln!(
                 text,
-                "check: passed (under every tracer, every 4-state method renders the alpha test's picture; no contradicted candidate)"
+                "check: passed (under every tracer, every 4-state method renders the alpha test's picture and the forced 2-state hardware micromap flat-2-state's; no contradicted candidate)"
             );
         }
         Exit::Success

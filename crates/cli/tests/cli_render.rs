@@ -2,8 +2,14 @@
 //! (Mesa's lavapipe in CI): our bakes of the committed assets (GPU model,
 //! the default) pass at levels 2..=8; the negative controls fail: looking
 //! the micromap up at swapped barycentrics, flipping the known states, a
-//! nearest bake sampled linearly, the committed meshoptimizer bakes. Exit
-//! codes for bad input and for a machine without a device.
+//! nearest bake sampled linearly, the committed meshoptimizer bakes. The
+//! driver's own micromaps (`--methods hardware,hardware-2-state`) pass where
+//! the device has `VK_EXT_opacity_micromap` and exit 4 naming it where it
+//! has not (lavapipe); the pipeline tracer runs without `VK_KHR_ray_query`;
+//! `--device` picks a device; the default camera fits what is drawn; `--level
+//! auto` lists the levels per primitive; both tracers list their first
+//! contradictions in pixel order. Exit codes for bad input and for a machine
+//! without a device.
 //!
 //! Without a device each test prints `SKIPPED: ...` and passes, unless
 //! `MICROMAP_REQUIRE_VULKAN=1` (the CI tier), where it fails. The
@@ -24,10 +30,16 @@ fn asset(path: &str) -> String {
     root().join(path).to_string_lossy().into_owned()
 }
 
+/// The probe's render.json: the device it found.
+fn probe_json() -> Option<&'static Value> {
+    PROBE.get().and_then(|p| p.as_ref().ok())
+}
+
+static PROBE: OnceLock<Result<Value, String>> = OnceLock::new();
+
 /// Whether a device with ray queries is there (probed once with a 1x1
 /// frame); without one, says SKIPPED (or fails under `REQUIRE=1`).
 fn device(test: &str) -> bool {
-    static PROBE: OnceLock<Result<(), String>> = OnceLock::new();
     let probe = PROBE.get_or_init(|| {
         let out = scratch("render-probe");
         let o = run(&[
@@ -45,13 +57,15 @@ fn device(test: &str) -> bool {
             out.to_str().unwrap(),
         ]);
         match o.status.code() {
-            Some(0) => Ok(()),
+            Some(0) => Ok(
+                serde_json::from_slice(&std::fs::read(out.join("render.json")).unwrap()).unwrap(),
+            ),
             Some(4) => Err(text(&o.stderr).trim().to_string()),
             other => panic!("probe: exit {other:?}\n{}", text(&o.stderr)),
         }
     });
     match probe {
-        Ok(()) => true,
+        Ok(_) => true,
         Err(why) => {
             assert!(
                 std::env::var(REQUIRE).as_deref() != Ok("1"),
@@ -459,4 +473,246 @@ fn no_device_exits_4_and_writes_nothing() {
     assert_eq!(o.status.code(), Some(4), "{}", describe(&o));
     assert!(text(&o.stderr).contains("Vulkan"), "{}", describe(&o));
     assert!(!out.exists());
+}
+
+/// Whether the probed device has `VK_EXT_opacity_micromap`.
+fn has_opacity_micromap() -> bool {
+    probe_json().is_some_and(|j| j["device_info"]["extensions"]["VK_EXT_opacity_micromap"] == true)
+}
+
+#[test]
+fn the_drivers_micromaps_pass_or_exit_4_naming_the_extension() {
+    if !device("hardware") {
+        return;
+    }
+    let cards = asset("assets/crytek-sponza/cards.gltf");
+    let args = [
+        "--gltf",
+        &cards,
+        "--level",
+        "5",
+        "--size",
+        "160x48",
+        "--methods",
+        "flat-4-state,hardware,hardware-2-state",
+    ];
+    if has_opacity_micromap() {
+        // The driver's micromap renders the alpha test's picture, and forced
+        // to 2 states the emulated flat-2-state picture: its index function
+        // and state decoding are the shader library's.
+        let (o, json) = check("hardware", &args);
+        assert_eq!(o.status.code(), Some(0), "{}", describe(&o));
+        let json = json.unwrap();
+        for tracer in TRACERS {
+            let hw = traced(&json, tracer, "hardware");
+            assert_eq!(hw["pixels_differing_from_must_equal"], 0, "{tracer}");
+            assert_eq!(hw["known"], 0, "{tracer}: the shader decides no state");
+            let any_hit = hw["any_hit_invocations"].as_u64().unwrap();
+            assert!(any_hit <= hw["alpha_test_candidates"].as_u64().unwrap());
+            let two = traced(&json, tracer, "hardware-2-state");
+            assert_eq!(two["must_equal"], "flat-2-state");
+            assert_eq!(two["pixels_differing_from_must_equal"], 0, "{tracer}");
+        }
+        return;
+    }
+    // No driver here has the extension (lavapipe): exit 4, nothing written,
+    // the extension named; the emulated methods still trace.
+    let parent = scratch("render-no-omm");
+    let out = parent.join("out");
+    let mut all = vec!["render", "--out", out.to_str().unwrap()];
+    all.extend_from_slice(&args);
+    let o = run(&all);
+    assert_eq!(o.status.code(), Some(4), "{}", describe(&o));
+    let stderr = text(&o.stderr);
+    assert!(stderr.contains("VK_EXT_opacity_micromap"), "{stderr}");
+    assert!(stderr.contains("--methods without hardware"), "{stderr}");
+    assert!(!out.exists());
+    let (o, _) = check("no-omm-emulated", &args[..6]);
+    assert_eq!(o.status.code(), Some(0), "{}", describe(&o));
+}
+
+#[test]
+fn the_pipeline_tracer_runs_without_ray_queries() {
+    if !device("pipeline-alone") {
+        return;
+    }
+    let cards = asset("assets/crytek-sponza/cards.gltf");
+    let (o, json) = check(
+        "pipeline-alone",
+        &[
+            "--gltf", &cards, "--level", "4", "--size", "96x32", "--tracer", "pipeline",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", describe(&o));
+    let json = json.unwrap();
+    let enabled = &json["device_info"]["enabled_extensions"];
+    assert_eq!(
+        enabled,
+        &serde_json::json!([
+            "VK_KHR_acceleration_structure",
+            "VK_KHR_ray_tracing_pipeline"
+        ]),
+        "the device was opened without VK_KHR_ray_query"
+    );
+}
+
+#[test]
+fn device_picks_a_device_by_number_or_name() {
+    if !device("device") {
+        return;
+    }
+    let probe = probe_json().unwrap();
+    let index = probe["device_info"]["index"].as_u64().unwrap().to_string();
+    let name = probe["device_info"]["name"].as_str().unwrap().to_string();
+    let part: String = name.chars().take(4).collect::<String>().to_uppercase();
+    let cards = asset("assets/crytek-sponza/cards.gltf");
+    for (label, selector) in [("number", index.as_str()), ("name", part.as_str())] {
+        let (o, json) = check(
+            &format!("device-{label}"),
+            &[
+                "--gltf", &cards, "--level", "2", "--size", "32x32", "--device", selector,
+            ],
+        );
+        assert_eq!(o.status.code(), Some(0), "{selector}: {}", describe(&o));
+        let info = &json.unwrap()["device_info"];
+        assert_eq!(info["name"], name.as_str());
+        for key in ["driver_name", "driver_version", "vulkan_api_version"] {
+            assert!(!info[key].as_str().unwrap().is_empty(), "{key}");
+        }
+    }
+    let parent = scratch("render-no-such-device");
+    let out = parent.join("out");
+    let o = run(&[
+        "render",
+        "--gltf",
+        &cards,
+        "--device",
+        "no such device anywhere",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(4), "{}", describe(&o));
+    assert!(
+        text(&o.stderr).contains("named like \"no such device anywhere\""),
+        "{}",
+        describe(&o)
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn the_default_camera_fits_what_is_drawn_and_auto_lists_levels() {
+    if !device("camera") {
+        return;
+    }
+    let fern = asset("assets/polyhaven-fern02/fern_02.gltf");
+    let (o, json) = check(
+        "camera",
+        &[
+            "--gltf",
+            &fern,
+            "--max-level",
+            "5",
+            "--size",
+            "96x96",
+            "--methods",
+            "flat-4-state",
+            "--tracer",
+            "query",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", describe(&o));
+    let json = json.unwrap();
+    assert_eq!(json["camera"]["fitted"], true);
+    // The four ferns, placed apart by their nodes, fill the frame: the old
+    // camera, on unplaced meshes, hit 9% of the pixels.
+    let hit = json["hit_fraction"].as_f64().unwrap();
+    assert!(hit > 0.1, "hit fraction {hit}");
+    // --level auto: the levels per primitive, on stdout and in render.json.
+    let stdout = text(&o.stdout);
+    assert!(stdout.contains("levels (--level auto):"), "{stdout}");
+    let levels = json["levels"].as_array().unwrap();
+    assert_eq!(levels.len(), 4);
+    let mut total = 0;
+    for mesh in levels {
+        let line = format!("  {}: ", mesh["mesh"].as_str().unwrap());
+        assert!(stdout.contains(&line), "{line} in {stdout}");
+        let counted: u64 = mesh["levels"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|l| {
+                assert!(l["level"].as_u64().unwrap() <= 5);
+                l["triangles"].as_u64().unwrap()
+            })
+            .sum();
+        assert_eq!(
+            counted + mesh["special"].as_u64().unwrap(),
+            mesh["triangles"]
+        );
+        total += mesh["triangles"].as_u64().unwrap();
+    }
+    assert_eq!(total, json["triangles"].as_u64().unwrap());
+}
+
+#[test]
+fn both_tracers_list_their_first_contradictions_in_pixel_order() {
+    if !device("order") {
+        return;
+    }
+    let cards = asset("assets/crytek-sponza/cards.gltf");
+    let (_, json) = check(
+        "order",
+        &[
+            "--gltf",
+            &cards,
+            "--level",
+            "5",
+            "--size",
+            "128x48",
+            "--fault",
+            "flip-known",
+            "--methods",
+            "flat-4-state",
+            "--max-report",
+            "7",
+        ],
+    );
+    let json = json.unwrap();
+    let pixels = |tracer: &str| -> Vec<(u64, u64)> {
+        traced(&json, tracer, "flat-4-state")["contradictions"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| {
+                (
+                    c["pixel"][1].as_u64().unwrap(),
+                    c["pixel"][0].as_u64().unwrap(),
+                )
+            })
+            .collect()
+    };
+    for tracer in TRACERS {
+        let listed = pixels(tracer);
+        // More than 7 were contradicted: the 7 listed are the first pixels'.
+        assert!(
+            traced(&json, tracer, "flat-4-state")["contradicted"]
+                .as_u64()
+                .unwrap()
+                > 7
+        );
+        assert_eq!(listed.len(), 7, "{tracer}");
+        assert!(
+            listed.windows(2).all(|w| w[0] <= w[1]),
+            "{tracer}: {listed:?}"
+        );
+    }
+    let (q, p) = (
+        traced(&json, "query", "flat-4-state"),
+        traced(&json, "pipeline", "flat-4-state"),
+    );
+    if q["contradicted"] == p["contradicted"] {
+        // The same candidates, whatever order the device ran them in.
+        assert_eq!(q["contradictions"], p["contradictions"]);
+    }
 }

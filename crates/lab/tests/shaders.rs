@@ -28,9 +28,6 @@
 //! The random maps come from the workspace's one PRNG
 //! (`micromap_index_test_support::SplitMix64`).
 
-#[path = "shaders/vulkan.rs"]
-mod vulkan;
-
 use micromap_index_test_support::SplitMix64;
 
 use micromap_index::inverse::micro_triangle;
@@ -41,11 +38,11 @@ use micromap_index::micromap::{
 use micromap_index::succinct::{LevelOrderTree, PaperTree};
 use micromap_index::{spec, Level, SpecLevel};
 use micromap_index_lab::vectors::{check, parse_vector_file, Answer, Answers};
+use micromap_index_render::vulkan::{ComputeKernel, Device, DeviceRequest};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use vulkan::{Gpu, Kernel};
 
 /// Set to `1` to make a missing tool or device a failure.
 const REQUIRE: &str = "MICROMAP_REQUIRE_VULKAN";
@@ -77,7 +74,7 @@ fn tool_runs(name: &str) -> bool {
 }
 
 /// The device, or `None` (said) when the tools or a device are missing.
-fn setup() -> Option<Gpu> {
+fn setup() -> Option<Device> {
     for tool in ["glslangValidator", "spirv-val"] {
         if !tool_runs(tool) {
             return skip(&format!(
@@ -85,12 +82,13 @@ fn setup() -> Option<Gpu> {
             ));
         }
     }
-    match Gpu::new() {
+    // Any device with a compute queue: the kernels need no extension.
+    match Device::open(&DeviceRequest::default()) {
         Ok(gpu) => {
-            println!("device: {}", gpu.name);
+            println!("device: {}", gpu.info().label());
             Some(gpu)
         }
-        Err(why) => skip(why.as_str()),
+        Err(why) => skip(&why.to_string()),
     }
 }
 
@@ -144,9 +142,9 @@ fn compile(source: &Path) -> Vec<u32> {
     spirv
 }
 
-fn kernel(gpu: &Gpu, source: &str, bindings: usize) -> Kernel {
+fn kernel(gpu: &Device, source: &str, bindings: usize) -> ComputeKernel {
     let spirv = compile(&root().join(source));
-    gpu.kernel(&spirv, bindings)
+    gpu.compute_kernel(&spirv, bindings as u32, 16)
         .unwrap_or_else(|e| panic!("{source}: {e}"))
 }
 
@@ -169,13 +167,31 @@ fn nibbles(packed: &[u32], count: usize) -> Vec<u32> {
         .collect()
 }
 
+/// Runs `kernel` once: `inputs` at bindings `0..n-1`, an output of
+/// `out_words` words at the last binding (zeroed first), `push` as the push
+/// constants, and at least `invocations` invocations of 64-wide workgroups
+/// (in two dimensions past 4,096 groups: `x + y * width`).
+fn run(
+    gpu: &Device,
+    kernel: &ComputeKernel,
+    inputs: &[&[u32]],
+    out_words: usize,
+    push: [u32; 4],
+    invocations: u32,
+) -> Result<Vec<u32>, micromap_index_render::RenderError> {
+    let groups = invocations.div_ceil(64).max(1);
+    let width = groups.min(4096);
+    let height = groups.div_ceil(width);
+    let push: Vec<u8> = push.iter().flat_map(|w| w.to_le_bytes()).collect();
+    gpu.run_kernel(kernel, inputs, out_words, &push, [width, height, 1])
+}
+
 /// Runs a check kernel (push constants `start, count, a, b`) over `count`
 /// answers.
-fn answers(gpu: &Gpu, k: &Kernel, inputs: &[&[u32]], push: [u32; 4]) -> Vec<u32> {
+fn answers(gpu: &Device, k: &ComputeKernel, inputs: &[&[u32]], push: [u32; 4]) -> Vec<u32> {
     let count = push[1] as usize;
     let invocations = count.div_ceil(8) as u32;
-    let packed = gpu
-        .run(k, inputs, count.div_ceil(8), push, invocations)
+    let packed = run(gpu, k, inputs, count.div_ceil(8), push, invocations)
         .unwrap_or_else(|e| panic!("dispatch: {e}"));
     nibbles(&packed, count)
 }
@@ -339,7 +355,7 @@ fn index_function_passes_the_spec_f32_vectors() {
     }
 }
 
-fn index_function_on_vectors(gpu: &Gpu, lang: Lang) {
+fn index_function_on_vectors(gpu: &Device, lang: Lang) {
     let path = root().join("reference/vectors/spec-f32.json");
     let vectors = parse_vector_file(&std::fs::read(&path).unwrap()).unwrap();
     assert_eq!(vectors.function, "spec-f32");
@@ -354,10 +370,8 @@ fn index_function_on_vectors(gpu: &Gpu, lang: Lang) {
     let k = kernel(gpu, lang.index_driver(), 2);
     // One dimension: the driver indexes by gl_GlobalInvocationID.x only.
     assert!(count.div_ceil(64) <= 4096);
-    let indices = gpu
-        .run(&k, &[&cases], count as usize, [count, 0, 0, 0], count)
-        .unwrap();
-    gpu.drop_kernel(&k);
+    let indices = run(gpu, &k, &[&cases], count as usize, [count, 0, 0, 0], count).unwrap();
+    drop(k);
     let mut by_id = BTreeMap::new();
     for (c, &index) in vectors.cases.iter().zip(&indices) {
         let (u, v) = (f32::from_bits(hex(&c.u)), f32::from_bits(hex(&c.v)));
@@ -380,7 +394,7 @@ fn index_function_on_vectors(gpu: &Gpu, lang: Lang) {
         lang.index_driver(),
         report.matched,
         report.cases,
-        gpu.name
+        gpu.info().label()
     );
 }
 
@@ -392,7 +406,7 @@ fn flat_lookup_agrees_with_the_micromap_buffers() {
     }
 }
 
-fn flat_lookup_on_maps(gpu: &Gpu, lang: Lang) {
+fn flat_lookup_on_maps(gpu: &Device, lang: Lang) {
     let k = kernel(gpu, &lang.kernel("flat_lookup"), 4);
     let mut lookups = 0usize;
     for level in 0..=lang.max_level() {
@@ -455,7 +469,7 @@ fn flat_lookup_on_maps(gpu: &Gpu, lang: Lang) {
             assert_eq!(got, [INVALID; 8], "level {level} {width}: triangle {past}");
         }
     }
-    gpu.drop_kernel(&k);
+    drop(k);
     println!(
         "{lang:?} flat lookup: {lookups} lookups match, levels 0..={}, both formats",
         lang.max_level()
@@ -470,7 +484,7 @@ fn flat_lookup_of_malformed_buffers_is_invalid() {
     }
 }
 
-fn flat_lookup_of_malformed(gpu: &Gpu, lang: Lang) {
+fn flat_lookup_of_malformed(gpu: &Device, lang: Lang) {
     let k = kernel(gpu, &lang.kernel("flat_lookup"), 4);
     let record = |offset: u32, level: u32, format: u32| [offset, level | format << 16];
     // Records: 0 fine (level 1, 4-state, 1 byte at 0), 1 level 13, 2 format
@@ -512,7 +526,7 @@ fn flat_lookup_of_malformed(gpu: &Gpu, lang: Lang) {
     expect(&[0x00fd_00fb], 1, 0, &[INVALID; 2]);
     expect(&[0x00fd_00fb], 1, 2, &[2; 2]);
     expect(&[0x00fd_00fb], 1, 1, &[0, 1, 2, 3, INVALID]);
-    gpu.drop_kernel(&k);
+    drop(k);
 }
 
 #[test]
@@ -523,7 +537,7 @@ fn tree_lookups_agree_with_the_library() {
     }
 }
 
-fn tree_lookups_on_maps(gpu: &Gpu, lang: Lang) {
+fn tree_lookups_on_maps(gpu: &Device, lang: Lang) {
     let lot = kernel(gpu, &lang.kernel("level_order_lookup"), 4);
     let paper_k = kernel(gpu, &lang.kernel("paper_lookup"), 3);
     let (mut lot_lookups, mut paper_lookups) = (0usize, 0usize);
@@ -636,8 +650,8 @@ fn tree_lookups_on_maps(gpu: &Gpu, lang: Lang) {
     // are missing.)
     let got = answers(gpu, &lot, &[&words(&good), &directory, &[]], [0, 256, 2, 5]);
     assert!(got[32..].iter().all(|&s| s == INVALID), "top table missing");
-    gpu.drop_kernel(&lot);
-    gpu.drop_kernel(&paper_k);
+    drop(lot);
+    drop(paper_k);
     println!(
         "{lang:?} level-order tree: {lot_lookups} lookups match; paper tree: {paper_lookups} match \
          (every index up to level 6, 515 sampled above where the tree has at most 2^17 bits; \
@@ -713,8 +727,8 @@ fn tree_lookups_of_changed_bytes() {
             }
         }
     }
-    gpu.drop_kernel(&lot);
-    gpu.drop_kernel(&paper_k);
+    drop(lot);
+    drop(paper_k);
     println!(
         "changed tree bytes: {accepted} accepted by the library and answered alike, \
          {rejected} rejected (shader answers in 0..=4)"

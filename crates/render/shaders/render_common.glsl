@@ -13,10 +13,18 @@
 //                                      (VK_GEOMETRY_INSTANCE_FORCE_OPACITY_MICROMAP_2_STATE_EXT)
 //   3 level-order tree, 4-state        as 1, the state from level_order_tree.glsl
 //   4 paper tree (Algorithm 3), 4-state as 1, from paper_tree.glsl
+//   5 hardware micromap                the driver's VK_EXT_opacity_micromap
+//   6 hardware micromap, forced 2-state  decides known states before any-hit;
+//                                      what it hands the shader runs the
+//                                      alpha test, as method 0
 // Every known decision is also checked against the alpha test (not counted
-// as a fetch): a disagreement is a contradicted candidate, recorded with its
+// as a fetch): a disagreement is a contradicted candidate, counted in its
+// pixel's third word and, for pixels below `record_limit`, recorded with its
 // pixel, primitive, micro-triangle and binary32 barycentrics for the host's
-// exact classification. The lookups come from shaders/glsl (included, never
+// exact classification (the host orders the records by pixel, so both
+// tracers list the same first ones).
+// A primitive's number is its instance's custom index (the mesh's first
+// triangle) plus its index in the mesh's BLAS: the scene's triangle order. The lookups come from shaders/glsl (included, never
 // copied); the texture is sampled by the code below (nearest or bilinear,
 // Vulkan's address modes, binary32), so the host can recompute any fetch.
 #ifndef RENDER_COMMON_GLSL
@@ -43,7 +51,9 @@ layout(std430, set = 0, binding = 8) readonly buffer Trees { uint tree_words[]; 
 // paper tree base, length (bases and lengths in words of tree_words).
 #define TREE_WORDS 10u
 layout(std430, set = 0, binding = 9) readonly buffer TreeDirectory { uint tree_dir[]; };
-// Per pixel: committed primitive + 1 (0: miss), t (float bits).
+// Per pixel, PIXEL_WORDS words: committed primitive + 1 (0: miss), t
+// (float bits), contradicted candidates.
+#define PIXEL_WORDS 3u
 layout(std430, set = 0, binding = 10) buffer Pixels { uint pixels[]; };
 // COUNTERS words of counters, then contradiction records of RECORD_WORDS.
 #define COUNTERS 8u
@@ -57,7 +67,7 @@ layout(push_constant) uniform Frame {
     uint index_width;
     uint max_records;
     uint fault; // bit 0: look up at (b2, b1); bit 1: flip known states
-    uint pad0;
+    uint record_limit; // pixels at or past it record no contradiction
     uint pad1;
     vec4 eye;
     vec4 forward;
@@ -191,7 +201,7 @@ Counts no_counts()
 bool decide_candidate(uint pixel, uint prim, vec2 b, inout Counts n)
 {
     n.candidates++;
-    if (method == 0u) {
+    if (method == 0u || method >= 5u) {
         n.fetches++;
         return alpha_test(prim, b);
     }
@@ -210,7 +220,8 @@ bool decide_candidate(uint pixel, uint prim, vec2 b, inout Counts n)
     bool opaque = state == 1u;
     if (alpha_test(prim, b) != opaque) {
         n.contradicted++;
-        uint r = atomicAdd(counters[7], 1u);
+        atomicAdd(pixels[PIXEL_WORDS * pixel + 2u], 1u);
+        uint r = pixel < record_limit ? atomicAdd(counters[7], 1u) : max_records;
         if (r < max_records) {
             uint at = COUNTERS + RECORD_WORDS * r;
             counters[at] = pixel;
@@ -248,8 +259,8 @@ vec3 primary_direction(uvec2 p)
 // Stores pixel's committed hit: primitive + 1 (0: miss) and t's bits.
 void store_hit(uint pixel, uint prim_plus_one, float t)
 {
-    pixels[2u * pixel] = prim_plus_one;
-    pixels[2u * pixel + 1u] = prim_plus_one == 0u ? 0u : floatBitsToUint(t);
+    pixels[PIXEL_WORDS * pixel] = prim_plus_one;
+    pixels[PIXEL_WORDS * pixel + 1u] = prim_plus_one == 0u ? 0u : floatBitsToUint(t);
 }
 
 #endif

@@ -1,8 +1,9 @@
 #version 460
 // The ray query tracer of the render check (crates/render, `micromap-index
 // render --tracer query`): one primary ray per pixel with GL_EXT_ray_query
-// against a BLAS of the alpha-masked triangles (geometry not opaque: every
-// candidate reaches the rayQueryProceedEXT loop, which decides it by
+// against the alpha-masked meshes (geometry not opaque: every candidate the
+// traversal does not decide itself reaches the rayQueryProceedEXT loop,
+// which decides it by
 // render_common.glsl's decide_candidate, the same code as the pipeline
 // tracer's any-hit shader).
 // Compiled by crates/render/shaders/compile.sh (committed SPIR-V).
@@ -22,12 +23,14 @@ void main()
     Counts n = no_counts();
     while (rayQueryProceedEXT(q)) {
         if (rayQueryGetIntersectionTypeEXT(q, false) != gl_RayQueryCandidateIntersectionTriangleEXT) continue;
-        uint prim = rayQueryGetIntersectionPrimitiveIndexEXT(q, false);
+        uint prim = uint(rayQueryGetIntersectionInstanceCustomIndexEXT(q, false))
+                  + uint(rayQueryGetIntersectionPrimitiveIndexEXT(q, false));
         vec2 b = rayQueryGetIntersectionBarycentricsEXT(q, false);
         if (decide_candidate(pixel, prim, b, n)) rayQueryConfirmIntersectionEXT(q);
     }
     if (rayQueryGetIntersectionTypeEXT(q, true) == gl_RayQueryCommittedIntersectionTriangleEXT) {
-        store_hit(pixel, rayQueryGetIntersectionPrimitiveIndexEXT(q, true) + 1u,
+        store_hit(pixel, uint(rayQueryGetIntersectionInstanceCustomIndexEXT(q, true))
+                             + uint(rayQueryGetIntersectionPrimitiveIndexEXT(q, true)) + 1u,
                   rayQueryGetIntersectionTEXT(q, true));
     } else {
         store_hit(pixel, 0u, 0.0);

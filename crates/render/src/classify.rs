@@ -8,7 +8,8 @@
 //! ([`ContradictionClass::Binary32Rounding`]); otherwise the micromap is
 //! wrong for the exact hit point ([`ContradictionClass::MicromapWrong`]).
 
-use crate::{Contradiction, Micromaps, Scene};
+use crate::frame::Contradiction;
+use crate::scene::{Micromaps, Scene};
 use micromap_index::bake::Filter;
 use micromap_index::micromap::{MicromapIndex, State};
 use micromap_index::{spec, SpecLevel};

@@ -1,12 +1,22 @@
-//! What a frame traces: the scene (triangles with positions and UVs, their
-//! textures and materials) and the micromaps for its triangles.
+//! What a frame traces: the scene (meshes of triangles with positions and
+//! UVs, their textures and materials, and the transforms that place each
+//! mesh in the world) and the micromaps for its triangles.
 
-use crate::RenderError;
+use crate::error::{RenderError, SceneError};
 use micromap_index::bake::mesh::Material;
 use micromap_index::bake::{AddressMode, Comparison, Filter, UvTriangle};
 use micromap_index::micromap::{
-    read_buffers, BufferBytes, IndexWidth, MicromapBuffers, ReadBuffers, ReadOptions,
+    read_buffers, BufferBytes, IndexWidth, MicromapBuffers, MicromapIndex, ReadBuffers, ReadOptions,
 };
+use std::collections::BTreeMap;
+use std::ops::Range;
+
+/// The identity transform, row-major 3x4.
+pub const IDENTITY_TRANSFORM: [f32; 12] =
+    [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+
+/// Most instances of all meshes together.
+pub const MAX_INSTANCES: usize = 1 << 20;
 
 /// An alpha texture as the shader reads it: binary32 alphas, row-major,
 /// row 0 at `v = 0`.
@@ -34,6 +44,10 @@ pub struct SceneMesh {
 pub struct Scene {
     textures: Vec<SceneTexture>,
     meshes: Vec<SceneMesh>,
+    /// Per mesh: its first triangle.
+    first: Vec<u32>,
+    /// Per mesh: its row-major 3x4 object-to-world transforms.
+    instances: Vec<Vec<[f32; 12]>>,
     positions: Vec<[[f32; 3]; 3]>,
     uvs: Vec<UvTriangle>,
     mesh_of: Vec<u32>,
@@ -46,64 +60,97 @@ impl Scene {
         Scene {
             textures,
             meshes: Vec::new(),
+            first: Vec::new(),
+            instances: Vec::new(),
             positions: Vec::new(),
             uvs: Vec::new(),
             mesh_of: Vec::new(),
         }
     }
 
-    /// Adds a mesh: its material and triangles (positions and UVs, in the
-    /// order the micromaps' index buffer follows). Refused: a texture that
-    /// does not exist or has not `width * height` alphas, lists of
-    /// different lengths, a position or UV that is not finite.
+    /// Adds a mesh drawn once where its positions are
+    /// ([`add_placed_mesh`](Self::add_placed_mesh) with [`IDENTITY_TRANSFORM`]).
     pub fn add_mesh(
         &mut self,
         mesh: SceneMesh,
         positions: &[[[f32; 3]; 3]],
         uvs: &[UvTriangle],
     ) -> Result<(), RenderError> {
-        let bad = |m: String| Err(RenderError::Input(m));
+        self.add_placed_mesh(mesh, positions, uvs, &[IDENTITY_TRANSFORM])
+    }
+
+    /// Adds a mesh: its material and triangles (positions and UVs, in the
+    /// order the micromaps' index buffer follows), drawn once per transform
+    /// of `instances` (row-major 3x4 object-to-world; none: not drawn).
+    /// Refused: a texture that does not exist or has not `width * height`
+    /// alphas, lists of different lengths, a position, UV or transform
+    /// that is not finite, more than 2^24 triangles or [`MAX_INSTANCES`]
+    /// instances in all.
+    pub fn add_placed_mesh(
+        &mut self,
+        mesh: SceneMesh,
+        positions: &[[[f32; 3]; 3]],
+        uvs: &[UvTriangle],
+        instances: &[[f32; 12]],
+    ) -> Result<(), RenderError> {
+        let mesh_number = self.meshes.len();
         let Some(t) = self.textures.get(mesh.texture) else {
-            return bad(format!(
-                "mesh {}: no texture {}",
-                self.meshes.len(),
-                mesh.texture
-            ));
+            return Err(SceneError::NoTexture {
+                mesh: mesh_number,
+                texture: mesh.texture,
+            }
+            .into());
         };
         if t.width == 0
             || t.height == 0
             || t.alphas.len() as u64 != u64::from(t.width) * u64::from(t.height)
         {
-            return bad(format!(
-                "texture {}: {} alphas for {}x{}",
-                mesh.texture,
-                t.alphas.len(),
-                t.width,
-                t.height
-            ));
+            return Err(SceneError::TextureSize {
+                texture: mesh.texture,
+                alphas: t.alphas.len(),
+                width: t.width,
+                height: t.height,
+            }
+            .into());
         }
         if positions.len() != uvs.len() {
-            return bad(format!(
-                "mesh {}: {} positions for {} UV triangles",
-                self.meshes.len(),
-                positions.len(),
-                uvs.len()
-            ));
+            return Err(SceneError::Lengths {
+                mesh: mesh_number,
+                positions: positions.len(),
+                uvs: uvs.len(),
+            }
+            .into());
         }
-        if let Some(i) = (0..uvs.len()).find(|&i| {
+        if let Some(triangle) = (0..uvs.len()).find(|&i| {
             positions[i].iter().flatten().any(|x| !x.is_finite())
                 || uvs[i].iter().flatten().any(|x| !x.is_finite())
         }) {
-            return bad(format!(
-                "mesh {} triangle {i}: a position or UV is not finite",
-                self.meshes.len()
-            ));
+            return Err(SceneError::NotFinite {
+                mesh: mesh_number,
+                triangle,
+            }
+            .into());
         }
         if self.uvs.len() + uvs.len() > (1 << 24) {
-            return bad("more than 2^24 triangles".into());
+            return Err(SceneError::TooManyTriangles.into());
+        }
+        if let Some(instance) = instances
+            .iter()
+            .position(|t| t.iter().any(|x| !x.is_finite()))
+        {
+            return Err(SceneError::Transform {
+                mesh: mesh_number,
+                instance,
+            }
+            .into());
+        }
+        if self.instances.iter().map(Vec::len).sum::<usize>() + instances.len() > MAX_INSTANCES {
+            return Err(SceneError::TooManyInstances.into());
         }
         let m = self.meshes.len() as u32;
         self.meshes.push(mesh);
+        self.first.push(self.uvs.len() as u32);
+        self.instances.push(instances.to_vec());
         self.positions.extend_from_slice(positions);
         self.uvs.extend_from_slice(uvs);
         self.mesh_of.extend(std::iter::repeat(m).take(uvs.len()));
@@ -128,6 +175,55 @@ impl Scene {
         &self.uvs
     }
 
+    /// Meshes.
+    #[must_use]
+    pub fn mesh_count(&self) -> usize {
+        self.meshes.len()
+    }
+
+    /// Mesh `m`'s triangles, in the scene's order.
+    #[must_use]
+    pub fn mesh_triangles(&self, m: usize) -> Range<usize> {
+        let start = self.first.get(m).map_or(self.uvs.len(), |&f| f as usize);
+        let end = self
+            .first
+            .get(m + 1)
+            .map_or(self.uvs.len(), |&f| f as usize);
+        start..end.max(start)
+    }
+
+    /// Mesh `m`'s transforms (row-major 3x4 object-to-world).
+    #[must_use]
+    pub fn instances(&self, m: usize) -> &[[f32; 12]] {
+        self.instances.get(m).map_or(&[], Vec::as_slice)
+    }
+
+    /// Every triangle of every drawn instance, in world space (each
+    /// product in binary64, rounded once).
+    #[must_use]
+    pub fn world_triangles(&self) -> Vec<[[f32; 3]; 3]> {
+        let mut triangles = Vec::new();
+        for m in 0..self.meshes.len() {
+            for t in self.instances(m) {
+                let place = |p: [f32; 3]| {
+                    [0, 1, 2].map(|r| {
+                        let row = &t[4 * r..4 * r + 4];
+                        (f64::from(row[0]) * f64::from(p[0])
+                            + f64::from(row[1]) * f64::from(p[1])
+                            + f64::from(row[2]) * f64::from(p[2])
+                            + f64::from(row[3])) as f32
+                    })
+                };
+                triangles.extend(
+                    self.positions[self.mesh_triangles(m)]
+                        .iter()
+                        .map(|tri| tri.map(place)),
+                );
+            }
+        }
+        triangles
+    }
+
     /// The mesh of triangle `t`.
     #[must_use]
     pub fn mesh_of(&self, t: usize) -> Option<&SceneMesh> {
@@ -140,10 +236,12 @@ impl Scene {
         self.textures.get(i)
     }
 
-    /// The box around every position (`None` without triangles).
+    /// The box around every drawn vertex in world space (`None` without
+    /// one).
     #[must_use]
     pub fn bounds(&self) -> Option<[[f32; 3]; 2]> {
-        let mut points = self.positions.iter().flatten();
+        let world = self.world_triangles();
+        let mut points = world.iter().flatten();
         let first = *points.next()?;
         Some(points.fold([first, first], |[lo, hi], p| {
             [
@@ -210,6 +308,15 @@ impl Scene {
     }
 }
 
+/// How some triangles' micromaps are made ([`Micromaps::level_counts`]).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct LevelCounts {
+    /// Triangles per (level, states) of their micromap.
+    pub levels: BTreeMap<(u32, u32), u64>,
+    /// Triangles with a special index (one state for the whole triangle).
+    pub special: u64,
+}
+
 /// A micromap array and one index per scene triangle, as `micromap-index
 /// bake` writes them (`micromap-data.bin`, `micromap-triangles.bin`,
 /// `micromap-indices.bin`), checked once on the host.
@@ -243,7 +350,7 @@ impl Micromaps {
                 ..ReadOptions::default()
             },
         )
-        .map_err(|e| RenderError::Input(format!("micromaps: {e}")))?;
+        .map_err(RenderError::Micromaps)?;
         Ok(Micromaps {
             data,
             records,
@@ -260,7 +367,7 @@ impl Micromaps {
             indices.extend(
                 buffers
                     .index_bytes(g, IndexWidth::U32)
-                    .map_err(|e| RenderError::Input(e.to_string()))?,
+                    .map_err(RenderError::MicromapBuffers)?,
             );
         }
         Micromaps::from_bytes(
@@ -297,14 +404,48 @@ impl Micromaps {
         }
     }
 
+    /// How the micromaps of `triangles` (scene order) are made: triangles
+    /// per (level, states) and with a special index.
+    #[must_use]
+    pub fn level_counts(&self, triangles: Range<usize>) -> LevelCounts {
+        let mut counts = LevelCounts::default();
+        let indices = self.read.indices.as_deref().unwrap_or_default();
+        for index in indices.get(triangles).unwrap_or_default() {
+            match *index {
+                MicromapIndex::Record(r) => {
+                    if let Some(map) = self.read.micromaps.get(r as usize) {
+                        *counts
+                            .levels
+                            .entry((map.level().get(), map.format().states()))
+                            .or_insert(0) += 1;
+                    }
+                }
+                MicromapIndex::Special(_) => counts.special += 1,
+            }
+        }
+        counts
+    }
+
+    /// Records per (level, states), over the whole array.
+    #[must_use]
+    pub fn record_counts(&self) -> BTreeMap<(u32, u32), u64> {
+        let mut counts = BTreeMap::new();
+        for map in &self.read.micromaps {
+            *counts
+                .entry((map.level().get(), map.format().states()))
+                .or_insert(0) += 1;
+        }
+        counts
+    }
+
     /// One index per scene triangle.
     pub(crate) fn check_for(&self, scene: &Scene) -> Result<(), RenderError> {
         let n = self.read.indices.as_ref().map_or(0, Vec::len);
         if n != scene.triangle_count() {
-            return Err(RenderError::Input(format!(
-                "micromaps: {n} indices for {} triangles",
-                scene.triangle_count()
-            )));
+            return Err(RenderError::IndexCount {
+                indices: n,
+                triangles: scene.triangle_count(),
+            });
         }
         Ok(())
     }

@@ -60,6 +60,16 @@ pub struct MaskPrimitive {
     /// mesh's own space (node transforms are not applied), for renderers;
     /// `None` without `POSITION`. `VEC3` of `FLOAT`, every value finite.
     pub positions: Option<Vec<[[f32; 3]; 3]>>,
+    /// Where a renderer draws the mesh: the world transforms (row-major
+    /// 3x4, binary32, rounded once from binary64 products) of the default
+    /// scene's nodes that instance [`mesh`](Self::mesh), depth first from
+    /// the scene's roots: `matrix`, or `translation * rotation * scale`,
+    /// composed from the roots down. Empty when no node of the scene
+    /// instances the mesh; [`IDENTITY_TRANSFORM`](super::IDENTITY_TRANSFORM)
+    /// once when the asset has no `nodes`, or when its node tree is
+    /// malformed (a warning says why). `KHR_mesh_gpu_instancing` instances
+    /// are not included.
+    pub instances: Vec<[f32; 12]>,
 }
 
 impl MaskPrimitive {

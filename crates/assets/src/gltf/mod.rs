@@ -28,6 +28,7 @@ mod image;
 mod json;
 mod material;
 mod micromap_ext;
+mod nodes;
 mod position;
 mod raw;
 mod reader;
@@ -43,6 +44,7 @@ pub use self::micromap_ext::{
     read_gltf_micromaps, read_gltf_micromaps_file, GltfMicromap, GltfMicromapPrimitive,
     GltfMicromaps,
 };
+pub use self::nodes::IDENTITY_TRANSFORM;
 pub use self::write::{
     relative_uri_prefix, write_gltf_micromaps, GltfContainer, GltfFiles, GltfMicromapWrite,
 };
@@ -328,6 +330,7 @@ impl Reader<'_, '_> {
                     triangles,
                     vertex_alpha,
                     positions,
+                    instances: vec![IDENTITY_TRANSFORM],
                 });
             }
         }
@@ -358,7 +361,24 @@ impl Reader<'_, '_> {
                 "materials[{material}].pbrMetallicRoughness.baseColorTexture has KHR_texture_transform: applied to the UVs (exactly)"
             ));
         }
+        self.place_primitives(meshes.len());
         Ok(())
+    }
+
+    /// Each primitive's [`MaskPrimitive::instances`] from the node tree
+    /// (bakes do not need it: a malformed tree is a warning).
+    fn place_primitives(&mut self, meshes: usize) {
+        match nodes::mesh_instances(&self.root, meshes) {
+            Ok(None) => {}
+            Ok(Some(instances)) => {
+                for p in &mut self.asset.primitives {
+                    p.instances.clone_from(&instances[p.mesh]);
+                }
+            }
+            Err(why) => self.warn(format!(
+                "node transforms not applied ({why}): renderers draw each mesh once, in its own space"
+            )),
+        }
     }
 }
 

@@ -36,6 +36,9 @@ pub(crate) struct Job {
     pub(crate) positions: Option<Vec<[[f32; 3]; 3]>>,
     /// glTF's (mesh, primitive) (`None` for `--texture`).
     pub(crate) gltf: Option<(usize, usize)>,
+    /// Where `render` draws the triangles: glTF's node transforms
+    /// (`MaskPrimitive::instances`), the identity for `--texture`.
+    pub(crate) instances: Vec<[f32; 12]>,
 }
 
 pub(crate) struct Input {
@@ -106,6 +109,7 @@ pub(crate) fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Fa
                     vertex_alpha: prim.vertex_alpha.clone(),
                     positions: prim.positions.clone(),
                     gltf: Some((prim.mesh, prim.primitive)),
+                    instances: prim.instances.clone(),
                 });
             }
             if jobs.is_empty() {
@@ -148,6 +152,7 @@ pub(crate) fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Fa
                     vertex_alpha: None,
                     positions: None,
                     gltf: None,
+                    instances: vec![micromap_index_assets::IDENTITY_TRANSFORM],
                 }],
                 warnings: Vec::new(),
             })
