@@ -5,7 +5,7 @@
 use micromap_index::bake::{
     Baker, Comparison, Cutoff, Filter, LinearRule, Model, Sampler, TextureUnit, Unorm8Texture,
 };
-use micromap_index::micromap::{BakedOpacity, Format, State};
+use micromap_index::micromap::{BakedOpacity, Format, State, TriangleOpacity, UnknownPolicy};
 use micromap_index::Level;
 
 fn bake(
@@ -22,7 +22,7 @@ fn bake(
             uv,
             Level::new(level).unwrap(),
             Format::FourState,
-            Default::default(),
+            UnknownPolicy::default(),
         )
         .unwrap()
         .opacity
@@ -54,7 +54,7 @@ fn a_cutoff_equal_to_a_texel_in_binary32_leaves_it_unknown() {
                     &uv,
                     Level::new(0).unwrap(),
                     Format::FourState,
-                    Default::default(),
+                    UnknownPolicy::default(),
                 )
                 .unwrap();
             let state = baked.opacity.state(0).unwrap();
@@ -149,6 +149,61 @@ fn linear_filtering_by_value_knows_what_the_footprint_rule_does_not() {
     assert!(!by_value.state(0).unwrap().is_known());
 }
 
+/// The verifier judges linear filtering by value on micro-triangles of
+/// any size: a whole triangle (a special index) spanning 40 texels of a
+/// ramp, left of where the filtered value reaches the cutoff, is
+/// transparent by value (its footprint reads opaque texels: the footprint
+/// rule contradicts it); one reaching past that line is contradicted, at a
+/// witness where the filtered value passes.
+#[test]
+fn the_verifier_splits_large_micro_triangles_by_value() {
+    // Alpha rises by 4 per texel: 128 (>= 0.5) from texel 32 on.
+    let (w, h) = (64u32, 48u32);
+    let texels: Vec<u8> = (0..w * h).map(|i| ((i % w) * 4) as u8).collect();
+    let texture = Unorm8Texture::new(w, h, &texels).unwrap();
+    let sampler = Sampler {
+        filter: Filter::Linear,
+        address_u: micromap_index::bake::AddressMode::ClampToEdge,
+        address_v: micromap_index::bake::AddressMode::ClampToEdge,
+        border_alpha: 0.0,
+    };
+    let unit = TextureUnit::default();
+    let baker = Baker::new_for(&texture, sampler, Cutoff::default(), unit, u64::MAX).unwrap();
+    let footprint = Baker::new_for(
+        &texture,
+        sampler,
+        Cutoff::default(),
+        unit.with_linear_rule(LinearRule::Footprint),
+        u64::MAX,
+    )
+    .unwrap();
+    // The filtered value at texel-space x is 4 (x - 0.5) / 255: 0.5 at
+    // x = 32.375.
+    let tx = |x: f32| x / w as f32;
+    let ty = |y: f32| y / h as f32;
+    let left = [[tx(1.0), ty(2.0)], [tx(31.9), ty(2.0)], [tx(1.0), ty(44.0)]];
+    let whole = TriangleOpacity::Special(State::Transparent);
+    let v = baker.verify(&left, &whole);
+    assert!(v.checked);
+    assert_eq!((v.contradictions.len(), v.undecided), (0, 0), "{v:?}");
+    // Its footprint at x = 31.9 reads texels 31 (124/255) and 32
+    // (128/255): the footprint rule sees an opaque texel.
+    assert_eq!(footprint.verify(&left, &whole).contradictions.len(), 1);
+    // The bake agrees: transparent by value at a level where pieces are small.
+    let baked = bake(&texture, sampler, Cutoff::default(), &left, 4, unit);
+    assert!((0..256).all(|i| baked.state(i) == Some(State::Transparent)));
+
+    let past = [[tx(1.0), ty(2.0)], [tx(40.0), ty(2.0)], [tx(1.0), ty(44.0)]];
+    let v = baker.verify(&past, &whole);
+    assert_eq!(v.contradictions.len(), 1, "{v:?}");
+    let c = v.contradictions[0];
+    let witness = c.witness.expect("a value witness");
+    let x = witness.x as f64 / 2f64.powi(witness.shift_x as i32);
+    // The witness's filtered value passes (within the filter's error).
+    let value = 4.0 * (x - 0.5) / 255.0;
+    assert!(value >= 0.5 - 1e-6, "witness x {x}: value {value}");
+}
+
 mod value_oracle {
     //! An independent check of linear filtering by value: every known
     //! micro-triangle of random bakes, sampled on a grid 4 times finer (and
@@ -162,7 +217,7 @@ mod value_oracle {
         Unorm8Texture, UvTriangle,
     };
     use micromap_index::inverse::micro_triangles;
-    use micromap_index::micromap::{BakedOpacity, Format, State};
+    use micromap_index::micromap::{BakedOpacity, Format, State, UnknownPolicy};
     use micromap_index::Level;
     use micromap_index_test_support::SplitMix64;
     use num_bigint::BigInt;
@@ -191,19 +246,16 @@ mod value_oracle {
                 let c = i64::try_from(c).ok()?;
                 mode.wrap(c, size)
             };
-            match (
+            if let (Some(x), Some(y)) = (
                 wrap(self.sampler.address_u, i, self.width),
                 wrap(self.sampler.address_v, j, self.height),
             ) {
-                (Some(x), Some(y)) => {
-                    let c = self.codes[(y * self.width + x) as usize];
-                    let (lo, hi) = faithful_f32(f64::from(c) / 255.0);
-                    (rational(f64::from(lo)), rational(f64::from(hi)))
-                }
-                _ => {
-                    let (lo, hi) = faithful_f32(f64::from(self.sampler.border_alpha));
-                    (rational(f64::from(lo)), rational(f64::from(hi)))
-                }
+                let c = self.codes[(y * self.width + x) as usize];
+                let (lo, hi) = faithful_f32(f64::from(c) / 255.0);
+                (rational(f64::from(lo)), rational(f64::from(hi)))
+            } else {
+                let (lo, hi) = faithful_f32(f64::from(self.sampler.border_alpha));
+                (rational(f64::from(lo)), rational(f64::from(hi)))
             }
         }
 
@@ -329,7 +381,12 @@ mod value_oracle {
                     .unwrap()
                     .with_model(model);
                 let baked = baker
-                    .bake(&case.uv, case.level, Format::FourState, Default::default())
+                    .bake(
+                        &case.uv,
+                        case.level,
+                        Format::FourState,
+                        UnknownPolicy::default(),
+                    )
                     .unwrap();
                 let BakedOpacity::Map(map) = baked.opacity else {
                     continue;

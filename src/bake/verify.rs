@@ -4,7 +4,7 @@
 //! exact witness point where one is found.
 
 use super::baker::Baker;
-use super::classify::{is_small, Block, Classes, Grid};
+use super::classify::{is_small, Block, Classes, Grid, Placed};
 use super::exact::{ExactTriangle, TexelPoint};
 use super::triangle::UvTriangle;
 use crate::inverse::micro_triangles;
@@ -70,6 +70,20 @@ pub struct VerifyCounts {
     /// then nothing was checked.
     pub checked: bool,
 }
+
+/// What [`Baker::value_verdict`] found.
+enum ValueVerdict {
+    /// The filtered value keeps the state everywhere.
+    Holds,
+    /// It may not, at this texel-space point.
+    Contradicted((f64, f64)),
+    /// The budget or the split depth ran out first.
+    Undecided,
+}
+
+/// The most times [`Baker::value_verdict`] halves a micro-triangle: a
+/// level-0 triangle over 4096 texels reaches pieces of a texel or two.
+const MAX_VALUE_SPLITS: u32 = 12;
 
 /// A value witness's coordinates are multiples of `2^-40` texels (within
 /// `2^-40` of the point where the value is lowest or highest).
@@ -160,32 +174,28 @@ impl Baker {
             // it does not, the point where it is lowest (highest) is the
             // witness.
             let classes = &self.classifier.classes;
-            if witness_block.is_some()
-                && classes.test.by_value
-                && is_small(self.classifier.bounding_block(&p, grid))
-            {
-                let r = classes.region_value(&p, grid);
-                let may = Classes::of_bits(r.bits);
-                let (holds, at) = if state == State::Opaque {
-                    (!may.transparent, r.argmin)
-                } else {
-                    (!may.opaque, r.argmax)
-                };
-                if !holds {
-                    report.contradictions += 1;
-                    let dyadic = |c: f64| (c * VALUE_WITNESS_SCALE) as i128;
-                    let floor = |c: f64| i128::from(c as i64 - i64::from((c as i64 as f64) > c));
-                    visit(Contradiction {
-                        micro_triangle: t.index(),
-                        state,
-                        witness: Some(TexelPoint {
-                            x: dyadic(at.0),
-                            shift_x: VALUE_WITNESS_SHIFT,
-                            y: dyadic(at.1),
-                            shift_y: VALUE_WITNESS_SHIFT,
-                        }),
-                        texel: classes.wrap(floor(at.0), floor(at.1)),
-                    });
+            if witness_block.is_some() && classes.test.by_value {
+                let budget = u64::from(self.classifier.block_budget).saturating_mul(16);
+                match self.value_verdict(p, grid, state, budget) {
+                    ValueVerdict::Holds => {}
+                    ValueVerdict::Undecided => report.undecided += 1,
+                    ValueVerdict::Contradicted(at) => {
+                        report.contradictions += 1;
+                        let dyadic = |c: f64| (c * VALUE_WITNESS_SCALE) as i128;
+                        let floor =
+                            |c: f64| i128::from(c as i64 - i64::from((c as i64 as f64) > c));
+                        visit(Contradiction {
+                            micro_triangle: t.index(),
+                            state,
+                            witness: Some(TexelPoint {
+                                x: dyadic(at.0),
+                                shift_x: VALUE_WITNESS_SHIFT,
+                                y: dyadic(at.1),
+                                shift_y: VALUE_WITNESS_SHIFT,
+                            }),
+                            texel: classes.wrap(floor(at.0), floor(at.1)),
+                        });
+                    }
                 }
                 continue;
             }
@@ -223,6 +233,88 @@ impl Baker {
             }
         }
         report
+    }
+
+    /// Whether the filtered value (linear filtering by value) keeps `state`
+    /// everywhere on the placed micro-triangle `p`, dilated by `grid`'s
+    /// margin: pieces whose bounding block is small are judged by
+    /// [`region_value`](super::classify::TexelClasses::region_value); larger
+    /// ones are split at their edge midpoints on a twice finer grid with
+    /// the same margin in texels (the dilated pieces cover the dilated
+    /// whole), as the bake's walk splits them, until `budget` cells and
+    /// splits are spent or the pieces are [`MAX_VALUE_SPLITS`] levels
+    /// down: then [`ValueVerdict::Undecided`].
+    fn value_verdict(
+        &self,
+        p: Placed<i128>,
+        grid: Grid,
+        state: State,
+        budget: u64,
+    ) -> ValueVerdict {
+        let classes = &self.classifier.classes;
+        let other = |c: Classes| {
+            if state == State::Opaque {
+                c.transparent
+            } else {
+                c.opaque
+            }
+        };
+        let mut work = 0u64;
+        let mut undecided = false;
+        let mut stack = Vec::new();
+        stack.push((p, grid, 0u32));
+        while let Some((p, grid, depth)) = stack.pop() {
+            work += 1;
+            let block = self.classifier.bounding_block(&p, grid);
+            if !other(classes.quick(block)) {
+                continue;
+            }
+            if is_small(block) {
+                let r = classes.region_value(&p, grid);
+                work += u64::from(r.cells);
+                if other(Classes::of_bits(r.bits)) {
+                    let at = if state == State::Opaque {
+                        r.argmin
+                    } else {
+                        r.argmax
+                    };
+                    return ValueVerdict::Contradicted(at);
+                }
+                continue;
+            }
+            if depth == MAX_VALUE_SPLITS || work > budget {
+                undecided = true;
+                continue;
+            }
+            let finer = Grid {
+                shifts: (grid.shifts.0 + 1, grid.shifts.1 + 1),
+                margin: (
+                    grid.margin.0.map(|m| m.finer(1)),
+                    grid.margin.1.map(|m| m.finer(1)),
+                ),
+            };
+            let (x, y) = (p.x.map(|c| 2 * c), p.y.map(|c| 2 * c));
+            let mid = |a: usize, b: usize| ((x[a] + x[b]) / 2, (y[a] + y[b]) / 2);
+            let (m01, m12, m20) = (mid(0, 1), mid(1, 2), mid(2, 0));
+            let v = [(x[0], y[0]), (x[1], y[1]), (x[2], y[2])];
+            for piece in [
+                [v[0], m01, m20],
+                [m01, v[1], m12],
+                [m20, m12, v[2]],
+                [m01, m12, m20],
+            ] {
+                let piece = Placed {
+                    x: piece.map(|q| q.0),
+                    y: piece.map(|q| q.1),
+                };
+                stack.push((piece, finer, depth + 1));
+            }
+        }
+        if undecided {
+            ValueVerdict::Undecided
+        } else {
+            ValueVerdict::Holds
+        }
     }
 
     /// A witness for a contradiction: a point of `t` reading a texel of
