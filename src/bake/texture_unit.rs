@@ -204,9 +204,12 @@ impl TextureUnit {
     }
 }
 
-/// Relative widening for one binary32 rounding of a filtered value times a
-/// factor (`2^-24`), doubled, with room for `f64`'s own.
-const PRODUCT_ROUNDING: f64 = 1.0 / (1u64 << 23) as f64;
+/// Relative widening for the factor's binary32 products under linear
+/// filtering: the texels' values carry the factor already (each product
+/// rounded, `2^-24` relative, which the mix carries), the GPU multiplies
+/// the filtered value (one more rounding): `2^-22` of the magnitudes
+/// involved covers both, with room for `f64`'s own.
+const PRODUCT_ROUNDING: f64 = 1.0 / (1u64 << 22) as f64;
 
 /// Absolute widening for products in binary32's subnormal range.
 const SUBNORMAL: f64 = 1.0 / (1u64 << 62) as f64 / (1u64 << 62) as f64 / (1u64 << 24) as f64;
@@ -249,13 +252,14 @@ impl AlphaTest {
 
     /// The lowest value the GPU may compare when the values read mix to
     /// at least `v`: `v` itself under nearest filtering; under linear, less
-    /// the filter's error, then the product's rounding.
+    /// the filter's error and the factor's roundings (relative to the
+    /// magnitudes `|v| + e`, not `|v - e|`, which may be near 0).
     pub(crate) fn low(&self, v: f64) -> f64 {
         match self.linear_slack {
             None => v,
             Some(e) => {
-                let x = v - e;
-                x - f64::from_bits(x.to_bits() & !(1 << 63)) * PRODUCT_ROUNDING - SUBNORMAL
+                let size = f64::from_bits(v.to_bits() & !(1 << 63)) + e;
+                (v - e) - size * PRODUCT_ROUNDING - SUBNORMAL
             }
         }
     }
@@ -266,8 +270,8 @@ impl AlphaTest {
         match self.linear_slack {
             None => v,
             Some(e) => {
-                let x = v + e;
-                x + f64::from_bits(x.to_bits() & !(1 << 63)) * PRODUCT_ROUNDING + SUBNORMAL
+                let size = f64::from_bits(v.to_bits() & !(1 << 63)) + e;
+                (v + e) + size * PRODUCT_ROUNDING + SUBNORMAL
             }
         }
     }

@@ -53,16 +53,14 @@ fn exp2(k: i32) -> f64 {
 /// library call).
 #[inline]
 fn to_f64(c: i128) -> f64 {
-    match i64::try_from(c) {
-        Ok(c) => c as f64,
-        Err(_) => {
-            // The top 63 bits, scaled back: one more rounding (below
-            // 2^-62 relative), far inside the module's slack.
-            let bits = 128 - c.unsigned_abs().leading_zeros();
-            let shift = bits.saturating_sub(62);
-            ((c >> shift) as i64) as f64 * exp2(shift as i32)
-        }
+    if let Ok(c) = i64::try_from(c) {
+        return c as f64;
     }
+    // The top 63 bits, scaled back: one more rounding (below 2^-62
+    // relative), far inside the module's slack.
+    let bits = 128 - c.unsigned_abs().leading_zeros();
+    let shift = bits.saturating_sub(62);
+    ((c >> shift) as i64) as f64 * exp2(shift as i32)
 }
 
 /// `floor(t)` for the small `t` of a region.
