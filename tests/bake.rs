@@ -112,13 +112,6 @@ impl Oracle {
         (opaque || near, !opaque || near)
     }
 
-    fn texel_opaque_at(&self, texel: Option<(u32, u32)>) -> bool {
-        match texel {
-            Some((x, y)) => self.opaque(self.texels[(y * self.width + x) as usize]),
-            None => self.opaque(self.sampler.border_alpha),
-        }
-    }
-
     /// The texel coordinates whose texels the point (in texels) may read.
     fn footprint(&self, x: &BigRational, y: &BigRational) -> Vec<(BigInt, BigInt)> {
         let zero = BigRational::zero();

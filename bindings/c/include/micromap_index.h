@@ -165,6 +165,18 @@ const char *mmi_version_string(void);
 /** Known states hold for the exact real texture coordinates only. */
 #define MMI_MODEL_EXACT 1
 
+/** mmi_bake_options.interpolation: the shader interpolates texture
+ * coordinates in binary32 (the default). */
+#define MMI_INTERPOLATION_F32 0
+/** The shader interpolates in 16-bit floats (mediump). */
+#define MMI_INTERPOLATION_F16 1
+/** mmi_bake_options.linear_rule: linear filtering judged by the filtered
+ * value (the default; docs/bake.md, "The texture unit"). */
+#define MMI_LINEAR_VALUE 0
+/** Linear filtering judged by footprint (every texel of the 2x2 footprint
+ * read, whatever its weight). */
+#define MMI_LINEAR_FOOTPRINT 1
+
 /** mmi_bake_result_indices: every geometry, concatenated. */
 #define MMI_ALL_GEOMETRIES SIZE_MAX
 
@@ -334,6 +346,17 @@ typedef struct mmi_bake_options {
      * the records, 32-bit indices and usage counts). 0 means
      * MMI_DEFAULT_MAX_BYTES (1 GiB), as micromap-index bake --max-bytes. */
     uint64_t max_bytes;
+    /** The texture unit's sub-texel bits: texel coordinates snap to
+     * multiples of 2^-k texels, 4..=16; 0 means 8 (the default;
+     * docs/bake.md, "The texture unit"). */
+    uint32_t subtexel_bits;
+    /** MMI_INTERPOLATION_F32 (the default, 0) or MMI_INTERPOLATION_F16. */
+    uint32_t interpolation;
+    /** MMI_LINEAR_VALUE (the default, 0) or MMI_LINEAR_FOOTPRINT. */
+    uint32_t linear_rule;
+    /** The largest error of a linear filter's result, in alpha units,
+     * (0, 1]; 0 means 2^-16 (the default). */
+    float filter_error;
 } mmi_bake_options;
 
 /** What mmi_bake found over all meshes. */
@@ -383,7 +406,9 @@ typedef struct mmi_bake_result mmi_bake_result;
 
 /** The defaults: MMI_LEVEL_AUTO up to 12, 4-state, fallback for unknowns,
  * no byte budget, the library's block budget, the GPU binary32 model,
- * special indices mixed with records, max_bytes MMI_DEFAULT_MAX_BYTES
+ * special indices mixed with records, max_bytes MMI_DEFAULT_MAX_BYTES,
+ * the default texture unit written out (subtexel_bits 8, binary32
+ * interpolation, linear filtering by value, filter_error 2^-16)
  * (micromap-index bake's defaults). */
 mmi_result mmi_bake_options_default(mmi_bake_options *options);
 
@@ -618,6 +643,17 @@ mmi_result mmi_verify(const mmi_mesh *mesh, const mmi_buffers_view *buffers,
 mmi_result mmi_verify_with_model(const mmi_mesh *mesh, const mmi_buffers_view *buffers,
                                  uint32_t model, mmi_verify_report *report,
                                  mmi_contradiction *witnesses, size_t witness_capacity);
+
+/** mmi_verify_with_model judged by options as mmi_bake would bake with
+ * them: the model, the texture unit (subtexel_bits, interpolation,
+ * linear_rule, filter_error) and the block budget; the other fields are
+ * not read. Under linear filtering by value a contradiction's witness is
+ * where the filtered value is lowest (highest). Codes as
+ * mmi_verify_with_model, and MMI_ERROR_NULL_POINTER for options,
+ * MMI_ERROR_INVALID_ARGUMENT for a texture unit outside its ranges. */
+mmi_result mmi_verify_with_options(const mmi_mesh *mesh, const mmi_buffers_view *buffers,
+                                   const mmi_bake_options *options, mmi_verify_report *report,
+                                   mmi_contradiction *witnesses, size_t witness_capacity);
 
 /* ------------------------------------------------------------------ */
 /* The succinct tree                                                   */

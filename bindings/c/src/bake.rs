@@ -4,7 +4,8 @@
 //! accessors.
 
 use crate::constants::{
-    MMI_ALL_GEOMETRIES, MMI_DEFAULT_MAX_BYTES, MMI_LEVEL_AUTO, MMI_MODEL_GPU_BINARY32,
+    MMI_ALL_GEOMETRIES, MMI_DEFAULT_MAX_BYTES, MMI_INTERPOLATION_F16, MMI_INTERPOLATION_F32,
+    MMI_LEVEL_AUTO, MMI_LINEAR_FOOTPRINT, MMI_LINEAR_VALUE, MMI_MODEL_GPU_BINARY32,
 };
 use crate::ffi::{
     copy_out, guard, lend, mmi_result, null, reference, slice, try_vec, write, Error, Result,
@@ -14,7 +15,7 @@ use crate::mesh::{enum_error, format, mesh_error, mmi_mesh, model, MeshInput};
 use micromap_index::bake::mesh::{
     bake_meshes, output_bytes_bound, LevelRule, Mesh, MeshBake, MeshOptions,
 };
-use micromap_index::bake::DEFAULT_BLOCK_BUDGET;
+use micromap_index::bake::{Interpolation, LinearRule, TextureUnit, DEFAULT_BLOCK_BUDGET};
 use micromap_index::micromap::{usage_counts_to_le_bytes, IndexWidth, UnknownPolicy};
 use micromap_index::Level;
 
@@ -58,6 +59,17 @@ pub struct mmi_bake_options {
     /// counts); 0 means `MMI_DEFAULT_MAX_BYTES` (1 GiB), as `micromap-index
     /// bake --max-bytes`.
     pub max_bytes: u64,
+    /// The texture unit's sub-texel bits: texel coordinates snap to
+    /// multiples of `2^-k` texels, 4..=16; 0 means 8 (the default;
+    /// `docs/bake.md`, "The texture unit").
+    pub subtexel_bits: u32,
+    /// `MMI_INTERPOLATION_F32` (the default, 0) or `MMI_INTERPOLATION_F16`.
+    pub interpolation: u32,
+    /// `MMI_LINEAR_VALUE` (the default, 0) or `MMI_LINEAR_FOOTPRINT`.
+    pub linear_rule: u32,
+    /// The largest error of a linear filter's result, in alpha units,
+    /// `(0, 1]`; 0 means `2^-16` (the default).
+    pub filter_error: f32,
 }
 
 /// What `mmi_bake` found, over all meshes.
@@ -162,6 +174,7 @@ fn options(o: &mmi_bake_options) -> Result<MeshOptions> {
         // is built without its `rayon` feature here, so this is also what
         // the default would do).
         threads: micromap_index::bake::Threads::Exactly(1),
+        texture_unit: texture_unit(o)?,
         // Special indices as the library writes them by default, unless
         // the caller's pipeline disallows mixing them with records.
         buffers: micromap_index::micromap::BuildOptions {
@@ -169,6 +182,49 @@ fn options(o: &mmi_bake_options) -> Result<MeshOptions> {
             ..micromap_index::micromap::BuildOptions::default()
         },
     })
+}
+
+/// The texture unit of `o` (0 fields mean the library's defaults), checked
+/// by the library's ranges.
+pub(crate) fn texture_unit(o: &mmi_bake_options) -> Result<TextureUnit> {
+    let default = TextureUnit::default();
+    let interpolation = match o.interpolation {
+        MMI_INTERPOLATION_F32 => Interpolation::F32,
+        MMI_INTERPOLATION_F16 => Interpolation::F16,
+        other => {
+            return Err(enum_error(
+                "interpolation",
+                other,
+                "an MMI_INTERPOLATION_* value (0..=1)",
+            ))
+        }
+    };
+    let linear = match o.linear_rule {
+        MMI_LINEAR_VALUE => LinearRule::Value,
+        MMI_LINEAR_FOOTPRINT => LinearRule::Footprint,
+        other => {
+            return Err(enum_error(
+                "linear_rule",
+                other,
+                "an MMI_LINEAR_* value (0..=1)",
+            ))
+        }
+    };
+    let unit = default
+        .with_subtexel_bits(if o.subtexel_bits == 0 {
+            default.subtexel_bits
+        } else {
+            o.subtexel_bits
+        })
+        .with_interpolation(interpolation)
+        .with_linear_rule(linear)
+        .with_filter_error(if o.filter_error == 0.0 {
+            default.filter_error
+        } else {
+            o.filter_error
+        });
+    unit.check()
+        .map_err(|e| Error::new(MMI_ERROR_INVALID_ARGUMENT, e.to_string()))
 }
 
 /// The limit on a bake's estimated output: `max_bytes`, or
@@ -203,6 +259,10 @@ pub unsafe extern "C" fn mmi_bake_options_default(options: *mut mmi_bake_options
             no_mixed_special_indices: 0,
             reserved2: 0,
             max_bytes: MMI_DEFAULT_MAX_BYTES,
+            subtexel_bits: 8,
+            interpolation: MMI_INTERPOLATION_F32,
+            linear_rule: MMI_LINEAR_VALUE,
+            filter_error: TextureUnit::default().filter_error,
         };
         // SAFETY: the caller's promise about `options`.
         unsafe { write(options, value, "options") }

@@ -56,7 +56,7 @@ pub use tree::{
 pub use verify::{
     mmi_buffers_info, mmi_buffers_view, mmi_contradiction, mmi_read_options,
     mmi_read_options_default, mmi_validate_buffers, mmi_verify, mmi_verify_report,
-    mmi_verify_with_model,
+    mmi_verify_with_model, mmi_verify_with_options,
 };
 
 /// The constants shared by the header's `#define`s and the Rust side (the
@@ -112,6 +112,17 @@ pub mod constants {
     pub const MMI_MODEL_GPU_BINARY32: u32 = 0;
     /// Known states hold for the exact real texture coordinates only.
     pub const MMI_MODEL_EXACT: u32 = 1;
+    /// `mmi_bake_options::interpolation`: the shader interpolates texture
+    /// coordinates in binary32 (the default).
+    pub const MMI_INTERPOLATION_F32: u32 = 0;
+    /// The shader interpolates in 16-bit floats (`mediump`).
+    pub const MMI_INTERPOLATION_F16: u32 = 1;
+    /// `mmi_bake_options::linear_rule`: linear filtering judged by the
+    /// filtered value (the default; `docs/bake.md`, "The texture unit").
+    pub const MMI_LINEAR_VALUE: u32 = 0;
+    /// Linear filtering judged by footprint (every texel of the 2x2
+    /// footprint read, whatever its weight).
+    pub const MMI_LINEAR_FOOTPRINT: u32 = 1;
     /// `mmi_bake_result_indices`' geometry: every geometry, concatenated.
     pub const MMI_ALL_GEOMETRIES: usize = usize::MAX;
     /// The paper's depth-first tree (`PaperTree`).

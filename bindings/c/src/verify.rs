@@ -2,6 +2,7 @@
 //! baker's buffers against a mesh (`bake::mesh::verify_mesh`, in bounded
 //! memory: the caller's witnesses are kept, the rest counted).
 
+use crate::bake::{mmi_bake_options, texture_unit};
 use crate::constants::MMI_MODEL_GPU_BINARY32;
 use crate::ffi::{
     guard, mmi_result, reference, slice, slice_mut, try_vec, write, Error, Result,
@@ -9,7 +10,7 @@ use crate::ffi::{
     MMI_ERROR_OUT_OF_MEMORY,
 };
 use crate::mesh::{mesh_error, mmi_mesh, MeshInput};
-use micromap_index::bake::mesh::{verify_mesh, MeshVerifyError};
+use micromap_index::bake::mesh::{verify_mesh, MeshOptions, MeshVerifyError};
 use micromap_index::bake::{AlphaTexture, Contradiction};
 use micromap_index::micromap::{
     read_buffers, BufferBytes, IndexWidth, MicromapError, MicromapIndex, Overlap, ReadBuffers,
@@ -407,80 +408,132 @@ pub unsafe extern "C" fn mmi_verify_with_model(
     witness_capacity: usize,
 ) -> mmi_result {
     guard(|| {
-        // SAFETY: the caller's promises about the pointers.
-        let (mesh, view, witnesses) = unsafe {
-            (
-                reference(mesh, "mesh")?,
-                reference(buffers, "buffers")?,
-                slice_mut(witnesses, witness_capacity, "witnesses")?,
-            )
+        let judge = MeshOptions {
+            model: crate::mesh::model(model)?,
+            ..MeshOptions::default()
         };
-        if report.is_null() {
-            return Err(crate::ffi::null("report"));
-        }
-        let model = crate::mesh::model(model)?;
-        if view.indices.is_null() {
-            return Err(crate::ffi::null("buffers.indices"));
-        }
-        // SAFETY: the caller's promises about the mesh's pointers.
-        let input = unsafe { MeshInput::read(mesh) }?;
-        let texture = input.texture()?;
-        let options = ReadOptions {
-            overlap: Overlap::Allow {
-                max_decoded_bytes: 1 << 32,
-            },
-            ..ReadOptions::default()
-        };
-        // SAFETY: forwarded.
-        let read = unsafe { self::read(view, &options) }?;
-        let indices = read.indices.unwrap_or_default();
-        let mut opacities = try_vec(indices.len(), "the triangles' opacities")?;
-        for index in &indices {
-            opacities.push(match *index {
-                // `read_buffers` checked that every record index names one.
-                MicromapIndex::Record(r) => {
-                    TriangleOpacity::Micromap(read.micromaps.get(r as usize).ok_or_else(|| {
-                        Error::new(MMI_ERROR_MALFORMED, format!("index {r} names no record"))
-                    })?)
-                }
-                MicromapIndex::Special(state) => TriangleOpacity::Special(state),
-            });
-        }
-        let border_alpha = input.material.sampler.border_alpha;
-        let mut written = 0;
-        let verified = verify_mesh(
-            &input.mesh(&*texture),
-            &opacities,
-            model,
-            u64::MAX,
-            &mut |t, c| {
-                if let Some(slot) = witnesses.get_mut(written) {
-                    *slot = contradiction(t, &c, &*texture, border_alpha);
-                    written += 1;
-                }
-            },
-        );
-        let v = verified.map_err(|e| match e {
-            MeshVerifyError::Count {
-                opacities,
-                triangles,
-            } => Error::new(
-                MMI_ERROR_LENGTH,
-                format!("the buffers have {opacities} indices for {triangles} triangles"),
-            ),
-            MeshVerifyError::Mesh(e) => mesh_error(&e),
-            other => Error::new(MMI_ERROR_INVALID_ARGUMENT, other.to_string()),
-        })?;
-        let out = mmi_verify_report {
-            triangles: opacities.len() as u64,
-            triangles_checked: v.triangles_checked as u64,
-            known: v.known,
-            unknown: v.unknown,
-            undecided: v.undecided,
-            contradictions: v.contradictions,
-            witnesses_written: written as u64,
-        };
-        // SAFETY: checked non-null; the caller's promise that it is writable.
-        unsafe { write(report, out, "report") }
+        // SAFETY: forwarded from the caller.
+        unsafe { verify_with(mesh, buffers, &judge, report, witnesses, witness_capacity) }
     })
+}
+
+/// [`mmi_verify_with_model`] judged by `options` as `mmi_bake` would bake
+/// with them: the model, the texture unit and the block budget (the other
+/// fields are not read).
+///
+/// # Safety
+/// As `mmi_verify_with_model`; `options` readable.
+#[no_mangle]
+pub unsafe extern "C" fn mmi_verify_with_options(
+    mesh: *const mmi_mesh,
+    buffers: *const mmi_buffers_view,
+    options: *const mmi_bake_options,
+    report: *mut mmi_verify_report,
+    witnesses: *mut mmi_contradiction,
+    witness_capacity: usize,
+) -> mmi_result {
+    guard(|| {
+        // SAFETY: the caller's promise about `options`.
+        let o = unsafe { reference(options, "options") }?;
+        let judge = MeshOptions {
+            model: crate::mesh::model(o.model)?,
+            texture_unit: texture_unit(o)?,
+            block_budget: if o.block_budget == 0 {
+                micromap_index::bake::DEFAULT_BLOCK_BUDGET
+            } else {
+                o.block_budget
+            },
+            ..MeshOptions::default()
+        };
+        // SAFETY: forwarded from the caller.
+        unsafe { verify_with(mesh, buffers, &judge, report, witnesses, witness_capacity) }
+    })
+}
+
+/// The body of the verify functions, judged by `judge`.
+///
+/// # Safety
+/// As `mmi_verify_with_model`.
+unsafe fn verify_with(
+    mesh: *const mmi_mesh,
+    buffers: *const mmi_buffers_view,
+    judge: &MeshOptions,
+    report: *mut mmi_verify_report,
+    witnesses: *mut mmi_contradiction,
+    witness_capacity: usize,
+) -> Result<()> {
+    // SAFETY: the caller's promises about the pointers.
+    let (mesh, view, witnesses) = unsafe {
+        (
+            reference(mesh, "mesh")?,
+            reference(buffers, "buffers")?,
+            slice_mut(witnesses, witness_capacity, "witnesses")?,
+        )
+    };
+    if report.is_null() {
+        return Err(crate::ffi::null("report"));
+    }
+    if view.indices.is_null() {
+        return Err(crate::ffi::null("buffers.indices"));
+    }
+    // SAFETY: the caller's promises about the mesh's pointers.
+    let input = unsafe { MeshInput::read(mesh) }?;
+    let texture = input.texture()?;
+    let options = ReadOptions {
+        overlap: Overlap::Allow {
+            max_decoded_bytes: 1 << 32,
+        },
+        ..ReadOptions::default()
+    };
+    // SAFETY: forwarded.
+    let read = unsafe { self::read(view, &options) }?;
+    let indices = read.indices.unwrap_or_default();
+    let mut opacities = try_vec(indices.len(), "the triangles' opacities")?;
+    for index in &indices {
+        opacities.push(match *index {
+            // `read_buffers` checked that every record index names one.
+            MicromapIndex::Record(r) => {
+                TriangleOpacity::Micromap(read.micromaps.get(r as usize).ok_or_else(|| {
+                    Error::new(MMI_ERROR_MALFORMED, format!("index {r} names no record"))
+                })?)
+            }
+            MicromapIndex::Special(state) => TriangleOpacity::Special(state),
+        });
+    }
+    let border_alpha = input.material.sampler.border_alpha;
+    let mut written = 0;
+    let verified = verify_mesh(
+        &input.mesh(&*texture),
+        &opacities,
+        judge,
+        u64::MAX,
+        &mut |t, c| {
+            if let Some(slot) = witnesses.get_mut(written) {
+                *slot = contradiction(t, &c, &*texture, border_alpha);
+                written += 1;
+            }
+        },
+    );
+    let v = verified.map_err(|e| match e {
+        MeshVerifyError::Count {
+            opacities,
+            triangles,
+        } => Error::new(
+            MMI_ERROR_LENGTH,
+            format!("the buffers have {opacities} indices for {triangles} triangles"),
+        ),
+        MeshVerifyError::Mesh(e) => mesh_error(&e),
+        other => Error::new(MMI_ERROR_INVALID_ARGUMENT, other.to_string()),
+    })?;
+    let out = mmi_verify_report {
+        triangles: opacities.len() as u64,
+        triangles_checked: v.triangles_checked as u64,
+        known: v.known,
+        unknown: v.unknown,
+        undecided: v.undecided,
+        contradictions: v.contradictions,
+        witnesses_written: written as u64,
+    };
+    // SAFETY: checked non-null; the caller's promise that it is writable.
+    unsafe { write(report, out, "report") }
 }

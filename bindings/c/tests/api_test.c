@@ -347,6 +347,21 @@ static void bake_and_verify(void) {
     CHECK(report.contradictions >= 1 && witnesses[0].texel_x >= 3 &&
           witnesses[0].texel_alpha == 0.0);
     EXPECT(mmi_verify_with_model(&mesh, &view, 2, &report, NULL, 0), MMI_ERROR_INVALID_ENUM);
+    /* And by bake options: the defaults name the texture unit; a field out
+     * of range is refused, NULL options too. */
+    {
+        mmi_bake_options judge;
+        EXPECT(mmi_bake_options_default(&judge), MMI_OK);
+        CHECK(judge.subtexel_bits == 8 && judge.interpolation == MMI_INTERPOLATION_F32 &&
+              judge.linear_rule == MMI_LINEAR_VALUE && judge.filter_error == 1.0f / 65536.0f);
+        EXPECT(mmi_verify_with_options(&mesh, &view, &judge, &report, witnesses, 1), MMI_OK);
+        CHECK(report.contradictions >= 1 && witnesses[0].texel_x >= 3);
+        judge.subtexel_bits = 3;
+        EXPECT(mmi_verify_with_options(&mesh, &view, &judge, &report, NULL, 0),
+               MMI_ERROR_INVALID_ARGUMENT);
+        EXPECT(mmi_verify_with_options(&mesh, &view, NULL, &report, NULL, 0),
+               MMI_ERROR_NULL_POINTER);
+    }
     /* Vertex alpha too: with alpha 0 everywhere nothing is opaque, and
      * both "opaque" triangles are contradicted. */
     bad = mesh;

@@ -1,7 +1,7 @@
 //! The C entry points called from Rust: texel formats and row pitches give
 //! the library's bytes, handles are shared across threads, the last error
-//! is per thread, the budget, 2-state, model, vertex-alpha and no-mixed
-//! options reach the library, and strided buffers read as tight ones.
+//! is per thread, the budget, 2-state, model, texture-unit, vertex-alpha
+//! and no-mixed options reach the library, and strided buffers read as tight ones.
 
 use micromap_index::bake::mesh::{
     bake_mesh, LevelRule, Material, Mesh, MeshOptions, MeshTriangles,
@@ -392,6 +392,156 @@ fn the_model_reaches_the_library() {
         "{code} {contradictions}"
     );
     assert_eq!(verify(7).0, MMI_ERROR_INVALID_ENUM);
+}
+
+/// The texture-unit fields of `mmi_bake_options` reach the library (0 the
+/// defaults; each variant gives `bake_mesh`'s bytes with that
+/// `TextureUnit`), out-of-range values are refused, and
+/// `mmi_verify_with_options` judges by them: a bake by value is sound by
+/// value and contradicted by footprint (it knows micro-triangles whose
+/// footprint reads both classes).
+#[test]
+fn the_texture_unit_reaches_the_library() {
+    use micromap_index::bake::{Filter, Interpolation, LinearRule, Sampler, TextureUnit};
+    let t8 = texels();
+    let texture = Unorm8Texture::new(W, H, &t8).unwrap();
+    let view = mmi_texture {
+        texels: t8.as_ptr().cast(),
+        width: W,
+        height: H,
+        row_pitch: 0,
+        format: MMI_TEXEL_U8,
+    };
+    let mut linear = material();
+    linear.sampler.filter = MMI_FILTER_LINEAR;
+    let m = mesh(view, linear);
+    let triangles: Vec<[[f32; 2]; 3]> = UVS
+        .chunks_exact(6)
+        .map(|c| [[c[0], c[1]], [c[2], c[3]], [c[4], c[5]]])
+        .collect();
+    let default = TextureUnit::default();
+    let variants = [
+        ((0, 0, 0, 0.0), default),
+        ((4, 0, 0, 0.0), default.with_subtexel_bits(4)),
+        (
+            (0, MMI_INTERPOLATION_F16, 0, 0.0),
+            default.with_interpolation(Interpolation::F16),
+        ),
+        (
+            (0, 0, MMI_LINEAR_FOOTPRINT, 0.0),
+            default.with_linear_rule(LinearRule::Footprint),
+        ),
+        (
+            (16, 0, 0, 1.0 / 256.0),
+            default
+                .with_subtexel_bits(16)
+                .with_filter_error(1.0 / 256.0),
+        ),
+    ];
+    let mut all = Vec::new();
+    for ((bits, interpolation, rule, error), unit) in variants {
+        let library = bake_mesh(
+            &Mesh {
+                triangles: MeshTriangles::Uv(&triangles),
+                texture: &texture,
+                material: Material {
+                    sampler: Sampler {
+                        filter: Filter::Linear,
+                        ..Sampler::default()
+                    },
+                    ..Material::default()
+                },
+                vertex_alpha: None,
+            },
+            &MeshOptions {
+                levels: LevelRule::Fixed(Level::new(5).unwrap()),
+                texture_unit: unit,
+                ..MeshOptions::default()
+            },
+        )
+        .unwrap();
+        let mut o = options(5, MMI_FORMAT_4_STATE);
+        (
+            o.subtexel_bits,
+            o.interpolation,
+            o.linear_rule,
+            o.filter_error,
+        ) = (bits, interpolation, rule, error);
+        let (data, records, _) = bake(&m, &o);
+        assert_eq!(
+            (&data, &records),
+            (
+                &library.buffers.data().to_vec(),
+                &library.buffers.records_le_bytes()
+            ),
+            "{unit:?}"
+        );
+        all.push(library.report.counts);
+    }
+    // The variants differ where they should: by value knows more than by
+    // footprint, 4 sub-texel bits less than 8.
+    let known = |c: [u64; 4]| c[0] + c[1];
+    assert!(known(all[0]) > known(all[3]), "{all:?}");
+    assert!(known(all[0]) > known(all[1]), "{all:?}");
+    // Out of range.
+    for (field, value, code) in [
+        ("sub-texel bits 3", 0, MMI_ERROR_INVALID_ARGUMENT),
+        ("interpolation", 1, MMI_ERROR_INVALID_ENUM),
+        ("linear_rule", 2, MMI_ERROR_INVALID_ENUM),
+        ("filter error 2", 3, MMI_ERROR_INVALID_ARGUMENT),
+        ("filter error NaN", 4, MMI_ERROR_INVALID_ARGUMENT),
+    ] {
+        let mut o = options(5, MMI_FORMAT_4_STATE);
+        match value {
+            0 => o.subtexel_bits = 3,
+            1 => o.interpolation = 2,
+            2 => o.linear_rule = 2,
+            3 => o.filter_error = 2.0,
+            _ => o.filter_error = f32::NAN,
+        }
+        assert_eq!(bake_code(&m, &o), code, "{field}");
+        assert!(last_error().contains(field), "{field}: {}", last_error());
+    }
+    // The verifier by the same options.
+    let o = options(5, MMI_FORMAT_4_STATE);
+    let (data, records, indices) = bake(&m, &o);
+    let buffers = mmi_buffers_view {
+        data: data.as_ptr(),
+        data_len: data.len(),
+        records: records.as_ptr(),
+        records_len: records.len(),
+        indices: indices.as_ptr(),
+        indices_len: indices.len(),
+        index_width_bits: 32,
+        usage_counts: ptr::null(),
+        usage_counts_len: 0,
+        record_stride: 0,
+        index_stride: 0,
+    };
+    let verify = |o: &mmi_bake_options| {
+        let mut report = mmi_verify_report::default();
+        // SAFETY: valid pointers; the arrays outlive the call.
+        let code =
+            unsafe { mmi_verify_with_options(&m, &buffers, o, &mut report, ptr::null_mut(), 0) };
+        (code, report.contradictions, report.undecided)
+    };
+    assert_eq!(verify(&o), (MMI_OK, 0, 0));
+    let mut footprint = o;
+    footprint.linear_rule = MMI_LINEAR_FOOTPRINT;
+    let (code, contradictions, _) = verify(&footprint);
+    assert!(
+        code == MMI_OK && contradictions > 0,
+        "{code} {contradictions}"
+    );
+    let mut bad = o;
+    bad.subtexel_bits = 17;
+    assert_eq!(verify(&bad).0, MMI_ERROR_INVALID_ARGUMENT);
+    let mut report = mmi_verify_report::default();
+    // SAFETY: a NULL options pointer is refused before anything is read.
+    let code = unsafe {
+        mmi_verify_with_options(&m, &buffers, ptr::null(), &mut report, ptr::null_mut(), 0)
+    };
+    assert_eq!(code, MMI_ERROR_NULL_POINTER);
 }
 
 /// `mmi_mesh::vertex_alpha` reaches the library: strided (interleaved with

@@ -5,7 +5,7 @@
 //! material are contradicted where it lowers the alpha. Witnesses beyond
 //! the caller's capacity are counted, not kept.
 
-use micromap_index::bake::mesh::{verify_mesh, Material, Mesh, MeshTriangles};
+use micromap_index::bake::mesh::{verify_mesh, Material, Mesh, MeshOptions, MeshTriangles};
 use micromap_index::bake::{Model, Unorm8Texture};
 use micromap_index::micromap::{read_buffers, BufferBytes, IndexWidth, MicromapIndex, ReadOptions};
 use micromap_index::micromap::{Overlap, TriangleOpacity};
@@ -217,7 +217,10 @@ fn library_verify(
     let v = verify_mesh(
         &mesh,
         &opacities,
-        Model::GpuBinary32,
+        &MeshOptions {
+            model: Model::GpuBinary32,
+            ..MeshOptions::default()
+        },
         u64::MAX,
         &mut |t, c| {
             let texel = c.texel.unwrap_or((u32::MAX, u32::MAX));

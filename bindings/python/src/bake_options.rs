@@ -1,5 +1,5 @@
 //! The options both bakes take (`micromap-index bake`'s level, format,
-//! budget, model, mips, threads and limit flags), handed over by the Python
+//! budget, model, texture unit, mips, threads and limit flags), handed over by the Python
 //! layer as one dict and checked into the library's `MeshOptions`.
 
 use crate::options::{self, value_error};
@@ -18,6 +18,10 @@ pub(crate) struct BakeOptions<'py> {
     format: i64,
     unknown: String,
     model: String,
+    subtexel_bits: i64,
+    interpolation: String,
+    filter_error: f32,
+    linear: String,
     budget: Option<i64>,
     index_width: i64,
     max_bytes: i64,
@@ -70,6 +74,12 @@ impl BakeOptions<'_> {
                     DEFAULT_BAKE_WORK_BUDGET,
                 )?,
                 model: options::model(&self.model)?,
+                texture_unit: options::texture_unit(
+                    self.subtexel_bits,
+                    &self.interpolation,
+                    self.filter_error,
+                    &self.linear,
+                )?,
                 mips: options::mips(&self.mips)?,
                 threads: options::threads(self.threads)?,
                 buffers: BuildOptions {

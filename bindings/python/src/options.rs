@@ -6,7 +6,7 @@
 use micromap_index::bake::mesh::Mips;
 use micromap_index::bake::{
     bake_level as library_bake_level, AddressMode, Comparison, Cutoff, Filter, Model, Sampler,
-    Threads,
+    TextureUnit, Threads,
 };
 use micromap_index::micromap::{Format, IndexWidth, UnknownPolicy};
 use micromap_index::names::ParseNameError;
@@ -38,6 +38,26 @@ pub(crate) fn unknown(name: &str) -> PyResult<UnknownPolicy> {
 
 pub(crate) fn model(name: &str) -> PyResult<Model> {
     named("model", name)
+}
+
+/// The texture unit from `subtexel_bits`, `interpolation`, `filter_error`
+/// and `linear` (`--subtexel-bits`, `--interpolation`, `--filter-error`,
+/// `--linear`), checked by the library.
+pub(crate) fn texture_unit(
+    subtexel_bits: i64,
+    interpolation: &str,
+    filter_error: f32,
+    linear: &str,
+) -> PyResult<TextureUnit> {
+    let bits = u32::try_from(subtexel_bits)
+        .map_err(|_| value_error(format!("subtexel_bits {subtexel_bits}: expected 4..=16")))?;
+    TextureUnit::default()
+        .with_subtexel_bits(bits)
+        .with_interpolation(named("interpolation", interpolation)?)
+        .with_filter_error(filter_error)
+        .with_linear_rule(named("linear", linear)?)
+        .check()
+        .map_err(value_error)
 }
 
 /// `format`: the int 2 or 4, as `--format` reads its text.

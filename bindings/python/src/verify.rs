@@ -8,7 +8,9 @@
 use crate::fallible::try_vec;
 use crate::inputs::{AlphaArray, UvArray};
 use crate::options::{self, value_error};
-use micromap_index::bake::mesh::{verify_mesh, Material, Mesh, MeshTriangles, MeshVerification};
+use micromap_index::bake::mesh::{
+    verify_mesh, Material, Mesh, MeshOptions, MeshTriangles, MeshVerification,
+};
 use micromap_index::bake::Contradiction;
 use micromap_index::micromap::{
     read_buffers, BufferBytes, MicromapIndex, Overlap, ReadOptions, TriangleOpacity, TriangleRecord,
@@ -24,7 +26,7 @@ const MAX_DECODED_BYTES: u64 = (1 << 32) + (1 << 30);
 /// against `alpha` and `uvs`; the Python layer documents the options.
 #[pyfunction]
 #[pyo3(signature = (alpha, uvs, *, data, triangles, indices, index_width, usage, filter,
-    address, border_alpha, cutoff, opaque_above, alpha_factor, model, max_report, max_checks,
+    address, border_alpha, cutoff, opaque_above, alpha_factor, model, subtexel_bits, interpolation, filter_error, linear, max_report, max_checks,
     lenient_layout, record_stride, index_stride))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn verify<'py>(
@@ -43,6 +45,10 @@ pub(crate) fn verify<'py>(
     opaque_above: bool,
     alpha_factor: f32,
     model: &str,
+    subtexel_bits: i64,
+    interpolation: &str,
+    filter_error: f32,
+    linear: &str,
     max_report: i64,
     max_checks: Option<i64>,
     lenient_layout: bool,
@@ -94,6 +100,12 @@ pub(crate) fn verify<'py>(
         alpha_factor,
     };
     let model = options::model(model)?;
+    let unit = options::texture_unit(subtexel_bits, interpolation, filter_error, linear)?;
+    let judge = MeshOptions {
+        model,
+        texture_unit: unit,
+        ..MeshOptions::default()
+    };
     let max_checks = max_checks
         .map(|m| options::count(m, "max_checks"))
         .transpose()?
@@ -139,7 +151,7 @@ pub(crate) fn verify<'py>(
             vertex_alpha: None,
         };
         let mut first: Vec<(usize, Contradiction, f64)> = Vec::new();
-        let totals = verify_mesh(&mesh, &opacities, model, max_checks, &mut |t, c| {
+        let totals = verify_mesh(&mesh, &opacities, &judge, max_checks, &mut |t, c| {
             // Only the first max_report are kept: memory stays bounded
             // however wrong the buffers are.
             if first.len() < max_report {
@@ -157,6 +169,12 @@ pub(crate) fn verify<'py>(
     let (totals, first): (MeshVerification, _) = outcome.map_err(value_error)?;
     let out = PyDict::new(py);
     out.set_item("model", model.name())?;
+    let unit_dict = PyDict::new(py);
+    unit_dict.set_item("subtexel_bits", unit.subtexel_bits)?;
+    unit_dict.set_item("interpolation", unit.interpolation.name())?;
+    unit_dict.set_item("filter_error", unit.filter_error)?;
+    unit_dict.set_item("linear", unit.linear.name())?;
+    out.set_item("texture_unit", unit_dict)?;
     out.set_item("triangles", uv.len())?;
     out.set_item("triangles_checked", totals.triangles_checked)?;
     out.set_item("known_micro_triangles", totals.known)?;

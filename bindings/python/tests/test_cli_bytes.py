@@ -36,8 +36,13 @@ def assert_same_files(result, cli_files):
          ["--level", "3", "--model", "exact", "--address-u", "mirrored-repeat",
           "--address-v", "clamp-to-border", "--border", "1"]),
         ({"budget": 4096}, ["--budget", "4096"]),
+        ({"level": 4, "filter": "linear", "subtexel_bits": 4, "interpolation": "f16",
+          "filter_error": 2.0**-10, "linear": "footprint"},
+         ["--level", "4", "--filter", "linear", "--subtexel-bits", "4", "--interpolation",
+          "f16", "--filter-error", "0.0009765625", "--linear", "footprint"]),
     ],
-    ids=["level4", "auto", "2state-linear-clamp", "exact-mixed-address", "budget"],
+    ids=["level4", "auto", "2state-linear-clamp", "exact-mixed-address", "budget",
+         "texture-unit"],
 )
 def test_texture_and_triangles_equal_the_cli(cli_bake, options, flags):
     alpha = mmi.read_alpha(THORN)
@@ -108,6 +113,8 @@ def test_verify_agrees_with_verify_bake(cli_bake, tmp_path):
     report = mmi.verify(alpha, uvs, result)
     assert report.sound and report.contradictions == 0
     assert report.known_micro_triangles > 0
+    assert report.texture_unit == {"subtexel_bits": 8, "interpolation": "f32",
+                                   "filter_error": 2.0**-16, "linear": "value"}
 
     # Break a known state: every 4-state byte flipped between transparent
     # (0b00) and opaque (0b01) states, then both verifiers must agree.

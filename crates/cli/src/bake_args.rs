@@ -5,7 +5,7 @@
 //! micro-triangle is baked ([`BakeArgs::check_output_size`]). Level and
 //! enum names are the library's (`BakeLevel`, `FromStr`/`Display`).
 
-use crate::inputs::sampler::model_option;
+use crate::inputs::sampler::{model_option, texture_unit_option};
 use cli_support::args::{Flag, Parsed};
 use cli_support::output::Failure;
 use micromap_index::bake::mesh::{
@@ -172,6 +172,7 @@ impl BakeArgs {
         let bake_work_budget =
             count(p, "--bake-work-budget", "a count")?.unwrap_or(DEFAULT_BAKE_WORK_BUDGET);
         let model = model_option(p)?;
+        let texture_unit = texture_unit_option(p)?;
         let mips: Mips = named(p, "--mips", Mips::default())?;
         let threads = threads_option(p)?;
         Ok(BakeArgs {
@@ -186,6 +187,7 @@ impl BakeArgs {
                 triangle_work_budget,
                 bake_work_budget,
                 model,
+                texture_unit,
                 mips,
                 threads: match threads {
                     Some(n) => Threads::Exactly(n),

@@ -83,6 +83,7 @@ pub(crate) static BAKE: Command = Command {
             ],
             &bake_args::LEVELS,
             &flags::SAMPLER,
+            &flags::TEXTURE_UNIT,
             &bake_args::MIPS,
             &[flags::INDEX_WIDTH],
             &bake_args::LIMITS,
@@ -224,6 +225,7 @@ fn bake(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> 
         format_api_value: u32::from(format.raw()),
         threads: threads_used,
         model: model.name(),
+        texture_unit: options.texture_unit.into(),
         mips: mips.to_string(),
         widening: Widening {
             micro_triangles_made_unknown: report.widened,

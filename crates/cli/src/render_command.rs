@@ -94,6 +94,7 @@ pub(crate) static RENDER: Command = Command {
             ],
             &bake_args::LEVELS,
             &flags::SAMPLER,
+            &flags::TEXTURE_UNIT,
             &bake_args::MIPS,
             &bake_args::LIMITS,
             &[

@@ -2,10 +2,10 @@
 //! texture and material as [`bake_meshes`](super::bake_meshes) models them
 //! (alpha factor, vertex alpha), with [`Baker::verify_each`].
 
-use super::input::{check_vertex_alpha, Mesh, MeshBakeError};
+use super::input::{check_vertex_alpha, Mesh, MeshBakeError, MeshOptions};
 use crate::bake::baker::Baker;
-use crate::bake::gpu::Model;
 use crate::bake::material::{vertex_range, FactorTexture, VertexBoundTexture};
+use crate::bake::parallel::Runner;
 use crate::bake::verify::Contradiction;
 use crate::micromap::{State, TriangleOpacity};
 use alloc::collections::BTreeMap;
@@ -72,9 +72,12 @@ impl core::error::Error for MeshVerifyError {}
 
 /// Checks `opacities` (one per triangle of `mesh`, any baker's) against the
 /// mesh's texture under its material, as [`bake_meshes`](super::bake_meshes)
-/// models it: every known micro-triangle whose closed area can read a
-/// texel of the other class under `model` is a [`Contradiction`], passed
-/// to `visit` with its triangle. The texel's alpha is multiplied by the
+/// models it with `judge` (the same options a bake takes: its
+/// [`model`](MeshOptions::model), [`texture_unit`](MeshOptions::texture_unit)
+/// and [`block_budget`](MeshOptions::block_budget) judge): every known
+/// micro-triangle whose state a point of it can contradict (by the texels
+/// it reads, or under linear filtering by value the filtered value) is a
+/// [`Contradiction`], passed to `visit` with its triangle. The texel's alpha is multiplied by the
 /// material's alpha factor as a GPU does; with vertex alpha, an opaque
 /// state must hold for the lowest alpha the GPU can compute over the
 /// triangle, a transparent state for the highest (the bounds the bake
@@ -82,8 +85,8 @@ impl core::error::Error for MeshVerifyError {}
 /// are counted as unchecked).
 ///
 /// ```
-/// use micromap_index::bake::mesh::{verify_mesh, Material, Mesh, MeshTriangles};
-/// use micromap_index::bake::{Model, Unorm8Texture};
+/// use micromap_index::bake::mesh::{verify_mesh, Material, Mesh, MeshOptions, MeshTriangles};
+/// use micromap_index::bake::Unorm8Texture;
 /// use micromap_index::micromap::{State, TriangleOpacity};
 /// let texels = [255u8, 0, 0, 0];
 /// let texture = Unorm8Texture::new(2, 2, &texels).unwrap();
@@ -91,18 +94,20 @@ impl core::error::Error for MeshVerifyError {}
 /// let mesh = Mesh { triangles: MeshTriangles::Uv(&triangle), texture: &texture, material: Material::default(), vertex_alpha: None };
 /// let mut found = 0;
 /// let opaque = [TriangleOpacity::Special(State::Opaque)];
-/// let v = verify_mesh(&mesh, &opaque, Model::default(), u64::MAX, &mut |_, _| found += 1).unwrap();
+/// let judge = MeshOptions::default();
+/// let v = verify_mesh(&mesh, &opaque, &judge, u64::MAX, &mut |_, _| found += 1).unwrap();
 /// assert_eq!((v.contradictions, found), (1, 1));
 /// let unknown = [TriangleOpacity::Special(State::UnknownOpaque)];
-/// assert!(verify_mesh(&mesh, &unknown, Model::default(), u64::MAX, &mut |_, _| {}).unwrap().is_sound(1));
+/// assert!(verify_mesh(&mesh, &unknown, &judge, u64::MAX, &mut |_, _| {}).unwrap().is_sound(1));
 /// ```
 pub fn verify_mesh(
     mesh: &Mesh<'_>,
     opacities: &[TriangleOpacity<'_>],
-    model: Model,
+    judge: &MeshOptions,
     max_known: u64,
     visit: &mut dyn FnMut(usize, Contradiction),
 ) -> Result<MeshVerification, MeshVerifyError> {
+    let (model, unit) = (judge.model, judge.texture_unit);
     let triangles = mesh.triangles.resolve(0).map_err(MeshVerifyError::Mesh)?;
     if opacities.len() != triangles.len() {
         return Err(MeshVerifyError::Count {
@@ -118,12 +123,16 @@ pub fn verify_mesh(
         inner: mesh.texture,
         factor: material.alpha_factor,
     };
+    let scale = f64::from(material.alpha_factor);
+    let test = (material.sampler, material.cutoff, unit, scale);
+    let serial = Runner::serial();
     let baker = if material.alpha_factor == 1.0 {
-        Baker::new(mesh.texture, material.sampler, material.cutoff)
+        Baker::new_on(mesh.texture, test, u64::MAX, &serial)
     } else {
-        Baker::new(&factor, material.sampler, material.cutoff)
+        Baker::new_on(&factor, test, u64::MAX, &serial)
     }
     .map_err(texture_error)?
+    .with_block_budget(judge.block_budget)
     .with_model(model);
     let mut bound_bakers: BTreeMap<(u64, u64), (Baker, Baker)> = BTreeMap::new();
     let mut out = MeshVerification::default();
@@ -143,8 +152,8 @@ pub fn verify_mesh(
                             high: f64::from_bits(key.1),
                             upper,
                         };
-                        Baker::new(&texture, material.sampler, material.cutoff)
-                            .map(|b| b.with_model(model))
+                        Baker::new_on(&texture, test, u64::MAX, &serial)
+                            .map(|b| b.with_block_budget(judge.block_budget).with_model(model))
                             .map_err(texture_error)
                     };
                     slot.insert((bound(false)?, bound(true)?));

@@ -157,6 +157,7 @@ def _options(
     format: int,
     unknown: str,
     model: str,
+    unit: Dict[str, Any],
     budget: Optional[int],
     index_width: int,
     max_bytes: int,
@@ -169,9 +170,21 @@ def _options(
     """The options both bakes hand to the extension, as one dict."""
     return dict(
         level=level, max_level=max_level, format=format, unknown=unknown, model=model,
-        budget=budget, index_width=index_width, max_bytes=max_bytes,
+        **unit, budget=budget, index_width=index_width, max_bytes=max_bytes,
         no_mixed_special=no_mixed_special, mips=mips, threads=threads,
         work_budget=work_budget, bake_work_budget=bake_work_budget,
+    )
+
+
+def _unit(
+    subtexel_bits: int, interpolation: str, filter_error: float, linear: str
+) -> Dict[str, Any]:
+    """The texture-unit keywords, as the extension takes them."""
+    return dict(
+        subtexel_bits=subtexel_bits,
+        interpolation=interpolation,
+        filter_error=filter_error,
+        linear=linear,
     )
 
 
@@ -205,6 +218,10 @@ def bake(
     cutoff: float = 0.5,
     opaque_above: bool = False,
     model: str = "gpu-binary32",
+    subtexel_bits: int = 8,
+    interpolation: str = "f32",
+    filter_error: float = 2.0**-16,
+    linear: str = "value",
     budget: Optional[int] = None,
     index_width: int = 32,
     alpha_factor: float = 1.0,
@@ -232,7 +249,15 @@ def bake(
     ``border_alpha`` for clamp-to-border; opaque where ``alpha >= cutoff``
     (glTF's rule) or ``alpha > cutoff`` with ``opaque_above``; ``model``
     ``"gpu-binary32"`` (the default: sound for every binary32 hit a GPU
-    assigns to a micro-triangle) or ``"exact"``; ``budget`` at most that many
+    assigns to a micro-triangle) or ``"exact"``; ``subtexel_bits``
+    (``--subtexel-bits``, 4..=16, default 8), ``interpolation``
+    (``--interpolation``, ``"f32"`` or ``"f16"``), ``filter_error``
+    (``--filter-error``, default ``2**-16``) and ``linear`` (``--linear``,
+    ``"value"`` or ``"footprint"``): the texture unit ``gpu-binary32`` holds
+    for (sub-texel snapping to ``2**-k`` texels, the shader's interpolation
+    precision, the linear filter's arithmetic error, and whether a linear
+    filter is judged by its value or by its whole 2x2 footprint; see
+    ``docs/bake.md``, "The texture unit"); ``budget`` at most that many
     bytes of micromap data (with ``level="auto"``); ``index_width`` 16 or 32;
     ``alpha_factor`` multiplies every texel's alpha (glTF's
     ``baseColorFactor[3]``); ``max_bytes`` (default 1 GiB, as the CLI's
@@ -262,8 +287,10 @@ def bake(
         _native.bake(
             alpha,
             uvs,
-            _options(level, max_level, format, unknown, model, budget, index_width, max_bytes,
-                     no_mixed_special, mips, threads, work_budget, bake_work_budget),
+            _options(level, max_level, format, unknown, model,
+                     _unit(subtexel_bits, interpolation, filter_error, linear), budget,
+                     index_width, max_bytes, no_mixed_special, mips, threads, work_budget,
+                     bake_work_budget),
             filter=filter,
             address=address,
             border_alpha=border_alpha,
@@ -287,6 +314,10 @@ def bake_gltf(
     cutoff: Optional[float] = None,
     opaque_above: bool = False,
     model: str = "gpu-binary32",
+    subtexel_bits: int = 8,
+    interpolation: str = "f32",
+    filter_error: float = 2.0**-16,
+    linear: str = "value",
     budget: Optional[int] = None,
     index_width: int = 32,
     max_bytes: int = 1 << 30,
@@ -321,8 +352,10 @@ def bake_gltf(
     ``ValueError`` for a malformed asset."""
     raw = _native.bake_gltf(
         os.fspath(path),
-        _options(level, max_level, format, unknown, model, budget, index_width, max_bytes,
-                 no_mixed_special, mips, threads, work_budget, bake_work_budget),
+        _options(level, max_level, format, unknown, model,
+                 _unit(subtexel_bits, interpolation, filter_error, linear), budget,
+                 index_width, max_bytes, no_mixed_special, mips, threads, work_budget,
+                 bake_work_budget),
         filter=filter,
         address=address,
         border_alpha=border_alpha,
@@ -343,6 +376,7 @@ class VerifyReport:
     and every one was checked."""
 
     model: str
+    texture_unit: Dict[str, Any]
     triangles: int
     triangles_checked: int
     known_micro_triangles: int
@@ -399,6 +433,10 @@ def verify(
     opaque_above: bool = False,
     alpha_factor: float = 1.0,
     model: str = "gpu-binary32",
+    subtexel_bits: int = 8,
+    interpolation: str = "f32",
+    filter_error: float = 2.0**-16,
+    linear: str = "value",
     max_report: int = 20,
     max_checks: Optional[int] = None,
     lenient_layout: bool = False,
@@ -411,7 +449,9 @@ def verify(
     takes them), as ``micromap-index verify-bake``: the buffers are validated
     (a malformed one is a ``ValueError``), then every known micro-triangle is
     checked exactly against the texture under the sampler, the cutoff, the
-    alpha factor (``alpha_factor``, as :func:`bake` takes it) and the model,
+    alpha factor (``alpha_factor``, as :func:`bake` takes it), the model and
+    its texture unit (``subtexel_bits``, ``interpolation``, ``filter_error``,
+    ``linear``, as :func:`bake` takes them; ``texture_unit`` in the report),
     by the library's ``bake::mesh::verify_mesh``, the verifier of every front
     end. The first ``max_report`` contradictions are reported with an exact
     witness point; ``max_checks`` caps the known micro-triangles checked
@@ -454,6 +494,7 @@ def verify(
         opaque_above=opaque_above,
         alpha_factor=alpha_factor,
         model=model,
+        **_unit(subtexel_bits, interpolation, filter_error, linear),
         max_report=max_report,
         max_checks=max_checks,
         lenient_layout=lenient_layout,

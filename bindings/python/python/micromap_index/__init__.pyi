@@ -41,6 +41,7 @@ class BakeResult:
 @dataclass(frozen=True)
 class VerifyReport:
     model: str
+    texture_unit: Dict[str, Any]
     triangles: int
     triangles_checked: int
     known_micro_triangles: int
@@ -68,6 +69,10 @@ def bake(
     cutoff: float = ...,
     opaque_above: bool = ...,
     model: str = ...,
+    subtexel_bits: int = ...,
+    interpolation: str = ...,
+    filter_error: float = ...,
+    linear: str = ...,
     budget: Optional[int] = ...,
     index_width: int = ...,
     alpha_factor: float = ...,
@@ -91,6 +96,10 @@ def bake_gltf(
     cutoff: Optional[float] = ...,
     opaque_above: bool = ...,
     model: str = ...,
+    subtexel_bits: int = ...,
+    interpolation: str = ...,
+    filter_error: float = ...,
+    linear: str = ...,
     budget: Optional[int] = ...,
     index_width: int = ...,
     max_bytes: int = ...,
@@ -118,6 +127,10 @@ def verify(
     opaque_above: bool = ...,
     alpha_factor: float = ...,
     model: str = ...,
+    subtexel_bits: int = ...,
+    interpolation: str = ...,
+    filter_error: float = ...,
+    linear: str = ...,
     max_report: int = ...,
     max_checks: Optional[int] = ...,
     lenient_layout: bool = ...,

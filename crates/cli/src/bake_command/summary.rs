@@ -63,6 +63,9 @@ pub(super) struct Summary {
     /// The threads the bake ran on.
     pub(super) threads: usize,
     pub(super) model: &'static str,
+    /// The texture unit the known states hold for (`--subtexel-bits`,
+    /// `--interpolation`, `--filter-error`, `--linear`).
+    pub(super) texture_unit: crate::inputs::sampler::TextureUnitJson,
     /// `--mips`: `0`, `N` or `all`.
     pub(super) mips: String,
     /// What the GPU model's widening cost this bake (zero under `exact`).

@@ -69,3 +69,30 @@ pub(crate) const SAMPLER: [Flag; 8] = [
                          arithmetic reads) or exact (the exact real points only; docs/bake.md)",
     ),
 ];
+
+/// The texture-unit flags `bake`, `verify-bake` and `render` share: what
+/// a GPU's texture unit may do between a hit and the alpha test
+/// (`docs/bake.md`, "The texture unit"); never the asset's own.
+pub(crate) const TEXTURE_UNIT: [Flag; 4] = [
+    Flag::value(
+        "--subtexel-bits",
+        "K",
+        "texel coordinates snap to 1/2^K texel: 4..=16 (default 8; Vulkan's minimum is 4)",
+    ),
+    Flag::value(
+        "--interpolation",
+        "P",
+        "the shader's texture-coordinate precision: f32 (default) or f16 (mediump)",
+    ),
+    Flag::value(
+        "--filter-error",
+        "E",
+        "the largest error of a linear filter's result, in alpha units (default 2^-16)",
+    ),
+    Flag::value(
+        "--linear",
+        "RULE",
+        "linear filtering judged by value (default: the filtered alpha) or footprint
+                         (every texel of the 2x2 footprint, whatever its weight)",
+    ),
+];

@@ -5,7 +5,8 @@
 use super::flags;
 use cli_support::args::Parsed;
 use cli_support::output::Failure;
-use micromap_index::bake::{AddressMode, Comparison, Filter, Model};
+use micromap_index::bake::mesh::MeshOptions;
+use micromap_index::bake::{AddressMode, Comparison, Filter, Model, TextureUnit};
 
 /// `--address*` as an address mode, or the library's message prefixed
 /// with the rejected text.
@@ -91,6 +92,76 @@ pub(crate) fn model_option(p: &Parsed<'_>) -> Result<Model, Failure> {
             .parse()
             .map_err(|e| Failure::Malformed(format!("--model {text:?}: {e}"))),
     }
+}
+
+/// The texture-unit flags ([`flags::TEXTURE_UNIT`]), each checked by the
+/// library's ranges (default: the library's default unit).
+pub(crate) fn texture_unit_option(p: &Parsed<'_>) -> Result<TextureUnit, Failure> {
+    let mut unit = TextureUnit::default();
+    if let Some(text) = p.get("--subtexel-bits") {
+        let k = text
+            .parse::<u32>()
+            .ok()
+            .filter(|_| text.bytes().all(|b| b.is_ascii_digit()))
+            .ok_or_else(|| {
+                Failure::Malformed(format!("--subtexel-bits {text:?}: expected 4..=16"))
+            })?;
+        unit = unit.with_subtexel_bits(k);
+    }
+    if let Some(text) = p.get("--interpolation") {
+        let interpolation = text
+            .parse()
+            .map_err(|e| Failure::Malformed(format!("--interpolation {text:?}: {e}")))?;
+        unit = unit.with_interpolation(interpolation);
+    }
+    if let Some(text) = p.get("--filter-error") {
+        let error = text.parse::<f32>().map_err(|_| {
+            Failure::Malformed(format!(
+                "--filter-error {text:?}: expected a number in [0, 1]"
+            ))
+        })?;
+        unit = unit.with_filter_error(error);
+    }
+    if let Some(text) = p.get("--linear") {
+        let rule = text
+            .parse()
+            .map_err(|e| Failure::Malformed(format!("--linear {text:?}: {e}")))?;
+        unit = unit.with_linear_rule(rule);
+    }
+    unit.check().map_err(|e| Failure::Malformed(e.to_string()))
+}
+
+/// A texture unit as the JSON reports write it (`summary.json`,
+/// `verify-bake --json`): which model judged.
+#[derive(serde::Serialize)]
+pub(crate) struct TextureUnitJson {
+    subtexel_bits: u32,
+    interpolation: &'static str,
+    /// The binary32 value exactly (as `f64`: `2^-16` prints as
+    /// `1.52587890625e-5`, not the shortest binary32 text).
+    filter_error: f64,
+    linear: &'static str,
+}
+
+impl From<TextureUnit> for TextureUnitJson {
+    fn from(unit: TextureUnit) -> Self {
+        TextureUnitJson {
+            subtexel_bits: unit.subtexel_bits,
+            interpolation: unit.interpolation.name(),
+            filter_error: f64::from(unit.filter_error),
+            linear: unit.linear.name(),
+        }
+    }
+}
+
+/// What judges known states, from the flags: the model and the texture
+/// unit, as the options a bake or a verification takes.
+pub(crate) fn judge_option(p: &Parsed<'_>) -> Result<MeshOptions, Failure> {
+    Ok(MeshOptions {
+        model: model_option(p)?,
+        texture_unit: texture_unit_option(p)?,
+        ..MeshOptions::default()
+    })
 }
 
 /// The sampler and cutoff flags (every sampler flag but `--model`) are

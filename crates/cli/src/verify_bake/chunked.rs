@@ -8,28 +8,28 @@
 //! the mesh's.
 
 use micromap_index::bake::mesh::{
-    verify_mesh, Mesh, MeshTriangles, MeshVerification, MeshVerifyError,
+    verify_mesh, Mesh, MeshOptions, MeshTriangles, MeshVerification, MeshVerifyError,
 };
-use micromap_index::bake::{Contradiction, Model};
+use micromap_index::bake::Contradiction;
 use micromap_index::micromap::TriangleOpacity;
 
 /// Triangles per `verify_mesh` call: enough that the per-call setup is
 /// small next to the checks, few enough that the bar moves.
 const CHUNK: usize = 64;
 
-/// `verify_mesh(mesh, opacities, model, max_known, visit)` (the module's
+/// `verify_mesh(mesh, opacities, judge, max_known, visit)` (the module's
 /// contracts), telling `progress` after each chunk how many of the mesh's
 /// triangles are done.
 pub(super) fn verify_with_progress(
     mesh: &Mesh<'_>,
     opacities: &[TriangleOpacity<'_>],
-    model: Model,
+    judge: &MeshOptions,
     max_known: u64,
     visit: &mut dyn FnMut(usize, Contradiction),
     progress: &mut dyn FnMut(usize),
 ) -> Result<MeshVerification, MeshVerifyError> {
     let MeshTriangles::Uv(triangles) = mesh.triangles else {
-        let v = verify_mesh(mesh, opacities, model, max_known, visit)?;
+        let v = verify_mesh(mesh, opacities, judge, max_known, visit)?;
         progress(opacities.len());
         return Ok(v);
     };
@@ -39,7 +39,7 @@ pub(super) fn verify_with_progress(
             .is_some_and(|alpha| alpha.len() != triangles.len())
     {
         // The one call's error, as it words it.
-        return verify_mesh(mesh, opacities, model, max_known, visit);
+        return verify_mesh(mesh, opacities, judge, max_known, visit);
     }
     let mut sum = MeshVerification::default();
     for start in (0..triangles.len()).step_by(CHUNK) {
@@ -52,13 +52,13 @@ pub(super) fn verify_with_progress(
         let Ok(v) = verify_mesh(
             &chunk,
             &opacities[start..end],
-            model,
+            judge,
             max_known.saturating_sub(sum.known),
             &mut |t, c| visit(start + t, c),
         ) else {
             // Numbered within the chunk: the whole mesh's call says it
             // with the mesh's numbers.
-            return verify_mesh(mesh, opacities, model, max_known, &mut |_, _| {});
+            return verify_mesh(mesh, opacities, judge, max_known, &mut |_, _| {});
         };
         sum.triangles_checked += v.triangles_checked;
         sum.known += v.known;
@@ -119,7 +119,7 @@ mod tests {
                 let whole = verify_mesh(
                     &mesh,
                     &opacities,
-                    Model::default(),
+                    &MeshOptions::default(),
                     max_known,
                     &mut |t, c| {
                         one.push((t, c));
@@ -130,7 +130,7 @@ mod tests {
                 let sum = verify_with_progress(
                     &mesh,
                     &opacities,
-                    Model::default(),
+                    &MeshOptions::default(),
                     max_known,
                     &mut |t, c| chunked.push((t, c)),
                     &mut |done| told.push(done),
@@ -154,12 +154,18 @@ mod tests {
             verify_with_progress(
                 &mesh,
                 short,
-                Model::default(),
+                &MeshOptions::default(),
                 u64::MAX,
                 &mut |_, _| {},
                 &mut |_| {}
             ),
-            verify_mesh(&mesh, short, Model::default(), u64::MAX, &mut |_, _| {})
+            verify_mesh(
+                &mesh,
+                short,
+                &MeshOptions::default(),
+                u64::MAX,
+                &mut |_, _| {}
+            )
         );
     }
 }

@@ -7,12 +7,12 @@ use super::chunked::verify_with_progress;
 use super::verdict::{verdict, witness_and_texel, witness_texel_space};
 use crate::inputs::files::{asset_failure, asset_limits};
 use crate::inputs::sampler::refuse_overrides;
+use crate::inputs::sampler::TextureUnitJson;
 use crate::progress::Progress;
 use cli_support::args::Parsed;
 use cli_support::input::refuse_blocking;
 use cli_support::output::{Exit, Failure};
-use micromap_index::bake::mesh::{Mesh, MeshTriangles};
-use micromap_index::bake::Model;
+use micromap_index::bake::mesh::{Mesh, MeshOptions, MeshTriangles};
 use micromap_index::micromap::TriangleOpacity;
 use micromap_index_assets::{read_gltf_file, read_gltf_micromaps_file};
 use serde::Serialize;
@@ -49,6 +49,7 @@ struct ContradictionReport {
 #[derive(Serialize)]
 struct GltfVerifyReport {
     model: &'static str,
+    texture_unit: TextureUnitJson,
     micromaps: usize,
     primitives: Vec<PrimitiveReport>,
     /// Primitives with the extension whose material is not alpha-tested
@@ -66,7 +67,7 @@ struct GltfVerifyReport {
 pub(super) fn verify_gltf(
     p: &Parsed<'_>,
     asset: &str,
-    model: Model,
+    judge: &MeshOptions,
     max_report: usize,
     max_checks: u64,
 ) -> Result<(String, Exit), Failure> {
@@ -106,7 +107,8 @@ pub(super) fn verify_gltf(
         })
         .collect::<Result<Vec<_>, _>>()?;
     let mut report = GltfVerifyReport {
-        model: model.name(),
+        model: judge.model.name(),
+        texture_unit: judge.texture_unit.into(),
         micromaps: micromaps.micromaps.len(),
         primitives: Vec::new(),
         primitives_not_checked: Vec::new(),
@@ -161,7 +163,7 @@ pub(super) fn verify_gltf(
         let v = verify_with_progress(
             &mesh,
             &opacities,
-            model,
+            judge,
             max_checks.saturating_sub(known_so_far),
             &mut |t, c| {
                 if first.len() < max_report {

@@ -13,7 +13,7 @@ mod texture;
 mod verdict;
 
 use crate::inputs::flags;
-use crate::inputs::sampler::model_option;
+use crate::inputs::sampler::judge_option;
 use cli_support::args::{Command, Flag};
 use cli_support::output::{print_then, Exit, Failure, Program};
 
@@ -68,6 +68,7 @@ pub(crate) static VERIFY_BAKE: Command = Command {
                 flags::CONFINE_URIS,
             ],
             &flags::SAMPLER,
+            &flags::TEXTURE_UNIT,
             &[
                 flags::INDEX_WIDTH,
                 Flag::switch("--json", "the report as JSON"),
@@ -118,9 +119,9 @@ fn verify(options: &[&str]) -> Result<(String, Exit), Failure> {
             .parse()
             .map_err(|_| Failure::Malformed(format!("--max-checks {text:?}: expected a count")))?,
     };
-    let model = model_option(&p)?;
+    let judge = judge_option(&p)?;
     if let Some(asset) = p.get("--gltf") {
-        return gltf::verify_gltf(&p, asset, model, max_report, max_checks);
+        return gltf::verify_gltf(&p, asset, &judge, max_report, max_checks);
     }
-    texture::verify_texture(&p, model, max_report, max_checks)
+    texture::verify_texture(&p, &judge, max_report, max_checks)
 }

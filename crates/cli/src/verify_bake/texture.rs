@@ -6,12 +6,15 @@ use super::chunked::verify_with_progress;
 use super::verdict::{verdict, witness_and_texel, witness_texel_space};
 use crate::inputs::files::{read_buffer_files, read_file, BufferFiles, DATA_FILE_LIMIT};
 use crate::inputs::sampler::sampler_options;
+use crate::inputs::sampler::TextureUnitJson;
 use crate::inputs::{index_width, read_input};
 use crate::progress::Progress;
 use cli_support::args::Parsed;
 use cli_support::output::{Exit, Failure};
-use micromap_index::bake::mesh::{Material, Mesh, MeshBakeError, MeshTriangles, MeshVerifyError};
-use micromap_index::bake::{AlphaTexture, Model};
+use micromap_index::bake::mesh::{
+    Material, Mesh, MeshBakeError, MeshOptions, MeshTriangles, MeshVerifyError,
+};
+use micromap_index::bake::AlphaTexture;
 use micromap_index::micromap::{
     read_buffers, BufferBytes, MicromapIndex, ReadOptions, TriangleOpacity,
 };
@@ -40,6 +43,7 @@ struct ContradictionJson {
 #[derive(Serialize)]
 struct VerifyJson {
     model: &'static str,
+    texture_unit: TextureUnitJson,
     triangles: usize,
     triangles_checked: usize,
     known_micro_triangles: u64,
@@ -65,7 +69,7 @@ struct VerifyJson {
 /// micromaps' are parsed by the caller.
 pub(super) fn verify_texture(
     p: &Parsed<'_>,
-    model: Model,
+    judge: &MeshOptions,
     max_report: usize,
     max_checks: u64,
 ) -> Result<(String, Exit), Failure> {
@@ -175,7 +179,7 @@ pub(super) fn verify_texture(
     let v = verify_with_progress(
         &mesh,
         &opacities,
-        model,
+        judge,
         max_checks,
         &mut |t, c| {
             if first.len() >= max_report {
@@ -207,7 +211,8 @@ pub(super) fn verify_texture(
     })?;
     progress.finish();
     let mut out = VerifyJson {
-        model: model.name(),
+        model: judge.model.name(),
+        texture_unit: judge.texture_unit.into(),
         triangles: job.triangles.len(),
         triangles_checked: v.triangles_checked,
         known_micro_triangles: v.known,
