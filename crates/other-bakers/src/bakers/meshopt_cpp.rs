@@ -44,7 +44,9 @@ impl Baker for MeshoptCpp {
             triangles,
             level,
             format,
+            sampler,
         } = *request;
+        super::meshopt_sampler(sampler)?;
         if level > 12 {
             return Err(format!("level {level} > 12"));
         }

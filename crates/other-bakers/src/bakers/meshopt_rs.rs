@@ -43,7 +43,9 @@ impl Baker for MeshoptRs {
             triangles,
             level,
             format,
+            sampler,
         } = *request;
+        super::meshopt_sampler(sampler)?;
         let states = format.states();
         fn e(what: &'static str) -> impl Fn(meshoptimizer_rs::Error) -> String {
             move |err| format!("{what}: {err}")

@@ -1,5 +1,6 @@
 //! The bakers this tool can run, each converted to [`Micromaps`].
 
+use micromap_index::bake::{AddressMode, Filter};
 use serde::Serialize;
 
 use crate::input::{AlphaTexture, UvTriangle};
@@ -8,8 +9,7 @@ use crate::output::{Format, Micromaps, Record};
 pub mod exact;
 pub mod meshopt_cpp;
 pub mod meshopt_rs;
-#[cfg(feature = "omm")]
-pub mod omm;
+pub mod omm_sdk;
 
 /// What a baker is asked to do.
 #[derive(Clone, Copy)]
@@ -22,6 +22,28 @@ pub struct Request<'a> {
     pub level: u8,
     /// 2- or 4-state.
     pub format: Format,
+    /// The run-time sampler the micromaps are for.
+    pub sampler: SamplerRequest,
+}
+
+/// The sampler a bake is asked for (`--filter`, `--address`); a baker that
+/// cannot model it refuses. The default, linear with clamp-to-edge, is the
+/// one every baker here takes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SamplerRequest {
+    /// Nearest or linear.
+    pub filter: Filter,
+    /// Both axes.
+    pub address: AddressMode,
+}
+
+impl Default for SamplerRequest {
+    fn default() -> Self {
+        Self {
+            filter: Filter::Linear,
+            address: AddressMode::ClampToEdge,
+        }
+    }
 }
 
 /// A baker's result, already in the Vulkan layout.
@@ -76,14 +98,12 @@ pub trait Baker {
 
 /// Every baker compiled into this build.
 pub fn all() -> Vec<Box<dyn Baker>> {
-    #[allow(unused_mut)]
-    let mut v: Vec<Box<dyn Baker>> = vec![
+    let v: Vec<Box<dyn Baker>> = vec![
         Box::new(meshopt_cpp::MeshoptCpp),
         Box::new(meshopt_rs::MeshoptRs),
         Box::new(exact::MicromapIndex),
+        Box::new(omm_sdk::OmmSdk),
     ];
-    #[cfg(feature = "omm")]
-    v.push(Box::new(omm::NvidiaOmm));
     v
 }
 
@@ -123,6 +143,20 @@ pub(crate) fn meshopt_baked(
             indices,
         },
         micro_triangles_baked,
+    }
+}
+
+/// meshoptimizer's sampler is fixed (linear, footprint clamped to the
+/// texture; `meshopt_sample`): any other request is refused.
+pub(crate) fn meshopt_sampler(sampler: SamplerRequest) -> Result<(), String> {
+    if sampler == SamplerRequest::default() {
+        Ok(())
+    } else {
+        Err(format!(
+            "meshoptimizer samples linear with its footprint clamped to the texture only, \
+             not --filter {} --address {}",
+            sampler.filter, sampler.address
+        ))
     }
 }
 
