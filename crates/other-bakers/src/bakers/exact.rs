@@ -11,7 +11,7 @@ use micromap_index::bake::{Cutoff, Sampler, Threads, Unorm8Texture};
 use micromap_index::micromap::{Format as MmFormat, IndexWidth, UnknownPolicy};
 use micromap_index::Level;
 
-use super::{Baked, Baker, Conventions, Request};
+use super::baker::{Baked, Baker, Conventions, Request};
 use crate::output::{Format, Micromaps, Record};
 
 /// `--baker micromap-index`.

@@ -8,7 +8,9 @@ use micromap_index::bake::Filter;
 use micromap_index::inverse::micro_triangle;
 use micromap_index::Level;
 
-use super::{all, meshopt_sample, Baker, Request, SamplerRequest};
+use super::all;
+use super::baker::{Baker, Request, SamplerRequest};
+use super::meshopt_common::meshopt_sample;
 use crate::input::{AlphaTexture, UvTriangle};
 use crate::output::{Format, FULLY_OPAQUE, FULLY_TRANSPARENT};
 

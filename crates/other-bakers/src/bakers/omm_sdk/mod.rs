@@ -15,7 +15,7 @@ use std::collections::HashSet;
 
 use micromap_index::bake::{AddressMode, Filter};
 
-use super::{Baked, Baker, Conventions, Request};
+use crate::bakers::baker::{Baked, Baker, Conventions, Request};
 use crate::output::{Micromaps, Record};
 
 /// `--baker omm-sdk`.
