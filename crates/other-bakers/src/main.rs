@@ -4,15 +4,23 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
-use other_bakers::bakers::{self, Request};
+use micromap_index::bake::{AddressMode, Filter};
+use other_bakers::bakers::{self, Request, SamplerRequest};
 use other_bakers::input::{grid_triangles, parse_triangles, read_png_alpha, triangles_json};
 use other_bakers::output::Format;
 
 const USAGE: &str = "\
 usage:
-  other-bake --baker NAME --texture T.png --triangles TRIS.json --level L --format 2|4 --out DIR [--repeat N]
+  other-bake --baker NAME --texture T.png --triangles TRIS.json --level L --format 2|4 --out DIR
+             [--repeat N] [--filter nearest|linear] [--address MODE]
+                                       MODE: clamp-to-edge (default), repeat, mirrored-repeat,
+                                       clamp-to-border, mirror-clamp-to-edge; filter default linear
   other-bake --grid N                  print an N x N quad grid (2 N^2 triangles) as TRIS.json
-  other-bake --list                    list the bakers in this build";
+  other-bake --list                    list the bakers in this build
+environment:
+  OMM_SDK_LIB=PATH     your own build of NVIDIA's OMM SDK library (libomm-lib.so), for --baker omm-sdk
+  OTHER_BAKE_THREADS=N micromap-index: N threads (default 1); omm-sdk: N > 1 turns on its internal
+                       (OpenMP) threads";
 
 struct Args {
     baker: String,
@@ -22,12 +30,14 @@ struct Args {
     format: Format,
     out: PathBuf,
     repeat: u32,
+    sampler: SamplerRequest,
 }
 
 fn parse_args(mut it: impl Iterator<Item = String>) -> Result<Args, String> {
     let (mut baker, mut texture, mut triangles, mut level, mut format, mut out) =
         (None, None, None, None, None, None);
     let mut repeat = 1u32;
+    let mut sampler = SamplerRequest::default();
     while let Some(flag) = it.next() {
         let mut value = || it.next().ok_or_else(|| format!("{flag} needs a value"));
         match flag.as_str() {
@@ -53,6 +63,18 @@ fn parse_args(mut it: impl Iterator<Item = String>) -> Result<Args, String> {
                 );
             }
             "--out" => out = Some(PathBuf::from(value()?)),
+            "--filter" => {
+                let v = value()?;
+                sampler.filter = v
+                    .parse::<Filter>()
+                    .map_err(|e| format!("--filter {v:?}: {e}"))?;
+            }
+            "--address" => {
+                let v = value()?;
+                sampler.address = v
+                    .parse::<AddressMode>()
+                    .map_err(|e| format!("--address {v:?}: {e}"))?;
+            }
             "--repeat" => {
                 let v = value()?;
                 repeat = v
@@ -73,6 +95,7 @@ fn parse_args(mut it: impl Iterator<Item = String>) -> Result<Args, String> {
         format: format.ok_or_else(|| need("--format"))?,
         out: out.ok_or_else(|| need("--out"))?,
         repeat,
+        sampler,
     })
 }
 
@@ -97,6 +120,7 @@ fn run(args: Args) -> Result<(), String> {
         triangles: &triangles,
         level: args.level,
         format: args.format,
+        sampler: args.sampler,
     };
     let mut best = Duration::MAX;
     let mut times = Vec::new();
@@ -145,6 +169,10 @@ fn run(args: Args) -> Result<(), String> {
         "record_levels": levels,
         "format": args.format.states(),
         "format_vk": args.format.vk(),
+        "sampler": {
+            "filter": args.sampler.filter.to_string(),
+            "address": args.sampler.address.to_string(),
+        },
         "triangles": triangles.len(),
         "micromaps": baked.maps.records.len(),
         "data_bytes": baked.maps.data.len(),
@@ -201,6 +229,7 @@ fn main() -> ExitCode {
             for b in bakers::all() {
                 println!("{}\t{}", b.name(), b.version());
             }
+            println!("omm-sdk loads: {}", bakers::omm_sdk::library::describe());
             return ExitCode::SUCCESS;
         }
         Some("--grid") => {

@@ -1,15 +1,17 @@
 //! `micromap-index` itself (`micromap_index::bake`), run through the same
 //! harness so its speed is measured in the same process, on the same input,
-//! as the other bakers. Sampler: the one a glTF asset with these textures
-//! would use at run time (linear, clamp-to-edge inside [0, 1]), cutoff 0.5
-//! with glTF's `alpha >= cutoff`.
+//! as the other bakers. Sampler: the requested one (default linear,
+//! clamp-to-edge, as a glTF asset with these textures would use at run
+//! time), cutoff 0.5 with glTF's `alpha >= cutoff`.
 
-use micromap_index::bake::mesh::{bake_mesh, LevelRule, Material, Mesh, MeshOptions, MeshTriangles};
-use micromap_index::bake::{AddressMode, Cutoff, Filter, Sampler, Threads, Unorm8Texture};
+use micromap_index::bake::mesh::{
+    bake_mesh, LevelRule, Material, Mesh, MeshOptions, MeshTriangles,
+};
+use micromap_index::bake::{Cutoff, Sampler, Threads, Unorm8Texture};
 use micromap_index::micromap::{Format as MmFormat, IndexWidth, UnknownPolicy};
 use micromap_index::Level;
 
-use super::{Baked, Baker, Conventions, Request};
+use super::baker::{Baked, Baker, Conventions, Request};
 use crate::output::{Format, Micromaps, Record};
 
 /// `--baker micromap-index`.
@@ -26,8 +28,8 @@ impl Baker for MicromapIndex {
 
     fn conventions(&self) -> Conventions {
         Conventions {
-            filter: "linear: every texel of the 2x2 footprint of every point counts (sound for any weight quantization)",
-            address_mode: "clamp-to-edge on both axes (Vulkan wrapping of integer texel coordinates)",
+            filter: "as requested (--filter; default linear): the library's sampler model (docs/bake.md)",
+            address_mode: "as requested (--address; default clamp-to-edge), both axes (Vulkan wrapping of integer texel coordinates)",
             texel_centres: "texel (i, j) covers [i/W, (i+1)/W) x [j/H, (j+1)/H); v = 0 is the top row",
             sample_position_precision: "exact (integer arithmetic on the exact micro-triangle vertices)",
             cutoff: 0.5,
@@ -48,9 +50,9 @@ impl Baker for MicromapIndex {
         )
         .map_err(|e| e.to_string())?;
         let sampler = Sampler {
-            filter: Filter::Linear,
-            address_u: AddressMode::ClampToEdge,
-            address_v: AddressMode::ClampToEdge,
+            filter: request.sampler.filter,
+            address_u: request.sampler.address,
+            address_v: request.sampler.address,
             border_alpha: 0.0,
         };
         let level = Level::new(u32::from(request.level)).map_err(|e| e.to_string())?;

@@ -3,7 +3,8 @@
 
 use meshopt::{AlphaTexture, OpacityStates};
 
-use super::{meshopt_baked, meshopt_conventions, Baked, Baker, Conventions, Request};
+use super::baker::{Baked, Baker, Conventions, Request};
+use super::meshopt_common::{meshopt_baked, meshopt_conventions, meshopt_sampler};
 use crate::output::Format;
 
 /// `--baker meshopt-cpp`.
@@ -44,7 +45,9 @@ impl Baker for MeshoptCpp {
             triangles,
             level,
             format,
+            sampler,
         } = *request;
+        meshopt_sampler(sampler)?;
         if level > 12 {
             return Err(format!("level {level} > 12"));
         }

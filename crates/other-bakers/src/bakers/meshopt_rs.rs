@@ -6,7 +6,8 @@ use meshoptimizer_rs::{
     Workspace,
 };
 
-use super::{meshopt_baked, meshopt_conventions, Baked, Baker, Conventions, Request};
+use super::baker::{Baked, Baker, Conventions, Request};
+use super::meshopt_common::{meshopt_baked, meshopt_conventions, meshopt_sampler};
 
 /// `--baker meshopt-rs`.
 pub struct MeshoptRs;
@@ -43,7 +44,9 @@ impl Baker for MeshoptRs {
             triangles,
             level,
             format,
+            sampler,
         } = *request;
+        meshopt_sampler(sampler)?;
         let states = format.states();
         fn e(what: &'static str) -> impl Fn(meshoptimizer_rs::Error) -> String {
             move |err| format!("{what}: {err}")
