@@ -2,13 +2,14 @@
 //! [`super::verify`], verifies them). Construction, the triangle's frames
 //! on the exact grid, and the choice of walk.
 
+use super::alpha_test::AlphaTest;
 use super::classify::{Classifier, Grid, Margin, Placed, TexelClasses};
 use super::exact::{AxisFrame, FrameError};
 use super::gpu::{margin, Model};
 use super::parallel::Runner;
 use super::split::{walk_split, SPLIT_FROM_LEVEL};
 use super::texture::{AlphaTexture, Cutoff, Filter, Sampler, TextureError};
-use super::texture_unit::{AlphaTest, LinearRule, TextureUnit};
+use super::texture_unit::{LinearRule, TextureUnit};
 use super::triangle::{BakeError, BakedTriangle, TriangleStatus, UvTriangle};
 use super::walk::{walk_whole, Spent};
 use super::work::DEFAULT_TRIANGLE_WORK_BUDGET;

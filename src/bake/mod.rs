@@ -117,6 +117,7 @@
 //! assert!(unknown > 0 && unknown < 256);
 //! ```
 
+mod alpha_test;
 mod baker;
 mod classify;
 mod exact;

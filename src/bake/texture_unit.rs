@@ -1,4 +1,5 @@
-//! The texture unit as the baker models it (under [`Model::GpuBinary32`]):
+//! The texture unit as the baker models it (under
+//! [`Model::GpuBinary32`](crate::bake::Model::GpuBinary32)):
 //! how a hit's texel coordinate is snapped, how precise the shader's
 //! interpolation is, how a linear filter mixes its texels, and what the
 //! alpha test compares. Every parameter is one a conforming Vulkan or
@@ -30,9 +31,6 @@
 //!   transparent.
 
 use crate::names::named_enum;
-
-#[cfg(doc)]
-use super::gpu::Model;
 
 /// The precision of the shader's texture-coordinate interpolation.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -201,95 +199,5 @@ impl TextureUnit {
             r *= 0.5;
         }
         r
-    }
-}
-
-/// Relative widening for the factor's binary32 products under linear
-/// filtering: the texels' values carry the factor already (each product
-/// rounded, `2^-24` relative, which the mix carries), the GPU multiplies
-/// the filtered value (one more rounding): `2^-22` of the magnitudes
-/// involved covers both, with room for `f64`'s own.
-const PRODUCT_ROUNDING: f64 = 1.0 / (1u64 << 22) as f64;
-
-/// Absolute widening for products in binary32's subnormal range.
-const SUBNORMAL: f64 = 1.0 / (1u64 << 62) as f64 / (1u64 << 62) as f64 / (1u64 << 24) as f64;
-
-/// The alpha test as a GPU applies it to what the texture unit returns:
-/// the binary32 cutoff compared with a texel's value (nearest filtering)
-/// or with the filtered value, which lies within the filter's error of
-/// the bilinear mix of its texels' values, then multiplied by a factor in
-/// binary32 (linear filtering). The one place the baker and the verifier
-/// turn values into decisions.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct AlphaTest {
-    pub(crate) cutoff: super::texture::Cutoff,
-    /// Linear filtering: the filter's error in the texture's alpha units
-    /// ([`TextureUnit::filter_error`] times the factor the texture's
-    /// values carry); `None` for nearest filtering.
-    linear_slack: Option<f64>,
-    /// Linear filtering judged by value ([`LinearRule::Value`]).
-    pub(crate) by_value: bool,
-}
-
-impl AlphaTest {
-    /// The test for `cutoff` under `filter` and `unit`, on a texture whose
-    /// values are the texels' times `scale` (an alpha factor, at most 1 for
-    /// vertex alpha bounds).
-    pub(crate) fn new(
-        cutoff: super::texture::Cutoff,
-        filter: super::texture::Filter,
-        unit: &TextureUnit,
-        scale: f64,
-    ) -> AlphaTest {
-        let linear = filter == super::texture::Filter::Linear;
-        let abs = |x: f64| f64::from_bits(x.to_bits() & !(1 << 63));
-        AlphaTest {
-            cutoff,
-            linear_slack: linear.then(|| f64::from(unit.filter_error) * abs(scale)),
-            by_value: linear && unit.linear == LinearRule::Value,
-        }
-    }
-
-    /// The lowest value the GPU may compare when the values read mix to
-    /// at least `v`: `v` itself under nearest filtering; under linear, less
-    /// the filter's error and the factor's roundings (relative to the
-    /// magnitudes `|v| + e`, not `|v - e|`, which may be near 0).
-    pub(crate) fn low(&self, v: f64) -> f64 {
-        match self.linear_slack {
-            None => v,
-            Some(e) => {
-                let size = f64::from_bits(v.to_bits() & !(1 << 63)) + e;
-                (v - e) - size * PRODUCT_ROUNDING - SUBNORMAL
-            }
-        }
-    }
-
-    /// The highest value the GPU may compare when the values read mix to at
-    /// most `v` (see [`low`](Self::low)).
-    pub(crate) fn high(&self, v: f64) -> f64 {
-        match self.linear_slack {
-            None => v,
-            Some(e) => {
-                let size = f64::from_bits(v.to_bits() & !(1 << 63)) + e;
-                (v + e) + size * PRODUCT_ROUNDING + SUBNORMAL
-            }
-        }
-    }
-
-    /// A texel's class bits from the binary32 values it may convert to:
-    /// bit 0, it may pass (a GPU value from it can be opaque); bit 1, it
-    /// may fail. A texel whose range straddles the cutoff has both.
-    pub(crate) fn class_bits(&self, lo: f32, hi: f32) -> u8 {
-        let may_pass = self.cutoff.is_opaque(self.high(f64::from(hi)));
-        let may_fail = !self.cutoff.is_opaque(self.low(f64::from(lo)));
-        u8::from(may_pass) | (u8::from(may_fail) << 1)
-    }
-
-    /// What values mixed to at least `min` and at most `max` everywhere on
-    /// a region make of it: `(may pass, may fail)` as class bits.
-    pub(crate) fn range_bits(&self, min: f64, max: f64) -> u8 {
-        let may_pass = self.cutoff.is_opaque(self.high(max));
-        let may_fail = !self.cutoff.is_opaque(self.low(min));
-        u8::from(may_pass) | (u8::from(may_fail) << 1)
     }
 }

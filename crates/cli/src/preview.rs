@@ -12,17 +12,16 @@
 //! one does; micro-triangles smaller than a pixel are sampled, not
 //! averaged.
 
+mod canvas;
 mod legend;
+
+use canvas::{Canvas, COLOURS};
 
 use micromap_index::bake::mesh::MeshBake;
 use micromap_index::bake::{AddressMode, Model, Sampler, UvTriangle};
 use micromap_index::micromap::State;
 use micromap_index::SpecLevel;
 use micromap_index_assets::{AlphaImage, AlphaTexels};
-
-/// Colours by state value: transparent blue, opaque green, unknown-
-/// transparent red, unknown-opaque yellow.
-const COLOURS: [[u8; 3]; 4] = [[40, 90, 255], [40, 200, 60], [235, 60, 40], [250, 210, 30]];
 
 /// The largest side of the picture we aim for.
 const TARGET: u32 = 1024;
@@ -44,27 +43,6 @@ pub(crate) struct Drawn {
     /// Micro-triangles not drawn: past [`PIXEL_BUDGET`], or of a triangle
     /// already drawn (the same UVs in the same job bake the same way).
     pub(crate) skipped: u64,
-}
-
-struct Canvas {
-    width: u32,
-    height: u32,
-    rgb: Vec<u8>,
-}
-
-impl Canvas {
-    fn blend(&mut self, x: i64, y: i64, colour: [u8; 3], weight: f32) {
-        if x < 0 || y < 0 || x >= i64::from(self.width) || y >= i64::from(self.height) {
-            return;
-        }
-        let at = (y as usize * self.width as usize + x as usize) * 3;
-        // In fixed point (weight in 256ths, rounded): no float rounding
-        // call per channel; weight 1 copies the colour exactly.
-        let w = (weight.clamp(0.0, 1.0) * 256.0 + 0.5) as u32;
-        for (slot, &c) in self.rgb[at..at + 3].iter_mut().zip(&colour) {
-            *slot = ((u32::from(*slot) * (256 - w) + u32::from(c) * w + 128) >> 8) as u8;
-        }
-    }
 }
 
 /// The most pixels a preview may have (an 8192 x 8192 picture).

@@ -298,7 +298,7 @@ mod tests {
                 address_v: address,
                 border_alpha: 0.0,
             };
-            let test = crate::bake::texture_unit::AlphaTest::new(
+            let test = crate::bake::alpha_test::AlphaTest::new(
                 Cutoff::default(),
                 sampler.filter,
                 &crate::bake::TextureUnit::default(),

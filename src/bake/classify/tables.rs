@@ -6,9 +6,9 @@
 
 use super::classes::{texel_in_range, Block, Classes};
 use super::wrap::axis_image;
+use crate::bake::alpha_test::AlphaTest;
 use crate::bake::parallel::Runner;
 use crate::bake::texture::{AlphaTexture, Sampler, TextureError};
-use crate::bake::texture_unit::AlphaTest;
 use crate::num::wide::GridInt;
 use alloc::vec::Vec;
 

@@ -2,7 +2,7 @@
 //! colour, and the model the bake used, in a 5 x 7 pixel font with
 //! descenders (drawn here: the CLI takes no font dependency).
 
-use super::{Canvas, COLOURS};
+use super::canvas::{Canvas, COLOURS};
 use micromap_index::bake::Model;
 use micromap_index::micromap::State;
 
