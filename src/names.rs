@@ -9,12 +9,14 @@
 //! lists what was expected in the same words everywhere:
 //!
 //! ```
+//! # #[cfg(feature = "alloc")] {
 //! use micromap_index::bake::{AddressMode, Filter};
 //! assert_eq!("linear".parse::<Filter>(), Ok(Filter::Linear));
 //! assert_eq!(AddressMode::ClampToEdge.to_string(), "clamp-to-edge");
 //! let e = "bilinear".parse::<Filter>().unwrap_err();
 //! assert_eq!(e.to_string(), "expected nearest or linear");
 //! assert_eq!(e.what(), "filter");
+//! # }
 //! ```
 
 use core::fmt;
