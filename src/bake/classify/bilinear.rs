@@ -44,6 +44,10 @@ use crate::num::wide::GridInt;
 /// units of the largest texel value (at least 1): see the module docs.
 const VALUE_SLACK: f64 = 1.0 / (1u64 << 36) as f64;
 
+/// Cells whose values [`TexelClasses::region_value`] keeps between its
+/// quick bound and its exact extremes.
+const CELL_CACHE: usize = 16;
+
 /// `2^k` as `f64`, for `-1022 <= k <= 1023`.
 fn exp2(k: i32) -> f64 {
     f64::from_bits(((1023 + k) as u64) << 52)
@@ -97,10 +101,6 @@ impl Polygon {
             self.points[self.len] = p;
             self.len += 1;
         }
-    }
-
-    fn points(&self) -> &[(f64, f64)] {
-        &self.points[..self.len]
     }
 
     /// The part where `inside(p) >= 0` (`inside` affine), by
@@ -364,13 +364,14 @@ impl TexelClasses {
                 to_f64(y[k] - (oy << sy)) * uy,
             )
         });
-        let region = dilated(vertices, (mx, my));
+        // The dilated region's bounding box: the vertices' box widened by
+        // the margin (the same roundings as the region's own vertices).
         let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-        for &(px, py) in region.points() {
-            x0 = x0.min(px);
-            x1 = x1.max(px);
-            y0 = y0.min(py);
-            y1 = y1.max(py);
+        for &(px, py) in &vertices {
+            x0 = x0.min(px - mx);
+            x1 = x1.max(px + mx);
+            y0 = y0.min(py - my);
+            y1 = y1.max(py + my);
         }
         let at = |ci: f64, cj: f64, a: f64, b: f64| {
             (
@@ -380,6 +381,10 @@ impl TexelClasses {
         };
         let cells_x = floor(x0 - 0.5)..=floor(x1 - 0.5);
         let cells_y = floor(y0 - 0.5)..=floor(y1 - 0.5);
+        // The cells' values, kept for step 3 (a small block has few cells;
+        // past the cache's size they are read again).
+        let mut cache = [[0.0f64; 4]; CELL_CACHE];
+        let mut cached = 0usize;
         let mut cells = 0u32;
         // 2. The quick bound: the bounding box's part in each cell, at its
         //    corners.
@@ -388,6 +393,10 @@ impl TexelClasses {
             for i in cells_x.clone() {
                 let (ci, cj) = (to_f64(i) + 0.5, to_f64(j) + 0.5);
                 let v = self.cell_values(ox + i, oy + j);
+                if cached < CELL_CACHE {
+                    cache[cached] = v;
+                    cached += 1;
+                }
                 cells += 1;
                 for value in v {
                     quick.largest = quick.largest.max(value.abs());
@@ -409,28 +418,42 @@ impl TexelClasses {
             };
         }
         // 3. The exact extremes: the region clipped to each cell.
+        let region = dilated(vertices, (mx, my));
         let mut exact = Running::new();
         exact.largest = quick.largest;
+        let mut visited = 0usize;
         for j in cells_y {
             for i in cells_x.clone() {
                 let (ci, cj) = (to_f64(i) + 0.5, to_f64(j) + 0.5);
+                let slot = visited;
+                visited += 1;
                 let mut piece = region;
                 for q in &mut piece.points[..piece.len] {
                     *q = (q.0 - ci, q.1 - cj);
                 }
-                let inside = x0 >= ci && x1 <= ci + 1.0 && y0 >= cj && y1 <= cj + 1.0;
-                if !inside {
-                    piece = piece
-                        .clip(|q| q.0)
-                        .clip(|q| 1.0 - q.0)
-                        .clip(|q| q.1)
-                        .clip(|q| 1.0 - q.1);
+                // Clipped only by the cell's sides the region crosses (a
+                // side the bounding box stays within removes nothing).
+                if x0 < ci {
+                    piece = piece.clip(|q| q.0);
+                }
+                if x1 > ci + 1.0 {
+                    piece = piece.clip(|q| 1.0 - q.0);
+                }
+                if y0 < cj {
+                    piece = piece.clip(|q| q.1);
+                }
+                if y1 > cj + 1.0 {
+                    piece = piece.clip(|q| 1.0 - q.1);
                 }
                 if piece.len == 0 {
                     continue;
                 }
                 cells += 1;
-                let v = self.cell_values(ox + i, oy + j);
+                let v = if slot < cached {
+                    cache[slot]
+                } else {
+                    self.cell_values(ox + i, oy + j)
+                };
                 candidates(&piece, v, |a, b| {
                     let value = bilinear(v, a.clamp(0.0, 1.0), b.clamp(0.0, 1.0));
                     exact.add(value, at(ci, cj, a, b));

@@ -101,6 +101,24 @@ impl Classifier {
         if !quick.is_mixed() {
             return (quick, false, 1, false);
         }
+        // Linear filtering by value, a small block: the value over the
+        // dilated region decides at once (one evaluation for the many
+        // leaves it knows); only a leaf it leaves unknown is classified
+        // under the exact model, for the widening's count. The states are
+        // those of the order below (exact model first): the dilated
+        // region decides the state either way.
+        if self.classes.test.by_value && is_small(bounding) {
+            let r = self.classes.region_value(p, grid);
+            let classes = Classes::of_bits(r.bits);
+            let work = 1 + u64::from(r.cells);
+            if classes.opaque != classes.transparent {
+                return (classes, false, work, false);
+            }
+            let exact_grid = Grid::exact(grid.shifts);
+            let (exact, exact_exhausted, exact_work) = self.classify(p, exact_grid, points, stack);
+            let widened = !exact_exhausted && exact.opaque != exact.transparent;
+            return (classes, false, work + exact_work, widened);
+        }
         // The exact model's bounding block is inside this one, and mostly
         // the same block (the margin is a small part of a texel): then it
         // is mixed too, and is not read again.
