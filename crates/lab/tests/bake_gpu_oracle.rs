@@ -14,14 +14,25 @@
 //! moves the result by up to 2 ulps, the model's `2^-22` relative error of
 //! the sampler), subtracts 1/2 for linear filtering, floors, wraps with
 //! Vulkan's address formulas written again here, and reads the texel(s).
+//! That footprint oracle judges linear bakes made with
+//! `LinearRule::Footprint`, the rule it states.
+//!
+//! The value oracle (second half) judges linear bakes by the library's
+//! default, `LinearRule::Value`: for the same hits it models the texture
+//! unit too (sub-texel snapping by rounding and by truncation, the 2x2
+//! texels and their exact weights, both binary32 conversions of each
+//! UNORM8 texel, the filter's error, the alpha test in binary32), for
+//! bakes at 8 and 4 sub-texel bits; its negative controls are the exact
+//! model, and a bake for 16 sub-texel bits judged with 4.
 //!
 //! `MICROMAP_GPU_ORACLE=full` runs the whole grid (128 triangles) at levels
-//! 6 and 8, nearest and linear, under both models (release build: a few
-//! minutes), and prints the counts `docs/bake.md` quotes.
+//! 6 and 8, nearest and linear, under both models, the value oracle over
+//! every grid triangle at level 6 and more generated bakes (release build:
+//! a few minutes), and prints the counts `docs/bake.md` quotes.
 
 use micromap_index::bake::{
-    AddressMode, AlphaTexture, Baker, Comparison, Cutoff, Filter, Model, Sampler, TextureUnit,
-    Unorm8Texture, UvTriangle,
+    AddressMode, AlphaTexture, Baker, Comparison, Cutoff, Filter, LinearRule, Model, Sampler,
+    TextureUnit, Unorm8Texture, UvTriangle,
 };
 use micromap_index::micromap::{BakedOpacity, Format, State, UnknownPolicy};
 use micromap_index::{spec, Level, SpecLevel};
@@ -218,8 +229,14 @@ fn contradicted(
     found
 }
 
+/// Bakes for the footprint oracle above: linear filtering judged by
+/// footprint ([`LinearRule::Footprint`]), the rule that oracle states (a
+/// known state holds for every texel a hit can read). The default, by
+/// value, makes known micro-triangles whose footprint holds both classes;
+/// the value oracle below judges those.
 fn bake(scene: &Scene<'_>, model: Model, uv: &UvTriangle, level: u32) -> BakedOpacity {
-    Baker::new(scene.texture, scene.sampler, scene.cutoff)
+    let unit = TextureUnit::default().with_linear_rule(LinearRule::Footprint);
+    Baker::new_for(scene.texture, scene.sampler, scene.cutoff, unit, u64::MAX)
         .unwrap()
         .with_model(model)
         .bake(
