@@ -876,3 +876,22 @@ fn generated_linear_values_hold_under_the_texture_unit() {
     tiers.print(&format!("generated, {cases} bakes"));
     assert!(tiers.gpu.iter().all(|t| t.checked > 1000));
 }
+
+/// The value oracle's conversions: for every code, two adjacent binary32
+/// values around `c / 255` (decided exactly: `v * 255` is exact in `f64`),
+/// one value for 0 and 255; 51 converts to `0.2f32` (above 51/255) or the
+/// value below it.
+#[test]
+fn faithful_pairs_bracket_every_code() {
+    for c in 0..=255u8 {
+        let (lo, hi) = faithful(c);
+        let exact = f64::from(c);
+        assert!(f64::from(lo) * 255.0 <= exact && exact <= f64::from(hi) * 255.0);
+        if c == 0 || c == 255 {
+            assert_eq!(lo, hi);
+        } else {
+            assert_eq!(next(lo, true), hi, "{c}");
+        }
+    }
+    assert_eq!(faithful(51), (next(0.2, false), 0.2));
+}
