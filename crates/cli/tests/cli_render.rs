@@ -8,8 +8,12 @@
 //! has not (lavapipe); the pipeline tracer runs without `VK_KHR_ray_query`;
 //! `--device` picks a device; the default camera fits what is drawn; `--level
 //! auto` lists the levels per primitive; both tracers list their first
-//! contradictions in pixel order. Exit codes for bad input and for a machine
-//! without a device.
+//! contradictions in pixel order. The sampler lookup (`--lookup sampler`:
+//! the alpha test through a combined image sampler, the device's texture
+//! unit the judge) passes on our bakes of both assets and fails with
+//! flipped states; a border alpha no Vulkan border colour has is refused
+//! for it by name. Exit codes for bad input and for a machine without a
+//! device.
 //!
 //! Without a device each test prints `SKIPPED: ...` and passes, unless
 //! `MICROMAP_REQUIRE_VULKAN=1` (the CI tier), where it fails. The
@@ -442,6 +446,7 @@ fn bad_input_exits_2_and_writes_nothing() {
         (vec!["--fault", "nonsense"], "--fault"),
         (vec!["--methods", "alpha-test,nope"], "--methods"),
         (vec!["--tracer", "query,pipeline"], "--tracer"),
+        (vec!["--lookup", "texture"], "--lookup"),
         (vec!["--camera", "1,2,3"], "--camera"),
         (vec!["--level", "13"], "--level"),
         // 128 indices for the 144 triangles of cards.gltf.
@@ -715,4 +720,178 @@ fn both_tracers_list_their_first_contradictions_in_pixel_order() {
         // The same candidates, whatever order the device ran them in.
         assert_eq!(q["contradictions"], p["contradictions"]);
     }
+}
+
+/// Every entry of render.json was traced with `lookup`, and its pictures
+/// carry the lookup's prefix.
+fn assert_lookup(name: &str, json: &Value, lookup: &str) {
+    assert_eq!(json["lookups"], serde_json::json!([lookup]), "{name}");
+    for m in json["methods"].as_array().unwrap() {
+        assert_eq!(m["lookup"], lookup, "{name}: {m}");
+    }
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("render-{name}"));
+    let (own, other) = match lookup {
+        "sampler" => ("sampler-alpha-test.png", "alpha-test.png"),
+        _ => ("alpha-test.png", "sampler-alpha-test.png"),
+    };
+    assert!(
+        dir.join(own).exists() && !dir.join(other).exists(),
+        "{name}: {own} without {other}"
+    );
+}
+
+#[test]
+fn the_sampler_lookup_passes_on_our_bakes() {
+    if !device("sampler") {
+        return;
+    }
+    let cards = asset("assets/crytek-sponza/cards.gltf");
+    let fern = asset("assets/polyhaven-fern02/fern_02.gltf");
+    for (name, input, level, size) in [
+        ("sampler-cards-3", &cards, "3", "96x32"),
+        ("sampler-cards-7", &cards, "7", "96x32"),
+        ("sampler-fern-2", &fern, "2", "64x64"),
+        ("sampler-fern-6", &fern, "6", "64x64"),
+    ] {
+        let args = [
+            "--gltf", input, "--level", level, "--size", size, "--lookup", "sampler",
+        ];
+        assert_passes(name, &args);
+        let (_, json) = check(name, &args);
+        assert_lookup(name, &json.unwrap(), "sampler");
+    }
+}
+
+#[test]
+fn both_lookups_trace_every_method_and_each_passes() {
+    if !device("both-lookups") {
+        return;
+    }
+    let cards = asset("assets/crytek-sponza/cards.gltf");
+    let (o, json) = check(
+        "lookup-both",
+        &["--gltf", &cards, "--level", "5", "--size", "96x32"],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", describe(&o));
+    let json = json.unwrap();
+    // Both, by default: every method under each lookup and tracer.
+    assert_eq!(json["lookups"], serde_json::json!(["shader", "sampler"]));
+    let entries = json["methods"].as_array().unwrap();
+    for lookup in ["shader", "sampler"] {
+        for tracer in TRACERS {
+            for m in [
+                "alpha-test",
+                "flat-4-state",
+                "level-order-tree",
+                "paper-tree",
+            ] {
+                let e = entries
+                    .iter()
+                    .find(|e| e["lookup"] == lookup && e["tracer"] == tracer && e["method"] == m)
+                    .unwrap_or_else(|| panic!("no {lookup} {tracer} {m}"));
+                assert_eq!(e["contradicted"], 0, "{lookup} {tracer} {m}");
+            }
+        }
+    }
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("render-lookup-both");
+    for picture in [
+        "alpha-test.png",
+        "sampler-alpha-test.png",
+        "sampler-alpha-test-diff.png",
+        "sampler-pipeline-paper-tree-diff.png",
+    ] {
+        assert!(dir.join(picture).exists(), "{picture}");
+    }
+}
+
+#[test]
+fn flipped_states_fail_under_the_sampler_lookup() {
+    if !device("sampler-flip") {
+        return;
+    }
+    let cards = asset("assets/crytek-sponza/cards.gltf");
+    let fern = asset("assets/polyhaven-fern02/fern_02.gltf");
+    for (name, input, size) in [
+        ("sampler-flip-cards", &cards, "96x32"),
+        ("sampler-flip-fern", &fern, "64x64"),
+    ] {
+        let json = assert_fails(
+            name,
+            &[
+                "--gltf",
+                input,
+                "--level",
+                "5",
+                "--size",
+                size,
+                "--lookup",
+                "sampler",
+                "--fault",
+                "flip-known",
+                "--methods",
+                "flat-4-state",
+            ],
+        );
+        for tracer in TRACERS {
+            let m = traced(&json, tracer, "flat-4-state");
+            assert_eq!(m["lookup"], "sampler");
+            assert!(m["contradicted"].as_u64().unwrap() > 0, "{name} {tracer}");
+            // The exact hit point disagrees with the flipped state, and the
+            // texture unit read the alpha the exact point has.
+            let first = &m["contradictions"][0];
+            assert_eq!(first["class"], "micromap-wrong", "{name}: {first}");
+            assert!(first["lookup_alpha"].as_f64().is_some(), "{first}");
+        }
+    }
+}
+
+#[test]
+fn the_sampler_lookup_refuses_a_border_alpha_by_name() {
+    if !device("sampler-border") {
+        return;
+    }
+    let texture = asset("assets/crytek-sponza/sponza_thorn.png");
+    let triangles = asset("assets/crytek-sponza/grid.tris.json");
+    let out = scratch("render-sampler-border");
+    let out = out.join("out");
+    let args = |lookup: &'static str| {
+        vec![
+            "render".to_string(),
+            "--texture".into(),
+            texture.clone(),
+            "--triangles".into(),
+            triangles.clone(),
+            "--address".into(),
+            "clamp-to-border".into(),
+            "--border".into(),
+            "0.5".into(),
+            "--level".into(),
+            "2".into(),
+            "--size".into(),
+            "32x32".into(),
+            "--methods".into(),
+            "flat-4-state".into(),
+            "--lookup".into(),
+            lookup.into(),
+            "--check".into(),
+            "--force".into(),
+            "--out".into(),
+            out.to_string_lossy().into_owned(),
+        ]
+    };
+    for lookup in ["sampler", "both"] {
+        let a = args(lookup);
+        let o = run(&a.iter().map(String::as_str).collect::<Vec<_>>());
+        assert_eq!(o.status.code(), Some(2), "{lookup}: {}", describe(&o));
+        let stderr = text(&o.stderr);
+        assert!(
+            stderr.contains("border alpha 0.5") && stderr.contains("--lookup shader"),
+            "{stderr}"
+        );
+        assert!(!out.exists(), "{lookup} wrote {}", out.display());
+    }
+    // The shader's own lookup samples any border alpha.
+    let a = args("shader");
+    let o = run(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(o.status.code(), Some(0), "{}", describe(&o));
 }
