@@ -78,14 +78,15 @@ pub(crate) static RENDER: Command = Command {
   per tracer and method; the micromaps' levels per primitive; the
   contradictions). --check: exit 0 only if, under every tracer and lookup, the
   alpha test, every 4-state method and hardware render the first tracer's
-  alpha-test picture of that lookup pixel for pixel (the same primitive and t bits), hardware-2-state
-  renders the same tracer's flat-2-state picture, and no 4-state candidate is
-  contradicted. Exit 0 rendered (and checked); 1 the check failed (the first
-  contradictions on stdout); 2 bad options or input (nothing written); 3
-  unreadable input, unwritable DIR or a Vulkan call failing; 4 no Vulkan device
-  with what the tracers and methods need: VK_KHR_ray_query (query),
-  VK_KHR_ray_tracing_pipeline (pipeline), VK_EXT_opacity_micromap (hardware)
-  (nothing written).",
+  alpha-test picture of that lookup pixel for pixel (the same primitive and t
+  bits), hardware-2-state renders the same tracer's flat-2-state picture, and no
+  4-state candidate is contradicted. Exit 0 rendered (and checked); 1 the check
+  failed (the first contradictions on stdout); 2 bad options or input (nothing
+  written); 3 unreadable input, unwritable DIR or a Vulkan call failing; 4 no
+  Vulkan device with what the tracers, lookups and methods need:
+  VK_KHR_ray_query (query), VK_KHR_ray_tracing_pipeline (pipeline),
+  runtimeDescriptorArray and shaderSampledImageArrayNonUniformIndexing
+  (sampler), VK_EXT_opacity_micromap (hardware) (nothing written).",
     flags: &{
         const GROUPS: &[&[Flag]] = &[
             &[

@@ -113,6 +113,23 @@ fn traced<'a>(json: &'a Value, tracer: &str, name: &str) -> &'a Value {
         .unwrap_or_else(|| panic!("no {tracer} {name} in render.json"))
 }
 
+/// The entries of `name` under `tracer`, one per lookup traced (`render`
+/// traces both lookups by default: the shader's first).
+fn per_lookup<'a>(json: &'a Value, tracer: &str, name: &str) -> Vec<&'a Value> {
+    let found: Vec<&Value> = json["methods"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|m| m["method"] == name && m["tracer"] == tracer)
+        .collect();
+    assert_eq!(
+        found.len(),
+        json["lookups"].as_array().unwrap().len(),
+        "{tracer} {name}"
+    );
+    found
+}
+
 /// The query tracer's entry of `name`.
 fn method<'a>(json: &'a Value, name: &str) -> &'a Value {
     traced(json, "query", name)
@@ -135,19 +152,34 @@ fn assert_passes(name: &str, args: &[&str]) {
     let json = json.unwrap();
     assert_eq!(json["check"]["passed"], true, "{name}");
     assert_eq!(json["tracers"], serde_json::json!(TRACERS), "{name}");
-    for tracer in TRACERS {
-        let alpha = traced(&json, tracer, "alpha-test");
+    // Under each tracer and each lookup traced (both by default).
+    for (tracer, l) in TRACERS.iter().flat_map(|&t| [(t, 0), (t, 1)]) {
+        let Some(&alpha) = per_lookup(&json, tracer, "alpha-test").get(l) else {
+            continue;
+        };
+        let lookup = alpha["lookup"].as_str().unwrap();
+        // This lookup's entry of a method.
+        let traced = |json: &Value, tracer: &str, m: &str| per_lookup(json, tracer, m)[l].clone();
         assert_eq!(alpha["known"], 0);
         assert_eq!(alpha["texture_fetches"], alpha["candidates"]);
-        // The pipeline's alpha test renders the query's picture.
-        assert_eq!(
-            alpha["pixels_differing_from_alpha_test"], 0,
-            "{name} {tracer}"
-        );
+        // The pipeline's alpha test renders the query's picture (under the
+        // shader lookup; the sampler's first alpha test is compared with
+        // the shader's, not checked against it).
+        if alpha["must_equal"] == "alpha-test"
+            && alpha["pixels_differing_from_must_equal"] != Value::Null
+        {
+            assert_eq!(
+                alpha["pixels_differing_from_must_equal"], 0,
+                "{name} {lookup} {tracer}"
+            );
+        }
         for m in ["flat-4-state", "level-order-tree", "paper-tree"] {
-            let m = traced(&json, tracer, m);
-            assert_eq!(m["contradicted"], 0, "{name} {tracer}");
-            assert_eq!(m["pixels_differing_from_alpha_test"], 0, "{name} {tracer}");
+            let m = &traced(&json, tracer, m);
+            assert_eq!(m["contradicted"], 0, "{name} {lookup} {tracer}");
+            assert_eq!(
+                m["pixels_differing_from_must_equal"], 0,
+                "{name} {lookup} {tracer}"
+            );
             // Every candidate is decided once: by a known state or a fetch.
             let (known, unknown) = (m["known"].as_u64().unwrap(), m["unknown"].as_u64().unwrap());
             assert_eq!(
@@ -279,12 +311,14 @@ fn swapped_barycentrics_and_flipped_states_fail() {
             .iter()
             .flat_map(|t| ["flat-4-state", "level-order-tree", "paper-tree"].map(|m| (*t, m)))
         {
-            let m = traced(&json, tracer, m);
-            assert!(m["contradicted"].as_u64().unwrap() > 0, "{fault} {tracer}");
-            // The exact hit point disagrees with what the shader decided.
-            let first = &m["contradictions"][0];
-            assert_eq!(first["class"], "micromap-wrong", "{fault}: {first}");
-            assert!(first["b1"].as_str().unwrap().starts_with("0x"));
+            // Under each lookup.
+            for m in per_lookup(&json, tracer, m) {
+                assert!(m["contradicted"].as_u64().unwrap() > 0, "{fault} {tracer}");
+                // The exact hit point disagrees with what the shader decided.
+                let first = &m["contradictions"][0];
+                assert_eq!(first["class"], "micromap-wrong", "{fault}: {first}");
+                assert!(first["b1"].as_str().unwrap().starts_with("0x"));
+            }
         }
     }
 }
@@ -337,12 +371,16 @@ fn a_nearest_bake_sampled_linearly_fails() {
         &[&input[..], &["--filter", "linear"], &rest[..]].concat(),
     );
     for tracer in TRACERS {
-        let flat = traced(&json, tracer, "flat-4-state");
-        assert!(flat["contradicted"].as_u64().unwrap() > 0, "{tracer}");
-        assert_eq!(
-            flat["contradictions"][0]["class"], "micromap-wrong",
-            "{tracer}"
-        );
+        // Under each lookup: the texture unit reads the texels the exact
+        // point reads.
+        for flat in per_lookup(&json, tracer, "flat-4-state") {
+            assert!(flat["contradicted"].as_u64().unwrap() > 0, "{tracer}");
+            assert_eq!(
+                flat["contradictions"][0]["class"], "micromap-wrong",
+                "{tracer} {}",
+                flat["lookup"]
+            );
+        }
     }
 }
 
@@ -375,15 +413,17 @@ fn the_committed_meshoptimizer_bakes_fail() {
                 ],
             );
             for tracer in TRACERS {
-                let flat = traced(&json, tracer, "flat-4-state");
-                assert!(
-                    flat["contradicted"].as_u64().unwrap() > 0,
-                    "{baker} {level} {tracer}"
-                );
-                assert_eq!(
-                    flat["contradictions"][0]["class"], "micromap-wrong",
-                    "{baker} {level} {tracer}"
-                );
+                for flat in per_lookup(&json, tracer, "flat-4-state") {
+                    let lookup = &flat["lookup"];
+                    assert!(
+                        flat["contradicted"].as_u64().unwrap() > 0,
+                        "{baker} {level} {tracer} {lookup}"
+                    );
+                    assert_eq!(
+                        flat["contradictions"][0]["class"], "micromap-wrong",
+                        "{baker} {level} {tracer} {lookup}"
+                    );
+                }
             }
         }
     }
