@@ -11,8 +11,10 @@
 //! contradictions in pixel order. The sampler lookup (`--lookup sampler`:
 //! the alpha test through a combined image sampler, the device's texture
 //! unit the judge) passes on our bakes of both assets and fails with
-//! flipped states; a border alpha no Vulkan border colour has is refused
-//! for it by name. Exit codes for bad input and for a machine without a
+//! flipped states; lavapipe's 8-bit filtered alphas contradict only where
+//! the exact point agrees (`texture-unit`), and a bake for a filter error of
+//! 1/255 holds under them; a border alpha no Vulkan border colour has is
+//! refused for it by name. Exit codes for bad input and for a machine without a
 //! device.
 //!
 //! Without a device each test prints `SKIPPED: ...` and passes, unless
@@ -787,14 +789,31 @@ fn the_sampler_lookup_passes_on_our_bakes() {
     }
     let cards = asset("assets/crytek-sponza/cards.gltf");
     let fern = asset("assets/polyhaven-fern02/fern_02.gltf");
-    for (name, input, level, size) in [
-        ("sampler-cards-3", &cards, "3", "96x32"),
-        ("sampler-cards-7", &cards, "7", "96x32"),
-        ("sampler-fern-2", &fern, "2", "64x64"),
-        ("sampler-fern-6", &fern, "6", "64x64"),
+    // The default texture unit (filter error 2^-16), and one whose filter
+    // error is lavapipe's (8-bit filtered alphas: 1/255, rounded up).
+    for (name, input, level, size, filter_error) in [
+        (
+            "sampler-cards-3",
+            &cards,
+            "3",
+            "96x32",
+            "0.0000152587890625",
+        ),
+        ("sampler-cards-7", &cards, "7", "96x32", "0.004"),
+        ("sampler-fern-2", &fern, "2", "64x64", "0.0000152587890625"),
+        ("sampler-fern-6", &fern, "6", "64x64", "0.004"),
     ] {
         let args = [
-            "--gltf", input, "--level", level, "--size", size, "--lookup", "sampler",
+            "--gltf",
+            input,
+            "--level",
+            level,
+            "--size",
+            size,
+            "--lookup",
+            "sampler",
+            "--filter-error",
+            filter_error,
         ];
         assert_passes(name, &args);
         let (_, json) = check(name, &args);
@@ -934,4 +953,122 @@ fn the_sampler_lookup_refuses_a_border_alpha_by_name() {
     let a = args("shader");
     let o = run(&a.iter().map(String::as_str).collect::<Vec<_>>());
     assert_eq!(o.status.code(), Some(0), "{}", describe(&o));
+}
+
+/// A 16x16 alpha texture of random alphas, half of them near the cutoff
+/// (110..=145), as a PNG in `dir`; and a quad over it.
+fn near_cutoff_texture(dir: &std::path::Path) -> (String, String) {
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = |n: u64| {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 33) % n
+    };
+    let mut pixels = Vec::new();
+    for _ in 0..16 * 16 {
+        let alpha = if next(2) == 0 {
+            next(256)
+        } else {
+            110 + next(36)
+        };
+        pixels.extend([255, alpha as u8]);
+    }
+    let png = dir.join("near-cutoff.png");
+    let file = std::io::BufWriter::new(std::fs::File::create(&png).unwrap());
+    let mut encoder = png::Encoder::new(file, 16, 16);
+    encoder.set_color(png::ColorType::GrayscaleAlpha);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().unwrap();
+    writer.write_image_data(&pixels).unwrap();
+    writer.finish().unwrap();
+    let tris = dir.join("quad.tris.json");
+    std::fs::write(
+        &tris,
+        r#"{"triangles": [[[0, 0], [1, 0], [1, 1]], [[0, 0], [1, 1], [0, 1]]]}"#,
+    )
+    .unwrap();
+    (
+        png.to_string_lossy().into_owned(),
+        tris.to_string_lossy().into_owned(),
+    )
+}
+
+#[test]
+fn a_bake_for_the_texture_units_filter_error_holds_under_the_sampler() {
+    if !device("filter-error") {
+        return;
+    }
+    // Linear filtering near the cutoff: lavapipe's texture unit returns the
+    // filtered alpha as an 8-bit value (127/255 or 128/255 around 0.5), up
+    // to about 1/255 from the exact mix; the default bake allows 1/65536.
+    let dir = scratch("render-near-cutoff-in");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (texture, triangles) = near_cutoff_texture(&dir);
+    let args = |filter_error: Option<&'static str>| {
+        let mut a = vec![
+            "--texture".to_string(),
+            texture.clone(),
+            "--triangles".into(),
+            triangles.clone(),
+            "--filter".into(),
+            "linear".into(),
+            "--level".into(),
+            "10".into(),
+            "--size".into(),
+            "256x256".into(),
+            "--methods".into(),
+            "flat-4-state".into(),
+            "--tracer".into(),
+            "query".into(),
+            "--max-report".into(),
+            "100".into(),
+        ];
+        if let Some(e) = filter_error {
+            a.extend(["--filter-error".to_string(), e.to_string()]);
+        }
+        a
+    };
+    // The default texture unit: the shader's arithmetic never contradicts a
+    // known state; the device's texture unit may, and then only where the
+    // exact hit point agrees with the micromap (outside the bake's model,
+    // not a wrong micromap).
+    let default = args(None);
+    let (_, json) = check(
+        "near-cutoff-default",
+        &default.iter().map(String::as_str).collect::<Vec<_>>(),
+    );
+    let json = json.unwrap();
+    let [shader, sampler] = [0, 1].map(|l| per_lookup(&json, "query", "flat-4-state")[l].clone());
+    assert_eq!(shader["contradicted"], 0, "{shader}");
+    for c in sampler["contradictions"].as_array().unwrap() {
+        assert_eq!(c["class"], "texture-unit", "{c}");
+        let (lookup, exact) = (
+            c["lookup_alpha"].as_f64().unwrap(),
+            c["exact_alpha"].as_f64().unwrap(),
+        );
+        assert!((lookup - exact).abs() < 1.0 / 255.0 + 1e-6, "{c}");
+    }
+    println!(
+        "{}: the default bake, {} known states contradicted by the texture unit",
+        json["device"], sampler["contradicted"]
+    );
+    // A bake for a filter error of 1/255 (rounded up) holds for it.
+    let wide = args(Some("0.004"));
+    assert_passes_query(
+        "near-cutoff-wide",
+        &wide.iter().map(String::as_str).collect::<Vec<_>>(),
+    );
+}
+
+/// `--check` passes (exit 0) with the query tracer alone, under each lookup.
+fn assert_passes_query(name: &str, args: &[&str]) {
+    let (o, json) = check(name, args);
+    assert_eq!(o.status.code(), Some(0), "{name}: {}", describe(&o));
+    let json = json.unwrap();
+    assert_eq!(json["lookups"], serde_json::json!(["shader", "sampler"]));
+    for m in per_lookup(&json, "query", "flat-4-state") {
+        assert_eq!(m["contradicted"], 0, "{name}: {m}");
+        assert_eq!(m["pixels_differing_from_must_equal"], 0, "{name}: {m}");
+    }
 }
