@@ -3,7 +3,9 @@
 # emulation, level-order tree, paper tree and the driver's own opacity
 # micromaps (VK_EXT_opacity_micromap, as baked and forced to 2 states) on the
 # committed assets at every level, one `micromap-index render --check` per
-# asset and level; render.json per run, a table (TSV and markdown) and plots.
+# asset and level, each under both lookups (--lookup both: the shader's
+# binary32 alpha test and the device's texture unit through a combined image
+# sampler); render.json per run, a table (TSV and markdown) and plots.
 #
 #   docs/results/gpu_render.sh [--bin PATH] [--out DIR] [--levels "1 .. 12"]
 #       [--size 1920x1080] [--frames 5] [--tracer auto|query|pipeline|both]
@@ -111,7 +113,7 @@ for asset in crytek-sponza/cards.gltf polyhaven-fern02/fern_02.gltf; do
     for level in $levels; do
         run="$out/$name-$level"
         set +e
-        "$bin" render --gltf "assets/$asset" --tracer "$tracer" --methods "$methods" \
+        "$bin" render --gltf "assets/$asset" --tracer "$tracer" --lookup both --methods "$methods" \
             --level "$level" --size "$size" --frames "$frames" --check --force \
             ${device:+--device "$device"} --out "$run" >"$probe/stdout" 2>"$probe/stderr"
         status=$?
@@ -124,7 +126,8 @@ for asset in crytek-sponza/cards.gltf polyhaven-fern02/fern_02.gltf; do
         *) cat "$probe/stderr" >&2; exit "$status" ;;
         esac
         # Keep render.json; the pictures of every run would be hundreds of MB.
-        find "$run" -name '*.png' ! -name 'alpha-test.png' ! -name 'pipeline-alpha-test.png' -delete
+        find "$run" -name '*.png' ! -name 'alpha-test.png' ! -name 'pipeline-alpha-test.png' \
+            ! -name 'sampler-alpha-test.png' ! -name 'sampler-alpha-test-diff.png' -delete
     done
 done
 

@@ -24,7 +24,7 @@ mkdir "$tmp/runs"
 for asset in crytek-sponza/cards.gltf polyhaven-fern02/fern_02.gltf; do
     name=$(basename "$asset" .gltf)
     for level in $levels; do
-        "$bin" render --gltf "assets/$asset" --tracer query --level "$level" --size "$size" \
+        "$bin" render --gltf "assets/$asset" --tracer query --lookup shader --level "$level" --size "$size" \
             --frames "$frames" --check --force --out "$tmp/$name-$level" >/dev/null
         mkdir "$tmp/runs/$name-$level"
         mv "$tmp/$name-$level/render.json" "$tmp/runs/$name-$level/"

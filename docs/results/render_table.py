@@ -61,10 +61,17 @@ def rows(found):
             continue
         failed = j["check"]["failures"]
         for m in j["methods"]:
-            label = "%s %s" % (m["tracer"], m["method"])
-            bad = [f for f in failed if f.startswith(label + ":") or f.startswith(m["method"] + ":")]
+            # render's labels: [LOOKUP ][TRACER ]METHOD, each part where
+            # more than one was traced.
+            lookup = m.get("lookup", "shader")
+            labels = {"%s %s" % (m["tracer"], m["method"]), m["method"],
+                      "%s %s %s" % (lookup, m["tracer"], m["method"]),
+                      "%s %s" % (lookup, m["method"])}
+            bad = [f for f in failed if f.split(":")[0] in labels]
+            # The sampler lookup's entries as a tracer of their own.
+            tracer = m["tracer"] if lookup == "shader" else "%s+%s" % (m["tracer"], lookup)
             yield {
-                "asset": asset, "level": level, "tracer": m["tracer"], "method": m["method"],
+                "asset": asset, "level": level, "tracer": tracer, "method": m["method"],
                 "status": "failed" if bad else "ok",
                 "candidates": m["candidates"], "texture_fetches": m["texture_fetches"],
                 "known": m["known"], "unknown": m["unknown"], "contradicted": m["contradicted"],
@@ -93,7 +100,13 @@ def header(found):
         lines.append("# driver: %s %s, driver version %s, Vulkan %s" % (
             info.get("driver_name", "?"), info.get("driver_info", "?"),
             info.get("driver_version", "?"), info.get("vulkan_api_version", "?")))
-        lines.append("# sampling: " + j.get("sampling", "?"))
+        sampling = j.get("sampling", "?")
+        # One line per lookup (render.json's sampling is per lookup).
+        if isinstance(sampling, dict):
+            for lookup in j.get("lookups", sorted(sampling)):
+                lines.append("# sampling (%s lookup): %s" % (lookup, sampling.get(lookup, "?")))
+        else:
+            lines.append("# sampling: " + sampling)
         lines.append("# time: " + j.get("time", "?"))
     return lines
 

@@ -22,7 +22,7 @@ for asset in crytek-sponza/cards.gltf polyhaven-fern02/fern_02.gltf; do
     name=$(basename "$asset" .gltf)
     for level in $levels; do
         "$bin" render --gltf "assets/$asset" --level "$level" --size "$size" --frames "$frames" \
-            --tracer both --check --force --out "$tmp/$name-$level" >/dev/null
+            --tracer both --lookup shader --check --force --out "$tmp/$name-$level" >/dev/null
         python3 - "$tmp/$name-$level/render.json" "$name" "$level" "$first" >>"$tmp/tsv" <<'PY'
 import json, sys
 j = json.load(open(sys.argv[1]))

@@ -21,10 +21,10 @@ use cli_support::write_all_or_nothing::{Destination, Refusal};
 use micromap_index::bake::mesh::{bake_meshes, LevelRule};
 use micromap_index::micromap::IndexWidth;
 use micromap_index_render::{
-    classify, Camera, Classified, ErrorClass, Faults, Frame, Method, Micromaps, RenderError,
-    Renderer, RendererOptions, Scene, SceneMesh, SceneTexture, Tracer,
+    classify_lookup, Camera, Classified, ErrorClass, Faults, Frame, Lookup, Method, Micromaps,
+    RenderError, Renderer, RendererOptions, Scene, SceneMesh, SceneTexture, Tracer,
 };
-use options::{camera, count, device, faults, max_report, methods, size, tracers};
+use options::{camera, count, device, faults, lookups, max_report, methods, size, tracers};
 use report::{contradiction_json, contradiction_line, difference, picture, picture_name};
 use serde_json::json;
 use std::fmt::Write as _;
@@ -43,7 +43,13 @@ pub(crate) static RENDER: Command = Command {
   does not decide reaches the shader) with each tracer: query (GL_EXT_ray_query,
   decisions in the rayQueryProceedEXT loop) and pipeline
   (VK_KHR_ray_tracing_pipeline, decisions in the any-hit shader; the same
-  shader code decides), and decides each candidate by each method:
+  shader code decides), with each lookup (what reads the texture for the alpha
+  test): shader (binary32 code filters texels from a buffer, so the host can
+  recompute every fetch) and sampler (textureLod through a combined image
+  sampler per mesh: an R8_UNORM image of the alpha, the mesh's filter, address
+  modes and border, level 0; the device's texture unit judges; border alphas
+  other than 0 and 1 are refused, mirror clamp to edge needs
+  samplerMirrorClampToEdge), and decides each candidate by each method:
     alpha-test        the alpha test only (the reference picture)
     flat-4-state      the flat micromap: known states decide, unknown -> alpha test
     flat-2-state      the same micromap forced to 2 states (no texture fetch)
@@ -61,23 +67,26 @@ pub(crate) static RENDER: Command = Command {
   decision is checked against the alpha test; a contradicted candidate is
   explained exactly on the host from its binary32 barycentrics: micromap-wrong
   (the exact hit point's alpha test disagrees) or binary32-rounding (the
-  shader's texture coordinate crossed a texel boundary); the first ones are
-  listed in pixel order. Writes into DIR, all or nothing: METHOD.png per method
-  (pipeline-METHOD.png for the pipeline tracer), METHOD-diff.png (magenta:
+  shader's texture coordinate crossed a texel boundary; texture-unit under the
+  sampler lookup); the first ones are listed in pixel order. Writes into DIR,
+  all or nothing: METHOD.png per method (pipeline-METHOD.png for the pipeline
+  tracer; sampler-... for the sampler lookup), METHOD-diff.png (magenta:
   pixels that differ from the picture the method must equal: the first
-  tracer's alpha test, or flat-2-state for hardware-2-state) and render.json
+  tracer's alpha test under the same lookup, or flat-2-state for
+  hardware-2-state; for the sampler lookup's own, the shader's) and render.json
   (the device, driver and Vulkan version; counters, the hit fraction and times
   per tracer and method; the micromaps' levels per primitive; the
-  contradictions). --check: exit 0 only if, under every tracer, the alpha test,
-  every 4-state method and hardware render the first tracer's alpha-test
-  picture pixel for pixel (the same primitive and t bits), hardware-2-state
-  renders the same tracer's flat-2-state picture, and no 4-state candidate is
-  contradicted. Exit 0 rendered (and checked); 1 the check failed (the first
-  contradictions on stdout); 2 bad options or input (nothing written); 3
-  unreadable input, unwritable DIR or a Vulkan call failing; 4 no Vulkan device
-  with what the tracers and methods need: VK_KHR_ray_query (query),
-  VK_KHR_ray_tracing_pipeline (pipeline), VK_EXT_opacity_micromap (hardware)
-  (nothing written).",
+  contradictions). --check: exit 0 only if, under every tracer and lookup, the
+  alpha test, every 4-state method and hardware render the first tracer's
+  alpha-test picture of that lookup pixel for pixel (the same primitive and t
+  bits), hardware-2-state renders the same tracer's flat-2-state picture, and no
+  4-state candidate is contradicted. Exit 0 rendered (and checked); 1 the check
+  failed (the first contradictions on stdout); 2 bad options or input (nothing
+  written); 3 unreadable input, unwritable DIR or a Vulkan call failing; 4 no
+  Vulkan device with what the tracers, lookups and methods need:
+  VK_KHR_ray_query (query), VK_KHR_ray_tracing_pipeline (pipeline),
+  runtimeDescriptorArray and shaderSampledImageArrayNonUniformIndexing
+  (sampler), VK_EXT_opacity_micromap (hardware) (nothing written).",
     flags: &{
         const GROUPS: &[&[Flag]] = &[
             &[
@@ -116,6 +125,12 @@ pub(crate) static RENDER: Command = Command {
                     "--tracer",
                     "T",
                     "query, pipeline or both (default both: the check needs both to agree)",
+                ),
+                Flag::value(
+                    "--lookup",
+                    "L",
+                    "shader, sampler or both (default both: the check holds under the
+                         shader's arithmetic and the device's texture unit alike)",
                 ),
                 Flag::value(
                     "--device",
@@ -326,6 +341,7 @@ fn least(a: Option<f64>, b: Option<f64>) -> Option<f64> {
 
 /// What `render` traces, and how.
 struct Plan<'a> {
+    lookups: &'a [Lookup],
     tracers: &'a [Tracer],
     methods: &'a [Method],
     camera: Camera,
@@ -344,14 +360,18 @@ fn trace_all(
     (scene, maps): (&Scene, &Micromaps),
 ) -> Result<Vec<Traced>, Failure> {
     let mut traced = Vec::new();
-    for &tracer in plan.tracers {
+    let passes = plan
+        .lookups
+        .iter()
+        .flat_map(|&l| plan.tracers.iter().map(move |&t| (l, t)));
+    for (lookup, tracer) in passes {
         for &method in plan.methods {
             let mut best: Option<Frame> = None;
             let (mut cpu, mut wall, mut device) = (None, f64::INFINITY, None);
             for _ in 0..plan.frames {
                 let frame = renderer
                     .render(
-                        tracer,
+                        (tracer, lookup),
                         method,
                         &plan.camera,
                         plan.size,
@@ -365,7 +385,8 @@ fn trace_all(
                 if let Some(previous) = &best {
                     if previous.hits != frame.hits || previous.counters != frame.counters {
                         return Err(Failure::Failed(format!(
-                            "{} {}: two frames of the same method differ (the device is not deterministic)",
+                            "{} {} {}: two frames of the same method differ (the device is not deterministic)",
+                            lookup.name(),
                             tracer.name(),
                             method.name()
                         )));
@@ -377,7 +398,7 @@ fn trace_all(
             let classified = frame
                 .contradictions
                 .iter()
-                .filter_map(|c| classify(scene, maps, c))
+                .filter_map(|c| classify_lookup(scene, maps, c, lookup))
                 .collect();
             traced.push(Traced {
                 frame,
@@ -406,6 +427,7 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
     let size = size(&p)?;
     let methods = methods(&p)?;
     let tracers = tracers(&p)?;
+    let lookups = lookups(&p)?;
     let device = device(&p)?;
     let frames = count(&p, "--frames", 1, 1000)?;
     let max_report = max_report(&p)?;
@@ -415,11 +437,13 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
     let source = source(&p)?;
     let auto_levels = matches!(&source, Source::Bake(args) if matches!(args.options.levels, LevelRule::Useful { .. }));
     let mut names: Vec<String> = vec!["render.json".into()];
-    for (i, &t) in tracers.iter().enumerate() {
-        for &m in &methods {
-            names.push(picture_name(t, m, ""));
-            if i > 0 || m != Method::AlphaTest {
-                names.push(picture_name(t, m, "-diff"));
+    for (j, &l) in lookups.iter().enumerate() {
+        for (i, &t) in tracers.iter().enumerate() {
+            for &m in &methods {
+                names.push(picture_name((l, t), m, ""));
+                if j > 0 || i > 0 || m != Method::AlphaTest {
+                    names.push(picture_name((l, t), m, "-diff"));
+                }
             }
         }
     }
@@ -435,6 +459,7 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
         device,
         tracers: tracers.clone(),
         hardware: methods.iter().any(|m| m.is_hardware()),
+        lookups: lookups.clone(),
     };
     let renderer =
         Renderer::new(&scene, Some(&maps), &options).map_err(|e| render_failure(program, &e))?;
@@ -446,6 +471,7 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
         },
     )?;
     let plan = Plan {
+        lookups: &lookups,
         tracers: &tracers,
         methods: &methods,
         camera,
@@ -483,7 +509,7 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
     }
     let _ = writeln!(
         text,
-        "{:<8} {:<17} {:>10} {:>10} {:>9} {:>10} {:>8} {:>9} {:>9} {:>9}",
+        "{:<10} {:<17} {:>10} {:>10} {:>9} {:>10} {:>8} {:>9} {:>9} {:>9}",
         "tracer",
         "method",
         "candidates",
@@ -499,26 +525,39 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
     let encode = |rgb: &[u8]| {
         encode_rgb(size.0, size.1, rgb).map_err(|e| Failure::Io(format!("render: PNG: {e}")))
     };
-    let find = |tracer: Tracer, method: Method| {
-        traced
-            .iter()
-            .find(|t| t.frame.tracer == tracer && t.frame.method == method)
+    let find = |lookup: Lookup, tracer: Tracer, method: Method| {
+        traced.iter().find(|t| {
+            t.frame.lookup == lookup && t.frame.tracer == tracer && t.frame.method == method
+        })
     };
     for (i, t) in traced.iter().enumerate() {
         let frame = &t.frame;
-        let (tracer, method) = (frame.tracer, frame.method);
-        // The label in messages: the method, with the tracer when both run.
-        let label = if tracers.len() > 1 {
-            format!("{} {}", tracer.name(), method.name())
-        } else {
-            method.name().to_string()
-        };
+        let (lookup, tracer, method) = (frame.lookup, frame.tracer, frame.method);
+        let pass = (lookup, tracer);
+        // The label in messages: the method, with the tracer when both run
+        // and the lookup when both run.
+        let mut label = method.name().to_string();
+        if tracers.len() > 1 {
+            label = format!("{} {label}", tracer.name());
+        }
+        if lookups.len() > 1 {
+            label = format!("{} {label}", lookup.name());
+        }
+        // This lookup's reference: its first tracer's alpha test.
+        let lookup_reference = traced
+            .iter()
+            .find(|r| r.frame.lookup == lookup && r.frame.method == Method::AlphaTest)
+            .map_or(&reference, |r| &r.frame);
+        // The reference of another lookup is compared with the first
+        // lookup's (the "differ" column and its difference picture), not
+        // checked against it.
+        let own_reference = i > 0 && std::ptr::eq(frame, lookup_reference);
         let rgb = if i == 0 {
             reference_rgb.clone()
         } else {
             picture(frame, &scene)
         };
-        files.push((picture_name(tracer, method, ""), encode(&rgb)?));
+        files.push((picture_name(pass, method, ""), encode(&rgb)?));
         // Against the first tracer's alpha test: the "differ" column.
         let differing = if i > 0 {
             difference(frame, &reference, &reference_rgb).1
@@ -527,8 +566,9 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
         };
         // Against the picture it must equal (and its difference picture).
         let must_equal = match method.reference() {
-            Some(Method::AlphaTest) | None => Some(&reference),
-            Some(other) => find(tracer, other).map(|r| &r.frame),
+            _ if own_reference => Some(&reference),
+            Some(Method::AlphaTest) | None => Some(lookup_reference),
+            Some(other) => find(lookup, tracer, other).map(|r| &r.frame),
         };
         let mut differing_from_reference = None;
         if let (true, Some(r)) = (i > 0, must_equal) {
@@ -538,19 +578,24 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
                 picture(r, &scene)
             };
             let (diff, n) = difference(frame, r, &r_rgb);
-            files.push((picture_name(tracer, method, "-diff"), encode(&diff)?));
-            differing_from_reference = method.reference().map(|_| n);
+            files.push((picture_name(pass, method, "-diff"), encode(&diff)?));
+            if !own_reference {
+                differing_from_reference = method.reference().map(|_| n);
+            }
         }
         let c = frame.counters;
         let ratio = |a: u64, b: u64| if b == 0 { 0.0 } else { a as f64 / b as f64 };
         // Against the same tracer's alpha test (the candidates it sees
         // depend on its traversal).
-        let alpha = find(tracer, Method::AlphaTest).map_or(c, |a| a.frame.counters);
+        let alpha = find(lookup, tracer, Method::AlphaTest).map_or(c, |a| a.frame.counters);
         let fetches_saved = 1.0 - ratio(c.texture_fetches, alpha.texture_fetches);
         let _ = writeln!(
             text,
-            "{:<8} {:<17} {:>10} {:>10} {:>9} {:>10} {:>8} {:>9} {:>9} {:>9}",
-            tracer.name(),
+            "{:<10} {:<17} {:>10} {:>10} {:>9} {:>10} {:>8} {:>9} {:>9} {:>9}",
+            match lookup {
+                Lookup::Shader => tracer.name().to_string(),
+                Lookup::Sampler => format!("{}+s", tracer.name()),
+            },
             method.name(),
             c.candidates,
             c.texture_fetches,
@@ -564,13 +609,13 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
         if let (Some(n), Some(r)) = (differing_from_reference, method.reference()) {
             if n > 0 {
                 let r_name = if r == Method::AlphaTest {
-                    picture_name(reference.tracer, Method::AlphaTest, "")
+                    picture_name((lookup, lookup_reference.tracer), Method::AlphaTest, "")
                 } else {
-                    picture_name(tracer, r, "")
+                    picture_name(pass, r, "")
                 };
                 failures.push(format!(
                     "{label}: {n} pixels differ from {r_name} (see {})",
-                    picture_name(tracer, method, "-diff")
+                    picture_name(pass, method, "-diff")
                 ));
             }
         }
@@ -601,6 +646,7 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
         }
         let mut entry = json!({
             "tracer": tracer.name(),
+            "lookup": lookup.name(),
             "method": method.name(),
             "four_state": method.is_four_state(),
             "hardware": method.is_hardware(),
@@ -636,7 +682,11 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
     let report_json = json!({
         "device": renderer.device_name(),
         "device_info": report::device_json(renderer.device_info(), renderer.enabled()),
-        "sampling": "shader code (render_common.glsl): binary32 nearest or bilinear, Vulkan's address modes, no hardware sampler",
+        "sampling": {
+            "shader": "shader code (render_common.glsl): binary32 nearest or bilinear, Vulkan's address modes, no hardware sampler",
+            "sampler": "the device's texture unit: textureLod(sampler2D, uv, 0.0).r of the same binary32 uv through a combined image sampler per mesh (R8_UNORM image of the alpha, one level; the mesh's filter as mag and min filter, its address modes, border colour FLOAT_TRANSPARENT_BLACK or FLOAT_OPAQUE_WHITE, mipmap mode nearest, maxLod 0, normalized coordinates, no anisotropy), then the same binary32 alpha test",
+        },
+        "lookups": lookups.iter().map(|l| l.name()).collect::<Vec<_>>(),
         "time": "cpu: process CPU seconds per frame (a CPU device's threads are the process's); wall: the submission, waited for; device: between the device's timestamps around the dispatch (a GPU's frame time); each the least of the frames",
         "size": [size.0, size.1],
         "camera": {"eye": camera.eye, "target": camera.target, "fov_y_degrees": camera.fov_y_degrees, "fitted": given_camera.is_none()},
@@ -666,7 +716,7 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
         if p.flag("--check") {
             let _ = writeln!(
                 text,
-                "check: passed (under every tracer, every 4-state method renders the alpha test's picture and the forced 2-state hardware micromap flat-2-state's; no contradicted candidate)"
+                "check: passed (under every tracer and lookup, every 4-state method renders the alpha test's picture and the forced 2-state hardware micromap flat-2-state's; no contradicted candidate)"
             );
         }
         Exit::Success

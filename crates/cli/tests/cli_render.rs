@@ -8,8 +8,14 @@
 //! has not (lavapipe); the pipeline tracer runs without `VK_KHR_ray_query`;
 //! `--device` picks a device; the default camera fits what is drawn; `--level
 //! auto` lists the levels per primitive; both tracers list their first
-//! contradictions in pixel order. Exit codes for bad input and for a machine
-//! without a device.
+//! contradictions in pixel order. The sampler lookup (`--lookup sampler`:
+//! the alpha test through a combined image sampler, the device's texture
+//! unit the judge) passes on our bakes of both assets and fails with
+//! flipped states; lavapipe's 8-bit filtered alphas contradict only where
+//! the exact point agrees (`texture-unit`), and a bake for a filter error of
+//! 1/255 holds under them; a border alpha no Vulkan border colour has is
+//! refused for it by name. Exit codes for bad input and for a machine without a
+//! device.
 //!
 //! Without a device each test prints `SKIPPED: ...` and passes, unless
 //! `MICROMAP_REQUIRE_VULKAN=1` (the CI tier), where it fails. The
@@ -109,6 +115,23 @@ fn traced<'a>(json: &'a Value, tracer: &str, name: &str) -> &'a Value {
         .unwrap_or_else(|| panic!("no {tracer} {name} in render.json"))
 }
 
+/// The entries of `name` under `tracer`, one per lookup traced (`render`
+/// traces both lookups by default: the shader's first).
+fn per_lookup<'a>(json: &'a Value, tracer: &str, name: &str) -> Vec<&'a Value> {
+    let found: Vec<&Value> = json["methods"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|m| m["method"] == name && m["tracer"] == tracer)
+        .collect();
+    assert_eq!(
+        found.len(),
+        json["lookups"].as_array().unwrap().len(),
+        "{tracer} {name}"
+    );
+    found
+}
+
 /// The query tracer's entry of `name`.
 fn method<'a>(json: &'a Value, name: &str) -> &'a Value {
     traced(json, "query", name)
@@ -131,19 +154,34 @@ fn assert_passes(name: &str, args: &[&str]) {
     let json = json.unwrap();
     assert_eq!(json["check"]["passed"], true, "{name}");
     assert_eq!(json["tracers"], serde_json::json!(TRACERS), "{name}");
-    for tracer in TRACERS {
-        let alpha = traced(&json, tracer, "alpha-test");
+    // Under each tracer and each lookup traced (both by default).
+    for (tracer, l) in TRACERS.iter().flat_map(|&t| [(t, 0), (t, 1)]) {
+        let Some(&alpha) = per_lookup(&json, tracer, "alpha-test").get(l) else {
+            continue;
+        };
+        let lookup = alpha["lookup"].as_str().unwrap();
+        // This lookup's entry of a method.
+        let traced = |json: &Value, tracer: &str, m: &str| per_lookup(json, tracer, m)[l].clone();
         assert_eq!(alpha["known"], 0);
         assert_eq!(alpha["texture_fetches"], alpha["candidates"]);
-        // The pipeline's alpha test renders the query's picture.
-        assert_eq!(
-            alpha["pixels_differing_from_alpha_test"], 0,
-            "{name} {tracer}"
-        );
+        // The pipeline's alpha test renders the query's picture (under the
+        // shader lookup; the sampler's first alpha test is compared with
+        // the shader's, not checked against it).
+        if alpha["must_equal"] == "alpha-test"
+            && alpha["pixels_differing_from_must_equal"] != Value::Null
+        {
+            assert_eq!(
+                alpha["pixels_differing_from_must_equal"], 0,
+                "{name} {lookup} {tracer}"
+            );
+        }
         for m in ["flat-4-state", "level-order-tree", "paper-tree"] {
-            let m = traced(&json, tracer, m);
-            assert_eq!(m["contradicted"], 0, "{name} {tracer}");
-            assert_eq!(m["pixels_differing_from_alpha_test"], 0, "{name} {tracer}");
+            let m = &traced(&json, tracer, m);
+            assert_eq!(m["contradicted"], 0, "{name} {lookup} {tracer}");
+            assert_eq!(
+                m["pixels_differing_from_must_equal"], 0,
+                "{name} {lookup} {tracer}"
+            );
             // Every candidate is decided once: by a known state or a fetch.
             let (known, unknown) = (m["known"].as_u64().unwrap(), m["unknown"].as_u64().unwrap());
             assert_eq!(
@@ -275,12 +313,14 @@ fn swapped_barycentrics_and_flipped_states_fail() {
             .iter()
             .flat_map(|t| ["flat-4-state", "level-order-tree", "paper-tree"].map(|m| (*t, m)))
         {
-            let m = traced(&json, tracer, m);
-            assert!(m["contradicted"].as_u64().unwrap() > 0, "{fault} {tracer}");
-            // The exact hit point disagrees with what the shader decided.
-            let first = &m["contradictions"][0];
-            assert_eq!(first["class"], "micromap-wrong", "{fault}: {first}");
-            assert!(first["b1"].as_str().unwrap().starts_with("0x"));
+            // Under each lookup.
+            for m in per_lookup(&json, tracer, m) {
+                assert!(m["contradicted"].as_u64().unwrap() > 0, "{fault} {tracer}");
+                // The exact hit point disagrees with what the shader decided.
+                let first = &m["contradictions"][0];
+                assert_eq!(first["class"], "micromap-wrong", "{fault}: {first}");
+                assert!(first["b1"].as_str().unwrap().starts_with("0x"));
+            }
         }
     }
 }
@@ -333,12 +373,16 @@ fn a_nearest_bake_sampled_linearly_fails() {
         &[&input[..], &["--filter", "linear"], &rest[..]].concat(),
     );
     for tracer in TRACERS {
-        let flat = traced(&json, tracer, "flat-4-state");
-        assert!(flat["contradicted"].as_u64().unwrap() > 0, "{tracer}");
-        assert_eq!(
-            flat["contradictions"][0]["class"], "micromap-wrong",
-            "{tracer}"
-        );
+        // Under each lookup: the texture unit reads the texels the exact
+        // point reads.
+        for flat in per_lookup(&json, tracer, "flat-4-state") {
+            assert!(flat["contradicted"].as_u64().unwrap() > 0, "{tracer}");
+            assert_eq!(
+                flat["contradictions"][0]["class"], "micromap-wrong",
+                "{tracer} {}",
+                flat["lookup"]
+            );
+        }
     }
 }
 
@@ -371,15 +415,17 @@ fn the_committed_meshoptimizer_bakes_fail() {
                 ],
             );
             for tracer in TRACERS {
-                let flat = traced(&json, tracer, "flat-4-state");
-                assert!(
-                    flat["contradicted"].as_u64().unwrap() > 0,
-                    "{baker} {level} {tracer}"
-                );
-                assert_eq!(
-                    flat["contradictions"][0]["class"], "micromap-wrong",
-                    "{baker} {level} {tracer}"
-                );
+                for flat in per_lookup(&json, tracer, "flat-4-state") {
+                    let lookup = &flat["lookup"];
+                    assert!(
+                        flat["contradicted"].as_u64().unwrap() > 0,
+                        "{baker} {level} {tracer} {lookup}"
+                    );
+                    assert_eq!(
+                        flat["contradictions"][0]["class"], "micromap-wrong",
+                        "{baker} {level} {tracer} {lookup}"
+                    );
+                }
             }
         }
     }
@@ -442,6 +488,7 @@ fn bad_input_exits_2_and_writes_nothing() {
         (vec!["--fault", "nonsense"], "--fault"),
         (vec!["--methods", "alpha-test,nope"], "--methods"),
         (vec!["--tracer", "query,pipeline"], "--tracer"),
+        (vec!["--lookup", "texture"], "--lookup"),
         (vec!["--camera", "1,2,3"], "--camera"),
         (vec!["--level", "13"], "--level"),
         // 128 indices for the 144 triangles of cards.gltf.
@@ -714,5 +761,314 @@ fn both_tracers_list_their_first_contradictions_in_pixel_order() {
     if q["contradicted"] == p["contradicted"] {
         // The same candidates, whatever order the device ran them in.
         assert_eq!(q["contradictions"], p["contradictions"]);
+    }
+}
+
+/// Every entry of render.json was traced with `lookup`, and its pictures
+/// carry the lookup's prefix.
+fn assert_lookup(name: &str, json: &Value, lookup: &str) {
+    assert_eq!(json["lookups"], serde_json::json!([lookup]), "{name}");
+    for m in json["methods"].as_array().unwrap() {
+        assert_eq!(m["lookup"], lookup, "{name}: {m}");
+    }
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("render-{name}"));
+    let (own, other) = match lookup {
+        "sampler" => ("sampler-alpha-test.png", "alpha-test.png"),
+        _ => ("alpha-test.png", "sampler-alpha-test.png"),
+    };
+    assert!(
+        dir.join(own).exists() && !dir.join(other).exists(),
+        "{name}: {own} without {other}"
+    );
+}
+
+#[test]
+fn the_sampler_lookup_passes_on_our_bakes() {
+    if !device("sampler") {
+        return;
+    }
+    let cards = asset("assets/crytek-sponza/cards.gltf");
+    let fern = asset("assets/polyhaven-fern02/fern_02.gltf");
+    // The default texture unit (filter error 2^-16), and one whose filter
+    // error is lavapipe's (8-bit filtered alphas: 1/255, rounded up).
+    for (name, input, level, size, filter_error) in [
+        (
+            "sampler-cards-3",
+            &cards,
+            "3",
+            "96x32",
+            "0.0000152587890625",
+        ),
+        ("sampler-cards-7", &cards, "7", "96x32", "0.004"),
+        ("sampler-fern-2", &fern, "2", "64x64", "0.0000152587890625"),
+        ("sampler-fern-6", &fern, "6", "64x64", "0.004"),
+    ] {
+        let args = [
+            "--gltf",
+            input,
+            "--level",
+            level,
+            "--size",
+            size,
+            "--lookup",
+            "sampler",
+            "--filter-error",
+            filter_error,
+        ];
+        assert_passes(name, &args);
+        let (_, json) = check(name, &args);
+        assert_lookup(name, &json.unwrap(), "sampler");
+    }
+}
+
+#[test]
+fn both_lookups_trace_every_method_and_each_passes() {
+    if !device("both-lookups") {
+        return;
+    }
+    let cards = asset("assets/crytek-sponza/cards.gltf");
+    let (o, json) = check(
+        "lookup-both",
+        &["--gltf", &cards, "--level", "5", "--size", "96x32"],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", describe(&o));
+    let json = json.unwrap();
+    // Both, by default: every method under each lookup and tracer.
+    assert_eq!(json["lookups"], serde_json::json!(["shader", "sampler"]));
+    let entries = json["methods"].as_array().unwrap();
+    for lookup in ["shader", "sampler"] {
+        for tracer in TRACERS {
+            for m in [
+                "alpha-test",
+                "flat-4-state",
+                "level-order-tree",
+                "paper-tree",
+            ] {
+                let e = entries
+                    .iter()
+                    .find(|e| e["lookup"] == lookup && e["tracer"] == tracer && e["method"] == m)
+                    .unwrap_or_else(|| panic!("no {lookup} {tracer} {m}"));
+                assert_eq!(e["contradicted"], 0, "{lookup} {tracer} {m}");
+            }
+        }
+    }
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("render-lookup-both");
+    for picture in [
+        "alpha-test.png",
+        "sampler-alpha-test.png",
+        "sampler-alpha-test-diff.png",
+        "sampler-pipeline-paper-tree-diff.png",
+    ] {
+        assert!(dir.join(picture).exists(), "{picture}");
+    }
+}
+
+#[test]
+fn flipped_states_fail_under_the_sampler_lookup() {
+    if !device("sampler-flip") {
+        return;
+    }
+    let cards = asset("assets/crytek-sponza/cards.gltf");
+    let fern = asset("assets/polyhaven-fern02/fern_02.gltf");
+    for (name, input, size) in [
+        ("sampler-flip-cards", &cards, "96x32"),
+        ("sampler-flip-fern", &fern, "64x64"),
+    ] {
+        let json = assert_fails(
+            name,
+            &[
+                "--gltf",
+                input,
+                "--level",
+                "5",
+                "--size",
+                size,
+                "--lookup",
+                "sampler",
+                "--fault",
+                "flip-known",
+                "--methods",
+                "flat-4-state",
+            ],
+        );
+        for tracer in TRACERS {
+            let m = traced(&json, tracer, "flat-4-state");
+            assert_eq!(m["lookup"], "sampler");
+            assert!(m["contradicted"].as_u64().unwrap() > 0, "{name} {tracer}");
+            // The exact hit point disagrees with the flipped state, and the
+            // texture unit read the alpha the exact point has.
+            let first = &m["contradictions"][0];
+            assert_eq!(first["class"], "micromap-wrong", "{name}: {first}");
+            assert!(first["lookup_alpha"].as_f64().is_some(), "{first}");
+        }
+    }
+}
+
+#[test]
+fn the_sampler_lookup_refuses_a_border_alpha_by_name() {
+    if !device("sampler-border") {
+        return;
+    }
+    let texture = asset("assets/crytek-sponza/sponza_thorn.png");
+    let triangles = asset("assets/crytek-sponza/grid.tris.json");
+    let out = scratch("render-sampler-border");
+    let out = out.join("out");
+    let args = |lookup: &'static str| {
+        vec![
+            "render".to_string(),
+            "--texture".into(),
+            texture.clone(),
+            "--triangles".into(),
+            triangles.clone(),
+            "--address".into(),
+            "clamp-to-border".into(),
+            "--border".into(),
+            "0.5".into(),
+            "--level".into(),
+            "2".into(),
+            "--size".into(),
+            "32x32".into(),
+            "--methods".into(),
+            "flat-4-state".into(),
+            "--lookup".into(),
+            lookup.into(),
+            "--check".into(),
+            "--force".into(),
+            "--out".into(),
+            out.to_string_lossy().into_owned(),
+        ]
+    };
+    for lookup in ["sampler", "both"] {
+        let a = args(lookup);
+        let o = run(&a.iter().map(String::as_str).collect::<Vec<_>>());
+        assert_eq!(o.status.code(), Some(2), "{lookup}: {}", describe(&o));
+        let stderr = text(&o.stderr);
+        assert!(
+            stderr.contains("border alpha 0.5") && stderr.contains("--lookup shader"),
+            "{stderr}"
+        );
+        assert!(!out.exists(), "{lookup} wrote {}", out.display());
+    }
+    // The shader's own lookup samples any border alpha.
+    let a = args("shader");
+    let o = run(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(o.status.code(), Some(0), "{}", describe(&o));
+}
+
+/// A 16x16 alpha texture of random alphas, half of them near the cutoff
+/// (110..=145), as a PNG in `dir`; and a quad over it.
+fn near_cutoff_texture(dir: &std::path::Path) -> (String, String) {
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = |n: u64| {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 33) % n
+    };
+    let mut pixels = Vec::new();
+    for _ in 0..16 * 16 {
+        let alpha = if next(2) == 0 {
+            next(256)
+        } else {
+            110 + next(36)
+        };
+        pixels.extend([255, alpha as u8]);
+    }
+    let png = dir.join("near-cutoff.png");
+    let file = std::io::BufWriter::new(std::fs::File::create(&png).unwrap());
+    let mut encoder = png::Encoder::new(file, 16, 16);
+    encoder.set_color(png::ColorType::GrayscaleAlpha);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().unwrap();
+    writer.write_image_data(&pixels).unwrap();
+    writer.finish().unwrap();
+    let tris = dir.join("quad.tris.json");
+    std::fs::write(
+        &tris,
+        r#"{"triangles": [[[0, 0], [1, 0], [1, 1]], [[0, 0], [1, 1], [0, 1]]]}"#,
+    )
+    .unwrap();
+    (
+        png.to_string_lossy().into_owned(),
+        tris.to_string_lossy().into_owned(),
+    )
+}
+
+#[test]
+fn a_bake_for_the_texture_units_filter_error_holds_under_the_sampler() {
+    if !device("filter-error") {
+        return;
+    }
+    // Linear filtering near the cutoff: lavapipe's texture unit returns the
+    // filtered alpha as an 8-bit value (127/255 or 128/255 around 0.5), up
+    // to about 1/255 from the exact mix; the default bake allows 1/65536.
+    let dir = scratch("render-near-cutoff-in");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (texture, triangles) = near_cutoff_texture(&dir);
+    let args = |filter_error: Option<&'static str>| {
+        let mut a = vec![
+            "--texture".to_string(),
+            texture.clone(),
+            "--triangles".into(),
+            triangles.clone(),
+            "--filter".into(),
+            "linear".into(),
+            "--level".into(),
+            "10".into(),
+            "--size".into(),
+            "256x256".into(),
+            "--methods".into(),
+            "flat-4-state".into(),
+            "--tracer".into(),
+            "query".into(),
+            "--max-report".into(),
+            "100".into(),
+        ];
+        if let Some(e) = filter_error {
+            a.extend(["--filter-error".to_string(), e.to_string()]);
+        }
+        a
+    };
+    // The default texture unit: the shader's arithmetic never contradicts a
+    // known state; the device's texture unit may, and then only where the
+    // exact hit point agrees with the micromap (outside the bake's model,
+    // not a wrong micromap).
+    let default = args(None);
+    let (_, json) = check(
+        "near-cutoff-default",
+        &default.iter().map(String::as_str).collect::<Vec<_>>(),
+    );
+    let json = json.unwrap();
+    let [shader, sampler] = [0, 1].map(|l| per_lookup(&json, "query", "flat-4-state")[l].clone());
+    assert_eq!(shader["contradicted"], 0, "{shader}");
+    for c in sampler["contradictions"].as_array().unwrap() {
+        assert_eq!(c["class"], "texture-unit", "{c}");
+        let (lookup, exact) = (
+            c["lookup_alpha"].as_f64().unwrap(),
+            c["exact_alpha"].as_f64().unwrap(),
+        );
+        assert!((lookup - exact).abs() < 1.0 / 255.0 + 1e-6, "{c}");
+    }
+    println!(
+        "{}: the default bake, {} known states contradicted by the texture unit",
+        json["device"], sampler["contradicted"]
+    );
+    // A bake for a filter error of 1/255 (rounded up) holds for it.
+    let wide = args(Some("0.004"));
+    assert_passes_query(
+        "near-cutoff-wide",
+        &wide.iter().map(String::as_str).collect::<Vec<_>>(),
+    );
+}
+
+/// `--check` passes (exit 0) with the query tracer alone, under each lookup.
+fn assert_passes_query(name: &str, args: &[&str]) {
+    let (o, json) = check(name, args);
+    assert_eq!(o.status.code(), Some(0), "{name}: {}", describe(&o));
+    let json = json.unwrap();
+    assert_eq!(json["lookups"], serde_json::json!(["shader", "sampler"]));
+    for m in per_lookup(&json, "query", "flat-4-state") {
+        assert_eq!(m["contradicted"], 0, "{name}: {m}");
+        assert_eq!(m["pixels_differing_from_must_equal"], 0, "{name}: {m}");
     }
 }

@@ -20,13 +20,18 @@
 // Every known decision is also checked against the alpha test (not counted
 // as a fetch): a disagreement is a contradicted candidate, counted in its
 // pixel's third word and, for pixels below `record_limit`, recorded with its
-// pixel, primitive, micro-triangle and binary32 barycentrics for the host's
-// exact classification (the host orders the records by pixel, so both
+// pixel, primitive, micro-triangle, binary32 barycentrics and the alpha the
+// test compared (its bits) for the host's exact classification (the host orders the records by pixel, so both
 // tracers list the same first ones).
 // A primitive's number is its instance's custom index (the mesh's first
 // triangle) plus its index in the mesh's BLAS: the scene's triangle order. The lookups come from shaders/glsl (included, never
 // copied); the texture is sampled by the code below (nearest or bilinear,
-// Vulkan's address modes, binary32), so the host can recompute any fetch.
+// Vulkan's address modes, binary32), so the host can recompute any fetch,
+// or, compiled with MMI_SAMPLER_LOOKUP (the includer enables
+// GL_EXT_nonuniform_qualifier), by the device's texture unit: a combined
+// image sampler per mesh (binding 12: the texture's alpha as UNORM, the
+// mesh's filter, address modes and border), textureLod at level 0 of the
+// same binary32 texture coordinate, then the same binary32 alpha test.
 #ifndef RENDER_COMMON_GLSL
 #define RENDER_COMMON_GLSL
 
@@ -59,6 +64,10 @@ layout(std430, set = 0, binding = 10) buffer Pixels { uint pixels[]; };
 #define COUNTERS 8u
 #define RECORD_WORDS 8u
 layout(std430, set = 0, binding = 11) buffer Counters { uint counters[]; };
+#ifdef MMI_SAMPLER_LOOKUP
+// Per mesh: its texture's alpha through its sampler (the sampler lookup).
+layout(set = 0, binding = 12) uniform sampler2D textures[];
+#endif
 
 layout(push_constant) uniform Frame {
     uint width;
@@ -120,14 +129,19 @@ float texel_alpha(uint m, int x, int y)
     return texels[mesh_info[base] + ty * mesh_info[base + 1u] + tx];
 }
 
-// The alpha test at barycentrics b of triangle prim, in binary32.
-bool alpha_test(uint prim, vec2 b)
+// The alpha the alpha test compares at barycentrics b of triangle prim:
+// the filtered alpha times the mesh's alpha factor, in binary32.
+float alpha_value(uint prim, vec2 b)
 {
     uint m = tri_mesh[prim];
     uint base = m * MESH_WORDS;
     precise float w0 = 1.0 - b.x - b.y;
     precise float u = w0 * tri_uv[6u * prim] + b.x * tri_uv[6u * prim + 2u] + b.y * tri_uv[6u * prim + 4u];
     precise float v = w0 * tri_uv[6u * prim + 1u] + b.x * tri_uv[6u * prim + 3u] + b.y * tri_uv[6u * prim + 5u];
+#ifdef MMI_SAMPLER_LOOKUP
+    // The texture unit filters (nearest or linear, the mesh's sampler).
+    float alpha = textureLod(textures[nonuniformEXT(m)], vec2(u, v), 0.0).r;
+#else
     precise float x = u * float(mesh_info[base + 1u]);
     precise float y = v * float(mesh_info[base + 2u]);
     float alpha;
@@ -146,9 +160,23 @@ bool alpha_test(uint prim, vec2 b)
         precise float bottom = (1.0 - a) * texel_alpha(m, i, j + 1) + a * texel_alpha(m, i + 1, j + 1);
         alpha = (1.0 - c) * top + c * bottom;
     }
+#endif
     precise float value = alpha * uintBitsToFloat(mesh_info[base + 8u]);
+    return value;
+}
+
+// Whether `value` (alpha_value's) passes triangle prim's cutoff.
+bool alpha_passes(uint prim, float value)
+{
+    uint base = tri_mesh[prim] * MESH_WORDS;
     float cutoff = uintBitsToFloat(mesh_info[base + 6u]);
     return mesh_info[base + 7u] == 0u ? value >= cutoff : value > cutoff;
+}
+
+// The alpha test at barycentrics b of triangle prim, in binary32.
+bool alpha_test(uint prim, vec2 b)
+{
+    return alpha_passes(prim, alpha_value(prim, b));
 }
 
 // The state method `method` looks up at (u, v); the micro-triangle in `mt`
@@ -218,7 +246,8 @@ bool decide_candidate(uint pixel, uint prim, vec2 b, inout Counts n)
     }
     n.known++;
     bool opaque = state == 1u;
-    if (alpha_test(prim, b) != opaque) {
+    float value = alpha_value(prim, b);
+    if (alpha_passes(prim, value) != opaque) {
         n.contradicted++;
         atomicAdd(pixels[PIXEL_WORDS * pixel + 2u], 1u);
         uint r = pixel < record_limit ? atomicAdd(counters[7], 1u) : max_records;
@@ -231,7 +260,7 @@ bool decide_candidate(uint pixel, uint prim, vec2 b, inout Counts n)
             counters[at + 4u] = floatBitsToUint(b.y);
             counters[at + 5u] = state;
             counters[at + 6u] = method;
-            counters[at + 7u] = 0u;
+            counters[at + 7u] = floatBitsToUint(value);
         }
     }
     return opaque;

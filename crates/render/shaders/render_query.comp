@@ -9,6 +9,9 @@
 // Compiled by crates/render/shaders/compile.sh (committed SPIR-V).
 #extension GL_EXT_ray_query : require
 #extension GL_GOOGLE_include_directive : require
+#ifdef MMI_SAMPLER_LOOKUP
+#extension GL_EXT_nonuniform_qualifier : require
+#endif
 layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "render_common.glsl"

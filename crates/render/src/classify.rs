@@ -7,15 +7,20 @@
 //! binary32 texture coordinate rounded across a texel boundary
 //! ([`ContradictionClass::Binary32Rounding`]); otherwise the micromap is
 //! wrong for the exact hit point ([`ContradictionClass::MicromapWrong`]).
+//! Under the sampler lookup the first class is the texture unit's
+//! ([`ContradictionClass::TextureUnit`]): its reading of the binary32
+//! coordinate (sub-texel snapping, filter arithmetic) or the coordinate
+//! itself disagrees with the exact point.
 
 use crate::frame::Contradiction;
+use crate::method::Lookup;
 use crate::scene::{Micromaps, Scene};
 use micromap_index::bake::Filter;
 use micromap_index::micromap::{MicromapIndex, State};
 use micromap_index::{spec, SpecLevel};
 use num_bigint::BigInt;
 use num_rational::BigRational;
-use num_traits::{One, Zero};
+use num_traits::{One, ToPrimitive, Zero};
 
 /// Why a known state was contradicted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -26,6 +31,11 @@ pub enum ContradictionClass {
     /// The exact hit point agrees with the micromap; the shader's binary32
     /// texture coordinate read another texel.
     Binary32Rounding,
+    /// The exact hit point agrees with the micromap; the device's texture
+    /// unit (the sampler lookup), reading the binary32 coordinate, did
+    /// not: its sub-texel snapping or filter arithmetic, or the
+    /// coordinate's rounding.
+    TextureUnit,
 }
 
 impl ContradictionClass {
@@ -35,6 +45,7 @@ impl ContradictionClass {
         match self {
             ContradictionClass::MicromapWrong => "micromap-wrong",
             ContradictionClass::Binary32Rounding => "binary32-rounding",
+            ContradictionClass::TextureUnit => "texture-unit",
         }
     }
 }
@@ -63,6 +74,11 @@ pub struct Classified {
     pub texels: Vec<(u32, u32, f32)>,
     /// The alpha test at the exact point.
     pub exact_opaque: bool,
+    /// The alpha it compares at the exact point (filtered, times the
+    /// factor), rounded to `f64`.
+    pub exact_alpha: f64,
+    /// The alpha the lookup compared ([`Contradiction::alpha_bits`]).
+    pub judged_alpha: f32,
     /// The texture coordinate the shader computed (binary32, its order of
     /// operations, no fused multiply-add) and its texel.
     pub binary32_uv: [f32; 2],
@@ -95,6 +111,19 @@ fn floor_i64(r: &BigRational) -> i64 {
 /// triangle the scene does not have.
 #[must_use]
 pub fn classify(scene: &Scene, micromaps: &Micromaps, c: &Contradiction) -> Option<Classified> {
+    classify_lookup(scene, micromaps, c, Lookup::Shader)
+}
+
+/// [`classify`] for a frame traced with `lookup`: under
+/// [`Lookup::Sampler`] a contradiction the exact point does not explain is
+/// [`ContradictionClass::TextureUnit`].
+#[must_use]
+pub fn classify_lookup(
+    scene: &Scene,
+    micromaps: &Micromaps,
+    c: &Contradiction,
+    lookup: Lookup,
+) -> Option<Classified> {
     let t = c.triangle as usize;
     let mesh = scene.mesh_of(t)?;
     let uv = scene.uvs()[t];
@@ -161,6 +190,7 @@ pub fn classify(scene: &Scene, micromaps: &Micromaps, c: &Contradiction) -> Opti
         }
     }
     let value = filtered * rational(mesh.material.alpha_factor);
+    let exact_alpha = value.to_f64().unwrap_or(f64::NAN);
     let cutoff = rational(mesh.material.cutoff.alpha());
     let exact_opaque = match mesh.material.cutoff.comparison() {
         micromap_index::bake::Comparison::AtLeast => value >= cutoff,
@@ -170,10 +200,12 @@ pub fn classify(scene: &Scene, micromaps: &Micromaps, c: &Contradiction) -> Opti
     let w0 = 1.0 - b1 - b2;
     let binary32_uv = [0, 1].map(|k| w0 * uv[0][k] + b1 * uv[1][k] + b2 * uv[2][k]);
     // The state the shader decided by (a deliberate fault included).
-    let class = if (c.state == 1) == exact_opaque {
-        ContradictionClass::Binary32Rounding
-    } else {
+    let class = if (c.state == 1) != exact_opaque {
         ContradictionClass::MicromapWrong
+    } else if lookup == Lookup::Sampler {
+        ContradictionClass::TextureUnit
+    } else {
+        ContradictionClass::Binary32Rounding
     };
     Some(Classified {
         contradiction: *c,
@@ -184,6 +216,8 @@ pub fn classify(scene: &Scene, micromaps: &Micromaps, c: &Contradiction) -> Opti
         exact_texel_point: [text(&point[0]), text(&point[1])],
         texels,
         exact_opaque,
+        exact_alpha,
+        judged_alpha: f32::from_bits(c.alpha_bits),
         binary32_uv,
     })
 }

@@ -4,7 +4,7 @@
 //! CLI). The messages name what was found and what to install.
 
 use crate::frame::MAX_PIXELS;
-use crate::method::{Method, Tracer};
+use crate::method::{Lookup, Method, Tracer};
 use ash::vk;
 use micromap_index::micromap::{BufferError, ReadError};
 use micromap_index::succinct::TreeError;
@@ -231,6 +231,42 @@ pub enum RenderError {
     },
     /// A micromap method was asked for without micromaps.
     NeedsMicromaps(Method),
+    /// The device lacks what the sampler lookup's array of combined image
+    /// samplers needs (`runtimeDescriptorArray`,
+    /// `shaderSampledImageArrayNonUniformIndexing`).
+    SamplerIndexing {
+        /// The device.
+        device: String,
+    },
+    /// A mesh samples with mirror clamp to edge and the device has no
+    /// `samplerMirrorClampToEdge` (sampler lookup).
+    SamplerMirrorClamp {
+        /// The device.
+        device: String,
+        /// The mesh.
+        mesh: usize,
+    },
+    /// A mesh clamps to a border whose alpha no Vulkan border colour has
+    /// (the sampler lookup takes 0, `VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK`,
+    /// and 1, `VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE`).
+    SamplerBorder {
+        /// The mesh.
+        mesh: usize,
+        /// Its border alpha.
+        alpha: f32,
+    },
+    /// A texture with an alpha that is no `c / 255`, which the sampler
+    /// lookup's `R8_UNORM` image cannot hold.
+    SamplerTexture {
+        /// The texture.
+        texture: usize,
+        /// Its first such texel, `(x, y)`.
+        texel: (u32, u32),
+        /// Its alpha.
+        alpha: f32,
+    },
+    /// A lookup the renderer was not built with.
+    NoLookup(Lookup),
 }
 
 impl RenderError {
@@ -246,7 +282,9 @@ impl RenderError {
             | RenderError::NoComputeQueue { .. }
             | RenderError::DeviceCreation { .. }
             | RenderError::NoTracer { .. }
-            | RenderError::NoHardwareMicromaps { .. } => ErrorClass::NoDevice,
+            | RenderError::NoHardwareMicromaps { .. }
+            | RenderError::SamplerIndexing { .. }
+            | RenderError::SamplerMirrorClamp { .. } => ErrorClass::NoDevice,
             RenderError::Vulkan { .. }
             | RenderError::Allocation { .. }
             | RenderError::NoHostVisibleMemory => ErrorClass::Device,
@@ -259,7 +297,10 @@ impl RenderError {
             | RenderError::Size { .. }
             | RenderError::NeedsMicromaps(_)
             | RenderError::MicromapLevel { .. }
-            | RenderError::MicromapIndexWidth => ErrorClass::Input,
+            | RenderError::MicromapIndexWidth
+            | RenderError::SamplerBorder { .. }
+            | RenderError::SamplerTexture { .. }
+            | RenderError::NoLookup(_) => ErrorClass::Input,
         }
     }
 }
@@ -366,6 +407,31 @@ impl fmt::Display for RenderError {
                 write!(f, "size {width}x{height}: expected 1..={MAX_PIXELS} pixels")
             }
             RenderError::NeedsMicromaps(method) => write!(f, "{} needs micromaps", method.name()),
+            RenderError::SamplerIndexing { device } => write!(
+                f,
+                "{device}: the sampler lookup needs runtimeDescriptorArray and shaderSampledImageArrayNonUniformIndexing (Vulkan 1.2), which the device lacks (--lookup shader samples in the shader)"
+            ),
+            RenderError::SamplerMirrorClamp { device, mesh } => write!(
+                f,
+                "{device}: mesh {mesh} samples with mirror clamp to edge and the device has no samplerMirrorClampToEdge, so the sampler lookup cannot read it (--lookup shader samples in the shader)"
+            ),
+            RenderError::SamplerBorder { mesh, alpha } => write!(
+                f,
+                "mesh {mesh}: clamp to border with border alpha {alpha}: the sampler lookup takes border alpha 0 (VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK) or 1 (VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE) only (--lookup shader samples any)"
+            ),
+            RenderError::SamplerTexture {
+                texture,
+                texel: (x, y),
+                alpha,
+            } => write!(
+                f,
+                "texture {texture}: texel ({x}, {y}) has alpha {alpha}, no c / 255: the sampler lookup's R8_UNORM image cannot hold it (--lookup shader reads it as it is)"
+            ),
+            RenderError::NoLookup(lookup) => write!(
+                f,
+                "the {} lookup was not built (RendererOptions::lookups)",
+                lookup.name()
+            ),
         }
     }
 }

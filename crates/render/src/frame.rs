@@ -2,7 +2,7 @@
 //! [`Counters`] and the first [`Contradiction`]s, as the shaders wrote
 //! them (the word layouts are the shaders' `COUNTERS` and `RECORD_WORDS`).
 
-use crate::method::{Method, Tracer};
+use crate::method::{Lookup, Method, Tracer};
 
 /// Most pixels of a frame (the pixel buffer's words stay below 2^31).
 pub const MAX_PIXELS: u64 = 1 << 22;
@@ -56,6 +56,9 @@ pub struct Contradiction {
     pub b2_bits: u32,
     /// The known state the method decided by (0 transparent, 1 opaque).
     pub state: u32,
+    /// The alpha the alpha test compared with the cutoff (the filtered
+    /// alpha times the alpha factor, binary32 bits), as the lookup read it.
+    pub alpha_bits: u32,
 }
 
 /// One traced frame.
@@ -63,6 +66,8 @@ pub struct Contradiction {
 pub struct Frame {
     /// The tracer that traced it.
     pub tracer: Tracer,
+    /// What read the texture for its alpha tests.
+    pub lookup: Lookup,
     /// The method it was traced with.
     pub method: Method,
     /// Pixels per row.
@@ -129,6 +134,7 @@ pub(crate) fn records_from_words(c: &[u32], max_records: u32, width: u32) -> Vec
                 b1_bits: w[3],
                 b2_bits: w[4],
                 state: w[5],
+                alpha_bits: w[7],
             };
             (w[0], record)
         })

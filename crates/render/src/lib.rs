@@ -11,7 +11,9 @@
 //! micromap emulated in software (flat 4-state, flat forced 2-state, the
 //! level-order tree, the paper's Algorithm 3, using the shader library in
 //! `shaders/glsl`), or the driver's own micromap (`VK_EXT_opacity_micromap`,
-//! built from the same buffers; as baked or forced to 2 states).
+//! built from the same buffers; as baked or forced to 2 states). The alpha
+//! test reads the texture by a [`Lookup`]: the shader's own binary32 code,
+//! or the device's texture unit through a combined image sampler.
 //!
 //! A [`Frame`] holds the committed hit of every pixel, the [`Counters`]
 //! (rays, candidates, texture fetches, known and unknown decisions,
@@ -47,10 +49,10 @@ mod trees;
 pub mod vulkan;
 
 pub use camera::Camera;
-pub use classify::{classify, Classified, ContradictionClass};
+pub use classify::{classify, classify_lookup, Classified, ContradictionClass};
 pub use error::{ErrorClass, RenderError, SceneError};
 pub use frame::{Contradiction, Counters, Frame, MAX_PIXELS};
-pub use method::{Faults, Method, Tracer};
+pub use method::{Faults, Lookup, Method, Tracer};
 pub use renderer::{Renderer, RendererOptions};
 pub use scene::{
     LevelCounts, Micromaps, Scene, SceneMesh, SceneTexture, IDENTITY_TRANSFORM, MAX_INSTANCES,

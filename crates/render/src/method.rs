@@ -1,6 +1,7 @@
 //! What a frame is traced with: the [`Tracer`] (where candidates are
-//! decided), the [`Method`] (how) and the deliberate [`Faults`] of the
-//! negative controls. Plain names, used by every other file.
+//! decided), the [`Lookup`] (what reads the texture for the alpha test),
+//! the [`Method`] (how) and the deliberate [`Faults`] of the negative
+//! controls. Plain names, used by every other file.
 
 /// How the rays are traced; both decide candidates by the same shader code
 /// (`shaders/render_common.glsl`).
@@ -32,6 +33,41 @@ impl Tracer {
     #[must_use]
     pub fn from_name(name: &str) -> Option<Tracer> {
         Tracer::ALL.into_iter().find(|t| t.name() == name)
+    }
+}
+
+/// What reads the texture for the alpha test (every method's fallback and
+/// the judge of every known state).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Lookup {
+    /// The shader's own binary32 code reads texels from a buffer and
+    /// filters them (nearest or bilinear, Vulkan's address modes): every
+    /// fetch can be recomputed on the host.
+    Shader,
+    /// The device's texture unit: `textureLod` at level 0 through a
+    /// combined image sampler per mesh (an `R8_UNORM` image of the
+    /// texture's alpha; the mesh's filter, address modes and border
+    /// colour), as renderers read textures.
+    Sampler,
+}
+
+impl Lookup {
+    /// Both lookups, the shader's first.
+    pub const ALL: [Lookup; 2] = [Lookup::Shader, Lookup::Sampler];
+
+    /// The lookup's name in the CLI and `render.json`: `shader`, `sampler`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Lookup::Shader => "shader",
+            Lookup::Sampler => "sampler",
+        }
+    }
+
+    /// The lookup named `name` ([`Lookup::name`]).
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<Lookup> {
+        Lookup::ALL.into_iter().find(|l| l.name() == name)
     }
 }
 

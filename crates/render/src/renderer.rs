@@ -2,8 +2,9 @@
 //! inputs in storage buffers; one BLAS per mesh and a TLAS with one
 //! instance per placement; where asked, the driver's micromap attached to
 //! a second set of BLASes under two more TLASes, 4-state and forced
-//! 2-state; the tracers' pipelines), and one traced [`Frame`] per
-//! [`Renderer::render`].
+//! 2-state; the tracers' pipelines, per lookup; for the sampler lookup, an
+//! image per texture and a sampler per sampler state), and one traced
+//! [`Frame`] per [`Renderer::render`].
 
 use crate::camera::Camera;
 use crate::error::RenderError;
@@ -11,16 +12,18 @@ use crate::frame::{
     counters_from_words, records_from_words, Frame, COUNTER_WORDS, MAX_PIXELS, PIXEL_WORDS,
     RECORD_WORDS,
 };
-use crate::method::{Faults, Method, Tracer};
-use crate::scene::{Micromaps, Scene};
+use crate::method::{Faults, Lookup, Method, Tracer};
+use crate::scene::{Micromaps, Scene, SceneMesh, SceneTexture};
 use crate::spirv;
 use crate::trees::tree_buffers;
 use crate::vulkan::{
     AccelerationStructure, Bindings, BlasInstance, Buffer, Device, DeviceInfo, DeviceRequest,
-    DeviceSelector, Features, Launch, Micromap, MicromapAttachment, Pipeline, RayTracingStages,
-    Timing,
+    DeviceSelector, Features, Image, Launch, Micromap, MicromapAttachment, Pipeline,
+    RayTracingStages, Sampler, SamplerKey, Timing,
 };
 use ash::vk;
+use micromap_index::bake::{AddressMode, Filter};
+use std::collections::BTreeMap;
 
 /// Storage buffers of the tracers, bindings `1..=STORAGE_BINDINGS` (the
 /// acceleration structure is binding 0): the scene and micromaps (1..=9),
@@ -28,10 +31,12 @@ use ash::vk;
 const STORAGE_BINDINGS: u32 = 11;
 /// Push-constant bytes (8 words, 4 `vec4`).
 const PUSH_BYTES: u32 = 96;
-/// The tracers' descriptor set and push constants.
+/// The tracers' descriptor set and push constants (the shader lookup's;
+/// the sampler lookup's adds a combined image sampler per mesh).
 const BINDINGS: Bindings = Bindings {
     acceleration_structure: true,
     storage: STORAGE_BINDINGS,
+    textures: 0,
     push_bytes: PUSH_BYTES,
 };
 
@@ -47,6 +52,9 @@ pub struct RendererOptions {
     /// and [`Method::Hardware2`] (the device must have
     /// `VK_EXT_opacity_micromap`).
     pub hardware: bool,
+    /// The lookups to build (what reads the texture for the alpha test).
+    /// Empty: the shader's.
+    pub lookups: Vec<Lookup>,
 }
 
 impl Default for RendererOptions {
@@ -55,6 +63,7 @@ impl Default for RendererOptions {
             device: None,
             tracers: Tracer::ALL.to_vec(),
             hardware: false,
+            lookups: vec![Lookup::Shader],
         }
     }
 }
@@ -76,13 +85,128 @@ struct HardwareScene {
     _indices: Buffer,
 }
 
+/// The sampler lookup's textures: an image per texture, a sampler per
+/// sampler state, and per mesh the pair its descriptor names.
+struct SamplerTextures {
+    // Named by `per_mesh`: kept while it is.
+    _images: Vec<Image>,
+    _samplers: Vec<Sampler>,
+    per_mesh: Vec<(vk::ImageView, vk::Sampler)>,
+}
+
+/// The sampler state of a mesh, or why the sampler lookup cannot read it.
+fn sampler_key(device: &Device, mesh: usize, m: &SceneMesh) -> Result<SamplerKey, RenderError> {
+    let s = m.material.sampler;
+    let mode = |a: AddressMode| match a {
+        AddressMode::Repeat => Ok(vk::SamplerAddressMode::REPEAT),
+        AddressMode::MirroredRepeat => Ok(vk::SamplerAddressMode::MIRRORED_REPEAT),
+        AddressMode::ClampToEdge => Ok(vk::SamplerAddressMode::CLAMP_TO_EDGE),
+        AddressMode::ClampToBorder => Ok(vk::SamplerAddressMode::CLAMP_TO_BORDER),
+        AddressMode::MirrorClampToEdge if device.info().mirror_clamp_to_edge => {
+            Ok(vk::SamplerAddressMode::MIRROR_CLAMP_TO_EDGE)
+        }
+        AddressMode::MirrorClampToEdge => Err(RenderError::SamplerMirrorClamp {
+            device: device.info().label(),
+            mesh,
+        }),
+    };
+    let (address_u, address_v) = (mode(s.address_u)?, mode(s.address_v)?);
+    let clamps_to_border =
+        [address_u, address_v].contains(&vk::SamplerAddressMode::CLAMP_TO_BORDER);
+    // The border colour is read by CLAMP_TO_BORDER only.
+    let border = if !clamps_to_border || s.border_alpha.to_bits() == 0.0f32.to_bits() {
+        vk::BorderColor::FLOAT_TRANSPARENT_BLACK
+    } else if s.border_alpha.to_bits() == 1.0f32.to_bits() {
+        vk::BorderColor::FLOAT_OPAQUE_WHITE
+    } else {
+        return Err(RenderError::SamplerBorder {
+            mesh,
+            alpha: s.border_alpha,
+        });
+    };
+    Ok(SamplerKey {
+        filter: match s.filter {
+            Filter::Nearest => vk::Filter::NEAREST,
+            Filter::Linear => vk::Filter::LINEAR,
+        },
+        address_u,
+        address_v,
+        border,
+    })
+}
+
+/// The texels of `texture` (number `index`) as `R8_UNORM` bytes, each alpha
+/// `c / 255` (within binary32 rounding).
+fn alpha_bytes(index: usize, texture: &SceneTexture) -> Result<Vec<u8>, RenderError> {
+    let width = texture.width.max(1);
+    texture
+        .alphas
+        .iter()
+        .enumerate()
+        .map(|(i, &a)| {
+            let c = (f64::from(a) * 255.0).round();
+            if (0.0..=255.0).contains(&c) && (f64::from(a) * 255.0 - c).abs() < 1e-3 {
+                Ok(c as u8)
+            } else {
+                Err(RenderError::SamplerTexture {
+                    texture: index,
+                    texel: (i as u32 % width, i as u32 / width),
+                    alpha: a,
+                })
+            }
+        })
+        .collect()
+}
+
+/// The sampler lookup's images and samplers for `scene`, after checking
+/// that the device and every mesh's sampler state allow it.
+fn sampler_textures(device: &Device, scene: &Scene) -> Result<SamplerTextures, RenderError> {
+    if !device.sampler_lookup_enabled() {
+        return Err(RenderError::SamplerIndexing {
+            device: device.info().label(),
+        });
+    }
+    let keys = scene
+        .meshes()
+        .iter()
+        .enumerate()
+        .map(|(i, m)| sampler_key(device, i, m))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut images = Vec::new();
+    for (i, t) in scene.textures().iter().enumerate() {
+        images.push(device.alpha_image(t.width, t.height, &alpha_bytes(i, t)?)?);
+    }
+    let mut samplers = Vec::new();
+    let mut by_key = BTreeMap::new();
+    for &key in &keys {
+        if let std::collections::btree_map::Entry::Vacant(e) = by_key.entry(key) {
+            samplers.push(device.sampler(key)?);
+            e.insert(samplers[samplers.len() - 1].handle);
+        }
+    }
+    let per_mesh = scene
+        .meshes()
+        .iter()
+        .zip(&keys)
+        .map(|(m, key)| (images[m.texture].view, by_key[key]))
+        .collect();
+    Ok(SamplerTextures {
+        _images: images,
+        _samplers: samplers,
+        per_mesh,
+    })
+}
+
 /// A scene on the device, ready to trace.
 pub struct Renderer {
     device: Device,
-    /// The ray query tracer's compute pipeline.
-    query: Option<Pipeline>,
-    /// The ray tracing pipeline.
-    ray_tracing: Option<Pipeline>,
+    /// The ray query tracer's compute pipeline, per lookup
+    /// ([`Lookup::ALL`]'s order).
+    query: [Option<Pipeline>; 2],
+    /// The ray tracing pipeline, per lookup.
+    ray_tracing: [Option<Pipeline>; 2],
+    /// The sampler lookup's images and samplers, where it was built.
+    textures: Option<SamplerTextures>,
     emulated: Placed,
     hardware: Option<HardwareScene>,
     /// Bindings 1..=9 (scene and micromaps).
@@ -238,6 +362,11 @@ impl Renderer {
         } else {
             options.tracers.clone()
         };
+        let lookups = if options.lookups.is_empty() {
+            vec![Lookup::Shader]
+        } else {
+            options.lookups.clone()
+        };
         let device = Device::open(&DeviceRequest {
             select: options.device.clone(),
             required: Features {
@@ -247,24 +376,48 @@ impl Renderer {
                 opacity_micromap: options.hardware,
             },
             optional: Features::default(),
+            sampler_lookup: lookups.contains(&Lookup::Sampler),
         })?;
-        let query = if tracers.contains(&Tracer::Query) {
-            Some(device.compute_pipeline(&spirv::query(), BINDINGS)?)
+        // Checked (and uploaded) before any pipeline is built.
+        let textures = if lookups.contains(&Lookup::Sampler) {
+            Some(sampler_textures(&device, scene)?)
         } else {
             None
         };
-        let ray_tracing = if tracers.contains(&Tracer::Pipeline) {
-            let [raygen, miss, closest_hit, any_hit] = spirv::pipeline();
-            let stages = RayTracingStages {
-                raygen: &raygen,
-                miss: &miss,
-                closest_hit: &closest_hit,
-                any_hit: &any_hit,
+        let mut query = [None, None];
+        let mut ray_tracing = [None, None];
+        for (l, lookup) in Lookup::ALL.into_iter().enumerate() {
+            if !lookups.contains(&lookup) {
+                continue;
+            }
+            let bindings = match &textures {
+                Some(t) if lookup == Lookup::Sampler => Bindings {
+                    textures: t.per_mesh.len() as u32,
+                    ..BINDINGS
+                },
+                _ => BINDINGS,
             };
-            Some(device.ray_tracing_pipeline(&stages, BINDINGS)?)
-        } else {
-            None
-        };
+            if tracers.contains(&Tracer::Query) {
+                let spirv = match lookup {
+                    Lookup::Shader => spirv::query(),
+                    Lookup::Sampler => spirv::query_sampler(),
+                };
+                query[l] = Some(device.compute_pipeline(&spirv, bindings)?);
+            }
+            if tracers.contains(&Tracer::Pipeline) {
+                let [raygen, miss, closest_hit, mut any_hit] = spirv::pipeline();
+                if lookup == Lookup::Sampler {
+                    any_hit = spirv::any_hit_sampler();
+                }
+                let stages = RayTracingStages {
+                    raygen: &raygen,
+                    miss: &miss,
+                    closest_hit: &closest_hit,
+                    any_hit: &any_hit,
+                };
+                ray_tracing[l] = Some(device.ray_tracing_pipeline(&stages, bindings)?);
+            }
+        }
         let emulated = place(
             &device,
             scene,
@@ -305,6 +458,7 @@ impl Renderer {
             device,
             query,
             ray_tracing,
+            textures,
             emulated,
             hardware,
             inputs,
@@ -314,14 +468,16 @@ impl Renderer {
         // lavapipe compiles a pipeline at its first dispatch: one pixel
         // here keeps that out of every frame's time.
         for tracer in renderer.tracers() {
-            renderer.render(
-                tracer,
-                Method::AlphaTest,
-                &Camera::framing(scene.bounds().unwrap_or_default(), 1.0),
-                (1, 1),
-                Faults::default(),
-                0,
-            )?;
+            for lookup in renderer.lookups() {
+                renderer.render(
+                    (tracer, lookup),
+                    Method::AlphaTest,
+                    &Camera::framing(scene.bounds().unwrap_or_default(), 1.0),
+                    (1, 1),
+                    Faults::default(),
+                    0,
+                )?;
+            }
         }
         Ok(renderer)
     }
@@ -351,13 +507,25 @@ impl Renderer {
     #[must_use]
     pub fn tracers(&self) -> Vec<Tracer> {
         let mut t = Vec::new();
-        if self.query.is_some() {
+        if self.query.iter().any(Option::is_some) {
             t.push(Tracer::Query);
         }
-        if self.ray_tracing.is_some() {
+        if self.ray_tracing.iter().any(Option::is_some) {
             t.push(Tracer::Pipeline);
         }
         t
+    }
+
+    /// The lookups built ([`RendererOptions::lookups`]), the shader's
+    /// first.
+    #[must_use]
+    pub fn lookups(&self) -> Vec<Lookup> {
+        Lookup::ALL
+            .into_iter()
+            .enumerate()
+            .filter(|&(l, _)| self.query[l].is_some() || self.ray_tracing[l].is_some())
+            .map(|(_, lookup)| lookup)
+            .collect()
     }
 
     /// One launch of `pipeline` over `tlas`: the pixel words
@@ -365,7 +533,7 @@ impl Renderer {
     #[allow(clippy::too_many_arguments)]
     fn trace(
         &self,
-        (tracer, pipeline, tlas): (Tracer, &Pipeline, &AccelerationStructure),
+        (tracer, lookup, pipeline, tlas): (Tracer, Lookup, &Pipeline, &AccelerationStructure),
         method: Method,
         basis: &[[f32; 4]; 4],
         (width, height): (u32, u32),
@@ -402,7 +570,11 @@ impl Renderer {
             Tracer::Query => Launch::Groups([width.div_ceil(8), height.div_ceil(8), 1]),
             Tracer::Pipeline => Launch::Rays(width, height),
         };
-        let timing = d.run(pipeline, Some(tlas), &storage, &push, launch)?;
+        let textures: &[(vk::ImageView, vk::Sampler)] = match (lookup, &self.textures) {
+            (Lookup::Sampler, Some(t)) => &t.per_mesh,
+            _ => &[],
+        };
+        let timing = d.run(pipeline, Some(tlas), (&storage, textures), &push, launch)?;
         Ok((
             hits.read(PIXEL_WORDS * pixels as usize)?,
             counters.read(counter_words)?,
@@ -410,16 +582,17 @@ impl Renderer {
         ))
     }
 
-    /// Traces one `width x height` frame with `tracer` and `method`,
-    /// keeping the first `max_records` contradictions in pixel order (where
+    /// Traces one `width x height` frame with `tracer`, `lookup` and
+    /// `method`, keeping the first `max_records` contradictions in pixel order (where
     /// more were recorded, a second launch records those of the first
     /// pixels only, so both tracers list the same ones);
     /// [`RenderError::NoTracer`] for a tracer not in [`Renderer::tracers`],
+    /// [`RenderError::NoLookup`] for a lookup not in [`Renderer::lookups`],
     /// [`RenderError::NoHardwareMicromaps`] for a hardware method without
     /// [`RendererOptions::hardware`].
     pub fn render(
         &self,
-        tracer: Tracer,
+        (tracer, lookup): (Tracer, Lookup),
         method: Method,
         camera: &Camera,
         (width, height): (u32, u32),
@@ -429,15 +602,19 @@ impl Renderer {
         if method != Method::AlphaTest && !self.has_micromaps {
             return Err(RenderError::NeedsMicromaps(method));
         }
+        let l = usize::from(lookup == Lookup::Sampler);
         let chosen = match tracer {
-            Tracer::Query => self.query.as_ref(),
-            Tracer::Pipeline => self.ray_tracing.as_ref(),
+            Tracer::Query => &self.query,
+            Tracer::Pipeline => &self.ray_tracing,
         };
-        let Some(pipeline) = chosen else {
+        if chosen.iter().all(Option::is_none) {
             return Err(RenderError::NoTracer {
                 device: self.device_name(),
                 tracer,
             });
+        }
+        let Some(pipeline) = chosen[l].as_ref() else {
+            return Err(RenderError::NoLookup(lookup));
         };
         let tlas = match method {
             Method::Hardware | Method::Hardware2 => {
@@ -456,7 +633,7 @@ impl Renderer {
         }
         let max_records = max_records.min(1 << 16);
         let basis = camera.basis(width, height)?;
-        let what = (tracer, pipeline, tlas);
+        let what = (tracer, lookup, pipeline, tlas);
         let (words, c, timing) = self.trace(
             what,
             method,
@@ -487,6 +664,7 @@ impl Renderer {
         }
         Ok(Frame {
             tracer,
+            lookup,
             method,
             width,
             height,

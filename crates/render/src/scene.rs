@@ -251,6 +251,16 @@ impl Scene {
         }))
     }
 
+    /// The meshes, in the order they were added.
+    pub(crate) fn meshes(&self) -> &[SceneMesh] {
+        &self.meshes
+    }
+
+    /// The textures.
+    pub(crate) fn textures(&self) -> &[SceneTexture] {
+        &self.textures
+    }
+
     pub(crate) fn uv_bytes(&self) -> Vec<u8> {
         self.uvs
             .iter()

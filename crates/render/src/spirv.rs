@@ -1,7 +1,8 @@
 //! The committed SPIR-V of both tracers, built from `shaders/` by
 //! `shaders/compile.sh` (`tests/spirv.rs` checks it is current): the ray
 //! query tracer's compute shader and the ray tracing pipeline's four
-//! stages, as the words Vulkan takes.
+//! stages, as the words Vulkan takes, and the sampler lookup's variants of
+//! the two that decide candidates.
 
 /// Little-endian words of SPIR-V bytes (`include_bytes!` gives no
 /// alignment).
@@ -14,6 +15,19 @@ fn words(spv: &[u8]) -> Vec<u32> {
 /// `shaders/render_query.comp`.
 pub(crate) fn query() -> Vec<u32> {
     words(include_bytes!("../shaders/render_query.spv"))
+}
+
+/// `shaders/render_query.comp` with `MMI_SAMPLER_LOOKUP`: the alpha test
+/// through a combined image sampler per mesh.
+pub(crate) fn query_sampler() -> Vec<u32> {
+    words(include_bytes!("../shaders/render_query_sampler.spv"))
+}
+
+/// `shaders/render_pipeline.rahit` with `MMI_SAMPLER_LOOKUP`.
+pub(crate) fn any_hit_sampler() -> Vec<u32> {
+    words(include_bytes!(
+        "../shaders/render_pipeline_rahit_sampler.spv"
+    ))
 }
 
 /// `shaders/render_pipeline.{rgen,rmiss,rchit,rahit}`.

@@ -50,6 +50,7 @@ fn contradiction(b1: f32, b2: f32) -> Contradiction {
         b1_bits: b1.to_bits(),
         b2_bits: b2.to_bits(),
         state: 1,
+        alpha_bits: 0,
     }
 }
 

@@ -49,6 +49,8 @@ fn committed_spirv_is_current() {
         "render_pipeline_rahit.spv",
         "render_pipeline_rchit.spv",
         "render_pipeline_rmiss.spv",
+        "render_query_sampler.spv",
+        "render_pipeline_rahit_sampler.spv",
     ] {
         let fresh = std::fs::read(out.join(name)).unwrap();
         let committed = std::fs::read(here.join("shaders").join(name)).unwrap();

@@ -1,11 +1,12 @@
 //! `render`'s options beyond the shared ones, each checked before any
-//! setup: counts, the picture size, the camera, the tracers, the methods,
+//! setup: counts, the picture size, the camera, the tracers, the lookups,
+//! the methods,
 //! the device, the fault and the report's length.
 
 use cli_support::args::Parsed;
 use cli_support::output::Failure;
 use micromap_index_render::vulkan::DeviceSelector;
-use micromap_index_render::{Camera, Faults, Method, Tracer};
+use micromap_index_render::{Camera, Faults, Lookup, Method, Tracer};
 
 pub(super) fn count(p: &Parsed<'_>, name: &str, default: u32, max: u32) -> Result<u32, Failure> {
     match p.get(name) {
@@ -78,6 +79,18 @@ pub(super) fn tracers(p: &Parsed<'_>) -> Result<Vec<Tracer>, Failure> {
         Some(name) => Tracer::from_name(name).map(|t| vec![t]).ok_or_else(|| {
             Failure::Malformed(format!(
                 "--tracer {name:?}: expected query, pipeline or both"
+            ))
+        }),
+    }
+}
+
+/// `--lookup`: what reads the texture for the alpha test (default both).
+pub(super) fn lookups(p: &Parsed<'_>) -> Result<Vec<Lookup>, Failure> {
+    match p.get("--lookup") {
+        None | Some("both") => Ok(Lookup::ALL.to_vec()),
+        Some(name) => Lookup::from_name(name).map(|l| vec![l]).ok_or_else(|| {
+            Failure::Malformed(format!(
+                "--lookup {name:?}: expected shader, sampler or both"
             ))
         }),
     }

@@ -4,14 +4,24 @@
 //! of the frames; `render_command` decides and writes.
 
 use micromap_index_render::vulkan::{DeviceInfo, Features};
-use micromap_index_render::{Classified, Frame, LevelCounts, Method, Scene, Tracer};
+use micromap_index_render::{Classified, Frame, LevelCounts, Lookup, Method, Scene, Tracer};
 use serde_json::{json, Value};
 
-/// The name of `method`'s picture under `tracer` (`suffix` "" or "-diff").
-pub(super) fn picture_name(tracer: Tracer, method: Method, suffix: &str) -> String {
+/// The name of `method`'s picture under `tracer` and `lookup` (`suffix`
+/// "" or "-diff"): `METHOD.png`, `pipeline-METHOD.png`, and the sampler
+/// lookup's with `sampler-` in front.
+pub(super) fn picture_name(
+    (lookup, tracer): (Lookup, Tracer),
+    method: Method,
+    suffix: &str,
+) -> String {
+    let lookup = match lookup {
+        Lookup::Shader => "",
+        Lookup::Sampler => "sampler-",
+    };
     match tracer {
-        Tracer::Query => format!("{}{suffix}.png", method.name()),
-        Tracer::Pipeline => format!("pipeline-{}{suffix}.png", method.name()),
+        Tracer::Query => format!("{lookup}{}{suffix}.png", method.name()),
+        Tracer::Pipeline => format!("{lookup}pipeline-{}{suffix}.png", method.name()),
     }
 }
 
@@ -85,6 +95,8 @@ pub(super) fn contradiction_json(c: &Classified) -> Value {
         "class": c.class.name(),
         "exact_texel_point": c.exact_texel_point,
         "exact_alpha_test": if c.exact_opaque { "opaque" } else { "transparent" },
+        "exact_alpha": c.exact_alpha,
+        "lookup_alpha": c.judged_alpha,
         "texels": c.texels.iter().map(|&(x, y, a)| json!({"x": x, "y": y, "alpha": a})).collect::<Vec<_>>(),
         "binary32_uv": c.binary32_uv,
     })
@@ -98,7 +110,7 @@ pub(super) fn contradiction_line(label: &str, c: &Classified) -> String {
         .map(|(x, y, a)| format!("({x}, {y}) alpha {a}"))
         .collect();
     format!(
-        "{}: pixel ({}, {}) triangle {} micro-triangle {} (level {}) known {} at b1 = {}, b2 = {}: {}; exact point ({}, {}) texels reads {} -> {}",
+        "{}: pixel ({}, {}) triangle {} micro-triangle {} (level {}) known {} at b1 = {}, b2 = {}: {}; the lookup compared alpha {}; exact point ({}, {}) texels reads {} -> alpha {} {}",
         label,
         r.x,
         r.y,
@@ -109,9 +121,11 @@ pub(super) fn contradiction_line(label: &str, c: &Classified) -> String {
         hex(r.b1_bits),
         hex(r.b2_bits),
         c.class.name(),
+        c.judged_alpha,
         c.exact_texel_point[0],
         c.exact_texel_point[1],
         if texels.is_empty() { "the border".into() } else { texels.join(", ") },
+        c.exact_alpha,
         if c.exact_opaque { "opaque" } else { "transparent" },
     )
 }
@@ -139,6 +153,10 @@ pub(super) fn device_json(info: &DeviceInfo, enabled: Features) -> Value {
         },
         "enabled_extensions": enabled.names(),
         "max_micromap_levels": info.max_micromap_levels.map(|[two, four]| json!({"2-state": two, "4-state": four})),
+        "sampler_lookup": {
+            "runtimeDescriptorArray_and_shaderSampledImageArrayNonUniformIndexing": info.sampler_lookup,
+            "samplerMirrorClampToEdge": info.mirror_clamp_to_edge,
+        },
     })
 }
 

@@ -84,11 +84,18 @@ impl Adapter {
         info.driver_name = text(about.driver_name_as_c_str());
         info.driver_info = text(about.driver_info_as_c_str());
         let mut omm_features = vk::PhysicalDeviceOpacityMicromapFeaturesEXT::default();
-        if omm_listed {
-            let mut features2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut omm_features);
+        let mut v12 = vk::PhysicalDeviceVulkan12Features::default();
+        {
+            let mut features2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut v12);
+            if omm_listed {
+                features2 = features2.push_next(&mut omm_features);
+            }
             // SAFETY: as above.
             unsafe { raw.get_physical_device_features2(physical, &mut features2) };
         }
+        info.sampler_lookup = v12.runtime_descriptor_array == vk::TRUE
+            && v12.shader_sampled_image_array_non_uniform_indexing == vk::TRUE;
+        info.mirror_clamp_to_edge = v12.sampler_mirror_clamp_to_edge == vk::TRUE;
         let omm = omm_listed && omm_features.micromap == vk::TRUE;
         if omm {
             info.max_micromap_levels = Some([

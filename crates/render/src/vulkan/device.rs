@@ -44,6 +44,8 @@ pub(crate) struct Core {
     pub(crate) buffer_addresses: bool,
     pub(crate) info: DeviceInfo,
     pub(crate) enabled: Features,
+    /// Whether the sampler lookup's features were enabled.
+    pub(crate) sampler_lookup: bool,
     // Destroyed after the device (fields drop after `drop`).
     _instance: Rc<Instance>,
 }
@@ -80,13 +82,15 @@ impl Device {
         // Each ray tracing extension needs acceleration structures.
         enabled.acceleration_structure |=
             enabled.ray_query || enabled.ray_tracing_pipeline || enabled.opacity_micromap;
-        Device::create(instance, &adapter, enabled)
+        let sampler_lookup = request.sampler_lookup && adapter.info.sampler_lookup;
+        Device::create(instance, &adapter, enabled, sampler_lookup)
     }
 
     fn create(
         instance: Rc<Instance>,
         adapter: &Adapter,
         enabled: Features,
+        sampler_lookup: bool,
     ) -> Result<Device, RenderError> {
         let (raw, physical) = (&instance.raw, adapter.physical);
         let name = adapter.info.label();
@@ -115,7 +119,14 @@ impl Device {
             .iter()
             .map(|n| n.as_ptr())
             .collect();
-        let mut v12 = vk::PhysicalDeviceVulkan12Features::default().buffer_device_address(true);
+        let mut v12 = vk::PhysicalDeviceVulkan12Features::default()
+            .buffer_device_address(enabled.acceleration_structure);
+        if sampler_lookup {
+            v12 = v12
+                .runtime_descriptor_array(true)
+                .shader_sampled_image_array_non_uniform_indexing(true)
+                .sampler_mirror_clamp_to_edge(adapter.info.mirror_clamp_to_edge);
+        }
         let mut accel_features = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default()
             .acceleration_structure(true);
         let mut query_features = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
@@ -126,8 +137,11 @@ impl Device {
         let mut info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
             .enabled_extension_names(&extensions);
+        if enabled.acceleration_structure || sampler_lookup {
+            info = info.push_next(&mut v12);
+        }
         if enabled.acceleration_structure {
-            info = info.push_next(&mut v12).push_next(&mut accel_features);
+            info = info.push_next(&mut accel_features);
         }
         if enabled.ray_query {
             info = info.push_next(&mut query_features);
@@ -176,6 +190,7 @@ impl Device {
             buffer_addresses: enabled.acceleration_structure,
             info: adapter.info.clone(),
             enabled,
+            sampler_lookup,
             _instance: instance,
         };
         let pool_info = vk::CommandPoolCreateInfo::default()
@@ -200,6 +215,13 @@ impl Device {
     #[must_use]
     pub fn enabled(&self) -> Features {
         self.core.enabled
+    }
+
+    /// Whether what the sampler lookup needs was enabled
+    /// ([`DeviceRequest::sampler_lookup`] on a device that has it).
+    #[must_use]
+    pub fn sampler_lookup_enabled(&self) -> bool {
+        self.core.sampler_lookup
     }
 
     /// Records commands with `record` into a fresh command buffer between

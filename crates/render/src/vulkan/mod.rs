@@ -10,6 +10,10 @@
 //! - `device.rs`: the logical device with its queue and command pool, and
 //!   submissions (each waited for);
 //! - `memory.rs`: buffers in host-visible, coherent memory;
+//! - `image.rs`: the sampler lookup's images (a texture's alphas as
+//!   `R8_UNORM`, uploaded once) and their views;
+//! - `sampler.rs`: the sampler lookup's samplers (filter, address modes,
+//!   border colour);
 //! - `micromap.rs`: opacity micromaps built by the driver
 //!   (`VK_EXT_opacity_micromap`) from a bake's buffers;
 //! - `accel.rs`: bottom- and top-level acceleration structures, a
@@ -35,19 +39,23 @@ mod accel;
 mod adapter;
 mod conv;
 mod device;
+mod image;
 mod instance;
 mod memory;
 mod micromap;
 mod pipeline;
+mod sampler;
 mod trace;
 
 pub use device::Device;
 pub use trace::ComputeKernel;
 
 pub(crate) use accel::{AccelerationStructure, BlasInstance, MicromapAttachment};
+pub(crate) use image::Image;
 pub(crate) use memory::Buffer;
 pub(crate) use micromap::Micromap;
 pub(crate) use pipeline::{Bindings, Pipeline, RayTracingStages};
+pub(crate) use sampler::{Sampler, SamplerKey};
 pub(crate) use trace::{Launch, Timing};
 
 use std::fmt;
@@ -187,6 +195,11 @@ pub struct DeviceRequest {
     pub required: Features,
     /// Features enabled where the device has them.
     pub optional: Features,
+    /// Whether to enable what the sampler lookup needs where the device
+    /// has it ([`DeviceInfo::sampler_lookup`]: `runtimeDescriptorArray`,
+    /// `shaderSampledImageArrayNonUniformIndexing`; and
+    /// `samplerMirrorClampToEdge` where [`DeviceInfo::mirror_clamp_to_edge`]).
+    pub sampler_lookup: bool,
 }
 
 /// What a physical device is: names and versions as its driver reports
@@ -220,6 +233,13 @@ pub struct DeviceInfo {
     /// `maxOpacity4StateSubdivisionLevel`, where it has
     /// `VK_EXT_opacity_micromap`.
     pub max_micromap_levels: Option<[u32; 2]>,
+    /// Whether it has what the sampler lookup's array of combined image
+    /// samplers, indexed per mesh, needs (Vulkan 1.2's
+    /// `runtimeDescriptorArray` and
+    /// `shaderSampledImageArrayNonUniformIndexing`).
+    pub sampler_lookup: bool,
+    /// Whether it has `samplerMirrorClampToEdge` (Vulkan 1.2).
+    pub mirror_clamp_to_edge: bool,
 }
 
 impl DeviceInfo {

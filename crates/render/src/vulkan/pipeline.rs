@@ -13,12 +13,15 @@ use std::rc::Rc;
 
 /// The descriptor set of a pipeline: with `acceleration_structure`, the
 /// top-level structure at binding 0 and `storage` storage buffers at
-/// bindings `1..=storage`; without, the buffers at `0..storage`. And the
+/// bindings `1..=storage`; without, the buffers at `0..storage`; then,
+/// where `textures > 0`, an array of `textures` combined image samplers at
+/// the next binding (the sampler lookup's, binding 12). And the
 /// push-constant bytes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Bindings {
     pub(crate) acceleration_structure: bool,
     pub(crate) storage: u32,
+    pub(crate) textures: u32,
     pub(crate) push_bytes: u32,
 }
 
@@ -26,6 +29,11 @@ impl Bindings {
     /// The binding of storage buffer `i`.
     pub(crate) fn storage_binding(self, i: u32) -> u32 {
         i + u32::from(self.acceleration_structure)
+    }
+
+    /// The binding of the combined image samplers (after the buffers).
+    pub(crate) fn texture_binding(self) -> u32 {
+        self.storage_binding(self.storage)
     }
 }
 
@@ -110,6 +118,15 @@ impl Device {
                 .descriptor_count(1)
                 .stage_flags(stages)
         }));
+        if bindings.textures > 0 {
+            layout_bindings.push(
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(bindings.texture_binding())
+                    .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                    .descriptor_count(bindings.textures)
+                    .stage_flags(stages),
+            );
+        }
         let set_info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings);
         // SAFETY: the bindings outlive the call.
         made.set_layout = unsafe { d.create_descriptor_set_layout(&set_info, None) }

@@ -56,23 +56,29 @@ fn process_cpu_seconds() -> Option<f64> {
 
 impl Device {
     /// Runs `pipeline` once with `tlas` at binding 0 (where its bindings
-    /// have one) and `storage` at the storage bindings, `push` as the push
-    /// constants; returns after the device finished, with the time the
-    /// submission took.
+    /// have one), `storage` at the storage bindings and `textures` (image
+    /// views in `SHADER_READ_ONLY_OPTIMAL` layout, each with its sampler)
+    /// as its combined image samplers, `push` as the push constants;
+    /// returns after the device finished, with the time the submission
+    /// took.
     pub(crate) fn run(
         &self,
         pipeline: &Pipeline,
         tlas: Option<&AccelerationStructure>,
-        storage: &[&Buffer],
+        (storage, textures): (&[&Buffer], &[(vk::ImageView, vk::Sampler)]),
         push: &[u8],
         launch: Launch,
     ) -> Result<Timing, RenderError> {
         let d = &self.core.raw;
         let bindings = pipeline.bindings;
         assert_eq!(
-            (storage.len(), tlas.is_some()),
-            (bindings.storage as usize, bindings.acceleration_structure),
-            "one buffer per storage binding, a structure where one is bound"
+            (storage.len(), tlas.is_some(), textures.len()),
+            (
+                bindings.storage as usize,
+                bindings.acceleration_structure,
+                bindings.textures as usize
+            ),
+            "one buffer per storage binding, a structure where one is bound, one image per texture"
         );
         let mut sizes = vec![vk::DescriptorPoolSize::default()
             .ty(vk::DescriptorType::STORAGE_BUFFER)
@@ -82,6 +88,13 @@ impl Device {
                 vk::DescriptorPoolSize::default()
                     .ty(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)
                     .descriptor_count(1),
+            );
+        }
+        if bindings.textures > 0 {
+            sizes.push(
+                vk::DescriptorPoolSize::default()
+                    .ty(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                    .descriptor_count(bindings.textures),
             );
         }
         let pool_info = vk::DescriptorPoolCreateInfo::default()
@@ -147,8 +160,27 @@ impl Device {
                         .buffer_info(info),
                 );
             }
-            // SAFETY: the writes name live buffers and structures of this
-            // device; `infos` and `structures` outlive the call.
+            let images: Vec<vk::DescriptorImageInfo> = textures
+                .iter()
+                .map(|&(view, sampler)| {
+                    vk::DescriptorImageInfo::default()
+                        .image_view(view)
+                        .sampler(sampler)
+                        .image_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)
+                })
+                .collect();
+            if !images.is_empty() {
+                writes.push(
+                    vk::WriteDescriptorSet::default()
+                        .dst_set(set)
+                        .dst_binding(bindings.texture_binding())
+                        .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                        .image_info(&images),
+                );
+            }
+            // SAFETY: the writes name live buffers, structures, views and
+            // samplers of this device; `infos`, `structures` and `images`
+            // outlive the call.
             unsafe { d.update_descriptor_sets(&writes, &[]) };
             let point = if pipeline.table.is_some() {
                 vk::PipelineBindPoint::RAY_TRACING_KHR
@@ -245,6 +277,7 @@ impl Device {
             Bindings {
                 acceleration_structure: false,
                 storage,
+                textures: 0,
                 push_bytes,
             },
         )?;
@@ -279,7 +312,7 @@ impl Device {
         self.run(
             &kernel.pipeline,
             None,
-            &storage,
+            (&storage, &[]),
             push,
             Launch::Groups(groups),
         )?;
