@@ -99,7 +99,7 @@ impl Oracle {
     /// Is the (wrapped) texel, or the border (`None`), opaque?
     /// Whether a texel (or the border) may pass, may fail, as the baker's
     /// alpha test has it: exactly, but under linear filtering a value
-    /// within the filter's error (`2^-16`, generously `2^-15` here) of the
+    /// within `2^-15` of the
     /// cutoff may do both.
     fn texel_may_at(&self, texel: Option<(u32, u32)>) -> (bool, bool) {
         let alpha = match texel {

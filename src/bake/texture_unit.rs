@@ -80,6 +80,7 @@ named_enum!(
 /// assert_eq!(unit.interpolation, Interpolation::F32);
 /// assert_eq!(unit.linear, LinearRule::Value);
 /// assert_eq!(unit.snap_radius(), 1.0 / 256.0);
+/// assert_eq!(unit.filter_error, 1.0 / 128.0);
 /// assert!(unit.with_subtexel_bits(3).check().is_err());
 /// ```
 #[derive(Clone, Copy, Debug)]
@@ -92,8 +93,9 @@ pub struct TextureUnit {
     pub interpolation: Interpolation,
     /// The largest difference between a linear filter's result and the
     /// exact bilinear mix of its (converted) texels, in alpha units
-    /// (default `2^-16`: a 16-bit fixed-point or binary32 filter). A
-    /// finite value in `[0, 1]`.
+    /// (default `2^-7`: twice an 8-bit result's unit, since a texture unit
+    /// may filter an 8-bit texture to an 8-bit result, as Mesa's lavapipe
+    /// does, `docs/render.md`). A finite value in `[0, 1]`.
     pub filter_error: f32,
     /// How a linear filter is judged (default by value).
     pub linear: LinearRule,
@@ -117,7 +119,7 @@ impl Default for TextureUnit {
         TextureUnit {
             subtexel_bits: 8,
             interpolation: Interpolation::F32,
-            filter_error: 1.0 / 65536.0,
+            filter_error: 1.0 / 128.0,
             linear: LinearRule::Value,
         }
     }

@@ -355,7 +355,7 @@ typedef struct mmi_bake_options {
     /** MMI_LINEAR_VALUE (the default, 0) or MMI_LINEAR_FOOTPRINT. */
     uint32_t linear_rule;
     /** The largest error of a linear filter's result, in alpha units,
-     * (0, 1]; 0 means 2^-16 (the default). */
+     * (0, 1]; 0 means 2^-7 (the default). */
     float filter_error;
 } mmi_bake_options;
 
@@ -408,7 +408,7 @@ typedef struct mmi_bake_result mmi_bake_result;
  * no byte budget, the library's block budget, the GPU binary32 model,
  * special indices mixed with records, max_bytes MMI_DEFAULT_MAX_BYTES,
  * the default texture unit written out (subtexel_bits 8, binary32
- * interpolation, linear filtering by value, filter_error 2^-16)
+ * interpolation, linear filtering by value, filter_error 2^-7)
  * (micromap-index bake's defaults). */
 mmi_result mmi_bake_options_default(mmi_bake_options *options);
 

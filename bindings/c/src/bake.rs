@@ -68,7 +68,7 @@ pub struct mmi_bake_options {
     /// `MMI_LINEAR_VALUE` (the default, 0) or `MMI_LINEAR_FOOTPRINT`.
     pub linear_rule: u32,
     /// The largest error of a linear filter's result, in alpha units,
-    /// `(0, 1]`; 0 means `2^-16` (the default).
+    /// `(0, 1]`; 0 means `2^-7` (the default).
     pub filter_error: f32,
 }
 

@@ -353,7 +353,7 @@ static void bake_and_verify(void) {
         mmi_bake_options judge;
         EXPECT(mmi_bake_options_default(&judge), MMI_OK);
         CHECK(judge.subtexel_bits == 8 && judge.interpolation == MMI_INTERPOLATION_F32 &&
-              judge.linear_rule == MMI_LINEAR_VALUE && judge.filter_error == 1.0f / 65536.0f);
+              judge.linear_rule == MMI_LINEAR_VALUE && judge.filter_error == 1.0f / 128.0f);
         EXPECT(mmi_verify_with_options(&mesh, &view, &judge, &report, witnesses, 1), MMI_OK);
         CHECK(report.contradictions >= 1 && witnesses[0].texel_x >= 3);
         judge.subtexel_bits = 3;

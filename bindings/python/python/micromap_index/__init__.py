@@ -220,7 +220,7 @@ def bake(
     model: str = "gpu-binary32",
     subtexel_bits: int = 8,
     interpolation: str = "f32",
-    filter_error: float = 2.0**-16,
+    filter_error: float = 2.0**-7,
     linear: str = "value",
     budget: Optional[int] = None,
     index_width: int = 32,
@@ -252,7 +252,7 @@ def bake(
     assigns to a micro-triangle) or ``"exact"``; ``subtexel_bits``
     (``--subtexel-bits``, 4..=16, default 8), ``interpolation``
     (``--interpolation``, ``"f32"`` or ``"f16"``), ``filter_error``
-    (``--filter-error``, default ``2**-16``) and ``linear`` (``--linear``,
+    (``--filter-error``, default ``2**-7``) and ``linear`` (``--linear``,
     ``"value"`` or ``"footprint"``): the texture unit ``gpu-binary32`` holds
     for (sub-texel snapping to ``2**-k`` texels, the shader's interpolation
     precision, the linear filter's arithmetic error, and whether a linear
@@ -316,7 +316,7 @@ def bake_gltf(
     model: str = "gpu-binary32",
     subtexel_bits: int = 8,
     interpolation: str = "f32",
-    filter_error: float = 2.0**-16,
+    filter_error: float = 2.0**-7,
     linear: str = "value",
     budget: Optional[int] = None,
     index_width: int = 32,
@@ -435,7 +435,7 @@ def verify(
     model: str = "gpu-binary32",
     subtexel_bits: int = 8,
     interpolation: str = "f32",
-    filter_error: float = 2.0**-16,
+    filter_error: float = 2.0**-7,
     linear: str = "value",
     max_report: int = 20,
     max_checks: Optional[int] = None,

@@ -87,7 +87,7 @@ pub(crate) const TEXTURE_UNIT: [Flag; 4] = [
     Flag::value(
         "--filter-error",
         "E",
-        "the largest error of a linear filter's result, in alpha units (default 2^-16)",
+        "the largest error of a linear filter's result, in alpha units (default 2^-7)",
     ),
     Flag::value(
         "--linear",
