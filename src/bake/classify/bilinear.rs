@@ -44,10 +44,6 @@ use crate::num::wide::GridInt;
 /// units of the largest texel value (at least 1): see the module docs.
 const VALUE_SLACK: f64 = 1.0 / (1u64 << 36) as f64;
 
-/// Cells whose values [`TexelClasses::region_value`] keeps between its
-/// quick bound and its exact extremes.
-const CELL_CACHE: usize = 16;
-
 /// `2^k` as `f64`, for `-1022 <= k <= 1023`.
 fn exp2(k: i32) -> f64 {
     f64::from_bits(((1023 + k) as u64) << 52)
@@ -255,12 +251,18 @@ fn candidates(piece: &Polygon, v: [f64; 4], mut visit: impl FnMut(f64, f64)) {
     }
 }
 
+/// Where a value was taken: the cell's centre offset `(ci, cj)` (from the
+/// region's first texel) and the weights `(a, b)`.
+type Where = (f64, f64, f64, f64);
+
 /// Running extremes and where they are.
 struct Running {
     min: f64,
     max: f64,
-    argmin: (f64, f64),
-    argmax: (f64, f64),
+    /// Where the extremes are, as given to [`add`](Self::add) (turned
+    /// into points only for the one reported: most regions report none).
+    argmin: Where,
+    argmax: Where,
     largest: f64,
     nan: bool,
 }
@@ -270,15 +272,15 @@ impl Running {
         Running {
             min: f64::INFINITY,
             max: f64::NEG_INFINITY,
-            argmin: (0.0, 0.0),
-            argmax: (0.0, 0.0),
+            argmin: Where::default(),
+            argmax: Where::default(),
             largest: 1.0,
             nan: false,
         }
     }
 
     #[inline]
-    fn add(&mut self, value: f64, at: (f64, f64)) {
+    fn add(&mut self, value: f64, at: Where) {
         if value.is_nan() {
             self.nan = true;
         } else {
@@ -339,7 +341,7 @@ impl TexelClasses {
         }
         running.add(
             bilinear(v, a.clamp(0.0, 1.0), b.clamp(0.0, 1.0)),
-            (0.0, 0.0),
+            Where::default(),
         );
         running.bits(self)
     }
@@ -373,7 +375,7 @@ impl TexelClasses {
             y0 = y0.min(py - my);
             y1 = y1.max(py + my);
         }
-        let at = |ci: f64, cj: f64, a: f64, b: f64| {
+        let at = |(ci, cj, a, b): Where| {
             (
                 to_f64(ox) + ci + a.clamp(0.0, 1.0),
                 to_f64(oy) + cj + b.clamp(0.0, 1.0),
@@ -381,10 +383,6 @@ impl TexelClasses {
         };
         let cells_x = floor(x0 - 0.5)..=floor(x1 - 0.5);
         let cells_y = floor(y0 - 0.5)..=floor(y1 - 0.5);
-        // The cells' values, kept for step 3 (a small block has few cells;
-        // past the cache's size they are read again).
-        let mut cache = [[0.0f64; 4]; CELL_CACHE];
-        let mut cached = 0usize;
         let mut cells = 0u32;
         // 2. The quick bound: the bounding box's part in each cell, at its
         //    corners.
@@ -393,10 +391,6 @@ impl TexelClasses {
             for i in cells_x.clone() {
                 let (ci, cj) = (to_f64(i) + 0.5, to_f64(j) + 0.5);
                 let v = self.cell_values(ox + i, oy + j);
-                if cached < CELL_CACHE {
-                    cache[cached] = v;
-                    cached += 1;
-                }
                 cells += 1;
                 for value in v {
                     quick.largest = quick.largest.max(value.abs());
@@ -404,7 +398,7 @@ impl TexelClasses {
                 let (a0, a1) = ((x0 - ci).clamp(0.0, 1.0), (x1 - ci).clamp(0.0, 1.0));
                 let (b0, b1) = ((y0 - cj).clamp(0.0, 1.0), (y1 - cj).clamp(0.0, 1.0));
                 for (a, b) in [(a0, b0), (a1, b0), (a0, b1), (a1, b1)] {
-                    quick.add(bilinear(v, a, b), at(ci, cj, a, b));
+                    quick.add(bilinear(v, a, b), (ci, cj, a, b));
                 }
             }
         }
@@ -412,21 +406,38 @@ impl TexelClasses {
         if bits != 3 {
             return RegionValue {
                 bits,
-                argmin: quick.argmin,
-                argmax: quick.argmax,
+                argmin: at(quick.argmin),
+                argmax: at(quick.argmax),
                 cells,
             };
         }
-        // 3. The exact extremes: the region clipped to each cell.
+        // 3. The exact extremes, per cell and only where they can tell:
+        //    a cell whose quick range cannot fail (pass) is not searched
+        //    for a failing (passing) point, and the search stops once the
+        //    region is known to do both. The class bits are those of the
+        //    region's exact extremes (the test is monotone in the value, so
+        //    the region may pass iff some cell's part may); the points are a
+        //    lowest point of a part that may fail and a highest point of one
+        //    that may pass.
         let region = dilated(vertices, (mx, my));
-        let mut exact = Running::new();
-        exact.largest = quick.largest;
-        let mut visited = 0usize;
-        for j in cells_y {
+        let (mut bits, mut argmin, mut argmax) = (0u8, (0.0, 0.0), (0.0, 0.0));
+        'cells: for j in cells_y {
             for i in cells_x.clone() {
                 let (ci, cj) = (to_f64(i) + 0.5, to_f64(j) + 0.5);
-                let slot = visited;
-                visited += 1;
+                // The cell's quick range again (step 2's, read anew: few
+                // regions get here).
+                let v = self.cell_values(ox + i, oy + j);
+                let (a0, a1) = ((x0 - ci).clamp(0.0, 1.0), (x1 - ci).clamp(0.0, 1.0));
+                let (b0, b1) = ((y0 - cj).clamp(0.0, 1.0), (y1 - cj).clamp(0.0, 1.0));
+                let mut range = Running::new();
+                range.largest = quick.largest;
+                for (a, b) in [(a0, b0), (a1, b0), (a0, b1), (a1, b1)] {
+                    range.add(bilinear(v, a, b), (ci, cj, a, b));
+                }
+                let need = range.bits(self) & !bits;
+                if need == 0 {
+                    continue;
+                }
                 let mut piece = region;
                 for q in &mut piece.points[..piece.len] {
                     *q = (q.0 - ci, q.1 - cj);
@@ -449,21 +460,29 @@ impl TexelClasses {
                     continue;
                 }
                 cells += 1;
-                let v = if slot < cached {
-                    cache[slot]
-                } else {
-                    self.cell_values(ox + i, oy + j)
-                };
+                let mut exact = Running::new();
+                exact.largest = quick.largest;
                 candidates(&piece, v, |a, b| {
                     let value = bilinear(v, a.clamp(0.0, 1.0), b.clamp(0.0, 1.0));
-                    exact.add(value, at(ci, cj, a, b));
+                    exact.add(value, (ci, cj, a, b));
                 });
+                let found = exact.bits(self) & need;
+                if found & 2 != 0 {
+                    argmin = at(exact.argmin);
+                }
+                if found & 1 != 0 {
+                    argmax = at(exact.argmax);
+                }
+                bits |= found;
+                if bits == 3 {
+                    break 'cells;
+                }
             }
         }
         RegionValue {
-            bits: exact.bits(self),
-            argmin: exact.argmin,
-            argmax: exact.argmax,
+            bits,
+            argmin,
+            argmax,
             cells,
         }
     }
