@@ -104,7 +104,7 @@ pub(crate) use named_enum;
 
 /// Checks that `expected` names every one of `names` (and so that the
 /// hand-written prose of [`named_enum!`] stays true).
-#[cfg(test)]
+#[cfg(all(test, feature = "alloc"))]
 pub(crate) fn lists_every_name(expected: &str, names: &[&str]) -> bool {
     names.iter().all(|name| {
         expected

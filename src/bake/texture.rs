@@ -107,7 +107,7 @@ pub enum TextureError {
     /// Width or height is zero.
     Empty,
     /// `texels.len()` is not `width * height`, or an
-    /// [`AlphaTexture::extend_opaque_row`] gave `got` bytes for a row of
+    /// [`AlphaTexture::extend_gpu_alpha_row`] gave `got` values for a row of
     /// `expected` texels.
     WrongLength {
         /// `width * height`.

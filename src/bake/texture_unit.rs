@@ -71,7 +71,9 @@ named_enum!(
     [(Value, "value"), (Footprint, "footprint")]
 );
 
-/// The texture unit a bake holds for (see the [module docs](self)).
+/// The texture unit a bake holds for: its parameters, each one a conforming
+/// Vulkan or Direct3D implementation may choose (`docs/bake.md`, "The
+/// texture unit", gives each with its source and the bounds derived).
 ///
 /// ```
 /// use micromap_index::bake::{Interpolation, LinearRule, TextureUnit};

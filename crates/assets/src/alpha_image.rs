@@ -60,7 +60,7 @@ impl AlphaTexels {
 }
 
 /// One channel of a decoded image: the alpha channel if it has one,
-/// otherwise its grey value (see [`decode_alpha_image`]).
+/// otherwise its grey value (see [`decode_alpha_image`](crate::decode_alpha_image)).
 #[derive(Clone, Debug, PartialEq)]
 pub struct AlphaImage {
     /// Width in pixels (at least 1).

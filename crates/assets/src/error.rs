@@ -34,7 +34,7 @@ pub enum AssetError {
         /// What is not supported.
         message: String,
     },
-    /// A size is over a [`Limits`] bound.
+    /// A size is over a [`Limits`](crate::Limits) bound.
     LimitExceeded {
         /// What was measured ("image of 9000 x 9000 pixels", ...).
         what: String,

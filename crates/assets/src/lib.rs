@@ -3,7 +3,7 @@
 //! 2.0 scenes (`.gltf` with external or `data:` buffers, or `.glb`),
 //! returning the types of [`micromap_index::bake`]: textures it views
 //! without conversion ([`AlphaImage::texture`]),
-//! [`Sampler`](micromap_index::bake::Sampler)s and [`Cutoff`]s.
+//! [`Sampler`](micromap_index::bake::Sampler)s and [`Cutoff`](micromap_index::bake::Cutoff)s.
 //!
 //! Every reader takes untrusted bytes: it never panics, and it bounds every
 //! allocation by [`Limits`] or by the length of its input (the fuzz targets

@@ -117,7 +117,7 @@ pub struct GltfImageInfo {
     pub alpha: crate::AlphaSource,
 }
 
-/// What [`read_gltf_file`] and [`read_gltf_bytes`] read from a glTF.
+/// What [`read_gltf_file`](crate::read_gltf_file) and [`read_gltf_bytes`](crate::read_gltf_bytes) read from a glTF.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct GltfAsset {
     /// Every alpha-tested triangle primitive, in the order of `meshes` and
