@@ -381,6 +381,15 @@ impl TexelClasses {
                 to_f64(oy) + cj + b.clamp(0.0, 1.0),
             )
         };
+        // The bounding box's part in the cell centred at `(ci, cj)` (cell
+        // coordinates), at its corners: on a box a bilinear function's
+        // extremes are at its corners. Steps 2 and 3 both read it.
+        let box_corners = |v: [f64; 4], ci: f64, cj: f64| {
+            let (a0, a1) = ((x0 - ci).clamp(0.0, 1.0), (x1 - ci).clamp(0.0, 1.0));
+            let (b0, b1) = ((y0 - cj).clamp(0.0, 1.0), (y1 - cj).clamp(0.0, 1.0));
+            [(a0, b0), (a1, b0), (a0, b1), (a1, b1)]
+                .map(|(a, b)| (bilinear(v, a, b), (ci, cj, a, b)))
+        };
         let cells_x = floor(x0 - 0.5)..=floor(x1 - 0.5);
         let cells_y = floor(y0 - 0.5)..=floor(y1 - 0.5);
         let mut cells = 0u32;
@@ -395,10 +404,8 @@ impl TexelClasses {
                 for value in v {
                     quick.largest = quick.largest.max(value.abs());
                 }
-                let (a0, a1) = ((x0 - ci).clamp(0.0, 1.0), (x1 - ci).clamp(0.0, 1.0));
-                let (b0, b1) = ((y0 - cj).clamp(0.0, 1.0), (y1 - cj).clamp(0.0, 1.0));
-                for (a, b) in [(a0, b0), (a1, b0), (a0, b1), (a1, b1)] {
-                    quick.add(bilinear(v, a, b), (ci, cj, a, b));
+                for (value, at) in box_corners(v, ci, cj) {
+                    quick.add(value, at);
                 }
             }
         }
@@ -427,12 +434,10 @@ impl TexelClasses {
                 // The cell's quick range again (step 2's, read anew: few
                 // regions get here).
                 let v = self.cell_values(ox + i, oy + j);
-                let (a0, a1) = ((x0 - ci).clamp(0.0, 1.0), (x1 - ci).clamp(0.0, 1.0));
-                let (b0, b1) = ((y0 - cj).clamp(0.0, 1.0), (y1 - cj).clamp(0.0, 1.0));
                 let mut range = Running::new();
                 range.largest = quick.largest;
-                for (a, b) in [(a0, b0), (a1, b0), (a0, b1), (a1, b1)] {
-                    range.add(bilinear(v, a, b), (ci, cj, a, b));
+                for (value, at) in box_corners(v, ci, cj) {
+                    range.add(value, at);
                 }
                 let need = range.bits(self) & !bits;
                 if need == 0 {
