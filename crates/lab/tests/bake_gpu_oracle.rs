@@ -51,6 +51,39 @@ fn next(x: f32, up: bool) -> f32 {
     f32::from_bits(if (x > 0.0) == up { bits + 1 } else { bits - 1 })
 }
 
+/// A generated bake's triangle: corners on texel or half-texel lines of a
+/// `w x h` texture, a period `offsets` picks away (far away or near 0), as
+/// binary32; by `case`, an axis-aligned right triangle, a needle, or as
+/// drawn.
+fn adversarial_uv(
+    rng: &mut SplitMix64,
+    (w, h): (u32, u32),
+    offsets: &[f64],
+    case: u64,
+) -> UvTriangle {
+    let offset = rng.pick(offsets);
+    let mut corner = |size: u32| -> f32 {
+        let k = rng.below(4 * u64::from(size) + 1) as f64;
+        let step = if rng.below(2) == 0 { 1.0 } else { 0.5 };
+        (offset + (k * step) / f64::from(size) - 0.5) as f32
+    };
+    let mut uv: UvTriangle = [[0.0; 2]; 3];
+    for c in &mut uv {
+        *c = [corner(w), corner(h)];
+    }
+    match case % 4 {
+        // Axis-aligned right triangle.
+        0 => {
+            uv[1][1] = uv[0][1];
+            uv[2][0] = uv[0][0];
+        }
+        // A needle.
+        1 => uv[2] = [uv[1][0], uv[1][1] + 1.0 / (8.0 * h as f32)],
+        _ => {}
+    }
+    uv
+}
+
 /// The texels and sampler as the oracle reads them.
 struct Scene<'a> {
     texture: &'a dyn AlphaTexture,
@@ -361,28 +394,12 @@ fn generated_bakes_hold_for_every_gpu_hit() {
             sampler,
             cutoff,
         };
-        // Corners on texel or half-texel lines of a period far away or
-        // near 0, as binary32.
-        let offset = rng.pick(&[0.0f64, 0.0, 1.0, -3.0, 1000.0, -1000.0, 65536.0]);
-        let mut corner = |size: u32| -> f32 {
-            let k = rng.below(4 * u64::from(size) + 1) as f64;
-            let step = if rng.below(2) == 0 { 1.0 } else { 0.5 };
-            (offset + (k * step) / f64::from(size) - 0.5) as f32
-        };
-        let mut uv: UvTriangle = [[0.0; 2]; 3];
-        for c in &mut uv {
-            *c = [corner(w), corner(h)];
-        }
-        match case % 4 {
-            // Axis-aligned right triangle.
-            0 => {
-                uv[1][1] = uv[0][1];
-                uv[2][0] = uv[0][0];
-            }
-            // A needle.
-            1 => uv[2] = [uv[1][0], uv[1][1] + 1.0 / (8.0 * h as f32)],
-            _ => {}
-        }
+        let uv = adversarial_uv(
+            &mut rng,
+            (w, h),
+            &[0.0, 0.0, 1.0, -3.0, 1000.0, -1000.0, 65536.0],
+            case,
+        );
         let level = (case % 6) as u32;
         for model in Model::ALL {
             let baked = bake(&scene, model, &uv, level);
@@ -850,24 +867,12 @@ fn generated_linear_values_hold_under_the_texture_unit() {
             subtexel_bits: 8,
             filter_error,
         };
-        let offset = rng.pick(&[0.0f64, 0.0, 0.0, 1.0, -3.0, 1000.0, 65536.0]);
-        let mut corner = |size: u32| -> f32 {
-            let k = rng.below(4 * u64::from(size) + 1) as f64;
-            let step = if rng.below(2) == 0 { 1.0 } else { 0.5 };
-            (offset + (k * step) / f64::from(size) - 0.5) as f32
-        };
-        let mut uv: UvTriangle = [[0.0; 2]; 3];
-        for corner_uv in &mut uv {
-            *corner_uv = [corner(w), corner(h)];
-        }
-        match case % 4 {
-            0 => {
-                uv[1][1] = uv[0][1];
-                uv[2][0] = uv[0][0];
-            }
-            1 => uv[2] = [uv[1][0], uv[1][1] + 1.0 / (8.0 * h as f32)],
-            _ => {}
-        }
+        let uv = adversarial_uv(
+            &mut rng,
+            (w, h),
+            &[0.0, 0.0, 0.0, 1.0, -3.0, 1000.0, 65536.0],
+            case,
+        );
         let level = (case % 6) as u32;
         tiers.run(&texture, &scene, &uv, level, &|| {
             format!("case {case}: {uv:?} level {level} {sampler:?} {cutoff:?} {w}x{h} {codes:?}")
