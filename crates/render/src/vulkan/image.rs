@@ -6,6 +6,7 @@
 
 use super::conv::failed;
 use super::device::{Core, Device};
+use super::memory::memory_type;
 use crate::error::RenderError;
 use ash::vk;
 use std::rc::Rc;
@@ -78,24 +79,17 @@ impl Device {
         };
         // SAFETY: the image was just created on this device.
         let needs = unsafe { d.get_image_memory_requirements(handle) };
-        let types = &core.memory.memory_types[..core.memory.memory_type_count as usize];
-        let accepts = |i: usize| needs.memory_type_bits & (1 << i) != 0;
         // Device-local where there is such a type, else any it accepts.
-        let index = (0..types.len())
-            .find(|&i| {
-                accepts(i)
-                    && types[i]
-                        .property_flags
-                        .contains(vk::MemoryPropertyFlags::DEVICE_LOCAL)
-            })
-            .or_else(|| (0..types.len()).find(|&i| accepts(i)))
+        let bits = needs.memory_type_bits;
+        let index = memory_type(&core.memory, bits, vk::MemoryPropertyFlags::DEVICE_LOCAL)
+            .or_else(|| memory_type(&core.memory, bits, vk::MemoryPropertyFlags::empty()))
             .ok_or(RenderError::Vulkan {
                 call: "vkAllocateMemory",
                 result: vk::Result::ERROR_OUT_OF_DEVICE_MEMORY,
             })?;
         let alloc = vk::MemoryAllocateInfo::default()
             .allocation_size(needs.size)
-            .memory_type_index(index as u32);
+            .memory_type_index(index);
         // SAFETY: a valid allocate info (on failure `image`'s drop
         // destroys the image).
         image.memory = unsafe { d.allocate_memory(&alloc, None) }.map_err(|result| {

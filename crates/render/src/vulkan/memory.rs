@@ -31,6 +31,19 @@ impl Drop for Buffer {
     }
 }
 
+/// The first memory type among `accepted` (a resource's
+/// `memory_type_bits`) whose properties include `flags`.
+pub(super) fn memory_type(
+    memory: &vk::PhysicalDeviceMemoryProperties,
+    accepted: u32,
+    flags: vk::MemoryPropertyFlags,
+) -> Option<u32> {
+    let types = &memory.memory_types[..memory.memory_type_count as usize];
+    (0..types.len())
+        .find(|&i| accepted & (1 << i) != 0 && types[i].property_flags.contains(flags))
+        .map(|i| i as u32)
+}
+
 impl Device {
     /// A zeroed buffer of at least `bytes` bytes (4 when 0: empty buffers
     /// are invalid) for `usage`.
@@ -63,19 +76,13 @@ impl Device {
         // SAFETY: the buffer was just created on this device.
         let needs = unsafe { d.get_buffer_memory_requirements(handle) };
         let wanted = vk::MemoryPropertyFlags::HOST_VISIBLE | vk::MemoryPropertyFlags::HOST_COHERENT;
-        let types = &core.memory.memory_types[..core.memory.memory_type_count as usize];
-        let index = types
-            .iter()
-            .enumerate()
-            .position(|(i, t)| {
-                needs.memory_type_bits & (1 << i) != 0 && t.property_flags.contains(wanted)
-            })
+        let index = memory_type(&core.memory, needs.memory_type_bits, wanted)
             .ok_or(RenderError::NoHostVisibleMemory)?;
         let mut flags =
             vk::MemoryAllocateFlagsInfo::default().flags(vk::MemoryAllocateFlags::DEVICE_ADDRESS);
         let mut alloc = vk::MemoryAllocateInfo::default()
             .allocation_size(needs.size)
-            .memory_type_index(index as u32);
+            .memory_type_index(index);
         if core.buffer_addresses {
             alloc = alloc.push_next(&mut flags);
         }
