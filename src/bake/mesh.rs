@@ -41,7 +41,7 @@ use super::mips::bake_bounded;
 use super::parallel::Runner;
 use super::triangle::{BakedTriangle, TriangleStatus, UvTriangle};
 use crate::micromap::BakedOpacity;
-use crate::micromap::{BufferError, MicromapBuffersBuilder, MicromapIndex};
+use crate::micromap::{MicromapBuffersBuilder, MicromapIndex};
 use crate::succinct::packed_tree_sizes;
 use alloc::vec;
 use alloc::vec::Vec;
@@ -132,7 +132,7 @@ pub fn bake_meshes(
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<MeshBake, MeshBakeError> {
     let triangles = resolve_all(meshes)?;
-    let (levels, period_level_zero) = levels_of(meshes, &triangles, options);
+    let (levels, period_level_zero) = levels_of(meshes, &triangles, options)?;
 
     let total: usize = triangles.iter().map(|t| t.len()).sum();
     // One pool for the whole bake: the texel tables, then the triangles.
@@ -188,7 +188,8 @@ pub fn bake_meshes(
             .filter(|i| matches!(i, MicromapIndex::Special(_)))
             .count();
     }
-    let records: Vec<u32> = (0..buffers.records().len() as u32).collect();
+    let mut records = input::room(buffers.records().len())?;
+    records.extend(0..buffers.records().len() as u32);
     let sizes = runner.map_in_order(&records, 64, |&record| {
         buffers
             .record_bytes(record)
@@ -315,10 +316,7 @@ fn bake_distinct(
             }
         };
     let mut builder = MicromapBuffersBuilder::new(options.buffers);
-    let mut distinct = Vec::new();
-    distinct
-        .try_reserve_exact(plan.work.len())
-        .map_err(|_| MeshBakeError::Buffers(BufferError::AllocationFailed))?;
+    let mut distinct = input::room(plan.work.len())?;
     let mut work_left = options.bake_work_budget;
     let mut start = 0;
     while start < plan.work.len() {

@@ -409,7 +409,8 @@ pub fn read_buffers(
     let records = read_records(input.records, options.record_stride)?;
     // Check every record and compute its block before decoding any.
     let max_level = options.max_level.min(Micromap::MAX_LEVEL);
-    let mut blocks = Vec::with_capacity(records.len());
+    let mut blocks = Vec::new();
+    reserve(&mut blocks, records.len())?;
     for (record, &r) in records.iter().enumerate() {
         let Some(format) = Format::from_raw(r.format) else {
             return Err(ReadError::InvalidFormat {
@@ -454,16 +455,7 @@ pub fn read_buffers(
         None => None,
     };
     let mut micromaps = Vec::new();
-    micromaps
-        .try_reserve_exact(blocks.len())
-        .map_err(|_| ReadError::Micromap {
-            record: 0,
-            error: MicromapError::AllocationFailed {
-                bytes: blocks
-                    .len()
-                    .saturating_mul(core::mem::size_of::<Micromap>()),
-            },
-        })?;
+    reserve(&mut micromaps, blocks.len())?;
     for (record, &(start, end, level, format)) in blocks.iter().enumerate() {
         let bytes = input.data.get(start..end).unwrap_or_default();
         let map = Micromap::from_bytes_ignoring_unused_bits(level, format, bytes)
@@ -481,6 +473,18 @@ pub fn read_buffers(
 type Block = (usize, usize, Level, Format);
 
 /// The records of `bytes` (a multiple of 8, fewer than `2^32 - 5`).
+/// Room for `count` more items, or the allocation failure (as record 0's:
+/// a list per record cannot be had).
+fn reserve<T>(list: &mut Vec<T>, count: usize) -> Result<(), ReadError> {
+    list.try_reserve_exact(count)
+        .map_err(|_| ReadError::Micromap {
+            record: 0,
+            error: MicromapError::AllocationFailed {
+                bytes: count.saturating_mul(core::mem::size_of::<T>()),
+            },
+        })
+}
+
 fn read_records(bytes: &[u8], stride: usize) -> Result<Vec<TriangleRecord>, ReadError> {
     if stride < TriangleRecord::SIZE || stride % 4 != 0 {
         return Err(ReadError::RecordStride { stride });

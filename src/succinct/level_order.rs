@@ -117,7 +117,7 @@ impl LevelOrderTree {
     /// Errors: as [`PaperTree::encode`].
     pub fn encode(level: Level, format: Format, states: &[State]) -> Result<Self, TreeError> {
         let deepest = check_flat(level, format, states)? as usize;
-        let pyramid = Pyramid::merge_uniform_quadrants(deepest as u32, states);
+        let pyramid = Pyramid::merge_uniform_quadrants(deepest as u32, states)?;
         let mut internal = BitVec::new();
         let mut data = PackedStates::new(format);
         let mut nodes = vec![0usize];
@@ -339,29 +339,31 @@ impl LevelOrderTree {
         }
     }
 
-    /// The flat micromap: `4^level` states in index order.
-    #[must_use]
-    pub fn decode(&self) -> Vec<State> {
+    /// Every leaf as a run `(first, count, state)` of equal states: the
+    /// micro-triangles `first..first + count` (a whole subtree, so `count`
+    /// is a power of four) all hold `state`. The runs tile `0..4^level`,
+    /// one depth after another (not in index order). The walk holds the
+    /// nodes of one depth, at most the tree's own leaf count, so a caller
+    /// fills memory of its own.
+    pub fn for_each_run(&self, mut run: impl FnMut(u64, u64, State)) {
         let deepest = self.level.get();
-        let mut out = vec![State::Transparent; micro_triangle_count(deepest) as usize];
         // Breadth-first: (position, index) of the nodes of one depth.
-        let mut nodes = vec![(0usize, 0usize)];
+        let mut nodes = vec![(0usize, 0u64)];
         for depth in 0..=deepest {
             let mut next = Vec::new();
             for &(p, index) in &nodes {
                 match self.node(p) {
                     Ok(first_child) => {
-                        next.extend((0..4).map(|c| (first_child + c, 4 * index + c)));
+                        next.extend((0..4).map(|c| (first_child + c as usize, 4 * index + c)));
                     }
                     Err(state) => {
                         let shift = 2 * (deepest - depth);
-                        out[index << shift..(index + 1) << shift].fill(state);
+                        run(index << shift, 1 << shift, state);
                     }
                 }
             }
             nodes = next;
         }
-        out
     }
 
     /// The state of micro-triangle `index`: from the root, one rank query

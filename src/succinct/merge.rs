@@ -5,6 +5,7 @@
 //! `n` are `4i..4i+3` at level `n + 1`, so "the four children of a node" is
 //! index arithmetic and no geometry is needed.
 
+use super::{room, TreeError};
 use crate::micromap::State;
 use alloc::vec;
 use alloc::vec::Vec;
@@ -28,25 +29,30 @@ impl Pyramid {
     /// Algorithm 1: for each level from the map's own up to the root, a node
     /// is a leaf with state `s` when its four children are leaves with state
     /// `s`, else internal. `states.len()` is `4^level` (checked by the
-    /// callers).
-    pub(crate) fn merge_uniform_quadrants(level: u32, states: &[State]) -> Pyramid {
+    /// callers). The pyramid's `4^level * 4/3` bytes are allocated
+    /// fallibly ([`TreeError::AllocationFailed`]).
+    pub(crate) fn merge_uniform_quadrants(
+        level: u32,
+        states: &[State],
+    ) -> Result<Pyramid, TreeError> {
         let mut depths = vec![Vec::new(); level as usize + 1];
-        depths[level as usize] = states.iter().map(|s| s.bits()).collect();
+        let mut flat = room(states.len() as u64)?;
+        flat.extend(states.iter().map(|s| s.bits()));
+        depths[level as usize] = flat;
         for depth in (0..level as usize).rev() {
-            let merged = depths[depth + 1]
-                .chunks_exact(4)
-                .map(|children| {
-                    let first = children[0];
-                    if first != MIXED && children.iter().all(|&c| c == first) {
-                        first
-                    } else {
-                        MIXED
-                    }
-                })
-                .collect();
+            let children = &depths[depth + 1];
+            let mut merged = room(children.len() as u64 / 4)?;
+            merged.extend(children.chunks_exact(4).map(|children| {
+                let first = children[0];
+                if first != MIXED && children.iter().all(|&c| c == first) {
+                    first
+                } else {
+                    MIXED
+                }
+            }));
             depths[depth] = merged;
         }
-        Pyramid { depths }
+        Ok(Pyramid { depths })
     }
 
     /// The node's state if it is a leaf of the merged tree's pyramid
@@ -71,10 +77,10 @@ mod tests {
             [Opaque; 4],
         ]
         .concat();
-        let pyramid = Pyramid::merge_uniform_quadrants(2, &states);
+        let pyramid = Pyramid::merge_uniform_quadrants(2, &states).unwrap();
         assert_eq!(pyramid.depths[1], [1, 0, MIXED, 1]);
         assert_eq!(pyramid.depths[0], [MIXED]);
-        let uniform = Pyramid::merge_uniform_quadrants(2, &[UnknownTransparent; 16]);
+        let uniform = Pyramid::merge_uniform_quadrants(2, &[UnknownTransparent; 16]).unwrap();
         assert_eq!(uniform.depths[0], [2]);
         assert_eq!(uniform.uniform(0, 0), Some(UnknownTransparent));
     }

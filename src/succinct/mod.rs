@@ -81,7 +81,7 @@
 //!
 //! let fast = LevelOrderTree::from_paper(&paper);
 //! assert_eq!(fast.get(2), Some(State::Transparent)); // one rank per level
-//! assert_eq!(fast.decode(), states);
+//! assert_eq!(fast.decode().unwrap(), states);
 //! let bytes = fast.to_bytes();
 //! assert_eq!(LevelOrderTree::from_bytes(&bytes).unwrap(), fast);
 //! ```
@@ -130,6 +130,12 @@ pub enum Section {
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub enum TreeError {
+    /// The memory for `bytes` bytes (a flat map's states or the merge
+    /// pyramid's codes, one byte each) cannot be had.
+    AllocationFailed {
+        /// The bytes asked for.
+        bytes: u64,
+    },
     /// The level is above [`MAX_TREE_LEVEL`].
     LevelTooHigh {
         /// The level given.
@@ -229,6 +235,9 @@ pub enum TreeError {
 impl fmt::Display for TreeError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
+            TreeError::AllocationFailed { bytes } => {
+                write!(f, "the memory for {bytes} bytes of states cannot be had")
+            }
             TreeError::LevelTooHigh { level, max } => {
                 write!(f, "level {level} is too high: trees take levels 0..={max}")
             }
@@ -343,6 +352,26 @@ fn digit(index: u64, level: u32, depth: u32) -> usize {
     ((index >> (2 * (level - 1 - depth))) & 3) as usize
 }
 
+/// An empty vector with room for exactly `4^level` states, allocated
+/// fallibly.
+fn states_of_level(level: u32) -> Result<Vec<State>, TreeError> {
+    room(micro_triangle_count(level))
+}
+
+/// An empty vector with room for exactly `len` one-byte items (states or
+/// their codes), allocated fallibly: a tree's flat map and its merge
+/// pyramid are sized by its level, up to 4 GiB at level 16.
+fn room<T>(len: u64) -> Result<Vec<T>, TreeError> {
+    let mut list = Vec::new();
+    usize::try_from(len)
+        .ok()
+        .and_then(|len| list.try_reserve_exact(len).ok())
+        .ok_or(TreeError::AllocationFailed {
+            bytes: len.saturating_mul(core::mem::size_of::<T>() as u64),
+        })?;
+    Ok(list)
+}
+
 /// `4^level` as the number of micro-triangles, for index checks.
 #[inline]
 fn micro_triangle_count(level: u32) -> u64 {
@@ -392,14 +421,37 @@ macro_rules! common_tree_methods {
             /// assert_eq!(tree.to_micromap().unwrap(), map);
             /// ```
             pub fn from_micromap(map: &Micromap) -> Result<Self, TreeError> {
-                let states: Vec<State> = map.states().collect();
+                let mut states = states_of_level(map.level().get())?;
+                states.extend(map.states());
                 Self::encode(map.level(), map.format(), &states)
             }
 
-            /// The packed micromap the tree encodes; an error only if the
-            /// memory for it cannot be had.
+            /// The packed micromap the tree encodes, filled run by run; an
+            /// error only if the memory for it cannot be had.
             pub fn to_micromap(&self) -> Result<Micromap, MicromapError> {
-                Micromap::from_states(self.level(), self.format(), self.decode())
+                let mut map = Micromap::new(self.level(), self.format())?;
+                let mut failed = None;
+                self.for_each_run(|first, count, state| {
+                    if let Err(e) = map.fill(first, count, state) {
+                        failed.get_or_insert(e);
+                    }
+                });
+                failed.map_or(Ok(map), Err)
+            }
+
+            /// The flat micromap: `4^level` states in index order, or
+            /// [`TreeError::AllocationFailed`] where the memory cannot be
+            /// had (a level-16 tree of 24 bytes decodes to 4 GiB).
+            pub fn decode(&self) -> Result<Vec<State>, TreeError> {
+                let mut out = states_of_level(self.level().get())?;
+                // The room was had, so the count fits `usize`.
+                let len = micro_triangle_count(self.level().get()) as usize;
+                out.resize(len, State::Transparent);
+                self.for_each_run(|first, count, state| {
+                    // The runs tile 0..4^level, which fits `out`.
+                    out[first as usize..(first + count) as usize].fill(state);
+                });
+                Ok(out)
             }
         }
     };

@@ -49,10 +49,12 @@ impl PaperTree {
     ///
     /// Errors: [`TreeError::LevelTooHigh`] above level 16,
     /// [`TreeError::StateCount`] unless there are `4^level` states,
-    /// [`TreeError::StateNotInFormat`] for an unknown state in a 2-state map.
+    /// [`TreeError::StateNotInFormat`] for an unknown state in a 2-state map,
+    /// [`TreeError::AllocationFailed`] where the merge pyramid (`4^level *
+    /// 4/3` bytes) cannot be had.
     pub fn encode(level: Level, format: Format, states: &[State]) -> Result<Self, TreeError> {
         let level = check_flat(level, format, states)?;
-        let pyramid = Pyramid::merge_uniform_quadrants(level, states);
+        let pyramid = Pyramid::merge_uniform_quadrants(level, states)?;
         let mut tree = BitVec::new();
         let mut data = PackedStates::new(format);
         // Algorithm 2 with an explicit stack of (depth, index).
@@ -187,12 +189,14 @@ impl PaperTree {
         }
     }
 
-    /// The flat micromap: `4^level` states in index order.
-    #[must_use]
-    pub fn decode(&self) -> Vec<State> {
-        let mut out = vec![State::Transparent; micro_triangle_count(self.level.get()) as usize];
+    /// Every leaf as a run `(first, count, state)` of equal states: the
+    /// micro-triangles `first..first + count` (a whole subtree, so `count`
+    /// is a power of four) all hold `state`. The runs tile `0..4^level`
+    /// and come in index order. Nothing is allocated beyond a stack of
+    /// `3 level + 1` entries, so a caller fills memory of its own.
+    pub fn for_each_run(&self, mut run: impl FnMut(u64, u64, State)) {
         // The same walk as Algorithm 2, reading instead of writing.
-        let mut stack = vec![(0u32, 0usize)];
+        let mut stack = vec![(0u32, 0u64)];
         let (mut t, mut d) = (0usize, 0usize);
         while let Some((depth, index)) = stack.pop() {
             let internal = self.tree.get(t);
@@ -205,10 +209,9 @@ impl PaperTree {
                 let state = self.data.get(d).unwrap_or(State::Transparent);
                 d += 1;
                 let shift = 2 * (self.level.get() - depth);
-                out[index << shift..(index + 1) << shift].fill(state);
+                run(index << shift, 1 << shift, state);
             }
         }
-        out
     }
 
     /// The state of micro-triangle `index` by Algorithm 3, kept literally:

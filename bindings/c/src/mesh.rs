@@ -13,10 +13,10 @@ use crate::ffi::{
 };
 use micromap_index::bake::mesh::{Material, Mesh, MeshBakeError, MeshTriangles};
 use micromap_index::bake::{
-    AddressMode, AlphaTexture, BakeError, Comparison, Cutoff, F32Texture, Filter, Model, Sampler,
-    Texel, TextureError, Unorm16Texture, Unorm8Texture, UvTriangle,
+    AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Model, Sampler, Texel,
+    Unorm16Texture, Unorm8Texture, UvTriangle,
 };
-use micromap_index::micromap::{Format, MicromapError};
+use micromap_index::micromap::Format;
 use std::borrow::Cow;
 
 /// An alpha texture in the caller's memory.
@@ -420,13 +420,7 @@ impl<'a> MeshInput<'a> {
 /// API's limits) `MMI_ERROR_BAKE`.
 pub(crate) fn mesh_error(e: &MeshBakeError) -> Error {
     let code = match e {
-        MeshBakeError::Texture {
-            error: TextureError::AllocationFailed { .. },
-            ..
-        }
-        | MeshBakeError::Bake(BakeError::Micromap(MicromapError::AllocationFailed { .. })) => {
-            MMI_ERROR_OUT_OF_MEMORY
-        }
+        e if e.is_allocation_failure() => MMI_ERROR_OUT_OF_MEMORY,
         MeshBakeError::Texture { .. } => MMI_ERROR_INVALID_ARGUMENT,
         _ => MMI_ERROR_BAKE,
     };

@@ -2,9 +2,9 @@
 
 use crate::constants::{MMI_TREE_LEVEL_ORDER, MMI_TREE_PAPER};
 use crate::ffi::{
-    copy_out, guard, mmi_result, null, slice, write, Error, Result, MMI_ERROR_BUFFER_TOO_SMALL,
-    MMI_ERROR_INVALID_ARGUMENT, MMI_ERROR_INVALID_ENUM, MMI_ERROR_INVALID_LEVEL,
-    MMI_ERROR_MALFORMED,
+    copy_out, guard, mmi_result, null, slice, slice_mut, write, Error, Result,
+    MMI_ERROR_BUFFER_TOO_SMALL, MMI_ERROR_INVALID_ARGUMENT, MMI_ERROR_INVALID_ENUM,
+    MMI_ERROR_INVALID_LEVEL, MMI_ERROR_MALFORMED,
 };
 use crate::mesh::format;
 use micromap_index::micromap::State;
@@ -42,6 +42,7 @@ pub struct mmi_tree_info {
 fn tree_error(e: &TreeError, code: mmi_result) -> Error {
     let code = match e {
         TreeError::LevelTooHigh { .. } => MMI_ERROR_INVALID_LEVEL,
+        TreeError::AllocationFailed { .. } => crate::ffi::MMI_ERROR_OUT_OF_MEMORY,
         _ => code,
     };
     Error::new(code, e.to_string())
@@ -67,7 +68,7 @@ unsafe fn give(tree: mmi_tree, out: *mut *mut mmi_tree) -> Result<()> {
     unsafe { write(out, raw, "tree") }
 }
 
-// `as_states` and `state_bytes` rest on this.
+// `as_states` rests on this.
 const _: () = assert!(size_of::<State>() == 1 && align_of::<State>() == 1);
 
 /// The caller's state bytes as states, in place: a copy would double the
@@ -84,13 +85,6 @@ fn as_states(bytes: &[u8]) -> Result<&[State]> {
     // byte is one of them (checked above); same size and alignment, and
     // the borrow keeps the bytes' lifetime.
     Ok(unsafe { core::slice::from_raw_parts(bytes.as_ptr().cast::<State>(), bytes.len()) })
-}
-
-/// States as their bytes (`MMI_STATE_*`), in place.
-fn state_bytes(states: &[State]) -> &[u8] {
-    // SAFETY: `State` is `#[repr(u8)]`: one initialised byte each, with
-    // `u8`'s alignment; the borrow keeps the states' lifetime.
-    unsafe { core::slice::from_raw_parts(states.as_ptr().cast::<u8>(), states.len()) }
 }
 
 /// Encodes a flat micromap of `level` (0..=16) given as `state_count ==
@@ -291,12 +285,21 @@ pub unsafe extern "C" fn mmi_tree_decode(
                 format!("the states need {count} bytes, the buffer holds {capacity}"),
             ));
         }
-        let decoded = match t {
-            mmi_tree::Paper(t) => t.decode(),
-            mmi_tree::LevelOrder(t) => t.decode(),
+        // Written run by run into the caller's buffer: no copy of 4^level
+        // states is made here (a level-16 tree of 24 bytes decodes to 4 GiB).
+        // SAFETY: the caller's promise about `states` (`capacity >= count`
+        // bytes, checked above).
+        let target = unsafe { slice_mut(states, count, "states") }?;
+        let mut fill = |first: u64, n: u64, state: State| {
+            // The runs tile 0..4^level = 0..count.
+            target[first as usize..(first + n) as usize].fill(state.bits());
         };
-        // SAFETY: the caller's promises about `states` and `len`.
-        unsafe { copy_out(state_bytes(&decoded), states, capacity, len, "the states") }
+        match t {
+            mmi_tree::Paper(t) => t.for_each_run(&mut fill),
+            mmi_tree::LevelOrder(t) => t.for_each_run(&mut fill),
+        }
+        // SAFETY: the caller's promise about `len`.
+        unsafe { write(len, count, "len") }
     })
 }
 

@@ -13,7 +13,7 @@ use micromap_index::bake::mesh::{
 };
 use micromap_index::bake::Sampler;
 use micromap_index_assets::{read_gltf_file, AssetError, Limits};
-use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::exceptions::{PyMemoryError, PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -37,6 +37,7 @@ fn bake_within(meshes: &[Mesh<'_>], c: &Common, info: &[MeshInfo]) -> PyResult<M
 
 fn bake_error(e: MeshBakeError, names: &[MeshInfo]) -> PyErr {
     match e {
+        e if e.is_allocation_failure() => PyMemoryError::new_err(e.to_string()),
         MeshBakeError::Texture { mesh, error } => value_error(format!(
             "{}: {error}",
             names.get(mesh).map_or("mesh", |m| m.name.as_str())

@@ -5,10 +5,10 @@ use crate::arrays::{dtype_name, has_dtype, readonly, type_name};
 use crate::fallible::try_vec;
 use crate::options::{self, value_error};
 use micromap_index::micromap::State;
-use micromap_index::succinct::{LevelOrderTree, PaperTree};
+use micromap_index::succinct::{LevelOrderTree, PaperTree, TreeError};
 use micromap_index::Level;
 use numpy::{PyArray1, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::exceptions::{PyMemoryError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
@@ -130,7 +130,10 @@ impl Tree {
                 )))
             }
         }
-        .map_err(value_error)?;
+        .map_err(|e| match e {
+            TreeError::AllocationFailed { .. } => PyMemoryError::new_err(e.to_string()),
+            e => value_error(e),
+        })?;
         Ok(Tree { tree })
     }
 
@@ -203,12 +206,20 @@ impl Tree {
     }
 
     /// Every state in curve order, as a uint8 array.
-    fn decode<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u8>> {
-        let states: Vec<u8> = each!(self, t => t.decode())
-            .into_iter()
-            .map(State::bits)
-            .collect();
-        PyArray1::from_vec(py, states)
+    /// A level-16 tree decodes to 4 GiB: the states are written run by
+    /// run into one buffer reserved fallibly (`MemoryError` where it
+    /// cannot be had), and handed to numpy without a copy.
+    fn decode<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<u8>>> {
+        let count = 1u64 << (2 * each!(self, t => t.level()).get());
+        let len = usize::try_from(count)
+            .map_err(|_| crate::fallible::memory_error("the states", usize::MAX, 1))?;
+        let mut states: Vec<u8> = try_vec(len, "the states")?;
+        states.resize(len, 0);
+        each!(self, t => t.for_each_run(|first, n, state| {
+            // The runs tile 0..4^level = 0..len.
+            states[first as usize..(first + n) as usize].fill(state.bits());
+        }));
+        Ok(PyArray1::from_vec(py, states))
     }
 
     /// The subdivision level.

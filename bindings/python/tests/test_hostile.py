@@ -153,3 +153,39 @@ def test_broadcast_inputs_bake_as_their_copies():
     want = mmi.bake(np.ascontiguousarray(alpha), np.ascontiguousarray(uvs), level=3)
     assert got.files() == want.files()
     assert mmi.verify(alpha, uvs, got).sound
+
+
+def test_a_tiny_level_16_tree_decodes_or_raises_memory_error():
+    # A tree whose root is a leaf is 26 bytes at any level; at level 16 it
+    # decodes to 4^16 states (4 GiB). Under a 2 GiB address-space limit the
+    # decode must raise MemoryError (it aborted the interpreter when the
+    # library decoded infallibly); the limit is set after numpy's import.
+    out = run_child("""
+    import resource
+    small = bytearray(mmi.Tree.encode(np.zeros(1, np.uint8), 0).to_bytes())
+    assert small[6] == 0   # the level byte (bytes.rs: magic, version, layout, level)
+    small[6] = 16
+    tree = mmi.Tree.from_bytes(bytes(small))
+    assert tree.level == 16
+    resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
+    try:
+        tree.decode()
+    except MemoryError as e:
+        print("raised", e)
+    else:
+        print("returned")
+    """)
+    assert out == "raised the states: cannot allocate 4294967296 bytes (4294967296 elements of 1 bytes)", out
+
+
+def test_decode_fills_every_run():
+    # The run-by-run decode against the encoder's input, both layouts.
+    rng = np.random.default_rng(37)
+    for level in range(0, 6):
+        states = rng.integers(0, 4, 4**level).astype(np.uint8)
+        states[: len(states) // 2] = 2  # a long run, so subtrees merge
+        for layout in ("paper", "level-order"):
+            tree = mmi.Tree.encode(states, level, layout=layout)
+            assert np.array_equal(tree.decode(), states), (level, layout)
+            back = mmi.Tree.from_bytes(tree.to_bytes())
+            assert np.array_equal(back.decode(), states), (level, layout)

@@ -8,7 +8,7 @@
 //! first-appearance order of the micromaps, and with it every output byte,
 //! is what baking each triangle in turn gives.
 
-use super::input::{check_vertex_alpha, Mesh, MeshBakeError, MeshOptions};
+use super::input::{check_vertex_alpha, make_room, room, Mesh, MeshBakeError, MeshOptions};
 use crate::bake::baker::Baker;
 use crate::bake::material::{vertex_range, FactorTexture, VertexBoundTexture};
 use crate::bake::mips::mip_bakers;
@@ -20,7 +20,6 @@ use crate::bake::triangle::{TriangleStatus, UvTriangle};
 use crate::micromap::TriangleEntry;
 use crate::Level;
 use alloc::collections::BTreeMap;
-use alloc::vec;
 use alloc::vec::Vec;
 
 /// One distinct triangle's bake, as the report and [`super::MeshBake`]
@@ -114,13 +113,14 @@ impl FirstSeen {
     }
 
     /// The index in `work` of the triangle equal to `w`, pushed first when
-    /// it is new.
-    fn id_of(&mut self, w: Work, work: &mut Vec<Work>) -> u32 {
+    /// it is new; `work` has room for it (no reallocation here), and the
+    /// table grows fallibly.
+    fn id_of(&mut self, w: Work, work: &mut Vec<Work>) -> Result<u32, MeshBakeError> {
         if 2 * (work.len() + 1) > self.slots.len() {
             let len = (2 * (work.len() + 1)).next_power_of_two().max(16);
-            *self = FirstSeen {
-                slots: vec![u32::MAX; len],
-            };
+            let mut slots = room(len)?;
+            slots.resize(len, u32::MAX);
+            *self = FirstSeen { slots };
             for (id, old) in work.iter().enumerate() {
                 // The keys in `work` are distinct: each finds an empty slot.
                 if let Err(s) = self.find(&Self::key(old), work) {
@@ -128,14 +128,14 @@ impl FirstSeen {
                 }
             }
         }
-        match self.find(&Self::key(&w), work) {
+        Ok(match self.find(&Self::key(&w), work) {
             Ok(id) => id,
             Err(s) => {
                 self.slots[s] = work.len() as u32;
                 work.push(w);
                 self.slots[s]
             }
-        }
+        })
     }
 }
 
@@ -174,7 +174,7 @@ impl Plan {
             mips: Vec::new(),
             bounds: Vec::new(),
             work: Vec::new(),
-            of_triangle: Vec::with_capacity(meshes.len()),
+            of_triangle: room(meshes.len())?,
         };
         // Candidates by key; equal keys are checked for the same texture
         // object (data pointer and vtable).
@@ -253,7 +253,10 @@ impl Plan {
                 candidates.push((id, mesh.texture));
                 id
             };
-            let mut of_triangle = Vec::with_capacity(triangles.len());
+            let mut of_triangle = room(triangles.len())?;
+            // Room for every triangle of the mesh being new: `id_of`
+            // pushes without reallocating.
+            make_room(&mut plan.work, triangles.len())?;
             for (t, (uv, &level)) in triangles.iter().zip(levels).enumerate() {
                 let bound = match vertex_alpha {
                     None => None,
@@ -296,7 +299,7 @@ impl Plan {
                     level,
                     triangles: 0,
                 };
-                let id = seen.id_of(work, &mut plan.work);
+                let id = seen.id_of(work, &mut plan.work)?;
                 plan.work[id as usize].triangles += 1;
                 of_triangle.push(id);
             }

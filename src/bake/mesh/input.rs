@@ -13,7 +13,7 @@ use crate::bake::texture::{AlphaTexture, TextureError};
 use crate::bake::texture_unit::TextureUnit;
 use crate::bake::triangle::{BakeError, UvTriangle};
 use crate::bake::work::{DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET};
-use crate::micromap::{BufferError, BuildOptions, Format, UnknownPolicy};
+use crate::micromap::{BufferError, BuildOptions, Format, MicromapError, UnknownPolicy};
 use alloc::borrow::Cow;
 use alloc::format;
 use alloc::string::String;
@@ -88,7 +88,7 @@ impl MeshTriangles<'_> {
                 }),
             }
         };
-        let mut triangles = Vec::with_capacity(indices.len() / 3);
+        let mut triangles = room(indices.len() / 3)?;
         for (t, corners) in indices.chunks_exact(3).enumerate() {
             triangles.push([
                 vertex(t, corners[0])?,
@@ -186,6 +186,23 @@ impl Default for MeshOptions {
     }
 }
 
+/// An empty list with room for `len` items, allocated fallibly: every list
+/// sized by the meshes (triangles, levels, the plan of distinct triangles)
+/// is made by it, so input too large for memory is
+/// [`BufferError::AllocationFailed`], never an abort.
+pub(super) fn room<T>(len: usize) -> Result<Vec<T>, MeshBakeError> {
+    let mut list = Vec::new();
+    make_room(&mut list, len)?;
+    Ok(list)
+}
+
+/// Room in `list` for `more` items beyond its length, allocated fallibly
+/// (see [`room`]).
+pub(super) fn make_room<T>(list: &mut Vec<T>, more: usize) -> Result<(), MeshBakeError> {
+    list.try_reserve(more)
+        .map_err(|_| MeshBakeError::Buffers(BufferError::AllocationFailed))
+}
+
 /// Why [`bake_meshes`](crate::bake::mesh::bake_meshes) failed.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
@@ -234,6 +251,24 @@ pub enum MeshBakeError {
     Bake(BakeError),
     /// The buffers could not be built.
     Buffers(BufferError),
+}
+
+impl MeshBakeError {
+    /// Whether the bake failed for memory the input asked for and the
+    /// allocator refused (texel tables, a micromap, the per-triangle lists
+    /// or the buffers), as against input that is wrong: front ends report
+    /// it as out of memory (`MMI_ERROR_OUT_OF_MEMORY`, `MemoryError`).
+    #[must_use]
+    pub fn is_allocation_failure(&self) -> bool {
+        matches!(
+            self,
+            MeshBakeError::Texture {
+                error: TextureError::AllocationFailed { .. },
+                ..
+            } | MeshBakeError::Bake(BakeError::Micromap(MicromapError::AllocationFailed { .. }))
+                | MeshBakeError::Buffers(BufferError::AllocationFailed)
+        )
+    }
 }
 
 impl fmt::Display for MeshBakeError {

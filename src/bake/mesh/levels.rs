@@ -1,7 +1,7 @@
 //! The levels [`bake_meshes`](super::bake_meshes) chooses per triangle, and an upper bound on
 //! its output computed from them before anything is baked.
 
-use super::input::{Mesh, MeshBakeError, MeshOptions};
+use super::input::{room, Mesh, MeshBakeError, MeshOptions};
 use crate::bake::level::levels_within_budget;
 use crate::bake::triangle::UvTriangle;
 use crate::micromap::{IndexWidth, Micromap};
@@ -17,7 +17,7 @@ pub fn chosen_levels(
     options: &MeshOptions,
 ) -> Result<Vec<Vec<Level>>, MeshBakeError> {
     let triangles = resolve_all(meshes)?;
-    Ok(levels_of(meshes, &triangles, options).0)
+    Ok(levels_of(meshes, &triangles, options)?.0)
 }
 
 /// An upper bound, before any micro-triangle is baked, on the bytes of
@@ -58,11 +58,11 @@ pub fn output_bytes_bound(
 pub(super) fn resolve_all<'a>(
     meshes: &'a [Mesh<'_>],
 ) -> Result<Vec<Cow<'a, [UvTriangle]>>, MeshBakeError> {
-    meshes
-        .iter()
-        .enumerate()
-        .map(|(m, mesh)| mesh.triangles.resolve(m))
-        .collect()
+    let mut all = room(meshes.len())?;
+    for (m, mesh) in meshes.iter().enumerate() {
+        all.push(mesh.triangles.resolve(m)?);
+    }
+    Ok(all)
 }
 
 /// Each triangle's level ([`LevelRule::level_of`](super::LevelRule::level_of), then the byte budget),
@@ -71,25 +71,22 @@ pub(super) fn levels_of(
     meshes: &[Mesh<'_>],
     triangles: &[Cow<'_, [UvTriangle]>],
     options: &MeshOptions,
-) -> (Vec<Vec<Level>>, usize) {
+) -> Result<(Vec<Vec<Level>>, usize), MeshBakeError> {
     let mut period_level_zero = 0;
-    let mut levels: Vec<Vec<Level>> = meshes
-        .iter()
-        .zip(triangles)
-        .map(|(mesh, triangles)| {
-            let size = (mesh.texture.width(), mesh.texture.height());
-            triangles
-                .iter()
-                .map(|uv| {
-                    let (level, lowered) = options.levels.level_of(uv, size, mesh.material.sampler);
-                    period_level_zero += usize::from(lowered);
-                    level
-                })
-                .collect()
-        })
-        .collect();
+    let mut levels: Vec<Vec<Level>> = room(meshes.len())?;
+    for (mesh, triangles) in meshes.iter().zip(triangles) {
+        let size = (mesh.texture.width(), mesh.texture.height());
+        let mut mesh_levels = room(triangles.len())?;
+        for uv in triangles.iter() {
+            let (level, lowered) = options.levels.level_of(uv, size, mesh.material.sampler);
+            period_level_zero += usize::from(lowered);
+            mesh_levels.push(level);
+        }
+        levels.push(mesh_levels);
+    }
     if let Some(budget) = options.budget_bytes {
-        let flat: Vec<Level> = levels.iter().flatten().copied().collect();
+        let mut flat = room(levels.iter().map(Vec::len).sum())?;
+        flat.extend(levels.iter().flatten().copied());
         let mut capped = levels_within_budget(&flat, options.format, budget).into_iter();
         for mesh_levels in &mut levels {
             for level in mesh_levels.iter_mut() {
@@ -97,5 +94,5 @@ pub(super) fn levels_of(
             }
         }
     }
-    (levels, period_level_zero)
+    Ok((levels, period_level_zero))
 }
