@@ -189,7 +189,7 @@ impl Default for MeshOptions {
 /// An empty list with room for `len` items, allocated fallibly: every list
 /// sized by the meshes (triangles, levels, the plan of distinct triangles)
 /// is made by it, so input too large for memory is
-/// [`BufferError::AllocationFailed`], never an abort.
+/// [`MeshBakeError::AllocationFailed`], never an abort.
 pub(super) fn room<T>(len: usize) -> Result<Vec<T>, MeshBakeError> {
     let mut list = Vec::new();
     make_room(&mut list, len)?;
@@ -200,7 +200,11 @@ pub(super) fn room<T>(len: usize) -> Result<Vec<T>, MeshBakeError> {
 /// (see [`room`]).
 pub(super) fn make_room<T>(list: &mut Vec<T>, more: usize) -> Result<(), MeshBakeError> {
     list.try_reserve(more)
-        .map_err(|_| MeshBakeError::Buffers(BufferError::AllocationFailed))
+        .map_err(|_| MeshBakeError::AllocationFailed {
+            bytes: (list.len() as u64)
+                .saturating_add(more as u64)
+                .saturating_mul(core::mem::size_of::<T>() as u64),
+        })
 }
 
 /// Why [`bake_meshes`](crate::bake::mesh::bake_meshes) failed.
@@ -249,6 +253,12 @@ pub enum MeshBakeError {
     },
     /// A triangle could not be baked (level above 16, allocation).
     Bake(BakeError),
+    /// A list sized by the meshes (resolved triangles, their levels, the
+    /// distinct triangles and their table) could not be allocated.
+    AllocationFailed {
+        /// The bytes the list needed.
+        bytes: u64,
+    },
     /// The buffers could not be built.
     Buffers(BufferError),
 }
@@ -267,6 +277,7 @@ impl MeshBakeError {
                 ..
             } | MeshBakeError::Bake(BakeError::Micromap(MicromapError::AllocationFailed { .. }))
                 | MeshBakeError::Buffers(BufferError::AllocationFailed)
+                | MeshBakeError::AllocationFailed { .. }
         )
     }
 }
@@ -297,6 +308,10 @@ impl fmt::Display for MeshBakeError {
             }
             MeshBakeError::Bake(e) => e.fmt(f),
             MeshBakeError::Buffers(e) => e.fmt(f),
+            MeshBakeError::AllocationFailed { bytes } => write!(
+                f,
+                "out of memory: a list of {bytes} bytes for the meshes' triangles cannot be had"
+            ),
         }
     }
 }
