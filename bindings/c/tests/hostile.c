@@ -505,6 +505,9 @@ static void trees(void) {
     const size_t level16 = (size_t)1 << 32;
     uint8_t states[16], out[16], *huge;
     static const uint8_t junk[12] = {'S', 'O', 'M', 'T', 1, 0, 16, 2, 0xff, 0xff, 0xff, 0xff};
+    /* Paper layout, level 16, 4-state; one tree bit (a leaf), one state (3). */
+    uint8_t leaf[26] = {'S', 'O', 'M', 'T', 1, 0, 16, 2, 1, 0, 0, 0, 0, 0, 0, 0,
+                        1, 0, 0, 0, 0, 0, 0, 0, 0, 3};
     mmi_tree *tree = NULL;
     size_t len = 0;
     uint8_t state = 0;
@@ -544,6 +547,34 @@ static void trees(void) {
            mmi_tree_encode(MMI_TREE_LEVEL_ORDER, 16, MMI_FORMAT_2_STATE, huge, level16, &tree),
            MMI_ERROR_INVALID_ARGUMENT);
     munmap(huge, level16);
+
+    /* A root leaf is 26 bytes at any level: at level 16 it holds 4^16
+     * states, which the library used to decode into a 4 GiB copy before
+     * writing the caller's buffer. Now it writes the runs into the
+     * caller's buffer and allocates nothing. */
+    EXPECT("tree: root leaf, level 16", mmi_tree_from_bytes(leaf, sizeof leaf, &tree), MMI_OK);
+    len = 0;
+    EXPECT("tree: decode size, level 16", mmi_tree_decode(tree, NULL, 0, &len), MMI_OK);
+    if (len != level16) {
+        ++failures;
+        fprintf(stderr, "hostile.c:%d: decode size %zu, expected 4^16\n", __LINE__, len);
+    }
+    EXPECT("tree: decode short, level 16", mmi_tree_decode(tree, out, sizeof out, &len),
+           MMI_ERROR_BUFFER_TOO_SMALL);
+    mmi_tree_free(tree);
+    leaf[6] = 12;
+    EXPECT("tree: root leaf, level 12", mmi_tree_from_bytes(leaf, sizeof leaf, &tree), MMI_OK);
+    huge = big((size_t)1 << 24);
+    EXPECT("tree: decode, level 12", mmi_tree_decode(tree, huge, (size_t)1 << 24, &len), MMI_OK);
+    for (len = 0; len < (size_t)1 << 24 && huge[len] == MMI_STATE_UNKNOWN_OPAQUE; ++len) {
+    }
+    if (len != (size_t)1 << 24) {
+        ++failures;
+        fprintf(stderr, "hostile.c:%d: state %zu of the level-12 root leaf is %d\n", __LINE__,
+                len, huge[len]);
+    }
+    munmap(huge, (size_t)1 << 24);
+    mmi_tree_free(tree);
 
     EXPECT("tree: bytes NULL", mmi_tree_from_bytes(NULL, 5, &tree), MMI_ERROR_NULL_POINTER);
     EXPECT("tree: no bytes", mmi_tree_from_bytes(NULL, 0, &tree), MMI_ERROR_MALFORMED);
