@@ -31,8 +31,9 @@ pub struct TreeSizes {
 /// The sizes of `map`'s two tree layouts, without building them: the same
 /// numbers as `PaperTree::from_micromap(map)?.total_bits()` and
 /// `LevelOrderTree::from_micromap(map)?.total_bits()`, for a pass over the
-/// packed data and `4^(level - 1)` bytes. The error is theirs: a level above
-/// [`MAX_TREE_LEVEL`](super::MAX_TREE_LEVEL).
+/// packed data and `4^(level - 1)` bytes. The errors are theirs: a level
+/// above [`MAX_TREE_LEVEL`](super::MAX_TREE_LEVEL), or
+/// [`TreeError::AllocationFailed`] where those bytes cannot be had.
 ///
 /// ```
 /// use micromap_index::micromap::{Format, Micromap, State};
@@ -70,10 +71,12 @@ pub(crate) fn packed_tree_sizes(
         let nodes = 1usize << (2 * (level - 1));
         // (Small maps, most of a bake's, keep their codes on the stack.)
         let mut small = [0u8; SMALL_NODES];
-        let mut large: Vec<u8> = Vec::new();
+        // The large ones' codes are reserved fallibly (1 GiB at level 16).
+        let mut large: Vec<u8>;
         let codes: &mut [u8] = if nodes <= SMALL_NODES {
             &mut small[..nodes]
         } else {
+            large = super::room(nodes as u64)?;
             large.resize(nodes, 0);
             &mut large
         };
