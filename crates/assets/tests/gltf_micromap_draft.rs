@@ -352,10 +352,37 @@ fn input_json(input: &[u8]) -> Value {
     }
 }
 
-/// Everything the writer does not own is unchanged.
-fn check_kept(input: &Value, output: &Value) {
+/// Everything the writer does not own is unchanged; a `.glb` holds the
+/// input's images as views of their very bytes.
+fn check_kept(input: &Value, written: &Written) {
+    let output = &written.json;
     for (key, value) in input.as_object().unwrap() {
         match key.as_str() {
+            "images"
+                if output["buffers"].as_array().unwrap().len() == 1
+                    && output["buffers"][0].get("uri").is_none() =>
+            {
+                for (i, image) in value.as_array().unwrap().iter().enumerate() {
+                    let out = &output["images"][i];
+                    let Some(uri) = image.get("uri").and_then(Value::as_str) else {
+                        assert_eq!(out, image, "images[{i}] kept");
+                        continue;
+                    };
+                    assert_eq!(
+                        written.view(&out["bufferView"], false),
+                        sponza(uri),
+                        "images[{i}]"
+                    );
+                    assert_eq!(out["mimeType"], "image/png", "images[{i}]");
+                    let mut rest = out.clone();
+                    let rest = rest.as_object_mut().unwrap();
+                    rest.remove("bufferView");
+                    rest.remove("mimeType");
+                    let mut kept = image.clone();
+                    kept.as_object_mut().unwrap().remove("uri");
+                    assert_eq!(&Value::Object(rest.clone()), &kept, "images[{i}] kept");
+                }
+            }
             "meshes" => {
                 for (m, mesh) in value.as_array().unwrap().iter().enumerate() {
                     for (p, prim) in mesh["primitives"].as_array().unwrap().iter().enumerate() {
@@ -418,7 +445,7 @@ fn written_gltf_meets_the_draft_and_keeps_the_asset() {
                 let files = write(&input, &buffers, &prims, c);
                 let w = open(&files, c);
                 let (records, primitives) = check_draft(&w);
-                check_kept(&input_json(&input), &w.json);
+                check_kept(&input_json(&input), &w);
                 assert_eq!(records.len(), 1, "{what}");
                 assert_eq!(
                     primitives.len(),
@@ -476,6 +503,16 @@ fn written_gltf_meets_the_draft_and_keeps_the_asset() {
                 }
                 let again = read_gltf_bytes(&files.main, &mut resolve, &Limits::default()).unwrap();
                 assert_eq!(again.primitives.len(), prims.len(), "{what}");
+                // A .glb stands alone: it reads with no file beside it.
+                if *c == GltfContainer::Glb {
+                    let mut nothing = |uri: &str| -> Result<Vec<u8>, AssetError> {
+                        panic!("{what}: the .glb names {uri:?}")
+                    };
+                    let alone = read_gltf_bytes(&files.main, &mut nothing, &Limits::default())
+                        .unwrap_or_else(|e| panic!("{what}: {e}"));
+                    assert_eq!(alone.primitives.len(), prims.len(), "{what}");
+                    assert_eq!(alone.images, again.images, "{what}: the same texels");
+                }
             }
         }
     }
@@ -922,4 +959,74 @@ fn reader_checks_index_accessors_and_reads_2_pow_n_minus_5() {
     shifted["meshes"][0]["primitives"][0]["extensions"][EXT]["micromapBaseTriangle"] = json!(1);
     let text = read(&shifted, &bytes).unwrap_err().to_string();
     assert!(text.contains("has 252 records"), "{text}");
+}
+
+/// A `.gltf` whose views all name a second buffer (buffer 0 unused), and
+/// whose second image is a `data:` URI: the `.glb` written from it holds
+/// every byte in its `BIN` chunk (one buffer, the views rebased), reads
+/// with no file beside it, and reads as the input does.
+#[test]
+fn a_glb_output_embeds_every_buffer_and_image() {
+    let mut doc = input_json(&sponza("cards.gltf"));
+    let length = doc["buffers"][0]["byteLength"].clone();
+    // Buffer 0: 5 bytes of padding, unused; buffer 1: cards.bin.
+    doc["buffers"] = json!([
+        {"byteLength": 5, "uri": "data:application/octet-stream;base64,AAAAAAA="},
+        {"byteLength": length, "uri": "cards.bin"},
+    ]);
+    for view in doc["bufferViews"].as_array_mut().unwrap() {
+        view["buffer"] = json!(1);
+    }
+    let chain = sponza("chain.png");
+    doc["images"][1] = json!({"uri": format!("data:image/png;base64,{}", base64(&chain))});
+    let input = serde_json::to_vec(&doc).unwrap();
+    let original = read_gltf_bytes(&input, &mut resolve_sponza, &Limits::default()).unwrap();
+    let (buffers, prims) = bake(&input, Some(2), Format::FourState);
+    let files = write(&input, &buffers, &prims, &GltfContainer::Glb);
+    let (json, bin) = split_glb(&files.main);
+    assert_eq!(json["buffers"].as_array().unwrap().len(), 1);
+    assert!(json["buffers"][0].get("uri").is_none());
+    let bin = bin.unwrap();
+    for (v, view) in json["bufferViews"].as_array().unwrap().iter().enumerate() {
+        assert_eq!(view["buffer"], 0, "bufferViews[{v}]");
+    }
+    // The file's image and the data: URI's (decoded: a third smaller).
+    for (i, file) in [(0, "sponza_thorn.png"), (1, "chain.png")] {
+        let image = &json["images"][i];
+        assert!(image.get("uri").is_none(), "images[{i}]");
+        assert_eq!(image["mimeType"], "image/png");
+        let view = &json["bufferViews"][image["bufferView"].as_u64().unwrap() as usize];
+        let at = view["byteOffset"].as_u64().unwrap() as usize;
+        let len = view["byteLength"].as_u64().unwrap() as usize;
+        assert!(
+            bin[at..at + len] == sponza(file)[..],
+            "images[{i}]: the bytes of {file}"
+        );
+    }
+    let mut nothing = |uri: &str| -> Result<Vec<u8>, AssetError> { panic!("names {uri:?}") };
+    let alone = read_gltf_bytes(&files.main, &mut nothing, &Limits::default()).unwrap();
+    assert_eq!(alone.primitives, original.primitives);
+    assert_eq!(alone.images, original.images);
+}
+
+/// Standard base64 with padding (the test's own, for a `data:` URI).
+fn base64(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for chunk in bytes.chunks(3) {
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        for i in 0..4 {
+            if i <= chunk.len() {
+                out.push(ALPHABET[(n >> (18 - 6 * i)) as usize & 63] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
 }

@@ -1,6 +1,7 @@
 //! `bake --gltf-out` round-trips through glTF with `EXT_mesh_opacity_micromap`
 //! and `verify-bake --gltf` passes on it, from another directory than the
-//! asset's (the URIs are relocated), as `.gltf` and `.glb`; micromaps made
+//! asset's (a `.gltf`'s URIs are relocated; a `.glb` holds its images and
+//! buffers, and verifies moved away), as `.gltf` and `.glb`; micromaps made
 //! wrong are caught (exit 1); what cannot be written is refused (exit 2)
 //! with nothing written.
 
@@ -69,6 +70,22 @@ fn baked_gltf_verifies_in_every_container() {
             .map(|p| p["known_micro_triangles"].as_u64().unwrap())
             .sum();
         assert!(known > 0, "{report}");
+        // A .glb stands alone: moved into a folder of its own, it still
+        // verifies (its images and buffers are in its BIN chunk).
+        if name.ends_with(".glb") {
+            let alone = dir.join("alone");
+            std::fs::create_dir_all(&alone).unwrap();
+            let moved = alone.join(name);
+            std::fs::rename(&written, &moved).unwrap();
+            let again = run(&["verify-bake", "--gltf", moved.to_str().unwrap(), "--json"]);
+            assert_eq!(
+                again.status.code(),
+                Some(0),
+                "{input} -> {name}, moved: {}",
+                text(&again.stderr)
+            );
+            assert_eq!(text(&again.stdout), report, "{input} -> {name}, moved");
+        }
     }
 }
 

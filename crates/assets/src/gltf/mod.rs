@@ -21,6 +21,7 @@ use std::path::Path;
 
 mod accessor;
 mod asset;
+mod embed;
 mod extension;
 mod files;
 mod glb;

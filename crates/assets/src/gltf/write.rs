@@ -2,10 +2,11 @@
 //! `EXT_mesh_opacity_micromap` on the baked primitives, everything else
 //! kept (members the writer does not touch are copied as their raw text).
 
+use super::embed::{embed_into_bin, exactly, load_uri};
 use super::extension::{EXTENSION, MAX_GLTF_LEVEL};
 use super::glb::{split_glb, GLB_BIN, GLB_JSON};
 use super::raw::{field, parse_raw, to_raw, RawObject};
-use super::uri::{decode_data_uri, has_scheme, percent_decode, uri_label};
+use super::uri::has_scheme;
 use crate::{AssetError, Limits};
 use micromap_index::micromap::{
     Api, IndexWidth, MicromapBuffers, MicromapIndex, TriangleRecord, UsageCount,
@@ -18,9 +19,11 @@ use std::path::Path;
 /// The container [`write_gltf_micromaps`] writes.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum GltfContainer {
-    /// A `.glb`: the micromap bytes are appended to buffer 0, the `BIN`
-    /// chunk (an input buffer 0 with a URI is loaded into the chunk; an
-    /// input without buffers gets one).
+    /// A `.glb` that stands alone: the micromap bytes are appended to
+    /// buffer 0, the `BIN` chunk (an input buffer 0 with a URI is loaded
+    /// into the chunk; an input without buffers gets one), and so are the
+    /// input's other buffers and every image it names by a URI (images get
+    /// a buffer view and a `mimeType`).
     Glb,
     /// A `.gltf`: the micromap bytes are a new last buffer, the file
     /// `<stem>.micromap.bin` next to it; an input GLB's `BIN` chunk becomes
@@ -39,8 +42,9 @@ pub struct GltfMicromapWrite<'a> {
     /// The `(mesh, primitive)` each geometry of `buffers` belongs to.
     pub primitives: &'a [(usize, usize)],
     /// Prepended to every relative URI of `buffers` and `images` that is
-    /// kept: the way from the output's directory to the input's,
-    /// percent-encoded and ending in `/`, or empty when both are the same.
+    /// kept (a `.gltf` output keeps them; a `.glb` embeds them): the way
+    /// from the output's directory to the input's, percent-encoded and
+    /// ending in `/`, or empty when both are the same.
     pub uri_prefix: &'a str,
 }
 
@@ -189,11 +193,12 @@ pub fn write_gltf_micromaps(
         .iter()
         .map(|b| b.get("uri").is_some())
         .collect();
-    if let Some(mut images) = root.parse::<Vec<RawObject>>("images", "")? {
+    // A GLB embeds its images below; a .gltf points back at them.
+    let mut images = root.parse::<Vec<RawObject>>("images", "")?;
+    if let (Some(images), GltfContainer::Json { .. }) = (&mut images, container) {
         for (i, image) in images.iter_mut().enumerate() {
             relocate(image, &format!("images[{i}]"))?;
         }
-        root.set("images", to_raw(&images)?);
     }
 
     // The host buffer the micromap bytes are appended to.
@@ -204,9 +209,9 @@ pub fn write_gltf_micromaps(
     };
     let (host_index, mut host) = match container {
         GltfContainer::Glb => {
-            if gltf_buffers.is_empty() {
+            let mut host = if gltf_buffers.is_empty() {
                 gltf_buffers.push(RawObject::default());
-                (0, Vec::new())
+                Vec::new()
             } else {
                 let length = byte_length(&gltf_buffers[0], 0)?;
                 let bytes = match gltf_buffers[0].parse::<String>("uri", "buffers[0]")? {
@@ -221,8 +226,18 @@ pub fn write_gltf_micromaps(
                     Some(uri) => load_uri(&uri, resolve)?,
                 };
                 gltf_buffers[0].remove("uri");
-                (0, exactly(bytes, length, "buffers[0]")?)
-            }
+                exactly(bytes, length, "buffers[0]")?
+            };
+            // Everything else the input names moves into the chunk: the
+            // .glb stands alone.
+            embed_into_bin(
+                &mut host,
+                &mut gltf_buffers,
+                &mut views,
+                images.as_deref_mut().unwrap_or_default(),
+                resolve,
+            )?;
+            (0, host)
         }
         GltfContainer::Json { stem } => {
             if let (Some(bin), Some(first)) = (bin, gltf_buffers.first_mut()) {
@@ -374,6 +389,9 @@ pub fn write_gltf_micromaps(
         gltf_buffers[host_index].set("uri", to_raw(&percent_encode(&name))?);
         sidecars.push((name, std::mem::take(&mut host)));
     }
+    if let Some(images) = &images {
+        root.set("images", to_raw(images)?);
+    }
     root.set("meshes", to_raw(&meshes)?);
     root.set("accessors", to_raw(&accessors)?);
     root.set("bufferViews", to_raw(&views)?);
@@ -402,42 +420,6 @@ pub fn write_gltf_micromaps(
         GltfContainer::Glb => glb(json, host)?,
     };
     Ok(GltfFiles { main, sidecars })
-}
-
-/// The bytes of a buffer's URI: a `data:` URI decoded, a relative one
-/// through `resolve`.
-fn load_uri(
-    uri: &str,
-    resolve: &mut dyn FnMut(&str) -> Result<Vec<u8>, AssetError>,
-) -> Result<Vec<u8>, AssetError> {
-    let error = |message: String| AssetError::Uri {
-        uri: uri_label(uri),
-        message,
-    };
-    if let Some(data) = uri.strip_prefix("data:") {
-        return decode_data_uri(data).map_err(error);
-    }
-    if has_scheme(uri) {
-        return Err(error(
-            "only relative paths and data: URIs are supported".into(),
-        ));
-    }
-    let path = percent_decode(uri.as_bytes())
-        .and_then(|b| String::from_utf8(b).map_err(|_| "percent-decodes to invalid UTF-8".into()))
-        .map_err(error)?;
-    resolve(&path)
-}
-
-/// `bytes` cut to `length`, which they must reach.
-fn exactly(mut bytes: Vec<u8>, length: usize, path: &str) -> Result<Vec<u8>, AssetError> {
-    if bytes.len() < length {
-        return Err(AssetError::gltf(
-            format!("{path}.byteLength"),
-            format!("{length}, but the data has {} bytes", bytes.len()),
-        ));
-    }
-    bytes.truncate(length);
-    Ok(bytes)
 }
 
 /// A primitive's triangle count: its index count, or its `POSITION` count,
