@@ -4,7 +4,7 @@
 //! bounds on `texel * factor * vertex alpha` that make vertex alpha sound
 //! ([`VertexBoundTexture`], [`vertex_range`]).
 
-use super::texture::{AlphaTexture, Cutoff, Sampler};
+use super::texture::{faithful_f32, AlphaTexture, Cutoff, Sampler};
 
 /// How a mesh's texture is alpha-tested: the sampler, the cutoff, and a
 /// factor on every texel's alpha.
@@ -107,15 +107,10 @@ pub(crate) struct VertexBoundTexture<'a> {
     pub(crate) upper: bool,
 }
 
-impl AlphaTexture for VertexBoundTexture<'_> {
-    fn width(&self) -> u32 {
-        self.inner.width()
-    }
-    fn height(&self) -> u32 {
-        self.inner.height()
-    }
-    fn alpha(&self, x: u32, y: u32) -> f64 {
-        let t = f64::from(texel_f32(self.inner.alpha(x, y))) * self.factor;
+impl VertexBoundTexture<'_> {
+    /// The bound for a texel of exact alpha `texel`.
+    fn bound(&self, texel: f64) -> f64 {
+        let t = f64::from(texel_f32(texel)) * self.factor;
         // NaN stays NaN: it passes no cutoff, on the GPU either.
         let (a, b) = (t * self.low, t * self.high);
         let (min, max) = if a <= b { (a, b) } else { (b, a) };
@@ -125,6 +120,102 @@ impl AlphaTexture for VertexBoundTexture<'_> {
         } else {
             min - abs(min) * VERTEX_MARGIN - TINY
         }
+    }
+}
+
+impl AlphaTexture for VertexBoundTexture<'_> {
+    fn width(&self) -> u32 {
+        self.inner.width()
+    }
+    fn height(&self) -> u32 {
+        self.inner.height()
+    }
+    fn alpha(&self, x: u32, y: u32) -> f64 {
+        self.bound(self.inner.alpha(x, y))
+    }
+
+    /// As the default (each texel's [`faithful_f32`] of its bound), with
+    /// the answers for the row's distinct texel values remembered: a
+    /// texture has few (at most 256 for 8 bits), and a smooth vertex alpha
+    /// builds up to 2 [`VERTEX_BOUNDS`] of these textures.
+    fn extend_gpu_alpha_row(&self, y: u32, low: &mut Vec<f32>, high: &mut Vec<f32>) {
+        // Direct-mapped by the value's bits; every slot starts as texel
+        // value 0 with its answer, so a hit is always the right answer.
+        let zero = faithful_f32(self.bound(0.0));
+        let mut memo = [(0u64, zero); 256];
+        for x in 0..self.width() {
+            let value = self.inner.alpha(x, y);
+            let key = value.to_bits();
+            let slot = &mut memo[((key ^ (key >> 23) ^ (key >> 41)) & 255) as usize];
+            if slot.0 != key {
+                *slot = (key, faithful_f32(self.bound(value)));
+            }
+            low.push(slot.1 .0);
+            high.push(slot.1 .1);
+        }
+    }
+}
+
+/// At most this many distinct lower bounds, and as many upper bounds, of
+/// the vertex alpha per texture and material: each gets a baker of its own
+/// (texel tables the size of the texture), so a smooth vertex alpha, whose
+/// every triangle has a range of its own, would otherwise build thousands.
+pub(crate) const VERTEX_BOUNDS: usize = 16;
+
+/// The vertex-alpha bounds a set of triangles' ranges ([`vertex_range`])
+/// snap to: every distinct low (high) when there are at most
+/// [`VERTEX_BOUNDS`] of them, else [`VERTEX_BOUNDS`] of them spread
+/// evenly over the sorted distinct values, the lowest low and the highest
+/// high included. A range snaps outwards, to the largest bound at or below
+/// its low and the smallest at or above its high: a wider range, so the
+/// bakes stay sound; only texels near the cutoff become unknown.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct VertexBounds {
+    /// Ascending, as `f64` bits (non-negative, so the bits sort as the
+    /// values do).
+    lows: Vec<u64>,
+    /// Ascending, as bits.
+    highs: Vec<u64>,
+}
+
+impl VertexBounds {
+    /// The bounds for triangles whose ranges ([`vertex_range`]) have these
+    /// lows and highs (the caller's lists, sorted and deduplicated in
+    /// place: nothing sized by the triangles is allocated here).
+    pub(crate) fn new(mut lows: Vec<u64>, mut highs: Vec<u64>) -> VertexBounds {
+        let pick = |values: &mut Vec<u64>, upper: bool| {
+            values.sort_unstable();
+            values.dedup();
+            let n = values.len();
+            if n > VERTEX_BOUNDS {
+                // Lows: the first of each of VERTEX_BOUNDS slices (the
+                // lowest included); highs: the last of each (the highest).
+                for i in 0..VERTEX_BOUNDS {
+                    values[i] = if upper {
+                        values[((i + 1) * n).div_ceil(VERTEX_BOUNDS) - 1]
+                    } else {
+                        values[i * n / VERTEX_BOUNDS]
+                    };
+                }
+                values.truncate(VERTEX_BOUNDS);
+            }
+            values.shrink_to_fit();
+        };
+        pick(&mut lows, false);
+        pick(&mut highs, true);
+        VertexBounds { lows, highs }
+    }
+
+    /// The bounds `range` snaps to, as bits: `(low, high)` with `low <=
+    /// range.0` and `high >= range.1`. `range` must be one of those given
+    /// to [`new`](Self::new).
+    pub(crate) fn snap(&self, range: (u64, u64)) -> (u64, u64) {
+        let below = self.lows.partition_point(|&l| l <= range.0);
+        let above = self.highs.partition_point(|&h| h < range.1);
+        (
+            self.lows[below.saturating_sub(1)],
+            self.highs[above.min(self.highs.len() - 1)],
+        )
     }
 }
 

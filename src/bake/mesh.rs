@@ -309,7 +309,7 @@ fn bake_distinct(
                         .map_err(MeshBakeError::Bake)
                 }
                 Some(b) => {
-                    let (low, high) = &plan.bounds[b as usize];
+                    let (low, high) = (&plan.bounds[b.0 as usize], &plan.bounds[b.1 as usize]);
                     bake_bounded(&[(low, high)], &w.uv, w.level, format, unknown, max_work)
                         .map_err(MeshBakeError::Bake)
                 }
@@ -507,5 +507,134 @@ mod tests {
                 assert!(matches!(a.opacity(0, t), Some(BakedOpacity::Map(_))));
             }
         }
+    }
+
+    /// Snapping never narrows a range, keeps at most VERTEX_BOUNDS values
+    /// per side, and keeps every value where there are few.
+    #[test]
+    fn vertex_bounds_snap_outwards_to_few_values() {
+        use crate::bake::material::{VertexBounds, VERTEX_BOUNDS};
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        for count in [1, 5, VERTEX_BOUNDS, VERTEX_BOUNDS + 1, 300] {
+            let ranges: Vec<(u64, u64)> = (0..count)
+                .map(|_| vertex_range([next(), next(), next()]))
+                .collect();
+            let bounds = VertexBounds::new(
+                ranges.iter().map(|r| r.0).collect(),
+                ranges.iter().map(|r| r.1).collect(),
+            );
+            let mut lows = alloc::collections::BTreeSet::new();
+            let mut highs = alloc::collections::BTreeSet::new();
+            for &r in &ranges {
+                let (low, high) = bounds.snap(r);
+                assert!(f64::from_bits(low) <= f64::from_bits(r.0), "{count}: {r:?}");
+                assert!(
+                    f64::from_bits(high) >= f64::from_bits(r.1),
+                    "{count}: {r:?}"
+                );
+                lows.insert(low);
+                highs.insert(high);
+                if count <= VERTEX_BOUNDS {
+                    assert_eq!((low, high), r, "few ranges snap to themselves");
+                }
+            }
+            assert!(lows.len() <= VERTEX_BOUNDS && highs.len() <= VERTEX_BOUNDS);
+        }
+    }
+
+    /// A smooth vertex alpha (every triangle a range of its own, far more
+    /// than VERTEX_BOUNDS) bakes soundly: at every point of a known
+    /// micro-triangle (corners, edges and inside) the exact `texel * v` is
+    /// on the state's side of the cutoff; and a triangle knows no more than
+    /// baked alone (where its range is exact).
+    #[test]
+    fn smooth_vertex_alpha_bakes_soundly_with_few_bounds() {
+        let texels: Vec<u8> = (0..16u32).map(|i| (i * 37 % 256) as u8).collect();
+        let texture = Unorm8Texture::new(16, 1, &texels).unwrap();
+        let material = Material {
+            sampler: crate::bake::Sampler {
+                filter: crate::bake::Filter::Nearest,
+                address_u: crate::bake::AddressMode::ClampToEdge,
+                address_v: crate::bake::AddressMode::ClampToEdge,
+                border_alpha: 0.0,
+            },
+            ..Material::default()
+        };
+        let count = 120usize;
+        let triangles: Vec<UvTriangle> = (0..count)
+            .map(|t| {
+                let x = (t % 12) as f32 / 12.0;
+                [[x, 0.0], [x + 0.3, 0.0], [x, 1.0]]
+            })
+            .collect();
+        let alphas: Vec<[f32; 3]> = (0..count)
+            .map(|t| {
+                let a = 0.55 + 0.45 * (t as f32 / count as f32);
+                [a, a * 0.97, (a * 1.01).min(1.0)]
+            })
+            .collect();
+        let level = Level::new(3).unwrap();
+        let options = MeshOptions {
+            levels: LevelRule::Fixed(level),
+            ..MeshOptions::default()
+        };
+        let mesh = |t: core::ops::Range<usize>| Mesh {
+            triangles: MeshTriangles::Uv(&triangles[t.clone()]),
+            texture: &texture,
+            material,
+            vertex_alpha: Some(&alphas[t]),
+        };
+        let baked = bake_mesh(&mesh(0..count), &options).unwrap();
+        let mut known = 0;
+        for (t, uv) in triangles.iter().enumerate() {
+            let opacity = baked.opacity(0, t).unwrap();
+            let alone = bake_mesh(&mesh(t..t + 1), &options).unwrap();
+            let alone = alone.opacity(0, 0).unwrap();
+            for i in 0..64u64 {
+                let state = opacity.state(i).unwrap();
+                if !state.is_known() {
+                    continue;
+                }
+                known += 1;
+                assert_eq!(alone.state(i), Some(state), "triangle {t} micro {i}");
+                let micro = crate::inverse::micro_triangle(level, i).unwrap();
+                let [p, q, r] = micro.vertices_f64();
+                for j in 0..=6 {
+                    for k in 0..=(6 - j) {
+                        let (s, w) = (f64::from(j) / 6.0, f64::from(k) / 6.0);
+                        let b1 = (1.0 - s - w) * p.0 + s * q.0 + w * r.0;
+                        let b2 = (1.0 - s - w) * p.1 + s * q.1 + w * r.1;
+                        let at = |c: usize| {
+                            (1.0 - b1 - b2) * f64::from(uv[0][c])
+                                + b1 * f64::from(uv[1][c])
+                                + b2 * f64::from(uv[2][c])
+                        };
+                        let x = (at(0) * 16.0).floor().clamp(0.0, 15.0) as usize;
+                        // Points on a texel edge may read either texel.
+                        if (at(0) * 16.0 - (at(0) * 16.0).round()).abs() < 1e-9 {
+                            continue;
+                        }
+                        let va = alphas[t];
+                        let v = (1.0 - b1 - b2) * f64::from(va[0])
+                            + b1 * f64::from(va[1])
+                            + b2 * f64::from(va[2]);
+                        let alpha = f64::from(texels[x]) / 255.0 * v;
+                        let opaque = alpha >= 0.5;
+                        assert_eq!(
+                            opaque,
+                            state == crate::micromap::State::Opaque,
+                            "triangle {t} micro {i}: alpha {alpha} at ({b1}, {b2})"
+                        );
+                    }
+                }
+            }
+        }
+        assert!(known > 1000, "{known}");
     }
 }

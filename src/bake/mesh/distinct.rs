@@ -10,7 +10,7 @@
 
 use super::input::{check_vertex_alpha, make_room, room, Mesh, MeshBakeError, MeshOptions};
 use crate::bake::baker::Baker;
-use crate::bake::material::{vertex_range, FactorTexture, VertexBoundTexture};
+use crate::bake::material::{vertex_range, FactorTexture, VertexBoundTexture, VertexBounds};
 use crate::bake::mips::mip_bakers;
 use crate::bake::mips::Mips;
 use crate::bake::parallel::Runner;
@@ -43,8 +43,9 @@ pub(super) struct Distinct {
 pub(super) struct Work {
     /// Index into [`Plan::bakers`].
     pub(super) baker: u32,
-    /// Index into [`Plan::bounds`] when the mesh has vertex alpha.
-    pub(super) bound: Option<u32>,
+    /// Indices into [`Plan::bounds`] of the lower and the upper bound's
+    /// bakers when the mesh has vertex alpha.
+    pub(super) bound: Option<(u32, u32)>,
     pub(super) uv: UvTriangle,
     pub(super) level: Level,
     /// How many input triangles it stands for.
@@ -77,11 +78,12 @@ struct FirstSeen {
 
 impl FirstSeen {
     /// The key of a distinct triangle, bit for bit.
-    fn key(w: &Work) -> [u32; 9] {
+    fn key(w: &Work) -> [u32; 10] {
         let uv = w.uv;
         [
             w.baker,
-            w.bound.map_or(0, |b| b + 1),
+            w.bound.map_or(0, |b| b.0 + 1),
+            w.bound.map_or(0, |b| b.1 + 1),
             w.level.get(),
             uv[0][0].to_bits(),
             uv[0][1].to_bits(),
@@ -92,7 +94,7 @@ impl FirstSeen {
         ]
     }
 
-    fn slot(key: &[u32; 9], mask: usize) -> usize {
+    fn slot(key: &[u32; 10], mask: usize) -> usize {
         let hash = key.iter().fold(0u64, |h, &k| {
             (h.rotate_left(5) ^ u64::from(k)).wrapping_mul(0x517c_c1b7_2722_0a95)
         });
@@ -100,7 +102,7 @@ impl FirstSeen {
     }
 
     /// Where `key` is: `Ok(index in work)`, or `Err(empty slot)` for it.
-    fn find(&self, key: &[u32; 9], work: &[Work]) -> Result<u32, usize> {
+    fn find(&self, key: &[u32; 10], work: &[Work]) -> Result<u32, usize> {
         let mask = self.slots.len() - 1;
         let mut s = Self::slot(key, mask);
         loop {
@@ -150,8 +152,9 @@ pub(super) struct Plan {
     /// Per baker: the (lower, upper) bound bakers of the mip levels below
     /// 0 that [`MeshOptions::mips`] asks for (empty for [`Mips::Level0`]).
     pub(super) mips: Vec<Vec<(Baker, Baker)>>,
-    /// (lower, upper) bound bakers per distinct (baker, vertex range).
-    pub(super) bounds: Vec<(Baker, Baker)>,
+    /// The vertex-alpha bound bakers, each for one (baker, side, bound)
+    /// of [`VertexBounds`].
+    pub(super) bounds: Vec<Baker>,
     /// The distinct triangles, in order of first appearance.
     pub(super) work: Vec<Work>,
     /// Per mesh, per triangle: its distinct triangle.
@@ -179,10 +182,12 @@ impl Plan {
         // Candidates by key; equal keys are checked for the same texture
         // object (data pointer and vtable).
         let mut bakers: BTreeMap<BakerKey, Vec<(u32, &dyn AlphaTexture)>> = BTreeMap::new();
-        let mut bounds: BTreeMap<(u32, (u64, u64)), u32> = BTreeMap::new();
-        let mut seen = FirstSeen::default();
-        for (m, ((mesh, triangles), levels)) in meshes.iter().zip(triangles).zip(levels).enumerate()
-        {
+        // Pass 1, mesh by mesh in order (so the first refused mesh is the
+        // error): each mesh's baker, and per baker the lows and highs of
+        // its meshes' vertex-alpha ranges.
+        let mut mesh_bakers: Vec<u32> = room(meshes.len())?;
+        let mut ranges: Vec<(Vec<u64>, Vec<u64>)> = Vec::new();
+        for (m, (mesh, triangles)) in meshes.iter().zip(triangles).enumerate() {
             let triangles = triangles.as_ref();
             let vertex_alpha = check_vertex_alpha(m, mesh, triangles.len())?;
             if vertex_alpha.is_some() && options.mips != Mips::Level0 {
@@ -253,6 +258,63 @@ impl Plan {
                 candidates.push((id, mesh.texture));
                 id
             };
+            mesh_bakers.push(baker);
+            if let Some(alphas) = vertex_alpha {
+                ranges.resize_with(ranges.len().max(baker as usize + 1), Default::default);
+                let (lows, highs) = &mut ranges[baker as usize];
+                make_room(lows, alphas.len())?;
+                make_room(highs, alphas.len())?;
+                for &a in alphas {
+                    let (low, high) = vertex_range(a);
+                    lows.push(low);
+                    highs.push(high);
+                }
+            }
+        }
+        // The bounds each baker's ranges snap to: at most VERTEX_BOUNDS
+        // bakers per side, whatever the number of distinct ranges.
+        let grids: Vec<VertexBounds> = ranges
+            .into_iter()
+            .map(|(lows, highs)| VertexBounds::new(lows, highs))
+            .collect();
+        let mut bound_ids: BTreeMap<(u32, bool, u64), u32> = BTreeMap::new();
+
+        // Pass 2: the distinct triangles.
+        let mut seen = FirstSeen::default();
+        for (m, ((mesh, triangles), levels)) in meshes.iter().zip(triangles).zip(levels).enumerate()
+        {
+            let triangles = triangles.as_ref();
+            let baker = mesh_bakers[m];
+            let vertex_alpha = check_vertex_alpha(m, mesh, triangles.len())?;
+            let material = &mesh.material;
+            let texture_error = |error| MeshBakeError::Texture { mesh: m, error };
+            // The baker of one side's bound `v` (bits) of `baker`, made once.
+            let mut bound_baker = |upper: bool, v: u64| -> Result<u32, MeshBakeError> {
+                if let Some(&id) = bound_ids.get(&(baker, upper, v)) {
+                    return Ok(id);
+                }
+                let texture = VertexBoundTexture {
+                    inner: mesh.texture,
+                    factor: f64::from(material.alpha_factor),
+                    low: f64::from_bits(v),
+                    high: f64::from_bits(v),
+                    upper,
+                };
+                let test = (
+                    material.sampler,
+                    material.cutoff,
+                    options.texture_unit,
+                    f64::from(material.alpha_factor),
+                );
+                let made = Baker::new_on(&texture, test, u64::MAX, runner)
+                    .map_err(texture_error)?
+                    .with_block_budget(options.block_budget)
+                    .with_model(options.model);
+                let id = plan.bounds.len() as u32;
+                plan.bounds.push(made);
+                bound_ids.insert((baker, upper, v), id);
+                Ok(id)
+            };
             let mut of_triangle = room(triangles.len())?;
             // Room for every triangle of the mesh being new: `id_of`
             // pushes without reallocating.
@@ -261,35 +323,8 @@ impl Plan {
                 let bound = match vertex_alpha {
                     None => None,
                     Some(alphas) => {
-                        let range = vertex_range(alphas[t]);
-                        Some(if let Some(&b) = bounds.get(&(baker, range)) {
-                            b
-                        } else {
-                            let bound = |upper| -> Result<Baker, MeshBakeError> {
-                                let texture = VertexBoundTexture {
-                                    inner: mesh.texture,
-                                    factor: f64::from(material.alpha_factor),
-                                    low: f64::from_bits(range.0),
-                                    high: f64::from_bits(range.1),
-                                    upper,
-                                };
-                                let test = (
-                                    material.sampler,
-                                    material.cutoff,
-                                    options.texture_unit,
-                                    f64::from(material.alpha_factor),
-                                );
-                                Ok(Baker::new_on(&texture, test, u64::MAX, &Runner::serial())
-                                    .map_err(texture_error)?
-                                    .with_block_budget(options.block_budget)
-                                    .with_model(options.model))
-                            };
-                            let pair = (bound(false)?, bound(true)?);
-                            let b = plan.bounds.len() as u32;
-                            plan.bounds.push(pair);
-                            bounds.insert((baker, range), b);
-                            b
-                        })
+                        let (low, high) = grids[baker as usize].snap(vertex_range(alphas[t]));
+                        Some((bound_baker(false, low)?, bound_baker(true, high)?))
                     }
                 };
                 let work = Work {

@@ -2,9 +2,9 @@
 //! texture and material as [`bake_meshes`](super::bake_meshes) models them
 //! (alpha factor, vertex alpha), with [`Baker::verify_each`].
 
-use super::input::{check_vertex_alpha, Mesh, MeshBakeError, MeshOptions};
+use super::input::{check_vertex_alpha, room, Mesh, MeshBakeError, MeshOptions};
 use crate::bake::baker::Baker;
-use crate::bake::material::{vertex_range, FactorTexture, VertexBoundTexture};
+use crate::bake::material::{vertex_range, FactorTexture, VertexBoundTexture, VertexBounds};
 use crate::bake::parallel::Runner;
 use crate::bake::verify::Contradiction;
 use crate::micromap::{State, TriangleOpacity};
@@ -134,50 +134,105 @@ pub fn verify_mesh(
     .map_err(texture_error)?
     .with_block_budget(judge.block_budget)
     .with_model(model);
-    let mut bound_bakers: BTreeMap<(u64, u64), (Baker, Baker)> = BTreeMap::new();
+    // Vertex alpha, in two passes per triangle. First against the bounds
+    // the ranges snap to (at most VERTEX_BOUNDS bakers per side, as the
+    // bake's): a snapped range is wider, so its bounds find every
+    // contradiction the exact range's find, and maybe more. Only a
+    // triangle with some is judged again, and reported, by the bounds of
+    // its exact range (bakers made on demand; at most EXACT_BAKERS kept).
+    let grid = match vertex_alpha {
+        None => VertexBounds::default(),
+        Some(alphas) => {
+            let mut lows = room(alphas.len()).map_err(MeshVerifyError::Mesh)?;
+            let mut highs = room(alphas.len()).map_err(MeshVerifyError::Mesh)?;
+            for &a in alphas {
+                let (low, high) = vertex_range(a);
+                lows.push(low);
+                highs.push(high);
+            }
+            VertexBounds::new(lows, highs)
+        }
+    };
+    const EXACT_BAKERS: usize = 32;
+    let mut snapped: BTreeMap<(bool, u64), Baker> = BTreeMap::new();
+    let mut exact: BTreeMap<(bool, u64), Baker> = BTreeMap::new();
+    let bound_baker = |bakers: &mut BTreeMap<(bool, u64), Baker>,
+                       upper: bool,
+                       v: u64|
+     -> Result<(), MeshVerifyError> {
+        if let alloc::collections::btree_map::Entry::Vacant(slot) = bakers.entry((upper, v)) {
+            let texture = VertexBoundTexture {
+                inner: mesh.texture,
+                factor: f64::from(material.alpha_factor),
+                low: f64::from_bits(v),
+                high: f64::from_bits(v),
+                upper,
+            };
+            slot.insert(
+                Baker::new_on(&texture, test, u64::MAX, &serial)
+                    .map(|b| b.with_block_budget(judge.block_budget).with_model(model))
+                    .map_err(texture_error)?,
+            );
+        }
+        Ok(())
+    };
     let mut out = MeshVerification::default();
     for (t, (uv, opacity)) in triangles.iter().zip(opacities).enumerate() {
         let remaining = max_known.saturating_sub(out.known);
         let counts = match vertex_alpha {
             None => baker.verify_each(uv, opacity, remaining, |c| visit(t, c)),
             Some(alphas) => {
-                let key = vertex_range(alphas[t]);
-                if let alloc::collections::btree_map::Entry::Vacant(slot) = bound_bakers.entry(key)
-                {
-                    let bound = |upper| {
-                        let texture = VertexBoundTexture {
-                            inner: mesh.texture,
-                            factor: f64::from(material.alpha_factor),
-                            low: f64::from_bits(key.0),
-                            high: f64::from_bits(key.1),
-                            upper,
-                        };
-                        Baker::new_on(&texture, test, u64::MAX, &serial)
-                            .map(|b| b.with_block_budget(judge.block_budget).with_model(model))
-                            .map_err(texture_error)
-                    };
-                    slot.insert((bound(false)?, bound(true)?));
-                }
-                let Some((low, high)) = bound_bakers.get(&key) else {
-                    continue;
-                };
+                let range = vertex_range(alphas[t]);
                 // Each bound decides the states it is the bound of.
-                let mut kept = 0;
-                let mut a = low.verify_each(uv, opacity, remaining, |c| {
-                    if c.state == State::Opaque {
-                        kept += 1;
-                        visit(t, c);
+                let judge_by = |low: &Baker, high: &Baker, visit: &mut dyn FnMut(Contradiction)| {
+                    let mut kept = 0;
+                    let mut a = low.verify_each(uv, opacity, remaining, |c| {
+                        if c.state == State::Opaque {
+                            kept += 1;
+                            visit(c);
+                        }
+                    });
+                    let b = high.verify_each(uv, opacity, remaining, |c| {
+                        if c.state == State::Transparent {
+                            kept += 1;
+                            visit(c);
+                        }
+                    });
+                    a.contradictions = kept;
+                    a.undecided += b.undecided;
+                    a
+                };
+                let (low, high) = grid.snap(range);
+                bound_baker(&mut snapped, false, low)?;
+                bound_baker(&mut snapped, true, high)?;
+                let coarse = judge_by(
+                    &snapped[&(false, low)],
+                    &snapped[&(true, high)],
+                    &mut |_| {},
+                );
+                if coarse.contradictions == 0 || (low, high) == range {
+                    if coarse.contradictions > 0 {
+                        // The range is its own bound: report as judged.
+                        judge_by(&snapped[&(false, low)], &snapped[&(true, high)], &mut |c| {
+                            visit(t, c);
+                        })
+                    } else {
+                        coarse
                     }
-                });
-                let b = high.verify_each(uv, opacity, remaining, |c| {
-                    if c.state == State::Transparent {
-                        kept += 1;
-                        visit(t, c);
+                } else {
+                    if exact.len() + 2 > EXACT_BAKERS {
+                        exact.clear();
                     }
-                });
-                a.contradictions = kept;
-                a.undecided += b.undecided;
-                a
+                    bound_baker(&mut exact, false, range.0)?;
+                    bound_baker(&mut exact, true, range.1)?;
+                    judge_by(
+                        &exact[&(false, range.0)],
+                        &exact[&(true, range.1)],
+                        &mut |c| {
+                            visit(t, c);
+                        },
+                    )
+                }
             }
         };
         out.triangles_checked += usize::from(counts.checked);
