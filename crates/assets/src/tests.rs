@@ -1250,3 +1250,28 @@ fn gltf_committed_assets_are_placed_by_their_nodes() {
     assert_eq!(offsets[0], [0.0, 0.0, 0.0]);
     assert!(offsets[1][0] > 0.99 && offsets[2][2] > 0.99 && offsets[3][0] > 0.99);
 }
+
+/// `KHR_materials_variants` is not modelled: the primitive's default
+/// material is read, and a warning says so (issue 34: variants were
+/// ignored without a word).
+#[test]
+fn material_variants_are_named_in_a_warning() {
+    let (mut json, bin) = fixture();
+    json["extensionsUsed"] = json!(["KHR_materials_variants"]);
+    json["meshes"][0]["primitives"][0]["extensions"] = json!({
+        "KHR_materials_variants": {"mappings": [
+            {"material": 0, "variants": [0]},
+            {"material": 0, "variants": [1]},
+        ]}
+    });
+    let asset = read(&json, &bin).unwrap();
+    assert_eq!(asset.primitives.len(), 1);
+    assert_eq!(
+        asset.warnings,
+        [
+            "meshes[0].primitives[0]: KHR_materials_variants maps 2 variant material(s); only the \
+          primitive's default material (materials[0]) is read, so a variant's look needs a bake \
+          of its own"
+        ]
+    );
+}

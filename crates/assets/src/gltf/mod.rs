@@ -191,6 +191,25 @@ impl Reader<'_, '_> {
                     ));
                     continue;
                 }
+                // KHR_materials_variants: only the default material is
+                // read; say so rather than bake one look silently.
+                if let Some(variants) = primitive
+                    .opt_obj("extensions")?
+                    .map(|e| e.opt_obj("KHR_materials_variants"))
+                    .transpose()?
+                    .flatten()
+                {
+                    let mappings = variants.opt_array("mappings")?.map_or(0, <[_]>::len);
+                    self.warn(format!(
+                        "{}: KHR_materials_variants maps {mappings} variant material(s); only the \
+                         primitive's default material ({}) is read, so a variant's look needs a \
+                         bake of its own",
+                        primitive.path,
+                        primitive
+                            .opt_usize("material")?
+                            .map_or("none".to_string(), |m| format!("materials[{m}]"))
+                    ));
+                }
                 let Some(material_index) = primitive.opt_usize("material")? else {
                     opaque += 1;
                     continue;
