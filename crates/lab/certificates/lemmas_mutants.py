@@ -83,7 +83,7 @@ def move_out(anchor, before=("fn _moved<W: ReferenceWord>(mut iu: W, iuv: W, cel
 
 
 def swap(anchor, offset=1):
-    """Swap the anchor's line with the line `offset` (+1 or -1) from it."""
+    """Swap the anchor's line with the line `offset` lines from it (+1, -1)."""
 
     def apply(lines):
         i = find(lines, anchor)
