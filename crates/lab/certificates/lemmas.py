@@ -29,12 +29,14 @@ Usage: python3 crates/lab/certificates/lemmas.py [--source-only]
 (exit 0: the source is the model and all lemmas hold; --source-only: the
 source check alone; LEMMAS_SOURCE=FILE reads FILE instead of the source)
 """
-import difflib
 import os
 import re
 import sys
 
 import z3
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from rust_source import check_structure  # noqa: E402  (shared with product.py)
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..")
 SOURCE_PATH = os.environ.get("LEMMAS_SOURCE", os.path.join(ROOT, "src/spec/integer_half.rs"))
@@ -42,14 +44,11 @@ SOURCE = open(SOURCE_PATH).read()
 
 # ---- the structure of the modelled functions ----
 #
-# Each function below is read from the source as a token stream (comments
-# dropped, so braces inside comments and string/char literals do not
-# count), its body found by brace matching, and split into logical lines:
-# the tokens of one source line, joined with the next while a `(` or `[`
-# is open (a wrapped argument list is one line). The result must equal the
-# modelled lines exactly, in order: an inserted, deleted, duplicated,
-# reordered or changed line is refused. Comments, blank lines and
-# whitespace between tokens are free.
+# Each function below is cut from the source by brace matching, outside
+# comments and literals, split into logical lines of tokens and compared
+# with the modelled lines exactly, in order (rust_source.py, shared with
+# product.py): an inserted, deleted, duplicated, reordered or changed line
+# is refused. Comments, blank lines and whitespace between tokens are free.
 #
 # Z(...): a step the z3 model below encodes (the name of its counterpart
 # follows); S(...): structure the model follows without a step of its own
@@ -66,7 +65,7 @@ def S(line):
 
 MODELLED_FUNCTIONS = {
     # cell_lemma, "reference_cell, step by step" (U, V: iu, iv; n: level).
-    "reference_cell": [
+    "fn reference_cell": [
         S("pub fn reference_cell<W: ReferenceWord>(iu: W, iv: W, diagonal: bool, level: u32) -> (W, W, W) {"),
         Z("let one = W::constant(1);"),  # one
         Z("let cells = W::power_of_two(level);"),  # cells = N
@@ -90,7 +89,7 @@ MODELLED_FUNCTIONS = {
         Z("(iu, iv, iw)"),  # the claim on iu, iv, iw
     ],
     # digits(iu, iv, iw, level, bits).
-    "reference_digits": [
+    "fn reference_digits": [
         S(
             "pub fn reference_digits<W: ReferenceWord>(iu: W, iv: W, iw: W, level: u32,"
             " prefix_xor: &[u32], interleave: &[(u32, u64)],) -> W {"
@@ -113,194 +112,23 @@ MODELLED_FUNCTIONS = {
         Z("spread(b0).or(spread(b1).shift_left(1))"),  # spread(b0) | (spread(b1) << 1)
     ],
     # WIDTHS[32]: the 32-bit code runs the NARROW constants.
-    "index_from_cell": [
+    "fn index_from_cell": [
         Z("pub fn index_from_cell(iu: u32, iv: u32, diagonal: bool, level: u32) -> u32 {"),
         S("let (iu, iv, iw) = reference_cell(iu, iv, diagonal, level);"),
         Z("reference_digits(iu, iv, iw, level, &NARROW_PREFIX_XOR, &NARROW_INTERLEAVE)"),
     ],
     # WIDTHS[64]: the 64-bit widening runs the WIDE constants.
-    "wide_index_from_cell": [
+    "fn wide_index_from_cell": [
         Z("pub fn wide_index_from_cell(iu: u64, iv: u64, diagonal: bool, level: u32) -> u64 {"),
         S("let (iu, iv, iw) = reference_cell(iu, iv, diagonal, level);"),
         Z("reference_digits(iu, iv, iw, level, &WIDE_PREFIX_XOR, &WIDE_INTERLEAVE)"),
     ],
 }
 
-PUNCTUATION = sorted(
-    "<<= >>= ... ..= :: -> => == != <= >= && || += -= *= /= %= ^= &= |= << >> ..".split(),
-    key=len,
-    reverse=True,
-)
-CHAR = re.compile(r"'(?:\\(?:x[0-9a-fA-F]{2}|u\{[0-9a-fA-F_]{1,8}\}|[^\n])|[^\\'\n])'")
-RAW_STRING = re.compile(r'(?:b|c)?r(#*)"')
-IDENT = re.compile(r"(?:r#)?[^\W\d]\w*")
-NUMBER = re.compile(r"\d\w*(?:\.\d\w*)?")
-
-
-class SourceError(Exception):
-    pass
-
-
-def tokenize(text):
-    """Rust tokens as (text, line): comments (nested block ones included)
-    and whitespace dropped; string, char and number literals one token
-    each, verbatim; lifetimes one token."""
-    tokens, i, line, n = [], 0, 1, len(text)
-    while i < n:
-        c = text[i]
-        start, start_line = i, line
-        if c == "\n":
-            line += 1
-            i += 1
-            continue
-        if c.isspace():
-            i += 1
-            continue
-        if text.startswith("//", i):
-            end = text.find("\n", i)
-            i = n if end < 0 else end
-            continue
-        if text.startswith("/*", i):
-            depth, i = 1, i + 2
-            while depth:
-                if i >= n:
-                    raise SourceError(f"line {start_line}: unterminated block comment")
-                if text.startswith("/*", i):
-                    depth, i = depth + 1, i + 2
-                elif text.startswith("*/", i):
-                    depth, i = depth - 1, i + 2
-                else:
-                    line += text[i] == "\n"
-                    i += 1
-            continue
-        raw = RAW_STRING.match(text, i)
-        if raw:
-            close = '"' + raw.group(1)
-            end = text.find(close, raw.end())
-            if end < 0:
-                raise SourceError(f"line {start_line}: unterminated raw string")
-            i = end + len(close)
-        elif c == '"' or (c in "bc" and text.startswith('"', i + 1)):
-            i = text.index('"', i) + 1
-            while i < n and text[i] != '"':
-                i += 2 if text[i] == "\\" else 1
-            if i >= n:
-                raise SourceError(f"line {start_line}: unterminated string")
-            i += 1
-        elif c == "'" or (c == "b" and text.startswith("'", i + 1)):
-            char = CHAR.match(text, i + (c == "b"))
-            if char:
-                i = char.end()
-            else:  # a lifetime or label
-                ident = IDENT.match(text, i + 1)
-                i = ident.end() if ident else i + 1
-        elif IDENT.match(text, i):
-            i = IDENT.match(text, i).end()
-        elif c.isdigit():
-            i = NUMBER.match(text, i).end()
-        else:
-            i += next((len(p) for p in PUNCTUATION if text.startswith(p, i)), 1)
-        tokens.append((text[start:i], start_line))
-        line += text.count("\n", start, i)
-    return tokens
-
-
-def canonical(tokens):
-    return " ".join(t for t, _ in tokens)
-
-
-def logical_lines(tokens):
-    """Group tokens by the source line they start on, joining a line with
-    the next while a `(` or `[` is open. Returns [(first line, last line,
-    tokens)]."""
-    groups, depth, end = [], 0, 0
-    for token in tokens:
-        if groups and (depth > 0 or token[1] == end):
-            groups[-1][2].append(token)
-        else:
-            groups.append([token[1], token[1], [token]])
-        end = token[1] + token[0].count("\n")
-        groups[-1][1] = end
-        if token[0] in ("(", "["):
-            depth += 1
-        elif token[0] in (")", "]"):
-            depth -= 1
-    return groups
-
-
-def function_lines(tokens, name):
-    """The modelled form of fn `name`: its signature (the tokens from the
-    start of the `fn` line to the body's `{`) as one line, then its body's
-    logical lines. Returns [(first line, last line, canonical text)]."""
-    where = [i for i in range(len(tokens) - 1) if tokens[i][0] == "fn" and tokens[i + 1][0] == name]
-    if len(where) != 1:
-        raise SourceError(f"`fn {name}` occurs {len(where)} times, not once")
-    fn = where[0]
-    first = fn
-    while first > 0 and tokens[first - 1][1] == tokens[fn][1]:
-        first -= 1
-    open_ = next((i for i in range(fn, len(tokens)) if tokens[i][0] == "{"), None)
-    if open_ is None:
-        raise SourceError(f"`fn {name}` (line {tokens[fn][1]}) has no body")
-    depth = 0
-    for close in range(open_, len(tokens)):
-        depth += {"{": 1, "}": -1}.get(tokens[close][0], 0)
-        if depth == 0:
-            break
-    else:
-        raise SourceError(f"`fn {name}` (line {tokens[fn][1]}): its `{{` is never closed")
-    lines = [(tokens[first][1], tokens[open_][1], canonical(tokens[first : open_ + 1]))]
-    lines += [(a, b, canonical(group)) for a, b, group in logical_lines(tokens[open_ + 1 : close])]
-    return lines
-
-
-def check_structure(source, path):
-    """Compare each modelled function with the source; returns the error
-    messages (empty: every function is exactly the model)."""
-    raw = source.splitlines()
-    try:
-        tokens = tokenize(source)
-    except SourceError as e:
-        return [f"{path}: {e}"]
-    errors = []
-    for name, model in MODELLED_FUNCTIONS.items():
-        try:
-            found = function_lines(tokens, name)
-        except SourceError as e:
-            errors.append(f"{path}: {e}")
-            continue
-        expected = [canonical(tokenize(line)) for _, line in model]
-        got = [text for _, _, text in found]
-        if got == expected:
-            continue
-
-        def show(g, mark):
-            a, b, _ = found[g]
-            text = " ".join(line.strip() for line in raw[a - 1 : b])
-            return f"  {mark} line {a:>4}  {text}"
-
-        report = [
-            f"{path}:{found[0][0]}: `{name}` is not the modelled code "
-            "(- expected by lemmas.py, + found; update the model in lemmas.py):"
-        ]
-        shown = set()
-        for tag, e0, e1, g0, g1 in difflib.SequenceMatcher(None, expected, got, autojunk=False).get_opcodes():
-            if tag == "equal":
-                continue
-            if g0 > 0 and g0 - 1 not in shown:
-                report.append(show(g0 - 1, " "))
-            report += [f"  - expected   {model[e][1]}" for e in range(e0, e1)]
-            report += [show(g, "+") for g in range(g0, g1)]
-            shown.update(range(g0 - 1, g1 + 1))
-            if g1 < len(got):
-                report.append(show(g1, " "))
-        errors.append("\n".join(report))
-    return errors
-
-
 def check_source():
     path = SOURCE_PATH if "LEMMAS_SOURCE" in os.environ else "src/spec/integer_half.rs"
-    errors = check_structure(SOURCE, path)
+    model = {item: [line for _, line in lines] for item, lines in MODELLED_FUNCTIONS.items()}
+    errors = check_structure(SOURCE, path, model, "lemmas.py")
     if errors:
         print("source check: REFUSED", file=sys.stderr)
         for error in errors:
@@ -312,6 +140,7 @@ def check_source():
         f"source check: {len(MODELLED_FUNCTIONS)} functions of {path} are the modelled code, "
         f"line for line ({count} lines, {encoded} of them z3 steps)"
     )
+
 
 def constants(name):
     match = re.search(name + r": \[[^\]]*\] = \[(.*?)\];", SOURCE, re.S)

@@ -7,7 +7,9 @@ mutant (an inserted, deleted, moved, duplicated, reordered or changed
 line of a modelled function) must be refused, and every control (comments,
 blank lines, whitespace: the same tokens) and the unmodified source must
 pass. Each mutation must apply to exactly one line, so a stale anchor
-fails the script instead of testing nothing.
+fails the script instead of testing nothing. product_mutants.py runs the
+same self-test (these helpers) on product.py's check of
+src/uv2index/mod.rs.
 
 Usage: python3 crates/lab/certificates/lemmas_mutants.py [-v]
 (exit 0: every mutant refused, every control accepted; -v prints
@@ -29,11 +31,20 @@ class Stale(Exception):
     pass
 
 
-def find(lines, text):
-    """The index of the one line whose stripped text is `text`."""
-    hits = [i for i, line in enumerate(lines) if line.strip() == text]
+def find(lines, anchor):
+    """The index of the one line whose stripped text is `anchor`; for an
+    anchor (after, text), of the first line `text` after the one line
+    `after` (a line that also occurs elsewhere, in a later function)."""
+    if isinstance(anchor, tuple):
+        after, text = anchor
+        start = find(lines, after) + 1
+        hits = [i for i in range(start, len(lines)) if lines[i].strip() == text][:1]
+        if not hits:
+            raise Stale(f"`{text}` is on no line after `{after}`")
+        return hits[0]
+    hits = [i for i, line in enumerate(lines) if line.strip() == anchor]
     if len(hits) != 1:
-        raise Stale(f"`{text}` is on {len(hits)} lines of the source, not one")
+        raise Stale(f"`{anchor}` is on {len(hits)} lines of the source, not one")
     return hits[0]
 
 
@@ -59,19 +70,20 @@ def delete(anchor, offset=0):
     return apply
 
 
-def move_out(anchor):
-    """Delete the line and keep it, verbatim, in a new function at the end
-    of the file (the line still occurs in the source)."""
+def move_out(anchor, before=("fn _moved<W: ReferenceWord>(mut iu: W, iuv: W, cells: W, one: W) {",), after=("}",)):
+    """Delete the line and keep it, verbatim, in a new item (the lines
+    `before`, it, `after`) at the end of the file (the line still occurs
+    in the source)."""
 
     def apply(lines):
         i = find(lines, anchor)
-        return lines[:i] + lines[i + 1 :] + ["", "fn _moved<W: ReferenceWord>(mut iu: W, iuv: W, cells: W, one: W) {", lines[i], "}"]
+        return lines[:i] + lines[i + 1 :] + [""] + list(before) + [lines[i]] + list(after)
 
     return apply
 
 
 def swap(anchor, offset=1):
-    """Swap the anchor's line with the line `offset` (+1 or -1) from it."""
+    """Swap the anchor's line with the line `offset` lines from it (+1, -1)."""
 
     def apply(lines):
         i = find(lines, anchor)
@@ -97,7 +109,7 @@ def replace(anchor, old, new):
     def apply(lines):
         i = find(lines, anchor)
         if lines[i].count(old) != 1:
-            raise Stale(f"`{old}` is not once in `{anchor}`")
+            raise Stale(f"`{old}` is not once in `{lines[i].strip()}`")
         return lines[:i] + [lines[i].replace(old, new)] + lines[i + 1 :]
 
     return apply
@@ -176,15 +188,14 @@ CONTROLS = [
 ]
 
 
-def run(text):
-    """lemmas.py --source-only on `text`: (verdict, its output)."""
+def run(text, script, variable):
+    """`script --source-only` with `variable` naming a file holding
+    `text`: (verdict, its output)."""
     with tempfile.NamedTemporaryFile("w", suffix=".rs", delete=False) as file:
         file.write(text)
     try:
-        env = dict(os.environ, LEMMAS_SOURCE=file.name)
-        result = subprocess.run(
-            [sys.executable, LEMMAS, "--source-only"], env=env, capture_output=True, text=True
-        )
+        env = dict(os.environ, **{variable: file.name})
+        result = subprocess.run([sys.executable, script, "--source-only"], env=env, capture_output=True, text=True)
     finally:
         os.unlink(file.name)
     output = result.stdout + result.stderr
@@ -195,19 +206,23 @@ def run(text):
     return f"crashed (exit {result.returncode})", output
 
 
-def main():
+def self_test(script, variable, source, mutants, controls):
+    """Run the unmodified source, every mutant (must be refused) and every
+    control (must be accepted) through `script`'s source check; exits 0
+    when all are as they must be."""
     verbose = "-v" in sys.argv[1:]
     start = time.time()
-    original = open(SOURCE).read()
+    original = open(source).read()
     lines = original.splitlines()
     ok = True
-    verdict, output = run(original)
-    print(f"lemmas.py source check, mutation self-test ({len(MUTANTS)} mutants, {len(CONTROLS)} controls):")
+    verdict, output = run(original, script, variable)
+    name = os.path.basename(script)
+    print(f"{name} source check, mutation self-test ({len(mutants)} mutants, {len(controls)} controls):")
     print(f"  unmodified source: {verdict}")
     if verdict != "accepted":
         print(output)
         ok = False
-    for kind, cases, want in (("mutant", MUTANTS, "refused"), ("control", CONTROLS, "accepted")):
+    for kind, cases, want in (("mutant", mutants, "refused"), ("control", controls, "accepted")):
         for description, mutation in cases:
             try:
                 text = "\n".join(mutation(lines)) + "\n"
@@ -219,7 +234,7 @@ def main():
                 print(f"  {kind} changes nothing: {description}")
                 ok = False
                 continue
-            verdict, output = run(text)
+            verdict, output = run(text, script, variable)
             good = verdict == want
             ok &= good
             print(f"  {kind}, {description}: {verdict}" + ("" if good else f", NOT {want}"))
@@ -227,6 +242,10 @@ def main():
                 print("    " + output.strip().replace("\n", "\n    "))
     print(f"{'all mutants refused, all controls accepted' if ok else 'SELF-TEST FAILS'} ({time.time() - start:.1f} s)")
     sys.exit(0 if ok else 1)
+
+
+def main():
+    self_test(LEMMAS, "LEMMAS_SOURCE", SOURCE, MUTANTS, CONTROLS)
 
 
 if __name__ == "__main__":

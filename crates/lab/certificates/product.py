@@ -41,8 +41,16 @@ a flipped parity or flag) and checks the certificate under a wrong walk
 model (the tie rule without mid_flip), and requires each to be refused
 (negative controls; `--no-controls` skips them).
 
-Usage: python3 crates/lab/certificates/product.py [FILE] [--no-controls]
-(exit 0: the certificate holds and every mutant is refused)
+The source check (MODELLED_FUNCTIONS) reads structure, as lemmas.py's
+does (rust_source.py): `new`, `step`, `enter_middle` and `mod digit` are
+cut from the source by brace matching and must be the modelled lines of
+tokens exactly, in order; product_mutants.py checks that mutants of them
+are refused.
+
+Usage: python3 crates/lab/certificates/product.py [FILE] [--no-controls] [--source-only]
+(exit 0: the certificate holds and every mutant is refused; --source-only:
+the source check alone; PRODUCT_SOURCE=FILE reads FILE instead of
+src/uv2index/mod.rs)
 """
 import copy
 import functools
@@ -55,19 +63,25 @@ import z3
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import lemmas  # noqa: E402  (TABLE, documented_rule: one model of the reference)
+from rust_source import check_structure  # noqa: E402  (the structural source check)
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..")
 DEFAULT = os.path.join(ROOT, "docs/results/all_levels_certificate.json")
-WALK_SOURCE = os.path.join(ROOT, "src/uv2index/mod.rs")
+WALK_SOURCE = os.environ.get("PRODUCT_SOURCE", os.path.join(ROOT, "src/uv2index/mod.rs"))
 COORDINATES = "uvw"
 LEFT, MIDDLE, RIGHT, TOP = 0, 1, 2, 3
 
-# src/uv2index/mod.rs, function by function: the lines (stripped, blank
-# ones dropped) that `walk_step` and `walk_new` below model. The source
-# must have exactly these, so any change to the walk fails this checker
-# until the model is updated.
+# src/uv2index/mod.rs, item by item: the code that `walk_new`, `walk_step`
+# (below) and the digit constants (above) model, as lines of tokens (the item's
+# header, then its body). rust_source.py (shared with lemmas.py) cuts each
+# item from the source by brace matching, outside comments and literals,
+# and requires exactly these lines, in order: an inserted, deleted,
+# duplicated, reordered or changed line fails this checker until the model
+# is updated. product_mutants.py checks that it does.
 MODELLED_FUNCTIONS = {
-    "pub fn new(u: T, v: T) -> Self {": [
+    # walk_new.
+    "fn new": [
+        "pub fn new(u: T, v: T) -> Self {",
         "let w = T::one_minus_sum(&u, &v);",
         "Walk {",
         "u,",
@@ -77,7 +91,9 @@ MODELLED_FUNCTIONS = {
         "top_flip: false,",
         "}",
     ],
-    "pub fn step(&mut self) -> u8 {": [
+    # walk_step, its four branches in order (Left, Top, Right, Middle).
+    "fn step": [
+        "pub fn step(&mut self) -> u8 {",
         "let (left, right) = if self.top_flip {",
         "(digit::RIGHT, digit::LEFT)",
         "} else {",
@@ -109,7 +125,9 @@ MODELLED_FUNCTIONS = {
         "digit::MIDDLE",
         "}",
     ],
-    "fn enter_middle(&mut self) {": [
+    # walk_step's Middle branch: (u + v - w, w + u - v, v + w - u).
+    "fn enter_middle": [
+        "fn enter_middle(&mut self) {",
         "let u = self.u.plus(&self.v).minus(&self.w);",
         "let v = self.w.plus(&self.u).minus(&self.v);",
         "let w = self.v.plus(&self.w).minus(&self.u);",
@@ -117,36 +135,27 @@ MODELLED_FUNCTIONS = {
         "self.v = v;",
         "self.w = w;",
     ],
+    # LEFT, MIDDLE, RIGHT, TOP above.
+    "mod digit": [
+        "pub mod digit {",
+        "pub const LEFT: u8 = 0;",
+        "pub const MIDDLE: u8 = 1;",
+        "pub const RIGHT: u8 = 2;",
+        "pub const TOP: u8 = 3;",
+    ],
 }
-MODELLED_DIGITS = [
-    "pub const LEFT: u8 = 0;",
-    "pub const MIDDLE: u8 = 1;",
-    "pub const RIGHT: u8 = 2;",
-    "pub const TOP: u8 = 3;",
-]
 
 
 def check_walk_source():
-    raw = open(WALK_SOURCE).read().splitlines()
-    lines = [line.strip() for line in raw]
-    for header, body in MODELLED_FUNCTIONS.items():
-        if lines.count(header) != 1:
-            sys.exit(f"src/uv2index/mod.rs has not exactly one `{header}`; update product.py")
-        start = lines.index(header) + 1
-        # The body ends at the first line that closes the function: a "}"
-        # at the header's indentation.
-        indent = raw[start - 1][: len(raw[start - 1]) - len(raw[start - 1].lstrip())]
-        end = next(i for i in range(start, len(raw)) if raw[i] == indent + "}")
-        found = [l for l in lines[start:end] if l and not l.startswith("//")]
-        if found != body:
-            line = next(i for i in range(max(len(body), len(found))) if body[i:i + 1] != found[i:i + 1])
-            sys.exit(
-                f"src/uv2index/mod.rs `{header}` is not the modelled code (update product.py): "
-                f"line {line + 1} of its body is {found[line:line + 1]}, modelled {body[line:line + 1]}"
-            )
-    missing = [l for l in MODELLED_DIGITS if l not in lines]
-    if missing:
-        sys.exit(f"src/uv2index/mod.rs lacks the modelled digits {missing}; update product.py")
+    path = WALK_SOURCE if "PRODUCT_SOURCE" in os.environ else "src/uv2index/mod.rs"
+    errors = check_structure(open(WALK_SOURCE).read(), path, MODELLED_FUNCTIONS, "product.py")
+    if errors:
+        print("source check: REFUSED", file=sys.stderr)
+        for error in errors:
+            print(error, file=sys.stderr)
+        sys.exit(1)
+    count = sum(len(model) for model in MODELLED_FUNCTIONS.values())
+    print(f"source check: {len(MODELLED_FUNCTIONS)} items of {path} are the modelled code, line for line ({count} lines)")
 
 
 # ---- the model: the walk over the reals, the checker, the reference ----
@@ -440,6 +449,8 @@ def main():
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
     path = args[0] if args else DEFAULT
     check_walk_source()
+    if "--source-only" in sys.argv[1:]:
+        return
     started = time.process_time()
     cert = json.load(open(path))
     abstraction = Abstraction()
