@@ -5,6 +5,7 @@
 //! ([`VertexBoundTexture`], [`vertex_range`]).
 
 use super::texture::{faithful_f32, AlphaTexture, Cutoff, Sampler};
+use alloc::vec::Vec;
 
 /// How a mesh's texture is alpha-tested: the sampler, the cutoff, and a
 /// factor on every texel's alpha.

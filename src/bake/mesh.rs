@@ -509,7 +509,7 @@ mod tests {
         }
     }
 
-    /// Snapping never narrows a range, keeps at most VERTEX_BOUNDS values
+    /// Snapping never narrows a range, keeps at most `VERTEX_BOUNDS` values
     /// per side, and keeps every value where there are few.
     #[test]
     fn vertex_bounds_snap_outwards_to_few_values() {
@@ -549,7 +549,7 @@ mod tests {
     }
 
     /// A smooth vertex alpha (every triangle a range of its own, far more
-    /// than VERTEX_BOUNDS) bakes soundly: at every point of a known
+    /// than `VERTEX_BOUNDS`) bakes soundly: at every point of a known
     /// micro-triangle (corners, edges and inside) the exact `texel * v` is
     /// on the state's side of the cutoff; and a triangle knows no more than
     /// baked alone (where its range is exact).

@@ -72,7 +72,7 @@ fn baked_gltf_verifies_in_every_container() {
         assert!(known > 0, "{report}");
         // A .glb stands alone: moved into a folder of its own, it still
         // verifies (its images and buffers are in its BIN chunk).
-        if name.ends_with(".glb") {
+        if Path::new(name).extension().is_some_and(|e| e == "glb") {
             let alone = dir.join("alone");
             std::fs::create_dir_all(&alone).unwrap();
             let moved = alone.join(name);

@@ -70,6 +70,10 @@ impl fmt::Display for MeshVerifyError {
 
 impl core::error::Error for MeshVerifyError {}
 
+/// The most exact-range bound bakers [`verify_mesh`] keeps at once (each
+/// holds tables the size of the texture).
+const EXACT_BAKERS: usize = 32;
+
 /// Checks `opacities` (one per triangle of `mesh`, any baker's) against the
 /// mesh's texture under its material, as [`bake_meshes`](super::bake_meshes)
 /// models it with `judge` (the same options a bake takes: its
@@ -153,7 +157,6 @@ pub fn verify_mesh(
             VertexBounds::new(lows, highs)
         }
     };
-    const EXACT_BAKERS: usize = 32;
     let mut snapped: BTreeMap<(bool, u64), Baker> = BTreeMap::new();
     let mut exact: BTreeMap<(bool, u64), Baker> = BTreeMap::new();
     let bound_baker = |bakers: &mut BTreeMap<(bool, u64), Baker>,
