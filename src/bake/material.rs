@@ -4,7 +4,10 @@
 //! bounds on `texel * factor * vertex alpha` that make vertex alpha sound
 //! ([`VertexBoundTexture`], [`vertex_range`]).
 
-use super::texture::{faithful_f32, AlphaTexture, Cutoff, Sampler};
+use super::baker::Baker;
+use super::parallel::Runner;
+use super::texture::{faithful_f32, AlphaTexture, Cutoff, Sampler, TextureError};
+use super::texture_unit::TextureUnit;
 use alloc::vec::Vec;
 
 /// How a mesh's texture is alpha-tested: the sampler, the cutoff, and a
@@ -155,6 +158,34 @@ impl AlphaTexture for VertexBoundTexture<'_> {
             high.push(slot.1 .1);
         }
     }
+}
+
+/// The baker that classifies the texels of `texture`, read as `material`
+/// and `unit` say, by one side's bound of `texel * factor * v` (the lower
+/// when `upper` is false) at the vertex alpha `v` (bits, a bound of
+/// [`VertexBounds::snap`] or of [`vertex_range`]): the one way the bake
+/// and the verifier make it. The caller sets its block budget and model.
+pub(crate) fn vertex_bound_baker(
+    texture: &dyn AlphaTexture,
+    material: &Material,
+    unit: TextureUnit,
+    (upper, v): (bool, u64),
+    runner: &Runner,
+) -> Result<Baker, TextureError> {
+    let texture = VertexBoundTexture {
+        inner: texture,
+        factor: f64::from(material.alpha_factor),
+        low: f64::from_bits(v),
+        high: f64::from_bits(v),
+        upper,
+    };
+    let test = (
+        material.sampler,
+        material.cutoff,
+        unit,
+        f64::from(material.alpha_factor),
+    );
+    Baker::new_on(&texture, test, u64::MAX, runner)
 }
 
 /// At most this many distinct lower bounds, and as many upper bounds, of

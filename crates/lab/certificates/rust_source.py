@@ -16,6 +16,7 @@ then the body's lines. lemmas_mutants.py and product_mutants.py check that
 mutants of the modelled code are refused.
 """
 import difflib
+import sys
 import re
 
 PUNCTUATION = sorted(
@@ -199,3 +200,14 @@ def check_structure(source, path, modelled, checker):
                 report.append(show(g1, " "))
         errors.append("\n".join(report))
     return errors
+
+
+def refuse_unless_modelled(source, path, modelled, checker):
+    """`check_structure`, then: any error is printed to stderr under
+    `source check: REFUSED` and exits 1 (the checkers' one way to refuse)."""
+    errors = check_structure(source, path, modelled, checker)
+    if errors:
+        print("source check: REFUSED", file=sys.stderr)
+        for error in errors:
+            print(error, file=sys.stderr)
+        sys.exit(1)

@@ -10,7 +10,7 @@
 
 use super::input::{check_vertex_alpha, make_room, room, Mesh, MeshBakeError, MeshOptions};
 use crate::bake::baker::Baker;
-use crate::bake::material::{vertex_range, FactorTexture, VertexBoundTexture, VertexBounds};
+use crate::bake::material::{vertex_bound_baker, vertex_range, FactorTexture, VertexBounds};
 use crate::bake::mips::mip_bakers;
 use crate::bake::mips::Mips;
 use crate::bake::parallel::Runner;
@@ -293,23 +293,16 @@ impl Plan {
                 if let Some(&id) = bound_ids.get(&(baker, upper, v)) {
                     return Ok(id);
                 }
-                let texture = VertexBoundTexture {
-                    inner: mesh.texture,
-                    factor: f64::from(material.alpha_factor),
-                    low: f64::from_bits(v),
-                    high: f64::from_bits(v),
-                    upper,
-                };
-                let test = (
-                    material.sampler,
-                    material.cutoff,
+                let made = vertex_bound_baker(
+                    mesh.texture,
+                    material,
                     options.texture_unit,
-                    f64::from(material.alpha_factor),
-                );
-                let made = Baker::new_on(&texture, test, u64::MAX, runner)
-                    .map_err(texture_error)?
-                    .with_block_budget(options.block_budget)
-                    .with_model(options.model);
+                    (upper, v),
+                    runner,
+                )
+                .map_err(texture_error)?
+                .with_block_budget(options.block_budget)
+                .with_model(options.model);
                 let id = plan.bounds.len() as u32;
                 plan.bounds.push(made);
                 bound_ids.insert((baker, upper, v), id);

@@ -4,7 +4,7 @@
 
 use super::input::{check_vertex_alpha, room, Mesh, MeshBakeError, MeshOptions};
 use crate::bake::baker::Baker;
-use crate::bake::material::{vertex_range, FactorTexture, VertexBoundTexture, VertexBounds};
+use crate::bake::material::{vertex_bound_baker, vertex_range, FactorTexture, VertexBounds};
 use crate::bake::parallel::Runner;
 use crate::bake::verify::Contradiction;
 use crate::micromap::{State, TriangleOpacity};
@@ -164,15 +164,8 @@ pub fn verify_mesh(
                        v: u64|
      -> Result<(), MeshVerifyError> {
         if let alloc::collections::btree_map::Entry::Vacant(slot) = bakers.entry((upper, v)) {
-            let texture = VertexBoundTexture {
-                inner: mesh.texture,
-                factor: f64::from(material.alpha_factor),
-                low: f64::from_bits(v),
-                high: f64::from_bits(v),
-                upper,
-            };
             slot.insert(
-                Baker::new_on(&texture, test, u64::MAX, &serial)
+                vertex_bound_baker(mesh.texture, material, unit, (upper, v), &serial)
                     .map(|b| b.with_block_budget(judge.block_budget).with_model(model))
                     .map_err(texture_error)?,
             );
