@@ -15,7 +15,7 @@ use micromap_index::bake::Sampler;
 use micromap_index_assets::{read_gltf_file, AssetError, Limits};
 use pyo3::exceptions::{PyMemoryError, PyOSError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList};
 use std::path::PathBuf;
 
 /// Bakes `meshes`, refusing first (as `micromap-index bake --max-bytes`)
@@ -127,7 +127,7 @@ pub(crate) fn bake<'py>(
 /// are the files `--gltf-out` writes, for `gltf_out`'s directory.
 #[pyfunction]
 #[pyo3(signature = (path, options, *, filter, address, border_alpha, cutoff, opaque_above,
-    gltf_out))]
+    gltf_out, strict))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn bake_gltf<'py>(
     py: Python<'py>,
@@ -139,6 +139,7 @@ pub(crate) fn bake_gltf<'py>(
     cutoff: Option<f32>,
     opaque_above: bool,
     gltf_out: Option<PathBuf>,
+    strict: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let c = options.check()?;
     let gltf_out = gltf_out.as_deref().map(GltfOut::new).transpose()?;
@@ -174,6 +175,19 @@ pub(crate) fn bake_gltf<'py>(
                 PyValueError::new_err(message)
             }
         })?;
+    // A primitive the model does not cover: an error when strict, or when
+    // nothing else is left to bake; else left out and listed.
+    if let Some(r) = gltf.refused.first() {
+        if strict || gltf.primitives.is_empty() {
+            return Err(value_error(format!(
+                "{shown}: meshes[{}].primitives[{}] cannot be baked soundly ({} primitive(s) so): {}",
+                r.mesh,
+                r.primitive,
+                gltf.refused.len(),
+                r.reason
+            )));
+        }
+    }
     let mut info = Vec::with_capacity(gltf.primitives.len());
     let mut materials = Vec::with_capacity(gltf.primitives.len());
     for prim in &gltf.primitives {
@@ -228,6 +242,15 @@ pub(crate) fn bake_gltf<'py>(
     })?;
     let out = result(py, &baked, c.width, &info)?;
     out.set_item("warnings", gltf.warnings.clone())?;
+    let refused = PyList::empty(py);
+    for r in &gltf.refused {
+        let item = PyDict::new(py);
+        item.set_item("mesh", r.mesh)?;
+        item.set_item("primitive", r.primitive)?;
+        item.set_item("reason", r.reason.to_string())?;
+        refused.append(item)?;
+    }
+    out.set_item("refused_primitives", refused)?;
     if let Some(gltf_out) = gltf_out {
         let primitives: Vec<(usize, usize)> = gltf
             .primitives

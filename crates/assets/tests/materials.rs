@@ -550,7 +550,8 @@ fn texture_transform_is_applied_exactly_or_refused() {
         bake_mesh(&mesh, &fixed(2)).unwrap().report.counts,
         [32, 0, 0, 0]
     );
-    // Refused, with the field named.
+    // Well-formed but not modelled: the primitive is refused (listed with
+    // its reason, the field named), the asset still reads.
     for (transform, message) in [
         (
             json!({"rotation": 0.5}),
@@ -560,6 +561,17 @@ fn texture_transform_is_applied_exactly_or_refused() {
             json!({"offset": [1e-9, 0]}),
             "materials[0].pbrMetallicRoughness.baseColorTexture.extensions.KHR_texture_transform: offset [1e-9, 0.0] and scale [1.0, 1.0] map TEXCOORD_0 (1, 0) of triangle 0 of meshes[0].primitives[0] to a point that is not a pair of binary32 values",
         ),
+    ] {
+        let read = asset(&rgba, with_transform(transform)).unwrap();
+        assert!(read.primitives.is_empty());
+        assert_eq!(read.refused.len(), 1);
+        let refused = &read.refused[0];
+        assert_eq!((refused.mesh, refused.primitive), (0, 0));
+        let reason = refused.reason.to_string();
+        assert!(reason.starts_with(message), "{reason}");
+    }
+    // Malformed: an error, with the field named.
+    for (transform, message) in [
         (
             json!({"scale": [1]}),
             "materials[0].pbrMetallicRoughness.baseColorTexture.extensions.KHR_texture_transform.scale: an array [1], expected an array of 2 numbers",

@@ -72,6 +72,10 @@ pub enum Exit {
     Io,
     /// 4: `render` found no Vulkan device with what it needs (nothing traced).
     NoDevice,
+    /// 5: `bake --gltf` refused some primitives (listed in `summary.json`
+    /// and on stderr, each with its reason), baked the rest and wrote it;
+    /// `--strict` makes a refusal exit 2 with nothing written.
+    Partial,
     /// 130: interrupted by Ctrl-C (`prove`), as shells report a SIGINT death.
     Interrupted,
     /// 141: stdout was closed by its reader (`... | head -1`); the command
@@ -82,12 +86,13 @@ pub enum Exit {
 
 impl Exit {
     /// Every code, in the order of the table.
-    pub const TABLE: [Exit; 7] = [
+    pub const TABLE: [Exit; 8] = [
         Exit::Success,
         Exit::Failed,
         Exit::Usage,
         Exit::Io,
         Exit::NoDevice,
+        Exit::Partial,
         Exit::Interrupted,
         Exit::BrokenPipe,
     ];
@@ -101,6 +106,7 @@ impl Exit {
             Exit::Usage => 2,
             Exit::Io => 3,
             Exit::NoDevice => 4,
+            Exit::Partial => 5,
             Exit::Interrupted => 130,
             Exit::BrokenPipe => 141,
         }
@@ -120,6 +126,9 @@ impl Exit {
             }
             Exit::Io => "I/O error: unreadable input, unwritable output (full disk)",
             Exit::NoDevice => "no Vulkan device with what render needs; nothing traced",
+            Exit::Partial => {
+                "bake --gltf refused some primitives (summary.json says why) and wrote the rest"
+            }
             Exit::Interrupted => "interrupted (Ctrl-C)",
             Exit::BrokenPipe => "stdout closed by its reader (| head); stopped quietly",
         }

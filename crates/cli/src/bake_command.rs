@@ -60,6 +60,11 @@ pub(crate) static BAKE: Command = Command {
   undone. Ctrl-C before the last rename removes the temporaries, backups,
   lock and any directory the bake created and leaves DIR as it was; after
   it, DIR holds the new files; the message says which (exit 130).
+  With --gltf, a MASK primitive the model does not cover (a
+  KHR_texture_transform with a rotation, or one moving a UV off the binary32
+  values) is left out, named with its reason on stderr and in summary.json
+  (refused_primitives), and the rest is baked and written: exit 5
+  (--strict: exit 2, nothing written).
   Exit 0 baked; 2 bad options, malformed input, or existing outputs without
   --force (nothing written); 3 unreadable input, unwritable DIR or DIR in
   use by another bake (nothing written), or stdout unwritable after DIR was
@@ -76,6 +81,11 @@ pub(crate) static BAKE: Command = Command {
                     "NAME",
                     "NAME.gltf or NAME.glb: also write the asset back into DIR with
                          the micromaps (its own samplers and cutoffs only)",
+                ),
+                Flag::switch(
+                    "--strict",
+                    "with --gltf: a primitive the model does not cover is an error
+                         (exit 2, nothing written), not left out (exit 5)",
                 ),
                 flags::TEXTURE,
                 flags::TRIANGLES,
@@ -147,6 +157,9 @@ fn bake(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> 
             Refusal::Io(message) => Failure::Io(message),
         })?;
     let input = read_input(&p, &s)?;
+    if p.flag("--strict") {
+        input.refuse_any()?;
+    }
     // The preview's size is known from the textures: refused before the
     // bake, not after it.
     if preview {
@@ -254,6 +267,15 @@ fn bake(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> 
         preview_micro_triangles_skipped: preview_skipped,
         jobs,
         warnings: input.warnings.clone(),
+        refused_primitives: input
+            .refused
+            .iter()
+            .map(|r| summary::Refused {
+                mesh: r.mesh,
+                primitive: r.primitive,
+                reason: r.reason.clone(),
+            })
+            .collect(),
     };
     let summary_json = serde_json::to_string_pretty(&summary)
         .map_err(|e| Failure::Malformed(format!("summary: {e}")))?
@@ -297,5 +319,17 @@ fn bake(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> 
         );
     }
     destination.write(&files, &stale).map_err(Failure::Io)?;
-    Ok((summary_json, Exit::Success))
+    // Left out, not failed: the files are written; the exit says so.
+    for r in &input.refused {
+        eprintln!(
+            "micromap-index: meshes[{}].primitives[{}] not baked: {}",
+            r.mesh, r.primitive, r.reason
+        );
+    }
+    let exit = if input.refused.is_empty() {
+        Exit::Success
+    } else {
+        Exit::Partial
+    };
+    Ok((summary_json, exit))
 }

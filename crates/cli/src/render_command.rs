@@ -449,6 +449,8 @@ fn render(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure
     }
     let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
     let input = read_input(&p, &s)?;
+    // render draws and checks every primitive it reads: none may be left out.
+    input.refuse_any()?;
     let scene = scene_of(&input, p.get("--gltf").is_some())?;
     let camera = match given_camera {
         Some(camera) => camera,

@@ -220,3 +220,105 @@ fn what_cannot_be_written_or_checked_is_refused() {
     assert_eq!(forced.status.code(), Some(0), "{}", text(&forced.stderr));
     assert_ne!(std::fs::read(out.join("x.micromap.bin")).unwrap(), b"mine");
 }
+
+/// A primitive the model does not cover (here `KHR_texture_transform`
+/// with a rotation on the one material of meshes[2].primitives[0]) is left
+/// out: exit 5, named on stderr and in summary.json, the other five baked,
+/// written back without the extension on it, and the output verifies
+/// sound. `--strict` makes it exit 2 with nothing written.
+#[test]
+fn a_primitive_that_cannot_be_baked_is_left_out_or_refused() {
+    let dir = scratch("gltf-out-partial");
+    for file in ["cards.bin", "sponza_thorn.png", "chain.png"] {
+        std::fs::copy(format!("{SPONZA}/{file}"), dir.join(file)).unwrap();
+    }
+    let mut gltf: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(format!("{SPONZA}/cards.gltf")).unwrap()).unwrap();
+    gltf["materials"][3]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] =
+        serde_json::json!({"KHR_texture_transform": {"rotation": 0.25}});
+    gltf["extensionsUsed"] = serde_json::json!(["KHR_texture_transform"]);
+    let asset = dir.join("rotated.gltf");
+    std::fs::write(&asset, serde_json::to_vec(&gltf).unwrap()).unwrap();
+    let asset = asset.to_str().unwrap();
+    let reason = "materials[3].pbrMetallicRoughness.baseColorTexture.extensions.\
+                  KHR_texture_transform.rotation: 0.25: a rotation other than 0";
+
+    let strict = dir.join("strict");
+    let refused = run(&[
+        "bake",
+        "--gltf",
+        asset,
+        "--out",
+        strict.to_str().unwrap(),
+        "--level",
+        "3",
+        "--quiet",
+        "--strict",
+    ]);
+    assert_eq!(refused.status.code(), Some(2), "{}", text(&refused.stderr));
+    let message = text(&refused.stderr);
+    assert!(
+        message.contains("meshes[2].primitives[0] cannot be baked soundly"),
+        "{message}"
+    );
+    assert!(message.contains(reason), "{message}");
+    assert!(!strict.exists(), "nothing written");
+
+    let out = dir.join("partial");
+    let baked = run(&[
+        "bake",
+        "--gltf",
+        asset,
+        "--out",
+        out.to_str().unwrap(),
+        "--level",
+        "3",
+        "--quiet",
+        "--gltf-out",
+        "p.glb",
+    ]);
+    assert_eq!(baked.status.code(), Some(5), "{}", text(&baked.stderr));
+    let message = text(&baked.stderr);
+    assert!(
+        message.contains("meshes[2].primitives[0] not baked: "),
+        "{message}"
+    );
+    assert!(message.contains(reason), "{message}");
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    let listed = summary["refused_primitives"].as_array().unwrap();
+    assert_eq!(listed.len(), 1, "{summary}");
+    assert_eq!(
+        (listed[0]["mesh"].as_u64(), listed[0]["primitive"].as_u64()),
+        (Some(2), Some(0))
+    );
+    assert!(listed[0]["reason"].as_str().unwrap().starts_with(reason));
+    assert_eq!(summary["jobs"].as_array().unwrap().len(), 5);
+    let verified = run(&[
+        "verify-bake",
+        "--gltf",
+        out.join("p.glb").to_str().unwrap(),
+        "--json",
+    ]);
+    let report = text(&verified.stdout);
+    assert_eq!(
+        verified.status.code(),
+        Some(0),
+        "{report}{}",
+        text(&verified.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_str(&report).unwrap();
+    let with: Vec<_> = report["primitives"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| {
+            (
+                p["mesh"].as_u64().unwrap(),
+                p["primitive"].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(with.len(), 5);
+    assert!(!with.contains(&(2, 0)));
+}

@@ -101,6 +101,9 @@ class BakeResult:
     count, ``first_index`` into ``indices`` and ``mixed_special_indices``
     (whether its geometry mixes special indices with records).
     ``warnings``: what the glTF reader warned about (empty for :func:`bake`).
+    ``refused_primitives``: :func:`bake_gltf`'s primitives left out, each a
+    dict of ``mesh``, ``primitive`` and ``reason`` (the CLI's
+    ``summary.json`` ``refused_primitives``; empty for :func:`bake`).
     ``gltf_out``: the paths :func:`bake_gltf` wrote with ``gltf_out`` (the
     glTF first, then its sidecar files; empty otherwise).
     """
@@ -114,6 +117,7 @@ class BakeResult:
     meshes: List[Dict[str, Any]]
     warnings: List[str] = field(default_factory=list)
     gltf_out: List[str] = field(default_factory=list)
+    refused_primitives: List[Dict[str, Any]] = field(default_factory=list)
 
     def files(self) -> Dict[str, bytes]:
         """The bytes of the four files ``micromap-index bake`` writes, by
@@ -201,6 +205,7 @@ def _result(raw: Dict[str, Any], gltf_out: Sequence[str] = ()) -> BakeResult:
         meshes=raw["meshes"],
         warnings=list(raw.get("warnings", [])),
         gltf_out=list(gltf_out),
+        refused_primitives=list(raw.get("refused_primitives", [])),
     )
 
 
@@ -327,6 +332,7 @@ def bake_gltf(
     work_budget: Optional[int] = None,
     bake_work_budget: Optional[int] = None,
     gltf_out: Optional[Union[str, "os.PathLike[str]"]] = None,
+    strict: bool = False,
 ) -> BakeResult:
     """Bakes every alpha-masked primitive of a glTF 2.0 asset (``.gltf`` or
     ``.glb``), as ``micromap-index bake --gltf``: one geometry per primitive,
@@ -348,6 +354,12 @@ def bake_gltf(
     replaced; every file is written to a temporary first and renamed only
     when all are written. ``result.gltf_out`` lists the paths.
 
+    A primitive the model does not cover (a ``KHR_texture_transform`` with a
+    rotation, or one moving a UV off the binary32 values) is left out and
+    listed in ``result.refused_primitives`` with its reason (the CLI's exit
+    5); with ``strict=True`` it is a ``ValueError`` instead, as ``bake
+    --strict``.
+
     Raises ``OSError`` when a file cannot be read or written and
     ``ValueError`` for a malformed asset."""
     raw = _native.bake_gltf(
@@ -362,6 +374,7 @@ def bake_gltf(
         cutoff=cutoff,
         opaque_above=opaque_above,
         gltf_out=None if gltf_out is None else os.fspath(gltf_out),
+        strict=strict,
     )
     written: List[str] = []
     if "gltf_files" in raw:

@@ -1,7 +1,7 @@
 //! What the reader returns: [`GltfAsset`], its [`MaskPrimitive`]s and
 //! [`GltfImageInfo`]s.
 
-use crate::AlphaImage;
+use crate::{AlphaImage, AssetError};
 use micromap_index::bake::mesh::Material;
 use micromap_index::bake::{Cutoff, Sampler};
 
@@ -137,4 +137,22 @@ pub struct GltfAsset {
     /// `KHR_texture_transform` (applied to the UVs), oddities of the GLB
     /// container.
     pub warnings: Vec<String>,
+    /// The `MASK` primitives that cannot be baked soundly, in order, each
+    /// with its reason; they are not among [`GltfAsset::primitives`]. A
+    /// malformed asset is an error instead; these are well-formed
+    /// primitives the model does not cover (a `KHR_texture_transform` with
+    /// a rotation, or whose offset and scale move a UV off the binary32
+    /// values). A caller bakes the rest, or refuses the asset (`--strict`).
+    pub refused: Vec<RefusedPrimitive>,
+}
+
+/// A primitive [`GltfAsset::refused`] lists.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RefusedPrimitive {
+    /// Its mesh.
+    pub mesh: usize,
+    /// Its index among the mesh's primitives.
+    pub primitive: usize,
+    /// The field at fault and why, one line (as an error would say it).
+    pub reason: AssetError,
 }

@@ -39,7 +39,7 @@ mod uri;
 mod write;
 mod write_dir;
 
-pub use self::asset::{GltfAsset, GltfImageInfo, MaskPrimitive};
+pub use self::asset::{GltfAsset, GltfImageInfo, MaskPrimitive, RefusedPrimitive};
 pub use self::extension::{EXTENSION, MAX_GLTF_LEVEL};
 pub use self::micromap_ext::{
     read_gltf_micromaps, read_gltf_micromaps_file, GltfMicromap, GltfMicromapPrimitive,
@@ -154,6 +154,41 @@ pub fn read_gltf_bytes(
         reader.read_meshes()?;
         Ok(std::mem::take(&mut reader.asset))
     })
+}
+
+/// `transform` applied to every corner of `triangles`, exactly, or why it
+/// cannot be (the primitive is then refused, `GltfAsset::refused`).
+fn apply_transform(
+    transform: &transform::Transform,
+    triangles: &mut [[[f32; 2]; 3]],
+    texture_path: &str,
+    uv_key: &str,
+    primitive_path: &str,
+) -> Result<(), AssetError> {
+    let ext = format!("{texture_path}.extensions.KHR_texture_transform");
+    if transform.rotation != 0.0 {
+        return Err(AssetError::gltf(
+            format!("{ext}.rotation"),
+            format!(
+                "{}: a rotation other than 0 cannot be baked exactly (its sine and cosine are not binary32 values), refused",
+                transform.rotation
+            ),
+        ));
+    }
+    for (t, triangle) in triangles.iter_mut().enumerate() {
+        for corner in triangle.iter_mut() {
+            *corner = transform.apply(*corner).ok_or_else(|| {
+                AssetError::gltf(
+                    &ext,
+                    format!(
+                        "offset {:?} and scale {:?} map {uv_key} ({}, {}) of triangle {t} of {primitive_path} to a point that is not a pair of binary32 values: the transformed coordinates cannot be baked exactly, refused",
+                        transform.offset, transform.scale, corner[0], corner[1]
+                    ),
+                )
+            })?;
+        }
+    }
+    Ok(())
 }
 
 fn mode_name(mode: u64) -> &'static str {
@@ -271,28 +306,21 @@ impl Reader<'_, '_> {
                 };
                 let mut triangles = self.triangles(&primitive.path, &uvs, indices.as_deref())?;
                 if let Some(transform) = transform {
-                    let ext = format!("{}.extensions.KHR_texture_transform", texture_info.path);
-                    if transform.rotation != 0.0 {
-                        return Err(AssetError::gltf(
-                            format!("{ext}.rotation"),
-                            format!(
-                                "{}: a rotation other than 0 cannot be baked exactly (its sine and cosine are not binary32 values), refused",
-                                transform.rotation
-                            ),
-                        ));
-                    }
-                    for (t, triangle) in triangles.iter_mut().enumerate() {
-                        for corner in triangle.iter_mut() {
-                            *corner = transform.apply(*corner).ok_or_else(|| {
-                                AssetError::gltf(
-                                    &ext,
-                                    format!(
-                                        "offset {:?} and scale {:?} map {uv_key} ({}, {}) of triangle {t} of {} to a point that is not a pair of binary32 values: the transformed coordinates cannot be baked exactly, refused",
-                                        transform.offset, transform.scale, corner[0], corner[1], primitive.path
-                                    ),
-                                )
-                            })?;
-                        }
+                    if let Err(reason) = apply_transform(
+                        &transform,
+                        &mut triangles,
+                        &texture_info.path,
+                        &uv_key,
+                        &primitive.path,
+                    ) {
+                        // Well-formed, but not modelled: this primitive is
+                        // refused, the rest of the asset is read.
+                        self.asset.refused.push(RefusedPrimitive {
+                            mesh: m,
+                            primitive: p,
+                            reason,
+                        });
+                        continue;
                     }
                     transformed.insert(material_index);
                 }

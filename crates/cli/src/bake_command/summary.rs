@@ -104,6 +104,16 @@ pub(super) struct Summary {
     pub(super) preview_micro_triangles_skipped: u64,
     pub(super) jobs: Vec<JobSummary>,
     pub(super) warnings: Vec<String>,
+    /// `--gltf`'s `MASK` primitives left out (exit 5), each with its reason.
+    pub(super) refused_primitives: Vec<Refused>,
+}
+
+/// A primitive the bake left out.
+#[derive(Serialize)]
+pub(super) struct Refused {
+    pub(super) mesh: usize,
+    pub(super) primitive: usize,
+    pub(super) reason: String,
 }
 
 #[derive(Serialize)]

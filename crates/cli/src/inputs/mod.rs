@@ -45,9 +45,39 @@ pub(crate) struct Input {
     pub(crate) images: Vec<AlphaImage>,
     pub(crate) jobs: Vec<Job>,
     pub(crate) warnings: Vec<String>,
+    /// `--gltf`'s `MASK` primitives the model does not cover
+    /// (`GltfAsset::refused`): not among the jobs.
+    pub(crate) refused: Vec<Refused>,
+    /// The asset's path as given (`--gltf`), for messages.
+    pub(crate) asset: Option<String>,
+}
+
+/// A primitive [`Input::refused`] lists.
+pub(crate) struct Refused {
+    pub(crate) mesh: usize,
+    pub(crate) primitive: usize,
+    /// The field at fault and why.
+    pub(crate) reason: String,
 }
 
 impl Input {
+    /// Exit 2 naming the first refused primitive, if any: for commands that
+    /// cannot leave a primitive out (`render`, `verify-bake`) and for
+    /// `bake --strict`.
+    pub(crate) fn refuse_any(&self) -> Result<(), Failure> {
+        match self.refused.first() {
+            None => Ok(()),
+            Some(r) => Err(Failure::Malformed(format!(
+                "{}: meshes[{}].primitives[{}] cannot be baked soundly ({} primitive(s) so): {}",
+                self.asset.as_deref().unwrap_or("the asset"),
+                r.mesh,
+                r.primitive,
+                self.refused.len(),
+                r.reason
+            ))),
+        }
+    }
+
     /// The textures as the baker reads them.
     pub(crate) fn textures(&self) -> Result<Vec<ImageTexture<'_>>, Failure> {
         self.images
@@ -112,16 +142,29 @@ pub(crate) fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Fa
                     instances: prim.instances.clone(),
                 });
             }
-            if jobs.is_empty() {
+            let input = Input {
+                images: gltf.images,
+                jobs,
+                warnings: gltf.warnings,
+                refused: gltf
+                    .refused
+                    .into_iter()
+                    .map(|r| Refused {
+                        mesh: r.mesh,
+                        primitive: r.primitive,
+                        reason: r.reason.to_string(),
+                    })
+                    .collect(),
+                asset: Some(asset.to_string()),
+            };
+            if input.jobs.is_empty() {
+                // Nothing left to bake: the first refusal is the reason.
+                input.refuse_any()?;
                 return Err(Failure::Malformed(format!(
                     "{asset}: no primitive with an alphaMode MASK material and a base colour texture"
                 )));
             }
-            Ok(Input {
-                images: gltf.images,
-                jobs,
-                warnings: gltf.warnings,
-            })
+            Ok(input)
         }
         (None, Some(texture), Some(triangles)) => {
             let image = decode_alpha_image(
@@ -155,6 +198,8 @@ pub(crate) fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Fa
                     instances: vec![micromap_index_assets::IDENTITY_TRANSFORM],
                 }],
                 warnings: Vec::new(),
+                refused: Vec::new(),
+                asset: None,
             })
         }
         _ => Err(Failure::Usage(

@@ -85,6 +85,7 @@ pub(super) fn verify_texture(
     let width = index_width(p)?;
     let s = sampler_options(p)?;
     let input = read_input(p, &s)?;
+    input.refuse_any()?;
     let job = &input.jobs[0];
     let BufferFiles {
         data,
