@@ -99,30 +99,30 @@ pub(crate) const TINY: f64 = 1.0 / (1u64 << 62) as f64 / (1u64 << 62) as f64 / (
 /// that a mesh needs few texel classifications.
 pub(crate) const VERTEX_GRID: f64 = 1024.0;
 
-/// A texture whose alpha is a bound on `texel * factor * v` for every `v`
-/// in `[low, high]`, as a GPU computes it: the lower bound (`upper:
-/// false`), to find what is opaque for sure, or the upper (`upper: true`),
-/// to find what is transparent for sure.
+/// A texture whose alpha is a bound on `texel * factor * v` as a GPU
+/// computes it, for a vertex alpha `v` that is itself a bound of the
+/// vertex-alpha range (its low for the lower bound, its high for the
+/// upper): the lower bound (`upper: false`), to find what is opaque for
+/// sure, or the upper (`upper: true`), to find what is transparent for
+/// sure. Texel alphas and factors are never negative, so the product is
+/// monotone in `v`.
 pub(crate) struct VertexBoundTexture<'a> {
     pub(crate) inner: &'a dyn AlphaTexture,
     pub(crate) factor: f64,
-    pub(crate) low: f64,
-    pub(crate) high: f64,
+    pub(crate) v: f64,
     pub(crate) upper: bool,
 }
 
 impl VertexBoundTexture<'_> {
     /// The bound for a texel of exact alpha `texel`.
     fn bound(&self, texel: f64) -> f64 {
-        let t = f64::from(texel_f32(texel)) * self.factor;
         // NaN stays NaN: it passes no cutoff, on the GPU either.
-        let (a, b) = (t * self.low, t * self.high);
-        let (min, max) = if a <= b { (a, b) } else { (b, a) };
-        let abs = |x: f64| f64::from_bits(x.to_bits() & !(1 << 63));
+        let product = f64::from(texel_f32(texel)) * self.factor * self.v;
+        let abs = f64::from_bits(product.to_bits() & !(1 << 63));
         if self.upper {
-            max + abs(max) * VERTEX_MARGIN + TINY
+            product + abs * VERTEX_MARGIN + TINY
         } else {
-            min - abs(min) * VERTEX_MARGIN - TINY
+            product - abs * VERTEX_MARGIN - TINY
         }
     }
 }
@@ -175,8 +175,7 @@ pub(crate) fn vertex_bound_baker(
     let texture = VertexBoundTexture {
         inner: texture,
         factor: f64::from(material.alpha_factor),
-        low: f64::from_bits(v),
-        high: f64::from_bits(v),
+        v: f64::from_bits(v),
         upper,
     };
     let test = (

@@ -472,7 +472,6 @@ pub fn read_buffers(
 /// A record's block: start and end in the data, level and format.
 type Block = (usize, usize, Level, Format);
 
-/// The records of `bytes` (a multiple of 8, fewer than `2^32 - 5`).
 /// Room for `count` more items, or the allocation failure (as record 0's:
 /// a list per record cannot be had).
 fn reserve<T>(list: &mut Vec<T>, count: usize) -> Result<(), ReadError> {
@@ -485,6 +484,7 @@ fn reserve<T>(list: &mut Vec<T>, count: usize) -> Result<(), ReadError> {
         })
 }
 
+/// The records of `bytes` (a multiple of 8, fewer than `2^32 - 5`).
 fn read_records(bytes: &[u8], stride: usize) -> Result<Vec<TriangleRecord>, ReadError> {
     if stride < TriangleRecord::SIZE || stride % 4 != 0 {
         return Err(ReadError::RecordStride { stride });

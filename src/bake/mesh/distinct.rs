@@ -8,7 +8,9 @@
 //! first-appearance order of the micromaps, and with it every output byte,
 //! is what baking each triangle in turn gives.
 
-use super::input::{check_vertex_alpha, make_room, room, Mesh, MeshBakeError, MeshOptions};
+use super::input::{
+    check_vertex_alpha, make_room, push_vertex_ranges, room, Mesh, MeshBakeError, MeshOptions,
+};
 use crate::bake::baker::Baker;
 use crate::bake::material::{vertex_bound_baker, vertex_range, FactorTexture, VertexBounds};
 use crate::bake::mips::mip_bakers;
@@ -185,7 +187,7 @@ impl Plan {
         // Pass 1, mesh by mesh in order (so the first refused mesh is the
         // error): each mesh's baker, and per baker the lows and highs of
         // its meshes' vertex-alpha ranges.
-        let mut mesh_bakers: Vec<u32> = room(meshes.len())?;
+        let mut mesh_bakers: Vec<(u32, Option<&[[f32; 3]]>)> = room(meshes.len())?;
         let mut ranges: Vec<(Vec<u64>, Vec<u64>)> = Vec::new();
         for (m, (mesh, triangles)) in meshes.iter().zip(triangles).enumerate() {
             let triangles = triangles.as_ref();
@@ -258,17 +260,10 @@ impl Plan {
                 candidates.push((id, mesh.texture));
                 id
             };
-            mesh_bakers.push(baker);
+            mesh_bakers.push((baker, vertex_alpha));
             if let Some(alphas) = vertex_alpha {
                 ranges.resize_with(ranges.len().max(baker as usize + 1), Default::default);
-                let (lows, highs) = &mut ranges[baker as usize];
-                make_room(lows, alphas.len())?;
-                make_room(highs, alphas.len())?;
-                for &a in alphas {
-                    let (low, high) = vertex_range(a);
-                    lows.push(low);
-                    highs.push(high);
-                }
+                push_vertex_ranges(&mut ranges[baker as usize], alphas)?;
             }
         }
         // The bounds each baker's ranges snap to: at most VERTEX_BOUNDS
@@ -284,8 +279,7 @@ impl Plan {
         for (m, ((mesh, triangles), levels)) in meshes.iter().zip(triangles).zip(levels).enumerate()
         {
             let triangles = triangles.as_ref();
-            let baker = mesh_bakers[m];
-            let vertex_alpha = check_vertex_alpha(m, mesh, triangles.len())?;
+            let (baker, vertex_alpha) = mesh_bakers[m];
             let material = &mesh.material;
             let texture_error = |error| MeshBakeError::Texture { mesh: m, error };
             // The baker of one side's bound `v` (bits) of `baker`, made once.

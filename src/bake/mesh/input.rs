@@ -6,7 +6,7 @@
 use crate::bake::baker::DEFAULT_BLOCK_BUDGET;
 use crate::bake::gpu::Model;
 use crate::bake::level::LevelRule;
-use crate::bake::material::Material;
+use crate::bake::material::{vertex_range, Material};
 use crate::bake::mips::Mips;
 use crate::bake::parallel::Threads;
 use crate::bake::texture::{AlphaTexture, TextureError};
@@ -205,6 +205,23 @@ pub(super) fn make_room<T>(list: &mut Vec<T>, more: usize) -> Result<(), MeshBak
                 .saturating_add(more as u64)
                 .saturating_mul(core::mem::size_of::<T>() as u64),
         })
+}
+
+/// Appends the vertex-alpha range ([`vertex_range`]) of each triangle of
+/// `alphas` to `lows` and `highs` (reserved fallibly): the lists
+/// [`VertexBounds::new`](crate::bake::material::VertexBounds::new) takes.
+pub(super) fn push_vertex_ranges(
+    (lows, highs): &mut (Vec<u64>, Vec<u64>),
+    alphas: &[[f32; 3]],
+) -> Result<(), MeshBakeError> {
+    make_room(lows, alphas.len())?;
+    make_room(highs, alphas.len())?;
+    for &a in alphas {
+        let (low, high) = vertex_range(a);
+        lows.push(low);
+        highs.push(high);
+    }
+    Ok(())
 }
 
 /// Why [`bake_meshes`](crate::bake::mesh::bake_meshes) failed.

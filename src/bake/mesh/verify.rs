@@ -2,13 +2,14 @@
 //! texture and material as [`bake_meshes`](super::bake_meshes) models them
 //! (alpha factor, vertex alpha), with [`Baker::verify_each`].
 
-use super::input::{check_vertex_alpha, room, Mesh, MeshBakeError, MeshOptions};
+use super::input::{check_vertex_alpha, push_vertex_ranges, Mesh, MeshBakeError, MeshOptions};
 use crate::bake::baker::Baker;
 use crate::bake::material::{vertex_bound_baker, vertex_range, FactorTexture, VertexBounds};
 use crate::bake::parallel::Runner;
 use crate::bake::verify::Contradiction;
 use crate::micromap::{State, TriangleOpacity};
 use alloc::collections::BTreeMap;
+use alloc::vec::Vec;
 use core::fmt;
 
 /// What [`verify_mesh`] found, summed over the mesh's triangles.
@@ -147,14 +148,9 @@ pub fn verify_mesh(
     let grid = match vertex_alpha {
         None => VertexBounds::default(),
         Some(alphas) => {
-            let mut lows = room(alphas.len()).map_err(MeshVerifyError::Mesh)?;
-            let mut highs = room(alphas.len()).map_err(MeshVerifyError::Mesh)?;
-            for &a in alphas {
-                let (low, high) = vertex_range(a);
-                lows.push(low);
-                highs.push(high);
-            }
-            VertexBounds::new(lows, highs)
+            let mut ranges = (Vec::new(), Vec::new());
+            push_vertex_ranges(&mut ranges, alphas).map_err(MeshVerifyError::Mesh)?;
+            VertexBounds::new(ranges.0, ranges.1)
         }
     };
     let mut snapped: BTreeMap<(bool, u64), Baker> = BTreeMap::new();
@@ -206,27 +202,25 @@ pub fn verify_mesh(
                     &snapped[&(true, high)],
                     &mut |_| {},
                 );
-                if coarse.contradictions == 0 || (low, high) == range {
-                    if coarse.contradictions > 0 {
-                        // The range is its own bound: report as judged.
-                        judge_by(&snapped[&(false, low)], &snapped[&(true, high)], &mut |c| {
-                            visit(t, c);
-                        })
-                    } else {
-                        coarse
-                    }
+                if coarse.contradictions == 0 {
+                    coarse
                 } else {
-                    if exact.len() + 2 > EXACT_BAKERS {
-                        exact.clear();
-                    }
-                    bound_baker(&mut exact, false, range.0)?;
-                    bound_baker(&mut exact, true, range.1)?;
+                    // Judged again, and reported, by the exact range's
+                    // bounds: the snapped ones where the range is its own.
+                    let bakers = if (low, high) == range {
+                        &snapped
+                    } else {
+                        if exact.len() + 2 > EXACT_BAKERS {
+                            exact.clear();
+                        }
+                        bound_baker(&mut exact, false, range.0)?;
+                        bound_baker(&mut exact, true, range.1)?;
+                        &exact
+                    };
                     judge_by(
-                        &exact[&(false, range.0)],
-                        &exact[&(true, range.1)],
-                        &mut |c| {
-                            visit(t, c);
-                        },
+                        &bakers[&(false, range.0)],
+                        &bakers[&(true, range.1)],
+                        &mut |c| visit(t, c),
                     )
                 }
             }
