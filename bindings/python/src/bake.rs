@@ -12,7 +12,7 @@ use micromap_index::bake::mesh::{
     bake_meshes, output_bytes_bound, Material, Mesh, MeshBake, MeshBakeError, MeshTriangles,
 };
 use micromap_index::bake::Sampler;
-use micromap_index_assets::{read_gltf_file, AssetError, Limits};
+use micromap_index_assets::{read_gltf_file, AssetError, Limits, RefusedPrimitive};
 use pyo3::exceptions::{PyMemoryError, PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -177,15 +177,9 @@ pub(crate) fn bake_gltf<'py>(
         })?;
     // A primitive the model does not cover: an error when strict, or when
     // nothing else is left to bake; else left out and listed.
-    if let Some(r) = gltf.refused.first() {
+    if let Some(refusal) = RefusedPrimitive::refusal(&gltf.refused) {
         if strict || gltf.primitives.is_empty() {
-            return Err(value_error(format!(
-                "{shown}: meshes[{}].primitives[{}] cannot be baked soundly ({} primitive(s) so): {}",
-                r.mesh,
-                r.primitive,
-                gltf.refused.len(),
-                r.reason
-            )));
+            return Err(value_error(format!("{shown}: {refusal}")));
         }
     }
     let mut info = Vec::with_capacity(gltf.primitives.len());

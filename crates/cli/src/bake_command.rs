@@ -273,7 +273,7 @@ fn bake(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> 
             .map(|r| summary::Refused {
                 mesh: r.mesh,
                 primitive: r.primitive,
-                reason: r.reason.clone(),
+                reason: r.reason.to_string(),
             })
             .collect(),
     };

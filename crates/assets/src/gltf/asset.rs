@@ -156,3 +156,22 @@ pub struct RefusedPrimitive {
     /// The field at fault and why, one line (as an error would say it).
     pub reason: AssetError,
 }
+
+impl RefusedPrimitive {
+    /// What a caller that cannot leave primitives out says of `refused`:
+    /// the first, how many there are, and why the first is refused
+    /// (`meshes[M].primitives[P] cannot be baked soundly (N primitive(s)
+    /// so): REASON`); `None` when there are none.
+    #[must_use]
+    pub fn refusal(refused: &[RefusedPrimitive]) -> Option<String> {
+        refused.first().map(|r| {
+            format!(
+                "meshes[{}].primitives[{}] cannot be baked soundly ({} primitive(s) so): {}",
+                r.mesh,
+                r.primitive,
+                refused.len(),
+                r.reason
+            )
+        })
+    }
+}

@@ -16,6 +16,7 @@ use micromap_index::bake::{Cutoff, Sampler, UvTriangle};
 use micromap_index::micromap::IndexWidth;
 use micromap_index_assets::{
     decode_alpha_image, read_gltf_file, read_triangles_json, AlphaImage, ImageTexture,
+    RefusedPrimitive,
 };
 use sampler::SamplerOptions;
 use std::path::{Path, PathBuf};
@@ -47,17 +48,9 @@ pub(crate) struct Input {
     pub(crate) warnings: Vec<String>,
     /// `--gltf`'s `MASK` primitives the model does not cover
     /// (`GltfAsset::refused`): not among the jobs.
-    pub(crate) refused: Vec<Refused>,
+    pub(crate) refused: Vec<RefusedPrimitive>,
     /// The asset's path as given (`--gltf`), for messages.
     pub(crate) asset: Option<String>,
-}
-
-/// A primitive [`Input::refused`] lists.
-pub(crate) struct Refused {
-    pub(crate) mesh: usize,
-    pub(crate) primitive: usize,
-    /// The field at fault and why.
-    pub(crate) reason: String,
 }
 
 impl Input {
@@ -65,15 +58,11 @@ impl Input {
     /// cannot leave a primitive out (`render`, `verify-bake`) and for
     /// `bake --strict`.
     pub(crate) fn refuse_any(&self) -> Result<(), Failure> {
-        match self.refused.first() {
+        match RefusedPrimitive::refusal(&self.refused) {
             None => Ok(()),
-            Some(r) => Err(Failure::Malformed(format!(
-                "{}: meshes[{}].primitives[{}] cannot be baked soundly ({} primitive(s) so): {}",
-                self.asset.as_deref().unwrap_or("the asset"),
-                r.mesh,
-                r.primitive,
-                self.refused.len(),
-                r.reason
+            Some(refusal) => Err(Failure::Malformed(format!(
+                "{}: {refusal}",
+                self.asset.as_deref().unwrap_or("the asset")
             ))),
         }
     }
@@ -146,15 +135,7 @@ pub(crate) fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Fa
                 images: gltf.images,
                 jobs,
                 warnings: gltf.warnings,
-                refused: gltf
-                    .refused
-                    .into_iter()
-                    .map(|r| Refused {
-                        mesh: r.mesh,
-                        primitive: r.primitive,
-                        reason: r.reason.to_string(),
-                    })
-                    .collect(),
+                refused: gltf.refused,
                 asset: Some(asset.to_string()),
             };
             if input.jobs.is_empty() {
