@@ -150,6 +150,15 @@ pub mod internals {
         NARROW_PREFIX_XOR, WIDE_INTERLEAVE, WIDE_PREFIX_XOR,
     };
     pub use crate::uv2index::index_version1_unchecked;
+    /// The kernel's integer half and interleave, generic over the lane
+    /// word, for the lab's bit-level proof that they equal the reference's
+    /// at every level (`docs/verification.md`, section 10.12).
+    pub mod kernel {
+        pub use crate::kernel::word::{
+            interleave_16, interleave_32, narrow_lane, narrow_point, wide_lane, wide_point,
+            LaneWord,
+        };
+    }
     pub use crate::uv2index::{
         cell_real_f32, cell_real_f64, exact_index_f32_ref, exact_index_f64_ref,
     };

@@ -144,7 +144,7 @@ macro_rules! simd_lanes {
     // not a closure, for the target features (see `cells`).
     (@pairs unpack, $ops:ident) => {
         /// The perfect shuffle of each 16-bit word, by three
-        /// shift-and-mask steps (the kernel's `shuffle_half_bytes`).
+        /// shift-and-mask steps (the last three of `kernel::word::interleave_16`).
         #[inline(always)]
         unsafe fn pairs(mut x: Si) -> Si {
             use $ops::*;

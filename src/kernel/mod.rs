@@ -14,7 +14,8 @@
 //!   AVX-512 ones with intrinsics. The wide first half
 //!   ([`wide_cells`](pipeline::wide_cells)) and the integer half
 //!   ([`integer_half_u16`](pipeline::integer_half_u16),
-//!   [`integer_half_u32`](pipeline::integer_half_u32)) are safe code for
+//!   [`integer_half_u32`](pipeline::integer_half_u32): `kernel::word`'s
+//!   lane functions) are safe code for
 //!   every backend; the narrow one runs in 16-bit words, since every value
 //!   is below `2^16` at its levels, so a vector holds twice as many points
 //!   as in 32-bit words.
@@ -82,6 +83,7 @@ mod pipeline;
 mod point;
 #[cfg(any(test, not(target_arch = "x86_64")))]
 mod portable;
+pub(crate) mod word;
 
 pub(crate) use pipeline::{chunked, Cells, Halves, Lanes, Narrow, Wide, CHUNK};
 #[cfg(target_arch = "x86_64")]

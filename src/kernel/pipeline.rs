@@ -3,6 +3,7 @@
 //! behind [`Lanes`].
 
 use super::point::{coordinate, narrow, wide, CELL_BY_FLOAT};
+use super::word::{narrow_lane, wide_lane};
 use super::Params;
 
 /// Points per chunk of the chunked pipeline: enough that each stage's loop
@@ -76,33 +77,17 @@ pub(crate) fn wide_cells(
 }
 
 /// Stamps the integer half of one chunk for one word width, from cells
-/// `iu, iv <= last`:
-///
-/// * the fold is `iu = min(iu, last - iv)`;
-/// * `~iw` is `s = min(iu + iv + d, last)` after the fold: when the sum is
-///   below `last` the reference subtracts `d` from `iw`; when it is `last`
-///   (on the hypotenuse, folded or not) it does not, and the `min` takes
-///   `last` back (at level 0 too, where `last` is 0). The addition of `d`
-///   saturates, so `last + 1` does not wrap at level 16 in 16-bit words or
-///   at level 32 in 32-bit ones;
-/// * `b0 = iu ^ s` (both at most `last`, so the reference's `& last` changes
-///   nothing), then `t`, the prefix XOR and `b1` as the reference has them.
+/// `iu, iv <= last`: the form's lane function (`kernel::word`) on every
+/// lane.
 macro_rules! integer_half_chunk {
-    ($(#[$doc:meta])* $name:ident, $word:ty, prefix_xor: [$($prefix:expr),*]) => {
+    ($(#[$doc:meta])* $name:ident, $word:ty, $lane:ident) => {
         $(#[$doc])*
         #[inline(always)]
         pub(crate) fn $name(cells: &Cells<$word>, last: $word, halves: &mut Halves<$word>) {
             for k in 0..CHUNK {
-                let (iu, iv, d) = (cells.iu[k], cells.iv[k], cells.diagonal[k]);
-                let room = last - iv;
-                let iu = iu.min(room);
-                let s = (iu + iv).saturating_add(d).min(last);
-                let b0 = iu ^ s;
-                let t = (iu ^ iv) & b0;
-                let mut f = t;
-                $(f ^= f >> $prefix;)*
+                let (b0, b1) = $lane(cells.iu[k], cells.iv[k], cells.diagonal[k], last);
                 halves.b0[k] = b0;
-                halves.b1[k] = ((f ^ iu) & !b0) | t;
+                halves.b1[k] = b1;
             }
         }
     };
@@ -111,16 +96,16 @@ macro_rules! integer_half_chunk {
 integer_half_chunk!(
     /// The integer half of levels `0..=16` in 16-bit words: every value is
     /// at most `last <= 2^16 - 1`, so a vector holds twice as many points
-    /// as in the 32-bit [`integer_half`](super::point::integer_half).
+    /// as in 32-bit words.
     integer_half_u16,
     u16,
-    prefix_xor: [1, 2, 4, 8]
+    narrow_lane
 );
 integer_half_chunk!(
     /// The integer half of the wide form (levels `0..=32`) in 32-bit words.
     integer_half_u32,
     u32,
-    prefix_xor: [1, 2, 4, 8, 16]
+    wide_lane
 );
 
 /// One form of the chunked pipeline: its word, its output and its stages.

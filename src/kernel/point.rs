@@ -2,6 +2,7 @@
 //! at a time, and the scalar steps the chunked pipeline's safe stages
 //! share.
 
+use super::word::{narrow_point, wide_point};
 use super::{Params, FRACTION_BITS, INF_BITS, ONE_BITS};
 
 /// The clamped binary32 bits of `x` (as bits): NaN and negatives -> `+0`,
@@ -153,66 +154,6 @@ pub(super) fn coordinate_float(bits: u32, params: &Params) -> (u32, f32) {
     (cell, fu - truncated)
 }
 
-/// The reference's integer half from clamped cells (`iu, iv <= last`):
-/// returns `(b0, b1)` before the interleave. `WIDE` adds the fifth
-/// prefix-XOR step that levels above 16 need.
-#[inline(always)]
-pub(super) fn integer_half<const WIDE: bool>(
-    iu: u32,
-    iv: u32,
-    diagonal: bool,
-    last: u32,
-) -> (u32, u32) {
-    let room = last - iv;
-    // Below level 17 every value is under 2^16, so a signed compare (one
-    // instruction in SSE2 and AVX2, which lack unsigned ones) is the same.
-    let below_room = if WIDE {
-        iu < room
-    } else {
-        (iu as i32) < (room as i32)
-    };
-    let d = u32::from(diagonal && below_room);
-    let iu = if below_room { iu } else { room };
-    let b0 = (iu ^ (iu + iv + d)) & last;
-    let t = (iu ^ iv) & b0;
-    let mut f = t;
-    f ^= f >> 1;
-    f ^= f >> 2;
-    f ^= f >> 4;
-    f ^= f >> 8;
-    if WIDE {
-        f ^= f >> 16;
-    }
-    let b1 = ((f ^ iu) & !b0) | t;
-    (b0, b1)
-}
-
-/// `b0` to the even bits and `b1` to the odd bits, for 16-bit halves: the
-/// outer perfect shuffle of `b1:b0`.
-#[inline(always)]
-pub(super) fn interleave_16(b0: u32, b1: u32) -> u32 {
-    let mut x = b0 | (b1 << 16);
-    let t = (x ^ (x >> 8)) & 0x0000_ff00;
-    x ^= t ^ (t << 8);
-    shuffle_half_bytes(x)
-}
-
-/// The perfect shuffle of each 16-bit half of `x` on its own: the half's
-/// low byte to its even bits, its high byte to its odd bits (the last three
-/// steps of [`interleave_16`]).
-#[inline(always)]
-fn shuffle_half_bytes(x: u32) -> u32 {
-    let mut x = x;
-    let mut t;
-    t = (x ^ (x >> 4)) & 0x00f0_00f0;
-    x ^= t ^ (t << 4);
-    t = (x ^ (x >> 2)) & 0x0c0c_0c0c;
-    x ^= t ^ (t << 2);
-    t = (x ^ (x >> 1)) & 0x2222_2222;
-    x ^= t ^ (t << 1);
-    x
-}
-
 /// How [`narrow`] takes the cell and fraction: the bits clamped, then
 /// [`unit_coordinate`]'s one 64-bit shift (scalar callers).
 pub(crate) const CELL_BY_SHIFTS: u8 = 0;
@@ -260,8 +201,7 @@ pub(crate) fn narrow_in_unit(u_bits: u32, v_bits: u32, params: &Params) -> u32 {
 /// value there.
 #[inline(always)]
 pub(crate) fn narrow_from_clamped_cell(iu: u32, iv: u32, diagonal: bool, last: u32) -> u32 {
-    let (b0, b1) = integer_half::<false>(iu, iv, diagonal, last);
-    interleave_16(b0, b1)
+    narrow_point::<u32>(iu, iv, diagonal, last)
 }
 
 /// The reference widened to 64 bits for one pair of bit patterns, levels
@@ -279,16 +219,7 @@ pub(crate) fn wide(u_bits: u32, v_bits: u32, params: &Params) -> u64 {
 /// `last` (`iu, iv <= last`): `spec::wide_index_from_cell` on such cells.
 #[inline(always)]
 pub(crate) fn wide_from_clamped_cell(iu: u32, iv: u32, diagonal: bool, last: u32) -> u64 {
-    let (b0, b1) = integer_half::<true>(iu, iv, diagonal, last);
-    interleave_32(b0, b1)
-}
-
-/// `b0` to the even bits and `b1` to the odd bits, for 32-bit halves: two
-/// 16-bit interleaves.
-#[inline(always)]
-pub(super) fn interleave_32(b0: u32, b1: u32) -> u64 {
-    let low = interleave_16(b0 & 0xffff, b1 & 0xffff);
-    let high = interleave_16(b0 >> 16, b1 >> 16);
+    let (low, high) = wide_point::<u32>(iu, iv, diagonal, last);
     u64::from(low) | (u64::from(high) << 32)
 }
 
@@ -299,9 +230,10 @@ mod tests {
 
     #[test]
     fn interleave_puts_b0_on_even_bits() {
-        assert_eq!(interleave_16(0xffff, 0), 0x5555_5555);
-        assert_eq!(interleave_16(0, 0xffff), 0xaaaa_aaaa);
-        assert_eq!(interleave_16(0b10, 0b01), 0b0110);
+        use crate::kernel::word::interleave_16;
+        assert_eq!(interleave_16(0xffff_u32, 0), 0x5555_5555);
+        assert_eq!(interleave_16(0_u32, 0xffff), 0xaaaa_aaaa);
+        assert_eq!(interleave_16(0b10_u32, 0b01), 0b0110);
     }
 
     #[test]

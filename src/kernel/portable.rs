@@ -1,7 +1,8 @@
 //! The safe lanes: the chunked pipeline's portable backend on targets
 //! without [`crate::arch`]'s intrinsics, tested on every target.
 
-use super::point::{coordinate_float, interleave_16, interleave_32};
+use super::point::coordinate_float;
+use super::word::{interleave_16, interleave_32};
 use super::Params;
 #[cfg(not(target_arch = "x86_64"))]
 use super::{chunked, Narrow, Wide};
@@ -39,7 +40,8 @@ impl Lanes for PortableLanes {
     #[inline(always)]
     fn wide_interleave(&self, halves: &Halves<u32>, out: &mut [u64; CHUNK]) {
         for ((out, &b0), &b1) in out.iter_mut().zip(&halves.b0).zip(&halves.b1) {
-            *out = interleave_32(b0, b1);
+            let (low, high) = interleave_32(b0, b1);
+            *out = u64::from(low) | (u64::from(high) << 32);
         }
     }
 }

@@ -18,6 +18,7 @@
 #![allow(clippy::missing_panics_doc)]
 
 pub use micromap_index_conformance::eval;
+pub mod entry_points;
 #[cfg(feature = "fuzzing")]
 pub mod fuzzing;
 pub mod lattice;

@@ -7,6 +7,9 @@ use crate::prove::{JSON, VERSION1};
 use cli_support::args::{ArgError, Command, Flag};
 use cli_support::output::{print_then, Exit, Program};
 use cli_support::write_all_or_nothing::write_files;
+use micromap_index_lab::entry_points::{
+    prove_kernel_integer_halves, KernelProof, KernelProofError,
+};
 use micromap_index_lab::prove::WalkVersion;
 use micromap_index_lab::prove_all_levels::{prove_all_levels, AllLevelsReport, Verdict};
 use serde::Serialize;
@@ -23,8 +26,10 @@ pub(crate) static ALL_LEVELS: Command = Command {
         "--all-levels --certificate FILE [--json] [--list]",
     ],
     about: "  --all-levels proves the walk equal to the reference at every level at once
-  by exploring the finite product of two digit transducers (under a second);
-  exit 0 proved, 1 not; with --version1 it must fail and prints a face; --list
+  by exploring the finite product of two digit transducers (under a second),
+  then the kernel's integer halves equal to the reference's at every cell
+  (decision diagrams, seconds; docs/verification.md 10.12); exit 0 both
+  proved, 1 not; with --version1 it must fail and prints a face; --list
   prints every product state and transition; --certificate writes the proved
   product for crates/lab/certificates/product.py (docs/verification.md 10),
   exit 3 if it cannot.",
@@ -71,18 +76,22 @@ pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
     };
     let seconds = started.elapsed().as_secs_f64();
     let confirmed = confirmed(&report);
+    let started = Instant::now();
+    let kernels = prove_kernel_integer_halves();
+    let kernel_seconds = started.elapsed().as_secs_f64();
     let mut text = String::new();
     if json {
-        print_json(program, &mut text, &report, seconds, confirmed);
+        print_json(program, &mut text, &report, seconds, confirmed, &kernels);
     } else {
         print_text(&mut text, &report, seconds, confirmed);
+        print_kernels(&mut text, &kernels, kernel_seconds);
     }
     if list {
         for line in report.listing() {
             let _ = writeln!(text, "{line}");
         }
     }
-    let mut verdict = if report.is_proof() {
+    let mut verdict = if report.is_proof() && kernels.is_ok() {
         Exit::Success
     } else {
         Exit::Failed
@@ -215,6 +224,41 @@ fn print_text(out: &mut String, report: &AllLevelsReport, seconds: f64, confirme
     }
 }
 
+/// The entry points' proof (`docs/verification.md` 10.12): the kernel's
+/// integer halves against the reference's generic code.
+fn print_kernels(out: &mut String, kernels: &Result<KernelProof, KernelProofError>, seconds: f64) {
+    match kernels {
+        Ok(proof) => {
+            let _ = writeln!(
+                out,
+                "entry points: the kernel's integer halves equal the reference's at every cell of \
+                 every level they serve ({} cases, {} reference paths, at most {} diagram nodes, \
+                 {seconds:.3} s):",
+                proof.cases, proof.reference_paths, proof.peak_nodes
+            );
+            for (form, levels) in &proof.forms {
+                let _ = writeln!(
+                    out,
+                    "  {:<44} levels {}..={}",
+                    form.name(),
+                    levels.start(),
+                    levels.end()
+                );
+            }
+        }
+        Err(e) => {
+            let _ = writeln!(out, "entry points: NOT proved: {e}");
+        }
+    }
+}
+
+#[derive(Serialize)]
+struct JsonKernels {
+    verdict: &'static str,
+    cases: usize,
+    detail: Option<String>,
+}
+
 #[derive(Serialize)]
 struct JsonCounterexample {
     level: u32,
@@ -244,6 +288,7 @@ struct JsonReport {
     counterexample: Option<JsonCounterexample>,
     error: Option<String>,
     seconds: f64,
+    kernel_integer_halves: JsonKernels,
 }
 
 fn print_json(
@@ -252,6 +297,7 @@ fn print_json(
     report: &AllLevelsReport,
     seconds: f64,
     confirmed: Option<bool>,
+    kernels: &Result<KernelProof, KernelProofError>,
 ) {
     let c = &report.counts;
     let (verdict, counterexample, error) = match &report.verdict {
@@ -291,6 +337,18 @@ fn print_json(
         counterexample,
         error,
         seconds,
+        kernel_integer_halves: match kernels {
+            Ok(proof) => JsonKernels {
+                verdict: "proved",
+                cases: proof.cases,
+                detail: None,
+            },
+            Err(e) => JsonKernels {
+                verdict: "counterexample",
+                cases: 0,
+                detail: Some(e.to_string()),
+            },
+        },
     };
     match serde_json::to_string(&line) {
         Ok(text) => {

@@ -1,0 +1,23 @@
+//! Proofs about the copies of the reference that users' calls run, beyond
+//! the generic code the transducer proof of [`crate::prove_all_levels`]
+//! derives from (`docs/verification.md`, section 10.12).
+//!
+//! * [`prove_kernel_integer_halves`]: the kernel's integer half and
+//!   interleave (the point kernel and the chunked pipeline's lanes, narrow
+//!   and wide) equal the reference's generic integer half at every level
+//!   and every cell, by binary decision diagrams ([`bdd`]) over the cell's
+//!   bits: the library's functions run on diagram words ([`word`]).
+//!
+//! ```
+//! use micromap_index_lab::entry_points::prove_kernel_integer_halves;
+//! let proof = prove_kernel_integer_halves().unwrap();
+//! assert_eq!(proof.forms.len(), 4);
+//! ```
+
+pub mod bdd;
+mod kernel;
+#[cfg(test)]
+mod tests;
+pub mod word;
+
+pub use kernel::*;

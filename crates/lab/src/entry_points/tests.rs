@@ -1,0 +1,162 @@
+//! The prover proves the real kernels and refuses changed ones: each
+//! mutant below is a kernel of the library's shape with one planted
+//! change, run through the same prover.
+
+use super::word::Bits;
+use super::*;
+use micromap_index::internals::kernel::{interleave_16, interleave_32, LaneWord};
+
+#[test]
+fn the_real_kernels_are_proved() {
+    let proof = prove_kernel_integer_halves().unwrap();
+    assert_eq!(proof.forms.len(), 4);
+    // 17 narrow and 33 wide levels, two forms each, two diagonal outcomes.
+    assert_eq!(proof.cases, 2 * 2 * (17 + 33));
+    assert!(proof.reference_paths >= proof.cases);
+}
+
+/// The point kernel's integer half with planted changes: `mutant` picks
+/// which (0: none).
+fn point_half<W: LaneWord>(
+    iu: W,
+    iv: W,
+    diagonal: W::Bool,
+    last: W,
+    wide: bool,
+    level: u32,
+    mutant: u8,
+) -> (W, W) {
+    let room = last.wrapping_sub(iv);
+    let mut below_room = if wide {
+        iu.less_than(room)
+    } else {
+        iu.less_than_signed(room)
+    };
+    if mutant == 1 && (13..=16).contains(&level) {
+        // `<` becomes `<=` at levels 13..=16 (the first mutation):
+        // `iu < room + 1`, no overflow since `room < 2^16`.
+        below_room = iu.less_than_signed(room.wrapping_add(W::constant(1)));
+    }
+    let d = W::from_bool(diagonal & below_room);
+    let iu = W::select(below_room, iu, room);
+    let b0 = (iu ^ iu.wrapping_add(iv).wrapping_add(d)) & last;
+    let t = (iu ^ iv) & b0;
+    let mut f = t;
+    for shift in [1, 2, 4, 8, 16] {
+        let skip =
+            !wide && shift == 16 || mutant == 2 && shift == 16 && level > 16 && level % 2 == 1;
+        if !skip {
+            f = f ^ (f >> shift);
+        }
+    }
+    (b0, ((f ^ iu) & !b0) | t)
+}
+
+fn mutated(
+    form: KernelForm,
+    iu: Bits<32>,
+    iv: Bits<32>,
+    diagonal: bool,
+    last: u64,
+    mutant: u8,
+) -> Bits<64> {
+    use super::bdd::Node;
+    let level = (last + 1).trailing_zeros();
+    let wide = matches!(form, KernelForm::PointWide | KernelForm::LanesWide);
+    let (b0, b1) = point_half(
+        iu,
+        iv,
+        Node::constant(diagonal),
+        Bits::of(last),
+        wide,
+        level,
+        mutant,
+    );
+    if wide {
+        let (low, high) = interleave_32(b0, b1);
+        Bits(std::array::from_fn(|i| {
+            if i < 32 {
+                low.0[i]
+            } else {
+                high.0[i - 32]
+            }
+        }))
+    } else {
+        interleave_16(b0, b1).resize()
+    }
+}
+
+fn mutated_concrete(
+    form: KernelForm,
+    iu: u32,
+    iv: u32,
+    diagonal: bool,
+    level: u32,
+    mutant: u8,
+) -> u64 {
+    let last = ((1u64 << level) - 1) as u32;
+    let wide = matches!(form, KernelForm::PointWide | KernelForm::LanesWide);
+    let (b0, b1) = point_half(iu, iv, diagonal, last, wide, level, mutant);
+    if wide {
+        let (low, high) = interleave_32(b0, b1);
+        u64::from(low) | (u64::from(high) << 32)
+    } else {
+        u64::from(interleave_16(b0, b1))
+    }
+}
+
+fn refuted(form: KernelForm, mutant: u8) -> KernelCounterexample {
+    let result = prove_forms_with(
+        &[form],
+        |form, iu, iv, diagonal, last| mutated(form, iu, iv, diagonal, last, mutant),
+        |form, iu, iv, diagonal, level| mutated_concrete(form, iu, iv, diagonal, level, mutant),
+    );
+    match result {
+        Err(KernelProofError::Differs(example)) => example,
+        other => panic!("mutant {mutant} of {form:?} not refuted: {other:?}"),
+    }
+}
+
+#[test]
+fn the_unmutated_copy_proves() {
+    prove_forms_with(
+        &[KernelForm::PointNarrow, KernelForm::PointWide],
+        |form, iu, iv, diagonal, last| mutated(form, iu, iv, diagonal, last, 0),
+        |form, iu, iv, diagonal, level| mutated_concrete(form, iu, iv, diagonal, level, 0),
+    )
+    .unwrap();
+}
+
+#[test]
+fn the_narrow_fold_off_by_one_is_refuted() {
+    let example = refuted(KernelForm::PointNarrow, 1);
+    assert_eq!(example.level, 13);
+    assert_ne!(example.kernel, example.reference);
+}
+
+#[test]
+fn the_skipped_wide_prefix_step_is_refuted() {
+    let example = refuted(KernelForm::PointWide, 2);
+    assert_eq!(example.level, 17);
+}
+
+#[test]
+fn the_machine_words_agree_with_the_reference_on_small_levels() {
+    // The concrete path of the counterexamples: every cell of levels 0..=6.
+    for form in KernelForm::ALL {
+        for level in 0..=6 {
+            let last = (1u32 << level) - 1;
+            for iu in 0..=last {
+                for iv in 0..=last {
+                    for diagonal in [false, true] {
+                        assert_eq!(
+                            form.concrete(iu, iv, diagonal, level),
+                            form.reference(iu, iv, diagonal, level),
+                            "{form:?} level {level} cell ({iu}, {iv}) {diagonal}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
