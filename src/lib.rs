@@ -146,8 +146,8 @@ pub mod internals {
     /// the word, for the lab's symbolic derivation of the reference
     /// transducer (`docs/verification.md`, section 10.3).
     pub use crate::spec::{
-        fractions_reach_one, reference_cell, reference_digits, ReferenceWord, NARROW_INTERLEAVE,
-        NARROW_PREFIX_XOR, WIDE_INTERLEAVE, WIDE_PREFIX_XOR,
+        dyadic_cell, fractions_reach_one, reference_cell, reference_digits, ReferenceWord,
+        NARROW_INTERLEAVE, NARROW_PREFIX_XOR, WIDE_INTERLEAVE, WIDE_PREFIX_XOR,
     };
     pub use crate::uv2index::index_version1_unchecked;
     /// The kernel's integer half and interleave, generic over the lane

@@ -38,26 +38,30 @@ pub fn cell_dyadic(
             max: MAX_SCALE_LOG2,
         });
     }
-    let one = 1u64 << scale_log2;
-    let u = u_scaled.min(one);
-    let v = v_scaled.min(one);
-    Ok(if scale_log2 >= level.get() {
-        let shift = scale_log2 - level.get();
-        let mask = (1u64 << shift) - 1;
-        Cell {
-            iu: u >> shift,
-            iv: v >> shift,
-            diagonal: fractions_reach_one(u & mask, v & mask, mask),
-        }
+    let (iu, iv, diagonal) = dyadic_cell(u_scaled, v_scaled, scale_log2, level.get());
+    Ok(Cell { iu, iv, diagonal })
+}
+
+/// [`cell_dyadic`]'s steps for `scale_log2 <= 62` and `level <= 32`,
+/// generic over the word: `(iu, iv, diagonal)`. The lab runs them on words
+/// of decision diagrams and proves them equal to the definition (the
+/// floor and fraction of `2^level` times the clamped coordinate, fractions
+/// summing to at least 1) at every input (`docs/verification.md` 10.12).
+#[inline(always)]
+pub fn dyadic_cell<W: ReferenceWord>(u: W, v: W, scale_log2: u32, level: u32) -> (W, W, bool) {
+    let one = W::power_of_two(scale_log2);
+    let clamp = |x: W| if x.at_least(one) { one } else { x };
+    let (u, v) = (clamp(u), clamp(v));
+    if scale_log2 >= level {
+        let shift = scale_log2 - level;
+        let mask = W::power_of_two(shift).wrapping_sub(W::constant(1));
+        let diagonal = fractions_reach_one(u.and(mask), v.and(mask), mask);
+        (u.shift_right(shift), v.shift_right(shift), diagonal)
     } else {
         // Coarser than the lattice: every such point is a lattice vertex.
-        let shift = level.get() - scale_log2;
-        Cell {
-            iu: u << shift,
-            iv: v << shift,
-            diagonal: false,
-        }
-    })
+        let shift = level - scale_log2;
+        (u.shift_left(shift), v.shift_left(shift), false)
+    }
 }
 
 /// The diagonal test `uf + vf >= 1` on the fractions below the level,

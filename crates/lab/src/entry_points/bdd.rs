@@ -14,12 +14,19 @@
 
 use std::cell::RefCell;
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 use std::ops::{BitAnd, BitOr, BitXor, Not};
 
 /// A node of the thread's diagram store: a Boolean function of the
 /// variables `0, 1, 2, ...` (lower indices tested first).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Node(u32);
+
+impl std::hash::Hash for Node {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        state.write_u32(self.0);
+    }
+}
 
 impl Node {
     /// The constant false.
@@ -136,6 +143,42 @@ pub fn reset() {
     STORE.with(|store| *store.borrow_mut() = Store::new());
 }
 
+/// [`reset`] when the store holds more than `nodes` nodes: proofs that
+/// build the same inputs case after case share the earlier cases' work
+/// until memory calls for a fresh start. Returns whether it reset.
+pub fn reset_above(nodes: usize) -> bool {
+    let reset_now = node_count() > nodes;
+    if reset_now {
+        reset();
+    }
+    reset_now
+}
+
+/// A multiplicative hash of the tables' small integer keys (the FxHash
+/// scheme): the tables are this module's inner loop, and SipHash's
+/// resistance to chosen keys buys nothing here.
+#[derive(Default)]
+struct KeyHasher(u64);
+
+impl Hasher for KeyHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &byte in bytes {
+            self.write_u64(u64::from(byte));
+        }
+    }
+    fn write_u32(&mut self, value: u32) {
+        self.write_u64(u64::from(value));
+    }
+    fn write_u64(&mut self, value: u64) {
+        self.0 = (self.0.rotate_left(5) ^ value).wrapping_mul(0x51_7cc1_b727_220a_95);
+    }
+}
+
+type Table<K> = HashMap<K, Node, BuildHasherDefault<KeyHasher>>;
+
 /// How many nodes the thread's store holds (terminals included).
 #[must_use]
 pub fn node_count() -> usize {
@@ -149,8 +192,8 @@ const TERMINAL: u32 = u32::MAX;
 /// the memo of `ite`.
 struct Store {
     nodes: Vec<(u32, Node, Node)>,
-    unique: HashMap<(u32, Node, Node), Node>,
-    memo: HashMap<(Node, Node, Node), Node>,
+    unique: Table<(u32, Node, Node)>,
+    memo: Table<(Node, Node, Node)>,
 }
 
 impl Store {
@@ -160,8 +203,8 @@ impl Store {
                 (TERMINAL, Node::FALSE, Node::FALSE),
                 (TERMINAL, Node::TRUE, Node::TRUE),
             ],
-            unique: HashMap::new(),
-            memo: HashMap::new(),
+            unique: Table::default(),
+            memo: Table::default(),
         }
     }
 

@@ -14,6 +14,7 @@
 
 use super::bdd::{self, Node};
 use super::word::{explore, Bits};
+use micromap_index::internals::kernel::LaneWord;
 use micromap_index::internals::kernel::{narrow_lane, narrow_point, wide_lane, wide_point};
 use micromap_index::internals::{
     reference_cell, reference_digits, NARROW_INTERLEAVE, NARROW_PREFIX_XOR, WIDE_INTERLEAVE,
@@ -277,12 +278,18 @@ pub fn prove_forms_with(
                 let kernel = symbolic(form, iu, iv, diagonal, last);
                 let paths = reference_paths(form, iu, iv, diagonal, level);
                 proof.reference_paths += paths.len();
-                for (path, reference) in paths {
+                // The paths are disjoint and cover every input: their
+                // results merge into one symbolic index, compared once.
+                let mut reference = Bits::<64>::of(0);
+                for (path, path_reference) in paths {
+                    reference = Bits::select(path, path_reference, reference);
+                }
+                {
                     let mut differs = Node::FALSE;
                     for (k, r) in kernel.0.iter().zip(reference.0) {
                         differs = differs | (*k ^ r);
                     }
-                    if let Some(assignment) = (path & differs).satisfying_assignment() {
+                    if let Some(assignment) = differs.satisfying_assignment() {
                         let iu = iu.value(&assignment) as u32;
                         let iv = iv.value(&assignment) as u32;
                         let example = KernelCounterexample {

@@ -7,6 +7,9 @@
 //!   and wide) equal the reference's generic integer half at every level
 //!   and every cell, by binary decision diagrams ([`bdd`]) over the cell's
 //!   bits: the library's functions run on diagram words ([`word`]).
+//! * [`prove_cell_dyadic`]: `spec::cell_dyadic`'s steps equal the
+//!   definition of the first half (floor, fraction, fractions summing to
+//!   1) at every input, scale and level, the same way.
 //!
 //! ```
 //! use micromap_index_lab::entry_points::prove_kernel_integer_halves;
@@ -15,9 +18,11 @@
 //! ```
 
 pub mod bdd;
+mod dyadic;
 mod kernel;
 #[cfg(test)]
 mod tests;
 pub mod word;
 
+pub use dyadic::*;
 pub use kernel::*;

@@ -160,3 +160,46 @@ fn the_machine_words_agree_with_the_reference_on_small_levels() {
         }
     }
 }
+
+#[test]
+fn cell_dyadic_is_proved() {
+    let proof = prove_cell_dyadic().unwrap();
+    assert_eq!(proof.cases, 63 * 33);
+}
+
+/// `dyadic_cell` with the planted change: at levels 21 and up the
+/// diagonal test is also true on the diagonal itself (`uf + vf >= mask`).
+fn dyadic_mutant<W: micromap_index::internals::ReferenceWord>(
+    u: W,
+    v: W,
+    scale_log2: u32,
+    level: u32,
+) -> (W, W, bool) {
+    let (iu, iv, diagonal) = micromap_index::internals::dyadic_cell(u, v, scale_log2, level);
+    if level < 21 || scale_log2 < level {
+        return (iu, iv, diagonal);
+    }
+    let one = W::power_of_two(scale_log2);
+    let clamp = |x: W| if x.at_least(one) { one } else { x };
+    let mask = W::power_of_two(scale_log2 - level).wrapping_sub(W::constant(1));
+    let sum = clamp(u).and(mask).wrapping_add(clamp(v).and(mask));
+    (iu, iv, sum.at_least(mask))
+}
+
+#[test]
+fn the_dyadic_diagonal_mutant_is_refuted() {
+    let example = prove_dyadic_steps(dyadic_mutant, dyadic_mutant).unwrap_err();
+    assert_eq!(example.level, 21);
+    // The machine words show the change: the definition's diagonal is
+    // false there (the fractions sum to less than 1).
+    let (iu, iv, diagonal) = example.computed;
+    let cell = micromap_index::spec::cell_dyadic(
+        example.u_scaled,
+        example.v_scaled,
+        example.scale_log2,
+        micromap_index::Level::new(example.level).unwrap(),
+    )
+    .unwrap();
+    assert_eq!((iu, iv), (cell.iu, cell.iv));
+    assert_ne!(diagonal, cell.diagonal);
+}

@@ -8,7 +8,8 @@ use cli_support::args::{ArgError, Command, Flag};
 use cli_support::output::{print_then, Exit, Program};
 use cli_support::write_all_or_nothing::write_files;
 use micromap_index_lab::entry_points::{
-    prove_kernel_integer_halves, KernelProof, KernelProofError,
+    prove_cell_dyadic, prove_kernel_integer_halves, DyadicCounterexample, DyadicProof, KernelProof,
+    KernelProofError,
 };
 use micromap_index_lab::prove::WalkVersion;
 use micromap_index_lab::prove_all_levels::{prove_all_levels, AllLevelsReport, Verdict};
@@ -27,9 +28,10 @@ pub(crate) static ALL_LEVELS: Command = Command {
     ],
     about: "  --all-levels proves the walk equal to the reference at every level at once
   by exploring the finite product of two digit transducers (under a second),
-  then the kernel's integer halves equal to the reference's at every cell
-  (decision diagrams, seconds; docs/verification.md 10.12); exit 0 both
-  proved, 1 not; with --version1 it must fail and prints a face; --list
+  then the kernel's integer halves and spec::cell_dyadic equal to the
+  reference's code and definition at every input (decision diagrams, seconds;
+  docs/verification.md 10.12); exit 0 all proved, 1 not; with --version1 it
+  must fail and prints a face; --list
   prints every product state and transition; --certificate writes the proved
   product for crates/lab/certificates/product.py (docs/verification.md 10),
   exit 3 if it cannot.",
@@ -79,19 +81,30 @@ pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
     let started = Instant::now();
     let kernels = prove_kernel_integer_halves();
     let kernel_seconds = started.elapsed().as_secs_f64();
+    let started = Instant::now();
+    let dyadic = prove_cell_dyadic();
+    let dyadic_seconds = started.elapsed().as_secs_f64();
     let mut text = String::new();
     if json {
-        print_json(program, &mut text, &report, seconds, confirmed, &kernels);
+        print_json(
+            program,
+            &mut text,
+            &report,
+            seconds,
+            confirmed,
+            (&kernels, &dyadic),
+        );
     } else {
         print_text(&mut text, &report, seconds, confirmed);
         print_kernels(&mut text, &kernels, kernel_seconds);
+        print_dyadic(&mut text, &dyadic, dyadic_seconds);
     }
     if list {
         for line in report.listing() {
             let _ = writeln!(text, "{line}");
         }
     }
-    let mut verdict = if report.is_proof() && kernels.is_ok() {
+    let mut verdict = if report.is_proof() && kernels.is_ok() && dyadic.is_ok() {
         Exit::Success
     } else {
         Exit::Failed
@@ -252,6 +265,25 @@ fn print_kernels(out: &mut String, kernels: &Result<KernelProof, KernelProofErro
     }
 }
 
+/// `spec::cell_dyadic` against the definition (`docs/verification.md`
+/// 10.12).
+fn print_dyadic(
+    out: &mut String,
+    dyadic: &Result<DyadicProof, DyadicCounterexample>,
+    seconds: f64,
+) {
+    match dyadic {
+        Ok(proof) => drop(writeln!(
+            out,
+            "entry points: spec::cell_dyadic is the definition's cell and diagonal at every input, \
+             scale 0..=62 and level 0..=32 ({} cases, {} paths, at most {} diagram nodes, \
+             {seconds:.3} s)",
+            proof.cases, proof.paths, proof.peak_nodes
+        )),
+        Err(e) => drop(writeln!(out, "entry points: NOT proved: {e}")),
+    }
+}
+
 #[derive(Serialize)]
 struct JsonKernels {
     verdict: &'static str,
@@ -289,6 +321,7 @@ struct JsonReport {
     error: Option<String>,
     seconds: f64,
     kernel_integer_halves: JsonKernels,
+    cell_dyadic: JsonKernels,
 }
 
 fn print_json(
@@ -297,7 +330,10 @@ fn print_json(
     report: &AllLevelsReport,
     seconds: f64,
     confirmed: Option<bool>,
-    kernels: &Result<KernelProof, KernelProofError>,
+    (kernels, dyadic): (
+        &Result<KernelProof, KernelProofError>,
+        &Result<DyadicProof, DyadicCounterexample>,
+    ),
 ) {
     let c = &report.counts;
     let (verdict, counterexample, error) = match &report.verdict {
@@ -338,6 +374,18 @@ fn print_json(
         error,
         seconds,
         kernel_integer_halves: match kernels {
+            Ok(proof) => JsonKernels {
+                verdict: "proved",
+                cases: proof.cases,
+                detail: None,
+            },
+            Err(e) => JsonKernels {
+                verdict: "counterexample",
+                cases: 0,
+                detail: Some(e.to_string()),
+            },
+        },
+        cell_dyadic: match dyadic {
             Ok(proof) => JsonKernels {
                 verdict: "proved",
                 cases: proof.cases,
