@@ -13,9 +13,14 @@
 # --release --all-features -- --ignored` runs crates/lab/tests/mutants.rs);
 # .ci/run runs the subset: the issue's three mutants of the reference (the
 # 64-bit prefix XOR limited to 16 bits, the hypotenuse move on >, the move
-# switched off at levels >= 20) and the over-pruning search.
+# switched off at levels >= 20), the over-pruning search, and two of the
+# entry points' (the narrow kernel's fold on <=, and cell_dyadic's diagonal
+# on the diagonal itself at levels >= 21, which survived every test before
+# section 10.12).
 #
-# The proof tiers: the all-levels proof and its certification and
+# The proof tiers: `micromap-lab prove --all-levels` itself (the product,
+# the kernel's integer halves and spec::cell_dyadic, section 10.12), then
+# the all-levels proof and its certification and
 # derivations (the lab's prove_all_levels unit tests: the search,
 # `Machine::new`'s symbolic derivation of the reference, the certification
 # against every face of levels 0..=8 and the committed listing), the
@@ -27,9 +32,10 @@
 set -uo pipefail
 cd "$(dirname "$0")/../../.."
 list=crates/lab/mutants/mutants.txt
-subset=(1 2 3 11)
+subset=(1 2 3 11 14 18)
 tiers() {
-    cargo test -q -p micromap-index-lab --lib prove_all_levels >/dev/null 2>&1 \
+    cargo run -q --release -p micromap-index-lab --bin micromap-lab -- prove --all-levels >/dev/null 2>&1 \
+        && cargo test -q -p micromap-index-lab --lib prove_all_levels >/dev/null 2>&1 \
         && cargo test -q -p micromap-index-lab --test prove_all_levels >/dev/null 2>&1 \
         && cargo test -q -p micromap-index-lab --test prove >/dev/null 2>&1
 }
