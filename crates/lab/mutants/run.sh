@@ -69,7 +69,11 @@ for i in "${selected[@]}"; do
     current=$file
     printf '%s\n' "${text/"$from"/"$to"}" >"$file"
     mutant_started=$SECONDS
-    if tiers; then
+    # A mutant that does not compile proves nothing about the tiers.
+    if ! cargo build -q --release -p micromap-index-lab --bin micromap-lab >/dev/null 2>&1; then
+        echo "mutant $i DOES NOT BUILD: $what ($file)"
+        survivors=$((survivors + 1))
+    elif tiers; then
         if [[ "$what" == "(equivalent)"* ]]; then
             echo "mutant $i survived, as documented: $what ($file, $((SECONDS - mutant_started)) s)"
             equivalent=$((equivalent + 1))
