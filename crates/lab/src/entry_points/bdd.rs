@@ -145,17 +145,15 @@ pub fn reset() {
 
 /// [`reset`] when the store holds more than `nodes` nodes: proofs that
 /// build the same inputs case after case share the earlier cases' work
-/// until memory calls for a fresh start. Returns whether it reset.
-pub fn reset_above(nodes: usize) -> bool {
-    let reset_now = node_count() > nodes;
-    if reset_now {
+/// until memory calls for a fresh start.
+pub fn reset_above(nodes: usize) {
+    if node_count() > nodes {
         reset();
     }
-    reset_now
 }
 
-/// A multiplicative hash of the tables' small integer keys (the FxHash
-/// scheme): the tables are this module's inner loop, and SipHash's
+/// A multiplicative hash of the tables' small integer keys (the `FxHash`
+/// scheme): the tables are this module's inner loop, and `SipHash`'s
 /// resistance to chosen keys buys nothing here.
 #[derive(Default)]
 struct KeyHasher(u64);
@@ -173,7 +171,7 @@ impl Hasher for KeyHasher {
         self.write_u64(u64::from(value));
     }
     fn write_u64(&mut self, value: u64) {
-        self.0 = (self.0.rotate_left(5) ^ value).wrapping_mul(0x51_7cc1_b727_220a_95);
+        self.0 = (self.0.rotate_left(5) ^ value).wrapping_mul(0x517c_c1b7_2722_0a95);
     }
 }
 

@@ -77,14 +77,11 @@ fn variable(i: usize, v: bool) -> u32 {
 /// # Errors
 /// The first input where they differ.
 pub fn prove_cell_dyadic() -> Result<DyadicProof, DyadicCounterexample> {
-    prove_dyadic_steps(
-        |u, v, scale_log2, level| dyadic_cell(u, v, scale_log2, level),
-        |u, v, scale_log2, level| {
-            let level = Level::new(level).expect("levels 0..=32");
-            let cell = spec::cell_dyadic(u, v, scale_log2, level).expect("scale within 62");
-            (cell.iu, cell.iv, cell.diagonal)
-        },
-    )
+    prove_dyadic_steps(dyadic_cell, |u, v, scale_log2, level| {
+        let level = Level::new(level).expect("levels 0..=32");
+        let cell = spec::cell_dyadic(u, v, scale_log2, level).expect("scale within 62");
+        (cell.iu, cell.iv, cell.diagonal)
+    })
 }
 
 /// [`prove_cell_dyadic`] with the steps given (symbolic and on machine
@@ -119,7 +116,7 @@ pub fn prove_dyadic_steps(
                 diagonal = path.select(Node::constant(path_diagonal), diagonal);
             }
             {
-                let wrong = !definition_holds([u, v], [iu, iv], diagonal, scale_log2, level);
+                let wrong = !definition_holds(&[u, v], &[iu, iv], diagonal, scale_log2, level);
                 if let Some(assignment) = wrong.satisfying_assignment() {
                     let (u, v) = (u.value(&assignment), v.value(&assignment));
                     return Err(DyadicCounterexample {
@@ -141,8 +138,8 @@ pub fn prove_dyadic_steps(
 /// Whether `cells` and `diagonal` are the definition's for the inputs
 /// `numerators` at this scale and level (module comment), as a diagram.
 fn definition_holds(
-    numerators: [Bits<64>; 2],
-    cells: [Bits<64>; 2],
+    numerators: &[Bits<64>; 2],
+    cells: &[Bits<64>; 2],
     diagonal: Node,
     scale_log2: u32,
     level: u32,
