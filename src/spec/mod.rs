@@ -72,9 +72,13 @@ mod integer_half;
 mod real;
 
 pub use by_integers::{index_f32_by_integers, reference_bits_f32_by_integers};
+#[cfg(not(feature = "unstable-public-internals"))]
+pub(crate) use dyadic::fractions_reach_one;
 pub use dyadic::{cell_dyadic, index_dyadic, wide_index_dyadic, MAX_SCALE_LOG2};
 #[cfg(feature = "unstable-public-internals")]
 pub use dyadic::{dyadic_cell, fractions_reach_one};
+#[cfg(not(feature = "unstable-public-internals"))]
+pub(crate) use integer_half::ReferenceWord;
 pub use integer_half::{index_from_cell, wide_index_from_cell};
 #[cfg(feature = "unstable-public-internals")]
 pub use integer_half::{

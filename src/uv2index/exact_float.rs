@@ -171,7 +171,7 @@ fn closed_form_f64(u: f64, v: f64, level: Level) -> u64 {
         iu.min(u64::from(last)) as u32,
         iv.min(u64::from(last)) as u32,
     );
-    let diagonal = uf + vf >= F64_ONE;
+    let diagonal = binary64_diagonal(uf, vf);
     if level.get() <= crate::spec::MAX_LEVEL {
         // The same answer (the wide form's extra steps are no-ops below
         // level 17) with one interleave instead of two.
@@ -188,29 +188,69 @@ const F64_ONE: u64 = 1 << F64_FRACTION_BITS;
 
 /// The cell `floor(x * 2^level)` (at most `2^32`) and
 /// `floor(fraction * 2^62)` of `x` clamped to `[0, 1]` (NaN and negatives to
-/// 0). `x = m * 2^(e - 1075)` with `m < 2^53` and `e <= 1023`, so
-/// `x * 2^level = m >> s` with `s = 1075 - level - e >= 20`.
+/// 0): [`binary64_coordinate`] on the bits.
 #[inline]
 fn coordinate_f64(x: f64, level: u32) -> (u64, u64) {
-    let bits = x.to_bits();
-    let clamped = if bits > 0x7ff0_0000_0000_0000 {
-        0 // NaN or negative
+    binary64_coordinate(x.to_bits(), level)
+}
+
+/// A word [`binary64_coordinate`] runs on: the reference's word operations
+/// and the low 32 bits as a number (the exponent, which decides the shift).
+/// `u64` here; the lab's words of decision diagrams prove the steps
+/// (`docs/verification.md` 10.12).
+pub trait CoordinateWord: crate::spec::ReferenceWord {
+    /// The low 32 bits (for the lab's words: only when they are constants).
+    fn low_u32(self) -> u32;
+}
+
+impl CoordinateWord for u64 {
+    #[inline(always)]
+    fn low_u32(self) -> u32 {
+        self as u32
+    }
+}
+
+/// The steps of [`coordinate_f64`] on the bits of a binary64, generic over
+/// the word, every level `0..=32`. `x = m * 2^(e - 1075)` with `m < 2^53`
+/// and `e <= 1023` after the clamp, so `x * 2^level = m / 2^s` with `s =
+/// 1075 - level - e >= 20`: the cell is `m >> s` and the fraction's 62 bits
+/// are `m << (62 - s)` (bits above 62 dropped) for `s <= 62`, else `m >>
+/// (s - 62)`; a shift by 64 or more gives 0.
+#[inline(always)]
+pub fn binary64_coordinate<W: CoordinateWord>(bits: W, level: u32) -> (W, W) {
+    let one = W::constant(1f64.to_bits());
+    let clamped = if bits.at_least(W::constant(0x7ff0_0000_0000_0001)) {
+        W::constant(0) // NaN or negative
+    } else if bits.at_least(one) {
+        one
     } else {
-        bits.min(1f64.to_bits())
+        bits
     };
-    let biased = (clamped >> 52) as u32;
-    let hidden = if biased == 0 { 0 } else { 1 << 52 };
-    let m = (clamped & ((1 << 52) - 1)) | hidden;
+    let biased = clamped.shift_right(52).low_u32();
+    let hidden = W::constant(if biased == 0 { 0 } else { 1 << 52 });
+    let m = clamped.and(W::constant((1 << 52) - 1)).or(hidden);
     let s = 1075 - level - biased.max(1);
-    // floor(x * 2^(level + 62)) = (m << 62) >> s in one 128-bit word
-    // (m << 62 < 2^115): the cell above the low 62 bits, the fraction in them.
-    let scaled = (u128::from(m) << F64_FRACTION_BITS)
-        .checked_shr(s)
-        .unwrap_or(0);
-    (
-        (scaled >> F64_FRACTION_BITS) as u64,
-        scaled as u64 & (F64_ONE - 1),
-    )
+    let shifted_right = |count: u32| {
+        if count < 64 {
+            m.shift_right(count)
+        } else {
+            W::constant(0)
+        }
+    };
+    let fraction = if s <= F64_FRACTION_BITS {
+        m.shift_left(F64_FRACTION_BITS - s)
+            .and(W::constant(F64_ONE - 1))
+    } else {
+        shifted_right(s - F64_FRACTION_BITS)
+    };
+    (shifted_right(s), fraction)
+}
+
+/// The diagonal test on two coordinates' 62-bit fractions:
+/// `uf + vf >= 2^62`, by the reference's generic dyadic test.
+#[inline(always)]
+pub fn binary64_diagonal<W: CoordinateWord>(uf: W, vf: W) -> bool {
+    crate::spec::fractions_reach_one(uf, vf, W::constant(F64_ONE - 1))
 }
 
 unstable_pub_fn! {
@@ -234,7 +274,7 @@ unstable_pub_fn! {
         Cell {
             iu,
             iv,
-            diagonal: uf + vf >= F64_ONE,
+            diagonal: binary64_diagonal(uf, vf),
         }
     }
 }

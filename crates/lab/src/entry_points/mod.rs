@@ -10,6 +10,9 @@
 //! * [`prove_cell_dyadic`]: `spec::cell_dyadic`'s steps equal the
 //!   definition of the first half (floor, fraction, fractions summing to
 //!   1) at every input, scale and level, the same way.
+//! * [`prove_binary64_first_half`]: `uv2index::exact_index_f64`'s closed
+//!   form's first half (`binary64_coordinate`, `binary64_diagonal`) equal
+//!   to the exact first half's definition, every binary64 and level.
 //!
 //! ```
 //! use micromap_index_lab::entry_points::prove_kernel_integer_halves;
@@ -18,11 +21,13 @@
 //! ```
 
 pub mod bdd;
+mod binary64;
 mod dyadic;
 mod kernel;
 #[cfg(test)]
 mod tests;
 pub mod word;
 
+pub use binary64::*;
 pub use dyadic::*;
 pub use kernel::*;

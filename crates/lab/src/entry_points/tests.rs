@@ -203,3 +203,40 @@ fn the_dyadic_diagonal_mutant_is_refuted() {
     assert_eq!((iu, iv), (cell.iu, cell.iv));
     assert_ne!(diagonal, cell.diagonal);
 }
+
+#[test]
+fn the_binary64_first_half_is_proved() {
+    let proof = prove_binary64_first_half().unwrap();
+    assert_eq!(proof.cases, 33 * (2 + 1024));
+}
+
+#[test]
+fn a_binary64_diagonal_on_greater_is_refuted() {
+    use micromap_index::internals::{binary64_coordinate, ReferenceWord};
+    // The mutation of closed_form_f64: `>` instead of `>=`.
+    let example = prove_binary64_steps(binary64_coordinate, |uf: Bits<64>, vf| {
+        let sum = ReferenceWord::wrapping_add(uf, vf);
+        !Bits::of(1 << 62).at_least(sum)
+    })
+    .unwrap_err();
+    assert_eq!(example.inputs.0 + example.inputs.1, 1 << 62);
+}
+
+#[test]
+fn a_binary64_fraction_off_by_one_bit_is_refuted() {
+    use micromap_index::internals::{binary64_coordinate, binary64_diagonal, ReferenceWord};
+    // The fraction kept to 61 bits at levels 17..=19.
+    let example = prove_binary64_steps(
+        |bits: Bits<64>, level| {
+            let (cell, fraction) = binary64_coordinate(bits, level);
+            if (17..=19).contains(&level) {
+                (cell, fraction.and(Bits::of(!1)))
+            } else {
+                (cell, fraction)
+            }
+        },
+        binary64_diagonal,
+    )
+    .unwrap_err();
+    assert_eq!(example.level, 17);
+}

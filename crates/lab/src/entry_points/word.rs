@@ -304,3 +304,19 @@ pub fn explore<R>(mut body: impl FnMut() -> R) -> Vec<(Node, R)> {
     }
     results
 }
+
+impl<const N: usize> micromap_index::internals::CoordinateWord for Bits<N> {
+    /// # Panics
+    /// When a low bit is not a constant: the proofs split the inputs into
+    /// cases where the exponent is one (module `binary64`).
+    fn low_u32(self) -> u32 {
+        let mut value = 0;
+        for (i, bit) in self.0.iter().enumerate().take(32) {
+            let bit = bit
+                .as_constant()
+                .expect("low_u32 of a word whose low bits are symbolic");
+            value |= u32::from(bit) << i;
+        }
+        value
+    }
+}
