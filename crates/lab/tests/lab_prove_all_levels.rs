@@ -16,6 +16,14 @@ fn command_exits_0_when_proved_and_1_for_version1() {
     let text = String::from_utf8_lossy(&proved.stdout);
     assert_eq!(proved.status.code(), Some(0), "{text}");
     assert!(text.contains("proved in"), "{text}");
+    for entry_point in [
+        "the kernel's integer halves equal the reference's",
+        "spec::cell_dyadic is the definition's cell",
+        "exact_index_f64's first half (levels 0..=19) is the definition's",
+    ] {
+        assert!(text.contains(entry_point), "{entry_point}: {text}");
+    }
+    assert!(!text.contains("NOT proved"), "{text}");
 
     let refuted = command(&["prove", "--all-levels", "--version1"]);
     let text = String::from_utf8_lossy(&refuted.stdout);
@@ -27,6 +35,14 @@ fn command_exits_0_when_proved_and_1_for_version1() {
     assert_eq!(json.status.code(), Some(1), "{text}");
     assert!(text.contains("\"verdict\":\"counterexample\""), "{text}");
     assert!(text.contains("\"confirmed\":true"), "{text}");
+    for field in [
+        "kernel_integer_halves",
+        "cell_dyadic",
+        "binary64_first_half",
+    ] {
+        let proved = format!("\"{field}\":{{\"verdict\":\"proved\"");
+        assert!(text.contains(&proved), "{field}: {text}");
+    }
 
     let bad = command(&["prove", "--all-levels", "--levels", "3"]);
     assert_eq!(bad.status.code(), Some(2));

@@ -8,7 +8,8 @@ use cli_support::args::{ArgError, Command, Flag};
 use cli_support::output::{print_then, Exit, Program};
 use cli_support::write_all_or_nothing::write_files;
 use micromap_index_lab::entry_points::{
-    prove_cell_dyadic, prove_kernel_integer_halves, DyadicCounterexample, DyadicProof, KernelProof,
+    prove_binary64_first_half, prove_cell_dyadic, prove_kernel_integer_halves,
+    Binary64Counterexample, Binary64Proof, DyadicCounterexample, DyadicProof, KernelProof,
     KernelProofError,
 };
 use micromap_index_lab::prove::WalkVersion;
@@ -28,10 +29,11 @@ pub(crate) static ALL_LEVELS: Command = Command {
     ],
     about: "  --all-levels proves the walk equal to the reference at every level at once
   by exploring the finite product of two digit transducers (under a second),
-  then the kernel's integer halves and spec::cell_dyadic equal to the
-  reference's code and definition at every input (decision diagrams, seconds;
-  docs/verification.md 10.12); exit 0 all proved, 1 not; with --version1 it
-  must fail and prints a face; --list
+  then the kernel's integer halves, spec::cell_dyadic and exact_index_f64's
+  first half (levels 0..=19) equal to the reference's code and definition at
+  every input (decision diagrams, seconds; docs/verification.md 10.12);
+  exit 0 all proved, 1 not; with --version1 it must fail and prints a face;
+  --list
   prints every product state and transition; --certificate writes the proved
   product for crates/lab/certificates/product.py (docs/verification.md 10),
   exit 3 if it cannot.",
@@ -78,12 +80,7 @@ pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
     };
     let seconds = started.elapsed().as_secs_f64();
     let confirmed = confirmed(&report);
-    let started = Instant::now();
-    let kernels = prove_kernel_integer_halves();
-    let kernel_seconds = started.elapsed().as_secs_f64();
-    let started = Instant::now();
-    let dyadic = prove_cell_dyadic();
-    let dyadic_seconds = started.elapsed().as_secs_f64();
+    let entry_points = EntryPoints::prove();
     let mut text = String::new();
     if json {
         print_json(
@@ -92,19 +89,20 @@ pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
             &report,
             seconds,
             confirmed,
-            (&kernels, &dyadic),
+            &entry_points,
         );
     } else {
         print_text(&mut text, &report, seconds, confirmed);
-        print_kernels(&mut text, &kernels, kernel_seconds);
-        print_dyadic(&mut text, &dyadic, dyadic_seconds);
+        print_kernels(&mut text, &entry_points.kernels);
+        print_dyadic(&mut text, &entry_points.dyadic);
+        print_binary64(&mut text, &entry_points.binary64);
     }
     if list {
         for line in report.listing() {
             let _ = writeln!(text, "{line}");
         }
     }
-    let mut verdict = if report.is_proof() && kernels.is_ok() && dyadic.is_ok() {
+    let mut verdict = if report.is_proof() && entry_points.all_proved() {
         Exit::Success
     } else {
         Exit::Failed
@@ -237,9 +235,38 @@ fn print_text(out: &mut String, report: &AllLevelsReport, seconds: f64, confirme
     }
 }
 
-/// The entry points' proof (`docs/verification.md` 10.12): the kernel's
-/// integer halves against the reference's generic code.
-fn print_kernels(out: &mut String, kernels: &Result<KernelProof, KernelProofError>, seconds: f64) {
+/// The entry points' proofs (`docs/verification.md` 10.12), each with its
+/// seconds.
+struct EntryPoints {
+    kernels: (Result<KernelProof, KernelProofError>, f64),
+    dyadic: (Result<DyadicProof, DyadicCounterexample>, f64),
+    binary64: (Result<Binary64Proof, Binary64Counterexample>, f64),
+}
+
+impl EntryPoints {
+    fn prove() -> Self {
+        fn timed<T>(prove: impl FnOnce() -> T) -> (T, f64) {
+            let started = Instant::now();
+            let result = prove();
+            (result, started.elapsed().as_secs_f64())
+        }
+        Self {
+            kernels: timed(prove_kernel_integer_halves),
+            dyadic: timed(prove_cell_dyadic),
+            binary64: timed(prove_binary64_first_half),
+        }
+    }
+
+    fn all_proved(&self) -> bool {
+        self.kernels.0.is_ok() && self.dyadic.0.is_ok() && self.binary64.0.is_ok()
+    }
+}
+
+/// The kernel's integer halves against the reference's generic code.
+fn print_kernels(
+    out: &mut String,
+    (kernels, seconds): &(Result<KernelProof, KernelProofError>, f64),
+) {
     match kernels {
         Ok(proof) => {
             let _ = writeln!(
@@ -269,8 +296,7 @@ fn print_kernels(out: &mut String, kernels: &Result<KernelProof, KernelProofErro
 /// 10.12).
 fn print_dyadic(
     out: &mut String,
-    dyadic: &Result<DyadicProof, DyadicCounterexample>,
-    seconds: f64,
+    (dyadic, seconds): &(Result<DyadicProof, DyadicCounterexample>, f64),
 ) {
     match dyadic {
         Ok(proof) => drop(writeln!(
@@ -279,6 +305,24 @@ fn print_dyadic(
              scale 0..=62 and level 0..=32 ({} cases, {} paths, at most {} diagram nodes, \
              {seconds:.3} s)",
             proof.cases, proof.paths, proof.peak_nodes
+        )),
+        Err(e) => drop(writeln!(out, "entry points: NOT proved: {e}")),
+    }
+}
+
+/// `uv2index::exact_index_f64`'s first half against the definition
+/// (`docs/verification.md` 10.12).
+fn print_binary64(
+    out: &mut String,
+    (binary64, seconds): &(Result<Binary64Proof, Binary64Counterexample>, f64),
+) {
+    match binary64 {
+        Ok(proof) => drop(writeln!(
+            out,
+            "entry points: exact_index_f64's first half (levels 0..=19) is the definition's cell \
+             and exact diagonal at every binary64 input ({} cases, at most {} diagram nodes, \
+             {seconds:.3} s)",
+            proof.cases, proof.peak_nodes
         )),
         Err(e) => drop(writeln!(out, "entry points: NOT proved: {e}")),
     }
@@ -322,6 +366,7 @@ struct JsonReport {
     seconds: f64,
     kernel_integer_halves: JsonKernels,
     cell_dyadic: JsonKernels,
+    binary64_first_half: JsonKernels,
 }
 
 fn print_json(
@@ -330,10 +375,7 @@ fn print_json(
     report: &AllLevelsReport,
     seconds: f64,
     confirmed: Option<bool>,
-    (kernels, dyadic): (
-        &Result<KernelProof, KernelProofError>,
-        &Result<DyadicProof, DyadicCounterexample>,
-    ),
+    entry_points: &EntryPoints,
 ) {
     let c = &report.counts;
     let (verdict, counterexample, error) = match &report.verdict {
@@ -373,35 +415,34 @@ fn print_json(
         counterexample,
         error,
         seconds,
-        kernel_integer_halves: match kernels {
-            Ok(proof) => JsonKernels {
-                verdict: "proved",
-                cases: proof.cases,
-                detail: None,
-            },
-            Err(e) => JsonKernels {
-                verdict: "counterexample",
-                cases: 0,
-                detail: Some(e.to_string()),
-            },
-        },
-        cell_dyadic: match dyadic {
-            Ok(proof) => JsonKernels {
-                verdict: "proved",
-                cases: proof.cases,
-                detail: None,
-            },
-            Err(e) => JsonKernels {
-                verdict: "counterexample",
-                cases: 0,
-                detail: Some(e.to_string()),
-            },
-        },
+        kernel_integer_halves: json_entry_point(
+            entry_points.kernels.0.as_ref().map(|proof| proof.cases),
+        ),
+        cell_dyadic: json_entry_point(entry_points.dyadic.0.as_ref().map(|proof| proof.cases)),
+        binary64_first_half: json_entry_point(
+            entry_points.binary64.0.as_ref().map(|proof| proof.cases),
+        ),
     };
     match serde_json::to_string(&line) {
         Ok(text) => {
             let _ = writeln!(out, "{text}");
         }
         Err(e) => program.report(format_args!("prove --all-levels: cannot write JSON: {e}")),
+    }
+}
+
+/// One entry point's JSON verdict: its case count, or its counterexample.
+fn json_entry_point<E: std::fmt::Display>(proof: Result<usize, &E>) -> JsonKernels {
+    match proof {
+        Ok(cases) => JsonKernels {
+            verdict: "proved",
+            cases,
+            detail: None,
+        },
+        Err(e) => JsonKernels {
+            verdict: "counterexample",
+            cases: 0,
+            detail: Some(e.to_string()),
+        },
     }
 }
