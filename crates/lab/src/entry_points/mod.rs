@@ -13,6 +13,8 @@
 //! * [`prove_binary64_first_half`]: `uv2index::exact_index_f64`'s closed
 //!   form's first half (`binary64_coordinate`, `binary64_diagonal`) equal
 //!   to the exact first half's definition, every binary64 and level.
+//! * [`prove_walk_fold`]: `uv2index::index_unchecked` and `index` are, token
+//!   for token, the fold of `Walk::step` the transducer proof models.
 //!
 //! ```
 //! use micromap_index_lab::entry_points::prove_kernel_integer_halves;
@@ -23,6 +25,7 @@
 pub mod bdd;
 mod binary64;
 mod dyadic;
+mod fold;
 mod kernel;
 #[cfg(test)]
 mod tests;
@@ -30,4 +33,5 @@ pub mod word;
 
 pub use binary64::*;
 pub use dyadic::*;
+pub use fold::*;
 pub use kernel::*;
