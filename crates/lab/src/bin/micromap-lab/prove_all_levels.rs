@@ -8,9 +8,9 @@ use cli_support::args::{ArgError, Command, Flag};
 use cli_support::output::{print_then, Exit, Program};
 use cli_support::write_all_or_nothing::write_files;
 use micromap_index_lab::entry_points::{
-    prove_binary64_first_half, prove_cell_dyadic, prove_kernel_integer_halves,
-    Binary64Counterexample, Binary64Proof, DyadicCounterexample, DyadicProof, KernelProof,
-    KernelProofError,
+    prove_binary64_first_half, prove_cell_dyadic, prove_kernel_integer_halves, prove_walk_fold,
+    Binary64Counterexample, Binary64Proof, DyadicCounterexample, DyadicProof, FoldMismatch,
+    FoldProof, KernelProof, KernelProofError,
 };
 use micromap_index_lab::prove::WalkVersion;
 use micromap_index_lab::prove_all_levels::{prove_all_levels, AllLevelsReport, Verdict};
@@ -31,9 +31,10 @@ pub(crate) static ALL_LEVELS: Command = Command {
   by exploring the finite product of two digit transducers (under a second),
   then the kernel's integer halves, spec::cell_dyadic and exact_index_f64's
   first half (levels 0..=19) equal to the reference's code and definition at
-  every input (decision diagrams, seconds; docs/verification.md 10.12);
-  exit 0 all proved, 1 not; with --version1 it must fail and prints a face;
-  --list
+  every input (decision diagrams, seconds), and index_unchecked, token for
+  token, the fold of Walk::step the product models (docs/verification.md
+  10.12); exit 0 all proved, 1 not; with --version1 it must fail and prints
+  a face; --list
   prints every product state and transition; --certificate writes the proved
   product for crates/lab/certificates/product.py (docs/verification.md 10),
   exit 3 if it cannot.",
@@ -96,6 +97,7 @@ pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
         print_kernels(&mut text, &entry_points.kernels);
         print_dyadic(&mut text, &entry_points.dyadic);
         print_binary64(&mut text, &entry_points.binary64);
+        print_fold(&mut text, &entry_points.fold);
     }
     if list {
         for line in report.listing() {
@@ -241,6 +243,7 @@ struct EntryPoints {
     kernels: (Result<KernelProof, KernelProofError>, f64),
     dyadic: (Result<DyadicProof, DyadicCounterexample>, f64),
     binary64: (Result<Binary64Proof, Binary64Counterexample>, f64),
+    fold: Result<FoldProof, FoldMismatch>,
 }
 
 impl EntryPoints {
@@ -254,11 +257,15 @@ impl EntryPoints {
             kernels: timed(prove_kernel_integer_halves),
             dyadic: timed(prove_cell_dyadic),
             binary64: timed(prove_binary64_first_half),
+            fold: prove_walk_fold(),
         }
     }
 
     fn all_proved(&self) -> bool {
-        self.kernels.0.is_ok() && self.dyadic.0.is_ok() && self.binary64.0.is_ok()
+        self.kernels.0.is_ok()
+            && self.dyadic.0.is_ok()
+            && self.binary64.0.is_ok()
+            && self.fold.is_ok()
     }
 }
 
@@ -328,6 +335,21 @@ fn print_binary64(
     }
 }
 
+/// `uv2index::index_unchecked` and `index` against the modelled fold
+/// (`docs/verification.md` 10.12).
+fn print_fold(out: &mut String, fold: &Result<FoldProof, FoldMismatch>) {
+    match fold {
+        Ok(proof) => drop(writeln!(
+            out,
+            "entry points: uv2index::{} are, token for token, the fold of Walk::step the product \
+             models ({} tokens of src/uv2index/mod.rs)",
+            proof.functions.join(" and "),
+            proof.tokens
+        )),
+        Err(e) => drop(writeln!(out, "entry points: NOT proved: {e}")),
+    }
+}
+
 #[derive(Serialize)]
 struct JsonKernels {
     verdict: &'static str,
@@ -367,6 +389,7 @@ struct JsonReport {
     kernel_integer_halves: JsonKernels,
     cell_dyadic: JsonKernels,
     binary64_first_half: JsonKernels,
+    walk_fold: JsonKernels,
 }
 
 fn print_json(
@@ -421,6 +444,12 @@ fn print_json(
         cell_dyadic: json_entry_point(entry_points.dyadic.0.as_ref().map(|proof| proof.cases)),
         binary64_first_half: json_entry_point(
             entry_points.binary64.0.as_ref().map(|proof| proof.cases),
+        ),
+        walk_fold: json_entry_point(
+            entry_points
+                .fold
+                .as_ref()
+                .map(|proof| proof.functions.len()),
         ),
     };
     match serde_json::to_string(&line) {
