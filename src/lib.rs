@@ -146,14 +146,17 @@ pub mod internals {
     /// the word, for the lab's symbolic derivation of the reference
     /// transducer (`docs/verification.md`, section 10.3).
     pub use crate::spec::{
-        dyadic_cell, fractions_reach_one, reference_cell, reference_digits, ReferenceWord,
-        NARROW_INTERLEAVE, NARROW_PREFIX_XOR, WIDE_INTERLEAVE, WIDE_PREFIX_XOR,
+        dyadic_cell, fractions_reach_one, reference_cell, reference_digits, CoordinateWord,
+        ReferenceWord, NARROW_INTERLEAVE, NARROW_PREFIX_XOR, WIDE_INTERLEAVE, WIDE_PREFIX_XOR,
     };
     pub use crate::uv2index::index_version1_unchecked;
     /// The kernel's integer half and interleave, generic over the lane
     /// word, for the lab's bit-level proof that they equal the reference's
     /// at every level (`docs/verification.md`, section 10.12).
     pub mod kernel {
+        pub use crate::kernel::coordinate::{
+            binary32_coordinate, binary32_unit_coordinate, clamp_binary32,
+        };
         pub use crate::kernel::word::{
             interleave_16, interleave_32, narrow_lane, narrow_point, wide_lane, wide_point,
             LaneWord,
@@ -161,7 +164,7 @@ pub mod internals {
     }
     pub use crate::uv2index::{
         binary64_coordinate, binary64_diagonal, cell_real_f32, cell_real_f64, exact_index_f32_ref,
-        exact_index_f64_ref, CoordinateWord,
+        exact_index_f64_ref,
     };
 
     /// The highest level at which `uv2index::exact_index_f32` / `_f64` use

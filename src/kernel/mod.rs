@@ -79,6 +79,7 @@
 //! bit interleave are the reference's; the interleave of `b0` and `b1` is one
 //! perfect shuffle of the word holding both (Hacker's Delight, 7-2).
 
+pub(crate) mod coordinate;
 mod pipeline;
 mod point;
 #[cfg(any(test, not(target_arch = "x86_64")))]

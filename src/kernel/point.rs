@@ -2,97 +2,26 @@
 //! at a time, and the scalar steps the chunked pipeline's safe stages
 //! share.
 
+use super::coordinate::{binary32_coordinate, binary32_unit_coordinate, clamp_binary32};
 use super::word::{narrow_point, wide_point};
-use super::{Params, FRACTION_BITS, INF_BITS, ONE_BITS};
-
-/// The clamped binary32 bits of `x` (as bits): NaN and negatives -> `+0`,
-/// `>= 1` (and `+inf`) -> `1.0`.
-#[inline(always)]
-fn clamp_bits(bits: u32) -> u32 {
-    let clamped = if bits < ONE_BITS { bits } else { ONE_BITS };
-    if bits > INF_BITS {
-        0
-    } else {
-        clamped
-    }
-}
-
-/// The significand `m` (24 bits, hidden bit included) and the shift `s`
-/// with `x * 2^level = m * 2^-s`, for clamped bits.
-#[inline(always)]
-fn significand_and_shift(clamped: u32, params: &Params) -> (u32, u32) {
-    let biased = clamped >> 23;
-    let hidden = if biased == 0 { 0 } else { 1 << 23 };
-    let m = (clamped & 0x7f_ffff) | hidden;
-    let e = if biased == 0 { 1 } else { biased };
-    // e <= 127 and level <= 32: s >= 150 - 32 - 127 = -9, wraps below 0.
-    (m, params.shift_base.wrapping_sub(e))
-}
-
-/// `x >> n`, or 0 when `n >= 32` (what AVX2's `vpsrlvd` computes).
-#[inline(always)]
-fn shr_or_zero(x: u32, n: u32) -> u32 {
-    if n < 32 {
-        x >> n
-    } else {
-        0
-    }
-}
-
-/// `x << n`, or 0 when `n >= 32` (what AVX2's `vpsllvd` computes).
-#[inline(always)]
-fn shl_or_zero(x: u32, n: u32) -> u32 {
-    if n < 32 {
-        x << n
-    } else {
-        0
-    }
-}
+use super::Params;
 
 /// Cell clamped to `last` and `floor(fraction * 2^31)` of one coordinate,
-/// in 32-bit words, every level `0..=32`.
-///
-/// `s >= 150 - 32 - 127 = -9`. For `s >= 0` the cell is `m >> s`; for
-/// `s < 0` (levels above 23 only) it is `m << -s`. Only `x = 1` has a cell
-/// beyond `last` (`2^level`, which wraps to 0 at level 32), so `x = 1` takes
-/// `last` directly; its fraction then no longer matters, since `iu = last`
-/// rules the diagonal out. The fraction `floor(m * 2^(31 - s)) mod 2^31` is `m << (31 - s)`
-/// with the bits above 31 dropped when `s <= 31` (0 when `s <= 0`), else
-/// `m >> (s - 31)`. Each shift that does not apply has a count `>= 32` as
-/// an unsigned number and gives 0.
+/// in 32-bit words, every level `0..=32`: [`binary32_coordinate`] on `u32`.
 #[inline(always)]
 pub(super) fn coordinate<const WIDE: bool>(bits: u32, params: &Params) -> (u32, u32) {
-    let clamped = clamp_bits(bits);
-    let (m, s) = significand_and_shift(clamped, params);
-    let mut cell = shr_or_zero(m, s);
-    if WIDE {
-        cell |= shl_or_zero(m, 0u32.wrapping_sub(s));
-    }
-    let cell = if clamped == ONE_BITS {
-        params.last
-    } else {
-        cell
-    };
-    let low = shl_or_zero(m, 31u32.wrapping_sub(s)) & 0x7fff_ffff;
-    let high = shr_or_zero(m, s.wrapping_sub(31));
-    (cell, low | high)
+    binary32_coordinate::<u32, WIDE>(bits, params.shift_base, params.last)
 }
 
 /// [`coordinate`] for bits already in `[0, 1]` (`bits <= ONE_BITS`: no
-/// clamp) at levels `0..=16`, in one 64-bit shift instead of three 32-bit
-/// ones, for scalar callers: `floor(x * 2^(level + 31)) = (m << 31) >> s`
-/// (`m < 2^24`, and `s >= 150 - 16 - 127 = 7`, so nothing shifts left) holds
-/// the cell above its low 31 bits and the fraction in them. Only `x = 1`
-/// has a cell beyond `last` (`2^level`, fraction 0), clamped back.
+/// clamp) at levels `0..=16`, in one 64-bit shift:
+/// [`binary32_unit_coordinate`] on `u64`.
 #[inline(always)]
 pub(crate) fn unit_coordinate(bits: u32, params: &Params) -> (u32, u32) {
-    let biased = bits >> 23;
-    let hidden = if biased == 0 { 0 } else { 1 << 23 };
-    let m = u64::from((bits & 0x7f_ffff) | hidden);
-    let s = params.shift_base - biased.max(1);
-    let scaled = (m << FRACTION_BITS).checked_shr(s).unwrap_or(0);
-    let cell = ((scaled >> FRACTION_BITS) as u32).min(params.last);
-    (cell, scaled as u32 & 0x7fff_ffff)
+    let (cell, fraction) =
+        binary32_unit_coordinate(u64::from(bits), params.shift_base, params.last);
+    // Both below 2^31: the cell is at most `last`, the fraction masked.
+    (cell as u32, fraction as u32)
 }
 
 /// The reference's clamp to `[0, 1]` on floats, with two changes that
@@ -168,7 +97,7 @@ pub(crate) fn narrow<const CELL: u8>(u_bits: u32, v_bits: u32, params: &Params) 
     if CELL == CELL_BY_FLOAT {
         narrow_by_floats(u_bits, v_bits, params, coordinate_float)
     } else {
-        narrow_in_unit(clamp_bits(u_bits), clamp_bits(v_bits), params)
+        narrow_in_unit(clamp_binary32(u_bits), clamp_binary32(v_bits), params)
     }
 }
 
@@ -226,6 +155,7 @@ pub(crate) fn wide_from_clamped_cell(iu: u32, iv: u32, diagonal: bool, last: u32
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kernel::ONE_BITS;
     use crate::kernel::{BINARY32_THRESHOLD, EXACT_THRESHOLD};
 
     #[test]

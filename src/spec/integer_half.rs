@@ -95,6 +95,30 @@ macro_rules! reference_word {
 reference_word!(u32);
 reference_word!(u64);
 
+/// A word the first halves' bit steps run on (`kernel::coordinate`,
+/// `uv2index::binary64_coordinate`): the reference's word operations and
+/// the low 32 bits as a number (the exponent, which decides the shifts).
+/// `u32` and `u64` here; the lab's words of decision diagrams prove the
+/// steps (`docs/verification.md` 10.12).
+pub trait CoordinateWord: ReferenceWord {
+    /// The low 32 bits (for the lab's words: only when they are constants).
+    fn low_u32(self) -> u32;
+}
+
+impl CoordinateWord for u32 {
+    #[inline(always)]
+    fn low_u32(self) -> u32 {
+        self
+    }
+}
+
+impl CoordinateWord for u64 {
+    #[inline(always)]
+    fn low_u32(self) -> u32 {
+        self as u32
+    }
+}
+
 /// The prefix-XOR shifts of the 32-bit code (a 16-bit prefix).
 pub const NARROW_PREFIX_XOR: [u32; 4] = [1, 2, 4, 8];
 /// The interleave steps `x = (x | (x << shift)) & mask` of the 32-bit code.

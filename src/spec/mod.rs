@@ -78,12 +78,12 @@ pub use dyadic::{cell_dyadic, index_dyadic, wide_index_dyadic, MAX_SCALE_LOG2};
 #[cfg(feature = "unstable-public-internals")]
 pub use dyadic::{dyadic_cell, fractions_reach_one};
 #[cfg(not(feature = "unstable-public-internals"))]
-pub(crate) use integer_half::ReferenceWord;
+pub(crate) use integer_half::CoordinateWord;
 pub use integer_half::{index_from_cell, wide_index_from_cell};
 #[cfg(feature = "unstable-public-internals")]
 pub use integer_half::{
-    reference_cell, reference_digits, ReferenceWord, NARROW_INTERLEAVE, NARROW_PREFIX_XOR,
-    WIDE_INTERLEAVE, WIDE_PREFIX_XOR,
+    reference_cell, reference_digits, CoordinateWord, ReferenceWord, NARROW_INTERLEAVE,
+    NARROW_PREFIX_XOR, WIDE_INTERLEAVE, WIDE_PREFIX_XOR,
 };
 #[cfg(all(feature = "exact", feature = "unstable-public-internals"))]
 pub use real::cell_real_ref;

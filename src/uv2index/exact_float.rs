@@ -194,22 +194,6 @@ fn coordinate_f64(x: f64, level: u32) -> (u64, u64) {
     binary64_coordinate(x.to_bits(), level)
 }
 
-/// A word [`binary64_coordinate`] runs on: the reference's word operations
-/// and the low 32 bits as a number (the exponent, which decides the shift).
-/// `u64` here; the lab's words of decision diagrams prove the steps
-/// (`docs/verification.md` 10.12).
-pub trait CoordinateWord: crate::spec::ReferenceWord {
-    /// The low 32 bits (for the lab's words: only when they are constants).
-    fn low_u32(self) -> u32;
-}
-
-impl CoordinateWord for u64 {
-    #[inline(always)]
-    fn low_u32(self) -> u32 {
-        self as u32
-    }
-}
-
 /// The steps of [`coordinate_f64`] on the bits of a binary64, generic over
 /// the word, every level `0..=32`. `x = m * 2^(e - 1075)` with `m < 2^53`
 /// and `e <= 1023` after the clamp, so `x * 2^level = m / 2^s` with `s =
@@ -217,7 +201,7 @@ impl CoordinateWord for u64 {
 /// are `m << (62 - s)` (bits above 62 dropped) for `s <= 62`, else `m >>
 /// (s - 62)`; a shift by 64 or more gives 0.
 #[inline(always)]
-pub fn binary64_coordinate<W: CoordinateWord>(bits: W, level: u32) -> (W, W) {
+pub fn binary64_coordinate<W: crate::spec::CoordinateWord>(bits: W, level: u32) -> (W, W) {
     let one = W::constant(1f64.to_bits());
     let clamped = if bits.at_least(W::constant(0x7ff0_0000_0000_0001)) {
         W::constant(0) // NaN or negative
@@ -249,7 +233,7 @@ pub fn binary64_coordinate<W: CoordinateWord>(bits: W, level: u32) -> (W, W) {
 /// The diagonal test on two coordinates' 62-bit fractions:
 /// `uf + vf >= 2^62`, by the reference's generic dyadic test.
 #[inline(always)]
-pub fn binary64_diagonal<W: CoordinateWord>(uf: W, vf: W) -> bool {
+pub fn binary64_diagonal<W: crate::spec::CoordinateWord>(uf: W, vf: W) -> bool {
     crate::spec::fractions_reach_one(uf, vf, W::constant(F64_ONE - 1))
 }
 
