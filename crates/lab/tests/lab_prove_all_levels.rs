@@ -20,6 +20,7 @@ fn command_exits_0_when_proved_and_1_for_version1() {
         "the kernel's integer halves equal the reference's",
         "spec::cell_dyadic is the definition's cell",
         "exact_index_f64's first half (levels 0..=19) is the definition's",
+        "the kernel's binary32 first half on the bits (wide, levels 0..=32;",
         "uv2index::index_unchecked and index are, token for token, the fold",
     ] {
         assert!(text.contains(entry_point), "{entry_point}: {text}");
@@ -39,6 +40,7 @@ fn command_exits_0_when_proved_and_1_for_version1() {
     for field in [
         "kernel_integer_halves",
         "cell_dyadic",
+        "binary32_first_half",
         "binary64_first_half",
         "walk_fold",
     ] {

@@ -13,6 +13,10 @@
 //! * [`prove_binary64_first_half`]: `uv2index::exact_index_f64`'s closed
 //!   form's first half (`binary64_coordinate`, `binary64_diagonal`) equal
 //!   to the exact first half's definition, every binary64 and level.
+//! * [`prove_binary32_first_half`]: the kernel's binary32 first half on the
+//!   bits (`binary32_coordinate`, wide, and `clamp_binary32` +
+//!   `binary32_unit_coordinate`, narrow) equal to the definition, every
+//!   binary32 and level.
 //! * [`prove_walk_fold`]: `uv2index::index_unchecked` and `index` are, token
 //!   for token, the fold of `Walk::step` the transducer proof models.
 //!
@@ -23,6 +27,7 @@
 //! ```
 
 pub mod bdd;
+mod binary32;
 mod binary64;
 mod dyadic;
 mod fold;
@@ -31,6 +36,7 @@ mod kernel;
 mod tests;
 pub mod word;
 
+pub use binary32::*;
 pub use binary64::*;
 pub use dyadic::*;
 pub use fold::*;

@@ -240,3 +240,41 @@ fn a_binary64_fraction_off_by_one_bit_is_refuted() {
     .unwrap_err();
     assert_eq!(example.level, 17);
 }
+
+#[test]
+fn the_binary32_first_half_is_proved() {
+    let proof = prove_binary32_first_half().unwrap();
+    assert_eq!(proof.cases, (33 + 17) * (1 + 256));
+}
+
+#[test]
+fn binary32_first_halves_with_changed_steps_are_refuted() {
+    use micromap_index::internals::kernel::{binary32_coordinate, binary32_unit_coordinate};
+    use micromap_index::internals::ReferenceWord;
+    let last = |level: u32| ((1u64 << level) - 1) as u32;
+    // The wide form's fraction kept to 30 bits at level 20.
+    let short_fraction = |bits: Bits<32>, level: u32| {
+        let (cell, fraction) = binary32_coordinate::<_, true>(bits, 150 - level, last(level));
+        let fraction = if level == 20 {
+            fraction.and(Bits::of(!1))
+        } else {
+            fraction
+        };
+        (cell.resize(), fraction.resize())
+    };
+    let example = prove_binary32_forms(&[("wide", 32, &short_fraction)]).unwrap_err();
+    assert_eq!((example.form, example.level), ("wide", 20), "{example}");
+    // The unit form after a clamp that sends +inf to 0 like NaN.
+    let unclamped = |bits: Bits<32>, level: u32| {
+        use micromap_index::internals::kernel::clamp_binary32;
+        let clamped = if bits.at_least(Bits::of(0x7f80_0000)) {
+            Bits::of(0)
+        } else {
+            clamp_binary32(bits)
+        };
+        binary32_unit_coordinate(clamped.resize::<64>(), 150 - level, last(level))
+    };
+    let example = prove_binary32_forms(&[("unit", 16, &unclamped)]).unwrap_err();
+    assert_eq!(example.form, "unit", "{example}");
+    assert_eq!(example.bits, 0x7f80_0000, "{example}");
+}

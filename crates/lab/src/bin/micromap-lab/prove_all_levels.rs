@@ -8,7 +8,8 @@ use cli_support::args::{ArgError, Command, Flag};
 use cli_support::output::{print_then, Exit, Program};
 use cli_support::write_all_or_nothing::write_files;
 use micromap_index_lab::entry_points::{
-    prove_binary64_first_half, prove_cell_dyadic, prove_kernel_integer_halves, prove_walk_fold,
+    prove_binary32_first_half, prove_binary64_first_half, prove_cell_dyadic,
+    prove_kernel_integer_halves, prove_walk_fold, Binary32Counterexample, Binary32Proof,
     Binary64Counterexample, Binary64Proof, DyadicCounterexample, DyadicProof, FoldMismatch,
     FoldProof, KernelProof, KernelProofError,
 };
@@ -29,9 +30,10 @@ pub(crate) static ALL_LEVELS: Command = Command {
     ],
     about: "  --all-levels proves the walk equal to the reference at every level at once
   by exploring the finite product of two digit transducers (under a second),
-  then the kernel's integer halves, spec::cell_dyadic and exact_index_f64's
-  first half (levels 0..=19) equal to the reference's code and definition at
-  every input (decision diagrams, seconds), and index_unchecked, token for
+  then the kernel's integer halves and first halves on the bits,
+  spec::cell_dyadic and exact_index_f64's first half (levels 0..=19) equal
+  to the reference's code and definition at every input (decision
+  diagrams, seconds), and index_unchecked, token for
   token, the fold of Walk::step the product models (docs/verification.md
   10.12); exit 0 all proved, 1 not; with --version1 it must fail and prints
   a face; --list
@@ -96,6 +98,7 @@ pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
         print_text(&mut text, &report, seconds, confirmed);
         print_kernels(&mut text, &entry_points.kernels);
         print_dyadic(&mut text, &entry_points.dyadic);
+        print_binary32(&mut text, &entry_points.binary32);
         print_binary64(&mut text, &entry_points.binary64);
         print_fold(&mut text, &entry_points.fold);
     }
@@ -242,6 +245,7 @@ fn print_text(out: &mut String, report: &AllLevelsReport, seconds: f64, confirme
 struct EntryPoints {
     kernels: (Result<KernelProof, KernelProofError>, f64),
     dyadic: (Result<DyadicProof, DyadicCounterexample>, f64),
+    binary32: (Result<Binary32Proof, Binary32Counterexample>, f64),
     binary64: (Result<Binary64Proof, Binary64Counterexample>, f64),
     fold: Result<FoldProof, FoldMismatch>,
 }
@@ -256,6 +260,7 @@ impl EntryPoints {
         Self {
             kernels: timed(prove_kernel_integer_halves),
             dyadic: timed(prove_cell_dyadic),
+            binary32: timed(prove_binary32_first_half),
             binary64: timed(prove_binary64_first_half),
             fold: prove_walk_fold(),
         }
@@ -264,6 +269,7 @@ impl EntryPoints {
     fn all_proved(&self) -> bool {
         self.kernels.0.is_ok()
             && self.dyadic.0.is_ok()
+            && self.binary32.0.is_ok()
             && self.binary64.0.is_ok()
             && self.fold.is_ok()
     }
@@ -312,6 +318,24 @@ fn print_dyadic(
              scale 0..=62 and level 0..=32 ({} cases, {} paths, at most {} diagram nodes, \
              {seconds:.3} s)",
             proof.cases, proof.paths, proof.peak_nodes
+        )),
+        Err(e) => drop(writeln!(out, "entry points: NOT proved: {e}")),
+    }
+}
+
+/// The kernel's binary32 first half on the bits against the definition
+/// (`docs/verification.md` 10.12).
+fn print_binary32(
+    out: &mut String,
+    (binary32, seconds): &(Result<Binary32Proof, Binary32Counterexample>, f64),
+) {
+    match binary32 {
+        Ok(proof) => drop(writeln!(
+            out,
+            "entry points: the kernel's binary32 first half on the bits (wide, levels 0..=32; \
+             scalar narrow, 0..=16) is the definition's cell and fraction at every binary32 \
+             input ({} cases, at most {} diagram nodes, {seconds:.3} s)",
+            proof.cases, proof.peak_nodes
         )),
         Err(e) => drop(writeln!(out, "entry points: NOT proved: {e}")),
     }
@@ -388,6 +412,7 @@ struct JsonReport {
     seconds: f64,
     kernel_integer_halves: JsonKernels,
     cell_dyadic: JsonKernels,
+    binary32_first_half: JsonKernels,
     binary64_first_half: JsonKernels,
     walk_fold: JsonKernels,
 }
@@ -442,6 +467,9 @@ fn print_json(
             entry_points.kernels.0.as_ref().map(|proof| proof.cases),
         ),
         cell_dyadic: json_entry_point(entry_points.dyadic.0.as_ref().map(|proof| proof.cases)),
+        binary32_first_half: json_entry_point(
+            entry_points.binary32.0.as_ref().map(|proof| proof.cases),
+        ),
         binary64_first_half: json_entry_point(
             entry_points.binary64.0.as_ref().map(|proof| proof.cases),
         ),
