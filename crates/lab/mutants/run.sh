@@ -5,7 +5,7 @@
 # except those the list marks "(equivalent)": they cannot be killed, and
 # docs/verification.md 10.7 says why).
 #
-#   bash crates/lab/mutants/run.sh            # every mutant (~15 min on 2 cores)
+#   bash crates/lab/mutants/run.sh            # every mutant (~20 min on 2 cores)
 #   bash crates/lab/mutants/run.sh --subset   # the default CI subset (below)
 #   bash crates/lab/mutants/run.sh 2 3        # mutants 2 and 3 (1-based)
 #
@@ -13,10 +13,10 @@
 # --release --all-features -- --ignored` runs crates/lab/tests/mutants.rs);
 # .ci/run runs the subset: the issue's three mutants of the reference (the
 # 64-bit prefix XOR limited to 16 bits, the hypotenuse move on >, the move
-# switched off at levels >= 20), the over-pruning search, and two of the
-# entry points' (the narrow kernel's fold on <=, and cell_dyadic's diagonal
+# switched off at levels >= 20), the over-pruning search, and three of the
+# entry points' (the narrow kernel's fold on <=, cell_dyadic's diagonal
 # on the diagonal itself at levels >= 21, which survived every test before
-# section 10.12).
+# section 10.12, and index_unchecked's last step by version 1).
 #
 # The proof tiers: `micromap-lab prove --all-levels` itself (the product,
 # the kernel's integer halves and spec::cell_dyadic, section 10.12), then
@@ -32,7 +32,7 @@
 set -uo pipefail
 cd "$(dirname "$0")/../../.."
 list=crates/lab/mutants/mutants.txt
-subset=(1 2 3 11 14 18)
+subset=(1 2 3 11 14 18 23)
 tiers() {
     cargo run -q --release -p micromap-index-lab --bin micromap-lab -- prove --all-levels >/dev/null 2>&1 \
         && cargo test -q -p micromap-index-lab --lib prove_all_levels >/dev/null 2>&1 \
