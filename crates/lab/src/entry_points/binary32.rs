@@ -35,7 +35,8 @@
 //! checked here.
 
 use super::bdd::{self, Node};
-use super::word::{explore, Bits};
+use super::first_half::{floor_claims, FractionFormat};
+use super::word::{explore_pair, Bits};
 use micromap_index::internals::kernel::LaneWord;
 use micromap_index::internals::kernel::{
     binary32_coordinate, binary32_unit_coordinate, clamp_binary32,
@@ -127,12 +128,7 @@ pub fn prove_binary32_forms(
                 .chain((0..=255).map(InputClass::Exponent));
             for class in classes {
                 let bits = class.input();
-                let paths = explore(|| form(bits, level));
-                let (mut cell, mut fraction) = (Bits::of(0), Bits::of(0));
-                for (path, (path_cell, path_fraction)) in paths {
-                    cell = Bits::select(path, path_cell, cell);
-                    fraction = Bits::select(path, path_fraction, fraction);
-                }
+                let (cell, fraction) = explore_pair(|| form(bits, level));
                 for (claim, holds) in class.definition(bits, &cell, &fraction, level) {
                     if let Some(assignment) = (!holds).satisfying_assignment() {
                         return Err(Binary32Counterexample {
@@ -197,18 +193,18 @@ impl InputClass {
         match self {
             InputClass::Negative => vec![(
                 "a negative clamps to cell 0, fraction 0",
-                equal(cell, &zero) & equal(fraction, &zero),
+                cell.equals(&zero) & fraction.equals(&zero),
             )],
             InputClass::Exponent(255) => {
                 let nan = bits.0[..23].iter().fold(Node::FALSE, |any, &x| any | x);
                 vec![(
                     "NaN clamps to cell 0 and +inf to the last cell, fraction 0",
-                    equal(fraction, &zero) & equal(cell, &Bits::select(nan, zero, last_cell)),
+                    fraction.equals(&zero) & cell.equals(&Bits::select(nan, zero, last_cell)),
                 )]
             }
             InputClass::Exponent(e) if e >= 127 => vec![(
                 "x >= 1 clamps to the last cell, fraction 0",
-                equal(cell, &last_cell) & equal(fraction, &zero),
+                cell.equals(&last_cell) & fraction.equals(&zero),
             )],
             InputClass::Exponent(e) => {
                 let hidden = if e == 0 { 0 } else { 1u64 << 23 };
@@ -217,39 +213,19 @@ impl InputClass {
                 if s < 0 {
                     return vec![(
                         "an integer 2^level x is the cell, fraction 0",
-                        equal(&cell.resize(), &(m << (-s) as u32)) & equal(fraction, &zero),
+                        cell.resize().equals(&(m << (-s) as u32)) & fraction.equals(&zero),
                     )];
                 }
-                let s = s as u32;
-                let i: Bits<192> = cell.resize();
-                let f: Bits<192> = fraction.resize();
-                let one = Bits::<192>::of(1);
-                let low = i << s;
-                let r = m.wrapping_sub(low);
-                let r31 = r << 31;
-                let unit = one << s;
-                vec![
-                    (
-                        "cell = floor(2^level x)",
-                        !m.less_than(low) & m.less_than(i.wrapping_add(one) << s),
-                    ),
-                    (
-                        "fraction = floor(frac(2^level x) 2^31)",
-                        !r31.less_than(f << s)
-                            & r31.less_than(f.wrapping_add(one) << s)
-                            & f.less_than(Bits::of(1 << 31)),
-                    ),
-                    (
-                        "the fraction is exact or below 2^-7",
-                        equal(&(r31 & unit.wrapping_sub(one)), &Bits::of(0))
-                            | (r << 7).less_than(unit),
-                    ),
-                ]
+                floor_claims(&m, cell, fraction, s as u32, &BINARY32_FRACTION)
             }
         }
     }
 }
 
-fn equal<const N: usize>(a: &Bits<N>, b: &Bits<N>) -> Node {
-    (*a ^ *b).0.iter().fold(Node::TRUE, |all, &x| all & !x)
-}
+/// Binary32's 31-bit fraction: exact, or below `2^-7`.
+const BINARY32_FRACTION: FractionFormat = FractionFormat {
+    bits: 31,
+    tiny_log2: 7,
+    fraction_claim: "fraction = floor(frac(2^level x) 2^31)",
+    tiny_claim: "the fraction is exact or below 2^-7",
+};

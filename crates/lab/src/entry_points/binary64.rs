@@ -28,7 +28,8 @@
 //! reaches 1; if neither is, both sums stay below 1.
 
 use super::bdd::{self, Node};
-use super::word::{explore, Bits};
+use super::first_half::{floor_claims, FractionFormat};
+use super::word::{explore, explore_pair, Bits};
 use micromap_index::internals::kernel::LaneWord;
 use micromap_index::internals::{binary64_coordinate, binary64_diagonal};
 use std::fmt;
@@ -105,13 +106,8 @@ pub fn prove_binary64_steps(
         for class in classes {
             bdd::reset_above(RESET_ABOVE_NODES);
             let bits = class.input();
-            let paths = explore(|| coordinate(bits, level));
-            let (mut cell, mut fraction) = (Bits::of(0), Bits::of(0));
-            for (path, (path_cell, path_fraction)) in paths {
-                cell = Bits::select(path, path_cell, cell);
-                fraction = Bits::select(path, path_fraction, fraction);
-            }
-            for (claim, holds) in class.definition(bits, cell, fraction, level) {
+            let (cell, fraction) = explore_pair(|| coordinate(bits, level));
+            for (claim, holds) in class.definition(bits, &cell, &fraction, level) {
                 if let Some(assignment) = (!holds).satisfying_assignment() {
                     return Err(Binary64Counterexample {
                         inputs: (bits.value(&assignment), 0),
@@ -189,17 +185,15 @@ impl InputClass {
     fn definition(
         self,
         bits: Bits<64>,
-        cell: Bits<64>,
-        fraction: Bits<64>,
+        cell: &Bits<64>,
+        fraction: &Bits<64>,
         level: u32,
     ) -> Vec<(&'static str, Node)> {
-        let equal =
-            |a: Bits<64>, b: Bits<64>| (a ^ b).0.iter().fold(Node::TRUE, |all, &x| all & !x);
         let zero = Bits::<64>::of(0);
         match self {
             InputClass::Negative => vec![(
                 "a negative clamps to cell 0, fraction 0",
-                equal(cell, zero) & equal(fraction, zero),
+                cell.equals(&zero) & fraction.equals(&zero),
             )],
             InputClass::TwoOrMore => {
                 // NaN: exponent all ones and a significand not zero.
@@ -209,12 +203,12 @@ impl InputClass {
                 let one_cell = Bits::<64>::of(1 << level);
                 vec![(
                     "NaN clamps to 0 and x >= 2 to 1",
-                    equal(fraction, zero) & equal(cell, Bits::select(nan, zero, one_cell)),
+                    fraction.equals(&zero) & cell.equals(&Bits::select(nan, zero, one_cell)),
                 )]
             }
             InputClass::Exponent(e) if e >= 1023 => vec![(
                 "x >= 1 clamps to 1",
-                equal(cell, Bits::of(1 << level)) & equal(fraction, zero),
+                cell.equals(&Bits::of(1 << level)) & fraction.equals(&zero),
             )],
             InputClass::Exponent(e) => {
                 let s = 1075 - level - (e as u32).max(1);
@@ -223,42 +217,21 @@ impl InputClass {
                     // fraction is below 2^-62).
                     return vec![(
                         "a fraction below 2^-62 gives cell 0, fraction 0",
-                        equal(cell, zero) & equal(fraction, zero),
+                        cell.equals(&zero) & fraction.equals(&zero),
                     )];
                 }
                 let hidden = if e == 0 { 0 } else { 1u64 << 52 };
                 let m: Bits<192> = (bits & Bits::of((1 << 52) - 1) | Bits::of(hidden)).resize();
-                let i: Bits<192> = cell.resize();
-                let f: Bits<192> = fraction.resize();
-                let one = Bits::<192>::of(1);
-                let low = i << s;
-                let r = m.wrapping_sub(low);
-                let r62 = r << 62;
-                let unit = one << s;
-                vec![
-                    (
-                        "cell = floor(2^level x)",
-                        !m.less_than(low)
-                            & m.less_than(i.wrapping_add(one) << s)
-                            & i.less_than(Bits::of(1 << 34)),
-                    ),
-                    (
-                        "fraction = floor(frac(2^level x) 2^62)",
-                        !r62.less_than(f << s)
-                            & r62.less_than(f.wrapping_add(one) << s)
-                            & f.less_than(Bits::of(1 << 62)),
-                    ),
-                    (
-                        "the fraction is exact or below 2^-9",
-                        equal192(&(r62 & unit.wrapping_sub(one)), &Bits::of(0))
-                            | (r << 9).less_than(unit),
-                    ),
-                ]
+                floor_claims(&m, cell, fraction, s, &BINARY64_FRACTION)
             }
         }
     }
 }
 
-fn equal192(a: &Bits<192>, b: &Bits<192>) -> Node {
-    (*a ^ *b).0.iter().fold(Node::TRUE, |all, &x| all & !x)
-}
+/// Binary64's 62-bit fraction: exact, or below `2^-9`.
+const BINARY64_FRACTION: FractionFormat = FractionFormat {
+    bits: 62,
+    tiny_log2: 9,
+    fraction_claim: "fraction = floor(frac(2^level x) 2^62)",
+    tiny_claim: "the fraction is exact or below 2^-9",
+};

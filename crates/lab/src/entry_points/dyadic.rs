@@ -146,8 +146,6 @@ fn definition_holds(
 ) -> Node {
     let one = Bits::<64>::of(1 << scale_log2);
     let clamped = numerators.map(|x| Bits::select(one.less_than(x), one, x));
-    let equal =
-        |a: Bits<64>, b: Bits<64>| (a ^ b).0.iter().fold(Node::TRUE, |all, &bit| all & !bit);
     if scale_log2 >= level {
         let k = scale_log2 - level;
         let unit = Bits::<64>::of(1 << k);
@@ -170,7 +168,7 @@ fn definition_holds(
         let mut holds = !diagonal;
         for c in 0..2 {
             let low_bits = cells[c] & Bits::of((1 << k) - 1);
-            holds = holds & equal(cells[c] >> k, clamped[c]) & equal(low_bits, Bits::of(0));
+            holds = holds & (cells[c] >> k).equals(&clamped[c]) & low_bits.equals(&Bits::of(0));
         }
         holds
     }

@@ -30,6 +30,7 @@ pub mod bdd;
 mod binary32;
 mod binary64;
 mod dyadic;
+mod first_half;
 mod fold;
 mod kernel;
 #[cfg(test)]

@@ -42,6 +42,15 @@ impl<const N: usize> Bits<N> {
         }))
     }
 
+    /// The diagram "every bit of `self` equals the same bit of `other`".
+    #[must_use]
+    pub fn equals(&self, other: &Self) -> Node {
+        self.0
+            .iter()
+            .zip(&other.0)
+            .fold(Node::TRUE, |all, (&a, &b)| all & !(a ^ b))
+    }
+
     /// The same bits in a wider (zero-extended) or narrower (truncated)
     /// word: `u32::from(u16)` and `as u16`.
     #[must_use]
@@ -276,6 +285,24 @@ fn decide(condition: Node) -> bool {
         run.path = if choice { if_true } else { if_false };
         choice
     })
+}
+
+/// [`explore`] for a computation giving a pair of words: every path's
+/// results merged into one pair (each bit selected by its path condition;
+/// the paths are disjoint and cover every input).
+pub fn explore_pair<const N: usize, const M: usize>(
+    body: impl FnMut() -> (Bits<N>, Bits<M>),
+) -> (Bits<N>, Bits<M>) {
+    let (mut first, mut second) = (Bits([Node::FALSE; N]), Bits([Node::FALSE; M]));
+    for (path, (path_first, path_second)) in explore(body) {
+        first = Bits(std::array::from_fn(|i| {
+            path.select(path_first.0[i], first.0[i])
+        }));
+        second = Bits(std::array::from_fn(|i| {
+            path.select(path_second.0[i], second.0[i])
+        }));
+    }
+    (first, second)
 }
 
 /// Runs `body` once for every feasible combination of the outcomes of its

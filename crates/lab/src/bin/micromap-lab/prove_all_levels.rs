@@ -97,9 +97,7 @@ pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
     } else {
         print_text(&mut text, &report, seconds, confirmed);
         print_kernels(&mut text, &entry_points.kernels);
-        print_dyadic(&mut text, &entry_points.dyadic);
-        print_binary32(&mut text, &entry_points.binary32);
-        print_binary64(&mut text, &entry_points.binary64);
+        print_first_halves(&mut text, &entry_points);
         print_fold(&mut text, &entry_points.fold);
     }
     if list {
@@ -305,58 +303,46 @@ fn print_kernels(
     }
 }
 
-/// `spec::cell_dyadic` against the definition (`docs/verification.md`
-/// 10.12).
-fn print_dyadic(
+/// One entry point's line: what `proved` says of its proof, or its
+/// counterexample (`docs/verification.md` 10.12).
+fn print_entry_point<P, E: std::fmt::Display>(
     out: &mut String,
-    (dyadic, seconds): &(Result<DyadicProof, DyadicCounterexample>, f64),
+    (result, seconds): &(Result<P, E>, f64),
+    proved: impl Fn(&P, f64) -> String,
 ) {
-    match dyadic {
-        Ok(proof) => drop(writeln!(
-            out,
-            "entry points: spec::cell_dyadic is the definition's cell and diagonal at every input, \
-             scale 0..=62 and level 0..=32 ({} cases, {} paths, at most {} diagram nodes, \
+    match result {
+        Ok(proof) => drop(writeln!(out, "entry points: {}", proved(proof, *seconds))),
+        Err(e) => drop(writeln!(out, "entry points: NOT proved: {e}")),
+    }
+}
+
+/// `spec::cell_dyadic`, the kernel's binary32 and `exact_index_f64`'s
+/// first halves against the definition.
+fn print_first_halves(out: &mut String, entry_points: &EntryPoints) {
+    print_entry_point(out, &entry_points.dyadic, |proof, seconds| {
+        format!(
+            "spec::cell_dyadic is the definition's cell and diagonal at every input, scale \
+             0..=62 and level 0..=32 ({} cases, {} paths, at most {} diagram nodes, \
              {seconds:.3} s)",
             proof.cases, proof.paths, proof.peak_nodes
-        )),
-        Err(e) => drop(writeln!(out, "entry points: NOT proved: {e}")),
-    }
-}
-
-/// The kernel's binary32 first half on the bits against the definition
-/// (`docs/verification.md` 10.12).
-fn print_binary32(
-    out: &mut String,
-    (binary32, seconds): &(Result<Binary32Proof, Binary32Counterexample>, f64),
-) {
-    match binary32 {
-        Ok(proof) => drop(writeln!(
-            out,
-            "entry points: the kernel's binary32 first half on the bits (wide, levels 0..=32; \
-             scalar narrow, 0..=16) is the definition's cell and fraction at every binary32 \
-             input ({} cases, at most {} diagram nodes, {seconds:.3} s)",
+        )
+    });
+    print_entry_point(out, &entry_points.binary32, |proof, seconds| {
+        format!(
+            "the kernel's binary32 first half on the bits (wide, levels 0..=32; scalar narrow, \
+             0..=16) is the definition's cell and fraction at every binary32 input ({} cases, \
+             at most {} diagram nodes, {seconds:.3} s)",
             proof.cases, proof.peak_nodes
-        )),
-        Err(e) => drop(writeln!(out, "entry points: NOT proved: {e}")),
-    }
-}
-
-/// `uv2index::exact_index_f64`'s first half against the definition
-/// (`docs/verification.md` 10.12).
-fn print_binary64(
-    out: &mut String,
-    (binary64, seconds): &(Result<Binary64Proof, Binary64Counterexample>, f64),
-) {
-    match binary64 {
-        Ok(proof) => drop(writeln!(
-            out,
-            "entry points: exact_index_f64's first half (levels 0..=19) is the definition's cell \
-             and exact diagonal at every binary64 input ({} cases, at most {} diagram nodes, \
+        )
+    });
+    print_entry_point(out, &entry_points.binary64, |proof, seconds| {
+        format!(
+            "exact_index_f64's first half (levels 0..=19) is the definition's cell and exact \
+             diagonal at every binary64 input ({} cases, at most {} diagram nodes, \
              {seconds:.3} s)",
             proof.cases, proof.peak_nodes
-        )),
-        Err(e) => drop(writeln!(out, "entry points: NOT proved: {e}")),
-    }
+        )
+    });
 }
 
 /// `uv2index::index_unchecked` and `index` against the modelled fold
