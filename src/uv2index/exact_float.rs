@@ -194,7 +194,7 @@ fn coordinate_f64(x: f64, level: u32) -> (u64, u64) {
     binary64_coordinate(x.to_bits(), level)
 }
 
-/// The steps of [`coordinate_f64`] on the bits of a binary64, generic over
+/// The steps of `coordinate_f64` on the bits of a binary64, generic over
 /// the word, every level `0..=32`. `x = m * 2^(e - 1075)` with `m < 2^53`
 /// and `e <= 1023` after the clamp, so `x * 2^level = m / 2^s` with `s =
 /// 1075 - level - e >= 20`: the cell is `m >> s` and the fraction's 62 bits
