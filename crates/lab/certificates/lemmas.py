@@ -25,6 +25,17 @@ Lemmas (each an unsatisfiable negation; `sat` prints a counterexample):
     class (integer parts U, V, W, rest sum D, zero flags), `reference_cell`
     with the real diagonal outcome gives the point's integer parts with
     exactly the documented coordinate decremented.
+ 4. binary32 rounding (the first halves' diagonal, docs/verification.md
+    10.12): for binary32 a, b in [0, 1), the binary32 sum (round to
+    nearest even) reaches 1.0 exactly when the real a + b reaches
+    1 - 2^-25 (the kernel's T = 2^31 - 2^6); refuted with 1 in place of
+    1 - 2^-25 (negative control: must be sat).
+ 5. floored fractions: for reals X_u, X_v >= 0 (fractions times 2^P) and
+    their floors F_u, F_v, each exact or X below 2^(P - t), F_u + F_v >= T
+    exactly when X_u + X_v >= T, for binary32's (P, t) = (31, 7) with
+    T = 2^31 and 2^31 - 2^6 and binary64's (62, 9) with T = 2^62 (the
+    per-coordinate property is what prove --all-levels proves of the
+    code); refuted without the exact-or-tiny property (must be sat).
 Usage: python3 crates/lab/certificates/lemmas.py [--source-only]
 (exit 0: the source is the model and all lemmas hold; --source-only: the
 source check alone; LEMMAS_SOURCE=FILE reads FILE instead of the source)
@@ -290,6 +301,43 @@ def cell_lemma(bits, max_level):
     return prove(claim, f"cell rule, {bits}-bit code, every level 0..={max_level}")
 
 
+def binary32_rounding_lemma(threshold_is_one=False):
+    """Lemma 4 on the bits: a = m 2^(max(e, 1) - 150), so a 2^149 is the
+    integer m << (max(e, 1) - 1), below 2^149."""
+    width = 152
+    f32 = z3.Float32()
+    a_bits, b_bits = z3.BitVecs("a b", 32)
+
+    def scaled(bits):
+        e = z3.ZeroExt(width - 8, z3.Extract(30, 23, bits))
+        m = z3.ZeroExt(width - 23, z3.Extract(22, 0, bits))
+        m = z3.If(e == 0, m, m | (z3.BitVecVal(1, width) << 23))
+        return m << z3.If(e == 0, z3.BitVecVal(0, width), e - 1)
+
+    one = z3.BitVecVal(1, width)
+    below_one = z3.And(z3.ULT(a_bits, 0x3F80_0000), z3.ULT(b_bits, 0x3F80_0000))
+    rounded = z3.fpAdd(z3.RNE(), z3.fpBVToFP(a_bits, f32), z3.fpBVToFP(b_bits, f32))
+    reaches = z3.fpGEQ(rounded, z3.FPVal(1.0, f32))
+    threshold = (one << 149) if threshold_is_one else (one << 149) - (one << 124)
+    claim = z3.Implies(below_one, reaches == z3.UGE(scaled(a_bits) + scaled(b_bits), threshold))
+    name = "binary32 sum of two fractions reaches 1.0 iff the real sum reaches "
+    name += "1 (control)" if threshold_is_one else "1 - 2^-25"
+    return prove(claim, name, expect_sat=threshold_is_one)
+
+
+def floored_fractions_lemma(bits, tiny_log2, threshold, name, exact_or_tiny=True):
+    """Lemma 5 for one format and threshold."""
+    x_u, x_v = z3.Reals("X_u X_v")
+    f_u, f_v = z3.Ints("F_u F_v")
+    facts = []
+    for x, f in ((x_u, f_u), (x_v, f_v)):
+        facts += [x >= 0, x < 2**bits, f <= x, x < f + 1]
+        if exact_or_tiny:
+            facts.append(z3.Or(x == f, x < 2 ** (bits - tiny_log2)))
+    claim = z3.Implies(z3.And(*facts), (f_u + f_v >= threshold) == (x_u + x_v >= threshold))
+    return prove(claim, name, expect_sat=not exact_or_tiny)
+
+
 def main():
     check_source()
     if "--source-only" in sys.argv[1:]:
@@ -303,6 +351,14 @@ def main():
     for level in range(0, 17):
         ok &= digits_lemma(level, 32)
     ok &= digits_lemma(17, 32, expect_sat=True)
+    ok &= binary32_rounding_lemma()
+    ok &= binary32_rounding_lemma(threshold_is_one=True)
+    ok &= floored_fractions_lemma(31, 7, 2**31, "floored fractions, binary32, T = 2^31")
+    ok &= floored_fractions_lemma(31, 7, 2**31 - 2**6, "floored fractions, binary32, T = 2^31 - 2^6")
+    ok &= floored_fractions_lemma(62, 9, 2**62, "floored fractions, binary64, T = 2^62")
+    ok &= floored_fractions_lemma(
+        31, 7, 2**31 - 2**6, "floored fractions without exact-or-tiny (control)", exact_or_tiny=False
+    )
     print("all lemmas hold" if ok else "SOME LEMMA FAILS")
     sys.exit(0 if ok else 1)
 
