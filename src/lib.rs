@@ -157,6 +157,7 @@ pub mod internals {
         pub use crate::kernel::coordinate::{
             binary32_coordinate, binary32_unit_coordinate, clamp_binary32,
         };
+        pub use crate::kernel::point::{clamp_flushed, truncate_float, BELOW_ONE};
         pub use crate::kernel::word::{
             interleave_16, interleave_32, narrow_lane, narrow_point, wide_lane, wide_point,
             LaneWord,

@@ -81,7 +81,7 @@
 
 pub(crate) mod coordinate;
 mod pipeline;
-mod point;
+pub(crate) mod point;
 #[cfg(any(test, not(target_arch = "x86_64")))]
 mod portable;
 pub(crate) mod word;

@@ -43,7 +43,8 @@ pub(crate) fn unit_coordinate(bits: u32, params: &Params) -> (u32, u32) {
 ///   fraction differs from `x = 1`'s 0 but is never read: a cell of `last`
 ///   makes `iu + iv < last` false, which rules the diagonal step out.
 #[inline(always)]
-pub(super) fn clamp_flushed(bits: u32) -> f32 {
+#[must_use]
+pub fn clamp_flushed(bits: u32) -> f32 {
     let x = f32::from_bits(bits);
     let x = if x > f32::MIN_POSITIVE {
         x
@@ -58,7 +59,7 @@ pub(super) fn clamp_flushed(bits: u32) -> f32 {
 }
 
 /// `1 - 2^-24`, the float below 1: where [`clamp_flushed`] stops.
-pub(crate) const BELOW_ONE: f32 = 1.0 - f32::EPSILON / 2.0;
+pub const BELOW_ONE: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// `2^23`: adding it to a float in `[0, 2^23)` leaves an integer in the low
 /// bits of the sum's significand.
@@ -66,15 +67,23 @@ const MAGIC: f32 = 8_388_608.0;
 
 /// Cell (at most `last`) and the exact binary32 fraction, by the
 /// reference's own float operations (every one exact): `fu = x * 2^level`,
-/// `iu = trunc(fu)`, `uf = fu - iu`. Levels `0..=16` (`fu <= 2^16`).
+/// `iu = trunc(fu)`, `uf = fu - iu` ([`truncate_float`]). Levels `0..=16`
+/// (`fu <= 2^16`).
+#[inline(always)]
+pub(super) fn coordinate_float(bits: u32, params: &Params) -> (u32, f32) {
+    truncate_float(clamp_flushed(bits) * params.scale)
+}
+
+/// `(trunc(fu), fu - trunc(fu))` for `fu` in `[0, 2^23)`, both exact.
 ///
 /// The truncation avoids a float-to-integer conversion, which baselines
 /// without a vector form of it (SSE2) do one lane at a time: adding `2^23`
 /// rounds `fu < 2^23` to an integer `r` in the low bits of the sum (exact),
-/// and `r - 1` is taken when `r > fu`.
+/// and `r - 1` is taken when `r > fu`. The lab checks it at every binary32
+/// `fu` the kernel passes (`[2^-126, 2^16)`, `docs/verification.md` 10.12).
 #[inline(always)]
-pub(super) fn coordinate_float(bits: u32, params: &Params) -> (u32, f32) {
-    let fu = clamp_flushed(bits) * params.scale;
+#[must_use]
+pub fn truncate_float(fu: f32) -> (u32, f32) {
     let sum = fu + MAGIC;
     let rounded = sum - MAGIC;
     let above = rounded > fu;
