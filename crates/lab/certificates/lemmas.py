@@ -36,6 +36,11 @@ Lemmas (each an unsatisfiable negation; `sat` prints a counterexample):
     T = 2^31 and 2^31 - 2^6 and binary64's (62, 9) with T = 2^62 (the
     per-coordinate property is what prove --all-levels proves of the
     code); refuted without the exact-or-tiny property (must be sat).
+ 6. scaling: for every normal binary32 c below 1 and level 0..=16, the
+    binary32 product c * 2^level is exact (its bits are c's with the
+    exponent raised by the level): the kernel's float first half's
+    `clamp_flushed(bits) * params.scale`; refuted when c may be
+    subnormal (must be sat: why the clamp flushes them).
 Usage: python3 crates/lab/certificates/lemmas.py [--source-only]
 (exit 0: the source is the model and all lemmas hold; --source-only: the
 source check alone; LEMMAS_SOURCE=FILE reads FILE instead of the source)
@@ -338,6 +343,21 @@ def floored_fractions_lemma(bits, tiny_log2, threshold, name, exact_or_tiny=True
     return prove(claim, name, expect_sat=not exact_or_tiny)
 
 
+def scaling_lemma(subnormal_too=False):
+    """Lemma 6: c * 2^level in binary32 is c with its exponent raised."""
+    f32 = z3.Float32()
+    c_bits, level = z3.BitVecs("c level", 32)
+    scale = z3.fpBVToFP((level + 127) << 23, f32)
+    product = z3.fpMul(z3.RNE(), z3.fpBVToFP(c_bits, f32), scale)
+    exact = z3.fpBVToFP(c_bits + (level << 23), f32)
+    smallest = 1 if subnormal_too else 0x0080_0000
+    facts = z3.And(z3.UGE(c_bits, smallest), z3.ULT(c_bits, 0x3F80_0000), z3.ULE(level, 16))
+    claim = z3.Implies(facts, z3.fpToIEEEBV(product) == z3.fpToIEEEBV(exact))
+    if subnormal_too:
+        return prove(claim, "binary32 c * 2^level for subnormal c too (control)", expect_sat=True)
+    return prove(claim, "binary32 c * 2^level exact for normal c < 1, level 0..=16")
+
+
 def main():
     check_source()
     if "--source-only" in sys.argv[1:]:
@@ -359,6 +379,8 @@ def main():
     ok &= floored_fractions_lemma(
         31, 7, 2**31 - 2**6, "floored fractions without exact-or-tiny (control)", exact_or_tiny=False
     )
+    ok &= scaling_lemma()
+    ok &= scaling_lemma(subnormal_too=True)
     print("all lemmas hold" if ok else "SOME LEMMA FAILS")
     sys.exit(0 if ok else 1)
 

@@ -21,6 +21,7 @@ fn command_exits_0_when_proved_and_1_for_version1() {
         "spec::cell_dyadic is the definition's cell",
         "exact_index_f64's first half (levels 0..=19) is the definition's",
         "the kernel's binary32 first half on the bits (wide, levels 0..=32;",
+        "the kernel's float first half (clamp_flushed, truncate_float) holds its claims",
         "uv2index::index_unchecked and index are, token for token, the fold",
     ] {
         assert!(text.contains(entry_point), "{entry_point}: {text}");
@@ -42,6 +43,7 @@ fn command_exits_0_when_proved_and_1_for_version1() {
         "cell_dyadic",
         "binary32_first_half",
         "binary64_first_half",
+        "float_first_half",
         "walk_fold",
     ] {
         let proved = format!("\"{field}\":{{\"verdict\":\"proved\"");

@@ -17,6 +17,8 @@
 //!   bits (`binary32_coordinate`, wide, and `clamp_binary32` +
 //!   `binary32_unit_coordinate`, narrow) equal to the definition, every
 //!   binary32 and level.
+//! * [`prove_float_first_half`]: the kernel's float first half
+//!   (`clamp_flushed`, `truncate_float`) against its claims, by exhaustion.
 //! * [`prove_walk_fold`]: `uv2index::index_unchecked` and `index` are, token
 //!   for token, the fold of `Walk::step` the transducer proof models.
 //!
@@ -31,6 +33,7 @@ mod binary32;
 mod binary64;
 mod dyadic;
 mod first_half;
+mod float;
 mod fold;
 mod kernel;
 #[cfg(test)]
@@ -40,5 +43,6 @@ pub mod word;
 pub use binary32::*;
 pub use binary64::*;
 pub use dyadic::*;
+pub use float::*;
 pub use fold::*;
 pub use kernel::*;

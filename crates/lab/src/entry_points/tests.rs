@@ -278,3 +278,22 @@ fn binary32_first_halves_with_changed_steps_are_refuted() {
     assert_eq!(example.form, "unit", "{example}");
     assert_eq!(example.bits, 0x7f80_0000, "{example}");
 }
+
+#[test]
+fn a_float_truncation_on_at_least_is_refuted() {
+    use micromap_index::internals::kernel::clamp_flushed;
+    // `r - 1` taken when `r >= fu`: every integer fu loses one.
+    let truncate = |fu: f32| {
+        let sum = fu + 8_388_608.0;
+        let rounded = sum - 8_388_608.0;
+        let above = rounded >= fu;
+        let truncated = rounded - if above { 1.0 } else { 0.0 };
+        (
+            (sum.to_bits() & 0x7f_ffff).wrapping_sub(u32::from(above)),
+            fu - truncated,
+        )
+    };
+    let example = prove_float_steps(clamp_flushed, truncate).unwrap_err();
+    assert_eq!(example.step, "truncate_float");
+    assert_eq!(f32::from_bits(example.bits), 1.0, "{example}");
+}

@@ -9,9 +9,9 @@ use cli_support::output::{print_then, Exit, Program};
 use cli_support::write_all_or_nothing::write_files;
 use micromap_index_lab::entry_points::{
     prove_binary32_first_half, prove_binary64_first_half, prove_cell_dyadic,
-    prove_kernel_integer_halves, prove_walk_fold, Binary32Counterexample, Binary32Proof,
-    Binary64Counterexample, Binary64Proof, DyadicCounterexample, DyadicProof, FoldMismatch,
-    FoldProof, KernelProof, KernelProofError,
+    prove_float_first_half, prove_kernel_integer_halves, prove_walk_fold, Binary32Counterexample,
+    Binary32Proof, Binary64Counterexample, Binary64Proof, DyadicCounterexample, DyadicProof,
+    FloatCounterexample, FloatProof, FoldMismatch, FoldProof, KernelProof, KernelProofError,
 };
 use micromap_index_lab::prove::WalkVersion;
 use micromap_index_lab::prove_all_levels::{prove_all_levels, AllLevelsReport, Verdict};
@@ -33,7 +33,8 @@ pub(crate) static ALL_LEVELS: Command = Command {
   then the kernel's integer halves and first halves on the bits,
   spec::cell_dyadic and exact_index_f64's first half (levels 0..=19) equal
   to the reference's code and definition at every input (decision
-  diagrams, seconds), and index_unchecked, token for
+  diagrams), the kernel's float first half's two steps at every binary32
+  input (exhaustion), and index_unchecked, token for
   token, the fold of Walk::step the product models (docs/verification.md
   10.12); exit 0 all proved, 1 not; with --version1 it must fail and prints
   a face; --list
@@ -245,6 +246,7 @@ struct EntryPoints {
     dyadic: (Result<DyadicProof, DyadicCounterexample>, f64),
     binary32: (Result<Binary32Proof, Binary32Counterexample>, f64),
     binary64: (Result<Binary64Proof, Binary64Counterexample>, f64),
+    float: (Result<FloatProof, FloatCounterexample>, f64),
     fold: Result<FoldProof, FoldMismatch>,
 }
 
@@ -260,6 +262,7 @@ impl EntryPoints {
             dyadic: timed(prove_cell_dyadic),
             binary32: timed(prove_binary32_first_half),
             binary64: timed(prove_binary64_first_half),
+            float: timed(prove_float_first_half),
             fold: prove_walk_fold(),
         }
     }
@@ -269,6 +272,7 @@ impl EntryPoints {
             && self.dyadic.0.is_ok()
             && self.binary32.0.is_ok()
             && self.binary64.0.is_ok()
+            && self.float.0.is_ok()
             && self.fold.is_ok()
     }
 }
@@ -343,6 +347,13 @@ fn print_first_halves(out: &mut String, entry_points: &EntryPoints) {
             proof.cases, proof.peak_nodes
         )
     });
+    print_entry_point(out, &entry_points.float, |proof, seconds| {
+        format!(
+            "the kernel's float first half (clamp_flushed, truncate_float) holds its claims at \
+             every binary32 input ({} inputs, {seconds:.3} s)",
+            proof.inputs
+        )
+    });
 }
 
 /// `uv2index::index_unchecked` and `index` against the modelled fold
@@ -400,6 +411,7 @@ struct JsonReport {
     cell_dyadic: JsonKernels,
     binary32_first_half: JsonKernels,
     binary64_first_half: JsonKernels,
+    float_first_half: JsonKernels,
     walk_fold: JsonKernels,
 }
 
@@ -458,6 +470,13 @@ fn print_json(
         ),
         binary64_first_half: json_entry_point(
             entry_points.binary64.0.as_ref().map(|proof| proof.cases),
+        ),
+        float_first_half: json_entry_point(
+            entry_points
+                .float
+                .0
+                .as_ref()
+                .map(|proof| usize::try_from(proof.inputs).unwrap_or(usize::MAX)),
         ),
         walk_fold: json_entry_point(
             entry_points
