@@ -293,14 +293,10 @@ fn decide(condition: Node) -> bool {
 pub fn explore_pair<const N: usize, const M: usize>(
     body: impl FnMut() -> (Bits<N>, Bits<M>),
 ) -> (Bits<N>, Bits<M>) {
-    let (mut first, mut second) = (Bits([Node::FALSE; N]), Bits([Node::FALSE; M]));
+    let (mut first, mut second) = (Bits::of(0), Bits::of(0));
     for (path, (path_first, path_second)) in explore(body) {
-        first = Bits(std::array::from_fn(|i| {
-            path.select(path_first.0[i], first.0[i])
-        }));
-        second = Bits(std::array::from_fn(|i| {
-            path.select(path_second.0[i], second.0[i])
-        }));
+        first = Bits::select(path, path_first, first);
+        second = Bits::select(path, path_second, second);
     }
     (first, second)
 }
