@@ -97,9 +97,7 @@ pub(crate) fn run(program: &Program, options: &[&str]) -> Exit {
         );
     } else {
         print_text(&mut text, &report, seconds, confirmed);
-        print_kernels(&mut text, &entry_points.kernels);
-        print_first_halves(&mut text, &entry_points);
-        print_fold(&mut text, &entry_points.fold);
+        print_entry_points(&mut text, &entry_points);
     }
     if list {
         for line in report.listing() {
@@ -247,7 +245,7 @@ struct EntryPoints {
     binary32: (Result<Binary32Proof, Binary32Counterexample>, f64),
     binary64: (Result<Binary64Proof, Binary64Counterexample>, f64),
     float: (Result<FloatProof, FloatCounterexample>, f64),
-    fold: Result<FoldProof, FoldMismatch>,
+    fold: (Result<FoldProof, FoldMismatch>, f64),
 }
 
 impl EntryPoints {
@@ -263,7 +261,7 @@ impl EntryPoints {
             binary32: timed(prove_binary32_first_half),
             binary64: timed(prove_binary64_first_half),
             float: timed(prove_float_first_half),
-            fold: prove_walk_fold(),
+            fold: timed(prove_walk_fold),
         }
     }
 
@@ -273,37 +271,7 @@ impl EntryPoints {
             && self.binary32.0.is_ok()
             && self.binary64.0.is_ok()
             && self.float.0.is_ok()
-            && self.fold.is_ok()
-    }
-}
-
-/// The kernel's integer halves against the reference's generic code.
-fn print_kernels(
-    out: &mut String,
-    (kernels, seconds): &(Result<KernelProof, KernelProofError>, f64),
-) {
-    match kernels {
-        Ok(proof) => {
-            let _ = writeln!(
-                out,
-                "entry points: the kernel's integer halves equal the reference's at every cell of \
-                 every level they serve ({} cases, {} reference paths, at most {} diagram nodes, \
-                 {seconds:.3} s):",
-                proof.cases, proof.reference_paths, proof.peak_nodes
-            );
-            for (form, levels) in &proof.forms {
-                let _ = writeln!(
-                    out,
-                    "  {:<44} levels {}..={}",
-                    form.name(),
-                    levels.start(),
-                    levels.end()
-                );
-            }
-        }
-        Err(e) => {
-            let _ = writeln!(out, "entry points: NOT proved: {e}");
-        }
+            && self.fold.0.is_ok()
     }
 }
 
@@ -320,9 +288,29 @@ fn print_entry_point<P, E: std::fmt::Display>(
     }
 }
 
-/// `spec::cell_dyadic`, the kernel's binary32 and `exact_index_f64`'s
-/// first halves against the definition.
-fn print_first_halves(out: &mut String, entry_points: &EntryPoints) {
+/// Every entry point's lines: the kernel's integer halves against the
+/// reference's generic code, `spec::cell_dyadic`, the kernel's binary32
+/// and float and `exact_index_f64`'s first halves against the definition,
+/// and the walk's fold against its model.
+fn print_entry_points(out: &mut String, entry_points: &EntryPoints) {
+    print_entry_point(out, &entry_points.kernels, |proof, seconds| {
+        let mut text = format!(
+            "the kernel's integer halves equal the reference's at every cell of every level \
+             they serve ({} cases, {} reference paths, at most {} diagram nodes, \
+             {seconds:.3} s):",
+            proof.cases, proof.reference_paths, proof.peak_nodes
+        );
+        for (form, levels) in &proof.forms {
+            let _ = write!(
+                text,
+                "\n  {:<44} levels {}..={}",
+                form.name(),
+                levels.start(),
+                levels.end()
+            );
+        }
+        text
+    });
     print_entry_point(out, &entry_points.dyadic, |proof, seconds| {
         format!(
             "spec::cell_dyadic is the definition's cell and diagonal at every input, scale \
@@ -354,21 +342,14 @@ fn print_first_halves(out: &mut String, entry_points: &EntryPoints) {
             proof.inputs
         )
     });
-}
-
-/// `uv2index::index_unchecked` and `index` against the modelled fold
-/// (`docs/verification.md` 10.12).
-fn print_fold(out: &mut String, fold: &Result<FoldProof, FoldMismatch>) {
-    match fold {
-        Ok(proof) => drop(writeln!(
-            out,
-            "entry points: uv2index::{} are, token for token, the fold of Walk::step the product \
-             models ({} tokens of src/uv2index/mod.rs)",
+    print_entry_point(out, &entry_points.fold, |proof, _| {
+        format!(
+            "uv2index::{} are, token for token, the fold of Walk::step the product models ({} \
+             tokens of src/uv2index/mod.rs)",
             proof.functions.join(" and "),
             proof.tokens
-        )),
-        Err(e) => drop(writeln!(out, "entry points: NOT proved: {e}")),
-    }
+        )
+    });
 }
 
 #[derive(Serialize)]
@@ -481,6 +462,7 @@ fn print_json(
         walk_fold: json_entry_point(
             entry_points
                 .fold
+                .0
                 .as_ref()
                 .map(|proof| proof.functions.len()),
         ),
