@@ -675,6 +675,7 @@ fn widened_is_what_the_exact_model_knows_more() {
                         sampler: case.oracle.sampler,
                         cutoff: case.oracle.cutoff,
                         alpha_factor: 1.0,
+                        uv_transform: micromap_index::bake::UvTransform::IDENTITY,
                     },
                     vertex_alpha: Some(&alpha),
                 },
@@ -919,6 +920,7 @@ fn every_mip_level_holds_for_mips_all() {
             sampler: case.oracle.sampler,
             cutoff,
             alpha_factor: 1.0,
+            uv_transform: micromap_index::bake::UvTransform::IDENTITY,
         };
         let chains: Vec<_> = rounds.iter().map(|&r| mip_chain(w, h, &codes, r)).collect();
         for (model, (mips, last)) in Model::ALL

@@ -66,9 +66,11 @@ fn scene(seed: u64) -> Scene {
             },
             cutoff: Cutoff::new(0.5, Comparison::Above).unwrap(),
             alpha_factor: 1.0,
+            uv_transform: micromap_index::bake::UvTransform::IDENTITY,
         },
         Material {
             alpha_factor: 0.75,
+            uv_transform: micromap_index::bake::UvTransform::IDENTITY,
             ..Material::default()
         },
     ];

@@ -5,12 +5,13 @@
 use super::alpha_test::AlphaTest;
 use super::classify::{Classifier, Grid, Margin, Placed, TexelClasses};
 use super::exact::{AxisFrame, FrameError};
-use super::gpu::{margin, Model};
+use super::gpu::{margin, margin_transformed, Model};
 use super::parallel::Runner;
 use super::split::{walk_split, SPLIT_FROM_LEVEL};
 use super::texture::{AlphaTexture, Cutoff, Filter, Sampler, TextureError};
 use super::texture_unit::{LinearRule, TextureUnit};
 use super::triangle::{BakeError, BakedTriangle, TriangleStatus, UvTriangle};
+use super::uv_transform::UvTransform;
 use super::walk::{walk_whole, Spent};
 use super::work::DEFAULT_TRIANGLE_WORK_BUDGET;
 use crate::micromap::BakedOpacity;
@@ -69,6 +70,7 @@ pub struct Baker {
     work_budget: u64,
     pub(super) model: Model,
     pub(super) texture_unit: TextureUnit,
+    pub(super) uv_transform: UvTransform,
 }
 
 impl Baker {
@@ -145,6 +147,7 @@ impl Baker {
             work_budget: DEFAULT_TRIANGLE_WORK_BUDGET,
             model: Model::default(),
             texture_unit: unit,
+            uv_transform: UvTransform::IDENTITY,
         })
     }
 
@@ -155,6 +158,28 @@ impl Baker {
     pub fn with_model(mut self, model: Model) -> Baker {
         self.model = model;
         self
+    }
+
+    /// The same baker for triangles whose texture coordinates the shader
+    /// transforms (glTF's `KHR_texture_transform`) before sampling:
+    /// [`bake`](Self::bake) and [`verify`](Self::verify) then take the
+    /// *untransformed* vertex coordinates, place the triangle at their
+    /// transformed images ([`UvTransform::place`]) and, under
+    /// [`Model::GpuBinary32`], widen the margin by the transform's binary32
+    /// error (`docs/bake.md`, "Texture transforms"). Under
+    /// [`Model::Exact`] a triangle is placed only where every vertex's
+    /// image is exactly binary32 ([`UvTransform::exact_image`]); otherwise
+    /// it is unknown ([`TriangleStatus::OutOfExactRange`]).
+    #[must_use]
+    pub fn with_uv_transform(mut self, transform: UvTransform) -> Baker {
+        self.uv_transform = transform;
+        self
+    }
+
+    /// The texture transform it bakes and verifies for.
+    #[must_use]
+    pub fn uv_transform(&self) -> UvTransform {
+        self.uv_transform
     }
 
     /// The texture unit it bakes and verifies for.
@@ -212,15 +237,45 @@ impl Baker {
         level: Level,
     ) -> Result<(AxisFrame, AxisFrame, Grid), FrameError> {
         let n = level.get();
+        let transform = &self.uv_transform;
+        if !transform.is_identity() && uv.iter().flatten().any(|x| !x.is_finite()) {
+            return Err(FrameError::NotFinite);
+        }
+        // Where the triangle is placed, and the transform's error terms
+        // (`None`: no transform, the margin of `docs/bake.md` as it was).
+        let (placed, errors) = if transform.is_identity() {
+            (*uv, None)
+        } else {
+            match model {
+                Model::Exact => {
+                    let mut placed = *uv;
+                    for (p, c) in placed.iter_mut().zip(uv) {
+                        *p = transform.exact_image(*c).ok_or(FrameError::OutOfRange)?;
+                    }
+                    (placed, None)
+                }
+                Model::GpuBinary32 => {
+                    let placed = uv.map(|c| transform.place(c));
+                    if placed.iter().flatten().any(|x| !x.is_finite()) {
+                        return Err(FrameError::OutOfRange);
+                    }
+                    (placed, Some(transform.axis_errors(uv, &placed)))
+                }
+            }
+        };
         let axis = |k: usize, size: u32| -> Result<(AxisFrame, Option<Margin>), FrameError> {
-            let c = uv.map(|c| c[k]);
+            let c = placed.map(|c| c[k]);
             match model {
                 Model::Exact => Ok((AxisFrame::new(c, size, n, 0)?, None)),
                 Model::GpuBinary32 => {
                     if c.iter().any(|x| !x.is_finite()) {
                         return Err(FrameError::NotFinite);
                     }
-                    let m = margin(c, size, n, &self.texture_unit).ok_or(FrameError::OutOfRange)?;
+                    let m = match &errors {
+                        None => margin(c, size, n, &self.texture_unit),
+                        Some(e) => margin_transformed(c, &e[k], size, n, &self.texture_unit),
+                    }
+                    .ok_or(FrameError::OutOfRange)?;
                     // A grid unit of at most 2^exponent texels, on which the
                     // margin is `units` times a power of two.
                     let frame = AxisFrame::new(c, size, n, (-m.exponent).max(0) as u32)?;

@@ -5,6 +5,7 @@
 //! the names below follow it.
 
 use super::texture_unit::{Interpolation, TextureUnit};
+use super::uv_transform::AxisErrors;
 use crate::names::named_enum;
 
 /// Which points a known state must hold for.
@@ -118,6 +119,59 @@ pub(crate) fn margin(
         + exp2(-21)
         + floor
         + unit.snap_radius();
+    Some(four_bits(m))
+}
+
+/// The GPU model's margin on one axis of a triangle whose texture
+/// coordinates the shader transforms ([`UvTransform`](super::UvTransform)): `c` the axis's
+/// placed coordinates, `e` the transform's error terms. In texture units,
+/// with `w = D 2^(-25-n)` (the index window through the placed edges),
+/// `i = r 2^-20 interpolated + f row_sum` (the source interpolation's
+/// error through the linear part; `f` 16-bit floats' `2^-22` spacing, else
+/// 0), `t = r tau + rho (1 + 2^-20)` and `E = w + i + t`:
+///
+/// `m = S E + r 2^-21 (S (A + E) + 1) + 2^-k`
+///
+/// (`docs/bake.md`, "Texture transforms"). `None` when 16-bit
+/// interpolation cannot hold the source or the placed coordinates.
+pub(crate) fn margin_transformed(
+    c: [f32; 3],
+    e: &AxisErrors,
+    size: u32,
+    level: u32,
+    unit: &TextureUnit,
+) -> Option<TexelMargin> {
+    let abs = |x: f64| f64::from_bits(x.to_bits() & !(1 << 63));
+    let max = |x: f64, y: f64| if x >= y { x } else { y };
+    let a = c.iter().map(|&x| abs(f64::from(x))).fold(0.0, max);
+    let d = max(
+        abs(f64::from(c[1]) - f64::from(c[0])),
+        abs(f64::from(c[2]) - f64::from(c[0])),
+    );
+    let s = f64::from(size);
+    let (r, floor) = match unit.interpolation {
+        Interpolation::F32 => (1.0, 0.0),
+        Interpolation::F16 => {
+            if a >= exp2(15) || e.source_max >= exp2(15) {
+                return None;
+            }
+            (exp2(13) * (1.0 + exp2(-6)), exp2(-22))
+        }
+    };
+    let window = d * exp2(-25 - level as i32);
+    let interpolation = r * exp2(-20) * e.interpolated + floor * e.row_sum;
+    let transform = r * e.tau + e.rho * (1.0 + exp2(-20));
+    let error = window + interpolation + transform;
+    let m = s * error + r * exp2(-21) * (s * (a + error) + 1.0) + unit.snap_radius();
+    if !m.is_finite() {
+        return None;
+    }
+    Some(four_bits(m))
+}
+
+/// `m` (positive, finite) enlarged by `2^-30` relative and rounded up to
+/// four significant bits.
+fn four_bits(m: f64) -> TexelMargin {
     let m = m * (1.0 + exp2(-30));
     let exponent = ceil_log2(m);
     // m / 2^(e - 3) is in (4, 8]: its ceiling, 5..=8 units of 2^(e - 3).
@@ -126,10 +180,10 @@ pub(crate) fn margin(
     if f64::from(units) < scaled {
         units += 1;
     }
-    Some(TexelMargin {
+    TexelMargin {
         exponent: exponent - 3,
         units: units.clamp(1, 8),
-    })
+    }
 }
 
 #[cfg(test)]

@@ -8,6 +8,8 @@ use super::baker::Baker;
 use super::parallel::Runner;
 use super::texture::{faithful_f32, AlphaTexture, Cutoff, Sampler, TextureError};
 use super::texture_unit::TextureUnit;
+use super::triangle::UvTriangle;
+use super::uv_transform::UvTransform;
 use alloc::vec::Vec;
 
 /// How a mesh's texture is alpha-tested: the sampler, the cutoff, and a
@@ -27,16 +29,33 @@ pub struct Material {
     /// product is monotone in it, so classifying each texel this way stays
     /// sound.
     pub alpha_factor: f32,
+    /// The transform the shader applies to the interpolated texture
+    /// coordinate before sampling (glTF's `KHR_texture_transform`; default
+    /// [`UvTransform::IDENTITY`]): the mesh's triangles are the
+    /// untransformed coordinates ([`Baker::with_uv_transform`]).
+    pub uv_transform: UvTransform,
 }
 
 impl Default for Material {
-    /// The default sampler and cutoff (glTF's `alpha >= 0.5`), factor 1.
+    /// The default sampler and cutoff (glTF's `alpha >= 0.5`), factor 1,
+    /// no texture transform.
     fn default() -> Self {
         Material {
             sampler: Sampler::default(),
             cutoff: Cutoff::default(),
             alpha_factor: 1.0,
+            uv_transform: UvTransform::IDENTITY,
         }
+    }
+}
+
+impl Material {
+    /// The triangle the shader samples for the mesh triangle `uv`: each
+    /// vertex through [`uv_transform`](Self::uv_transform)
+    /// ([`UvTransform::place`]), for the level choice and the area weights.
+    #[must_use]
+    pub fn placed(&self, uv: &UvTriangle) -> UvTriangle {
+        uv.map(|c| self.uv_transform.place(c))
     }
 }
 
@@ -184,7 +203,7 @@ pub(crate) fn vertex_bound_baker(
         unit,
         f64::from(material.alpha_factor),
     );
-    Baker::new_on(&texture, test, u64::MAX, runner)
+    Ok(Baker::new_on(&texture, test, u64::MAX, runner)?.with_uv_transform(material.uv_transform))
 }
 
 /// At most this many distinct lower bounds, and as many upper bounds, of

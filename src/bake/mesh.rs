@@ -159,7 +159,7 @@ pub fn bake_meshes(
             }
             widened += b.widened;
             let n = b.counts.iter().sum::<u64>().max(1) as f64;
-            let a = texel_area(uv, size);
+            let a = texel_area(&mesh.material.placed(uv), size);
             area += a;
             known_area += a * (b.counts[0] + b.counts[1]) as f64 / n;
             match b.status {
@@ -442,6 +442,7 @@ mod tests {
                 texture: &texture,
                 material: Material {
                     alpha_factor,
+                    uv_transform: crate::bake::UvTransform::IDENTITY,
                     ..Material::default()
                 },
                 vertex_alpha: None,

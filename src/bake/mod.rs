@@ -131,6 +131,7 @@ mod split;
 mod texture;
 mod texture_unit;
 mod triangle;
+mod uv_transform;
 mod verify;
 mod walk;
 mod work;
@@ -149,5 +150,6 @@ pub use texture::{
 };
 pub use texture_unit::{Interpolation, LinearRule, TextureUnit, TextureUnitError};
 pub use triangle::{BakeError, BakedTriangle, TriangleStatus, UvTriangle};
+pub use uv_transform::{UvTransform, UvTransformError, MAX_ROTATION};
 pub use verify::{Contradiction, Verification, VerifyCounts};
 pub use work::{DEFAULT_BAKE_WORK_BUDGET, DEFAULT_TRIANGLE_WORK_BUDGET};

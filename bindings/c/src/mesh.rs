@@ -385,6 +385,7 @@ impl<'a> MeshInput<'a> {
             sampler: sampler(&m.material.sampler)?,
             cutoff: cutoff(&m.material)?,
             alpha_factor: m.material.alpha_factor,
+            uv_transform: micromap_index::bake::UvTransform::IDENTITY,
         };
         Ok(MeshInput {
             texels,

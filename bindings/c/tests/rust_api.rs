@@ -229,6 +229,7 @@ fn options_reach_the_library() {
                 )
                 .unwrap(),
                 alpha_factor: 0.75,
+                uv_transform: micromap_index::bake::UvTransform::IDENTITY,
             },
             vertex_alpha: None,
         },

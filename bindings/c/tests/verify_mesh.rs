@@ -185,6 +185,7 @@ fn library_verify(
                 ..micromap_index::bake::Sampler::default()
             },
             alpha_factor: case.alpha_factor,
+            uv_transform: micromap_index::bake::UvTransform::IDENTITY,
             ..Material::default()
         },
         vertex_alpha: case.vertex_alpha.then_some(&alphas[..]),

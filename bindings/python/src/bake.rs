@@ -111,6 +111,7 @@ pub(crate) fn bake<'py>(
                 sampler,
                 cutoff,
                 alpha_factor,
+                uv_transform: micromap_index::bake::UvTransform::IDENTITY,
             },
             vertex_alpha: None,
         };
@@ -207,6 +208,7 @@ pub(crate) fn bake_gltf<'py>(
             sampler,
             cutoff,
             alpha_factor: prim.alpha_factor,
+            uv_transform: prim.uv_transform,
         });
     }
     if info.is_empty() {

@@ -98,6 +98,7 @@ pub(crate) fn verify<'py>(
         sampler,
         cutoff,
         alpha_factor,
+        uv_transform: micromap_index::bake::UvTransform::IDENTITY,
     };
     let model = options::model(model)?;
     let unit = options::texture_unit(subtexel_bits, interpolation, filter_error, linear)?;

@@ -153,8 +153,8 @@ def test_malformed_buffers_raise():
 
 
 def test_a_primitive_that_cannot_be_baked_is_left_out_or_refused(tmp_path):
-    # meshes[2].primitives[0] alone uses materials[3]; a rotation there is
-    # not modelled: left out and listed, or a ValueError with strict=True.
+    # meshes[2].primitives[0] alone uses materials[3]; a rotation there
+    # beyond 65536 radians is not modelled: left out and listed, or a ValueError with strict=True.
     import json
     import shutil
 
@@ -162,12 +162,13 @@ def test_a_primitive_that_cannot_be_baked_is_left_out_or_refused(tmp_path):
         shutil.copy(SPONZA / name, tmp_path / name)
     gltf = json.loads(CARDS.read_text())
     gltf["materials"][3]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
-        "KHR_texture_transform": {"rotation": 0.25}}
+        "KHR_texture_transform": {"rotation": 1e6}}
     gltf["extensionsUsed"] = ["KHR_texture_transform"]
     asset = tmp_path / "rotated.gltf"
     asset.write_text(json.dumps(gltf))
     reason = ("materials[3].pbrMetallicRoughness.baseColorTexture.extensions."
-              "KHR_texture_transform.rotation: 0.25: a rotation other than 0")
+              "KHR_texture_transform: texture transform rotation 1000000: "
+              "expected at most 65536 radians")
     result = mmi.bake_gltf(asset, level=3)
     assert len(result.meshes) == 5
     assert [(r["mesh"], r["primitive"]) for r in result.refused_primitives] == [(2, 0)]

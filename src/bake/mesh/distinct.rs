@@ -145,7 +145,7 @@ impl FirstSeen {
 
 /// The material as exact bits, with the texture's address: what a baker is
 /// made from.
-type BakerKey = (usize, [u32; 7]);
+type BakerKey = (usize, [u32; 12]);
 
 /// The distinct triangles of all meshes and the bakers they need.
 pub(super) struct Plan {
@@ -210,6 +210,13 @@ impl Plan {
                     material.cutoff.alpha().to_bits(),
                     material.cutoff.comparison() as u32,
                     material.alpha_factor.to_bits(),
+                    // The transform is the baker's: meshes with different
+                    // transforms never share one.
+                    material.uv_transform.offset()[0].to_bits(),
+                    material.uv_transform.offset()[1].to_bits(),
+                    material.uv_transform.rotation().to_bits(),
+                    material.uv_transform.scale()[0].to_bits(),
+                    material.uv_transform.scale()[1].to_bits(),
                 ],
             );
             let candidates = bakers.entry(key).or_default();
@@ -234,7 +241,8 @@ impl Plan {
                         let test = (sampler, material.cutoff, unit, scale);
                         Ok(Baker::new_on(texture, test, u64::MAX, runner)?
                             .with_block_budget(options.block_budget)
-                            .with_model(options.model))
+                            .with_model(options.model)
+                            .with_uv_transform(material.uv_transform))
                     }
                 };
                 // The mip levels' bounds hold for linear filtering by

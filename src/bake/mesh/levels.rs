@@ -78,7 +78,11 @@ pub(super) fn levels_of(
         let size = (mesh.texture.width(), mesh.texture.height());
         let mut mesh_levels = room(triangles.len())?;
         for uv in triangles.iter() {
-            let (level, lowered) = options.levels.level_of(uv, size, mesh.material.sampler);
+            // The level of the triangle the shader samples (its placed image).
+            let placed = mesh.material.placed(uv);
+            let (level, lowered) = options
+                .levels
+                .level_of(&placed, size, mesh.material.sampler);
             period_level_zero += usize::from(lowered);
             mesh_levels.push(level);
         }

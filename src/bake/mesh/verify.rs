@@ -138,7 +138,8 @@ pub fn verify_mesh(
     }
     .map_err(texture_error)?
     .with_block_budget(judge.block_budget)
-    .with_model(model);
+    .with_model(model)
+    .with_uv_transform(material.uv_transform);
     // Vertex alpha, in two passes per triangle. First against the bounds
     // the ranges snap to (at most VERTEX_BOUNDS bakers per side, as the
     // bake's): a snapped range is wider, so its bounds find every

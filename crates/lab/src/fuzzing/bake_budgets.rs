@@ -90,6 +90,7 @@ pub fn bake_budgets(data: &[u8]) {
             sampler,
             cutoff: Cutoff::default(),
             alpha_factor: 1.0,
+            uv_transform: micromap_index::bake::UvTransform::IDENTITY,
         },
         vertex_alpha: None,
     };

@@ -74,6 +74,7 @@ impl Baker for MicromapIndex {
                 sampler,
                 cutoff: Cutoff::default(),
                 alpha_factor: 1.0,
+                uv_transform: micromap_index::bake::UvTransform::IDENTITY,
             },
             vertex_alpha: None,
         };
