@@ -900,7 +900,7 @@ fn gltf_materials_samplers_and_warnings() {
             "skipped 2 primitives whose material is not alphaMode MASK (1 OPAQUE, 1 BLEND)",
             "materials[3] is alphaMode MASK without pbrMetallicRoughness.baseColorTexture: 1 primitive skipped",
             "1 primitive has COLOR_0 alpha, multiplied in with bounds per triangle (texels near the cutoff may bake unknown): meshes[0].primitives[1]",
-            "materials[0].pbrMetallicRoughness.baseColorTexture has KHR_texture_transform: applied to the UVs (exactly)",
+            "materials[0].pbrMetallicRoughness.baseColorTexture has KHR_texture_transform: modelled as the shader applies it to the interpolated UV (binary32)",
         ]
     );
 }

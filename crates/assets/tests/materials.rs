@@ -7,7 +7,9 @@
 use micromap_index::bake::mesh::{
     bake_mesh, LevelRule, Material, Mesh, MeshBakeError, MeshOptions, MeshTriangles,
 };
-use micromap_index::bake::{faithful_f32, AddressMode, Filter, Sampler, Unorm8Texture};
+use micromap_index::bake::{
+    faithful_f32, AddressMode, Filter, Model, Sampler, Unorm8Texture, UvTransform,
+};
 use micromap_index::inverse::micro_triangle;
 use micromap_index::micromap::State;
 use micromap_index::Level;
@@ -255,6 +257,7 @@ fn the_alpha_factor_multiplies_in_binary32() {
             texture: &texture,
             material: Material {
                 alpha_factor: factor,
+                uv_transform: micromap_index::bake::UvTransform::IDENTITY,
                 ..Material::default()
             },
             vertex_alpha: None,
@@ -511,7 +514,7 @@ fn with_transform(transform: Value) -> impl FnOnce(&mut Value) {
 }
 
 #[test]
-fn texture_transform_is_applied_exactly_or_refused() {
+fn texture_transform_is_read_and_modelled() {
     // 4 x 1: opaque in the left texel only.
     let rgba = png(
         4,
@@ -524,52 +527,84 @@ fn texture_transform_is_applied_exactly_or_refused() {
         with_transform(json!({"scale": [0.5, 0.5], "offset": [0.25, 0]})),
     )
     .unwrap();
-    // Scale first, then offset, computed here.
-    let expected: Vec<[[f32; 2]; 3]> = [
+    let stored: Vec<[[f32; 2]; 3]> = vec![
         [[0.0f32, 0.0], [1.0, 0.0], [1.0, 1.0]],
         [[0.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
-    ]
-    .iter()
-    .map(|t| t.map(|[u, v]| [u * 0.5 + 0.25, v * 0.5]))
-    .collect();
-    assert_eq!(gltf.primitives[0].triangles, expected);
+    ];
+    // The triangles as stored; the transform beside them.
+    let primitive = &gltf.primitives[0];
+    assert_eq!(primitive.triangles, stored);
+    assert_eq!(
+        primitive.uv_transform,
+        UvTransform::new([0.25, 0.0], 0.0, [0.5, 0.5]).unwrap()
+    );
+    // Scale first, then offset, computed here.
+    let expected: Vec<[[f32; 2]; 3]> = stored
+        .iter()
+        .map(|t| t.map(|[u, v]| [u * 0.5 + 0.25, v * 0.5]))
+        .collect();
+    assert_eq!(primitive.placed_triangles(), expected);
     assert!(gltf
         .warnings
         .iter()
-        .any(|w| w.contains("KHR_texture_transform: applied")));
+        .any(|w| w.contains("KHR_texture_transform: modelled as the shader applies it")));
     // The bake reads u in [0.25, 0.75]: texels 1 and 2, both transparent;
     // untransformed it would see the opaque texel 0.
     let texture = gltf.images[0].texture().unwrap();
-    let mesh = Mesh {
-        triangles: MeshTriangles::Uv(&gltf.primitives[0].triangles),
-        texture: &texture,
-        material: gltf.primitives[0].material(),
-        vertex_alpha: None,
+    let bake_as = |primitive: &micromap_index_assets::MaskPrimitive, model| {
+        let mesh = Mesh {
+            triangles: MeshTriangles::Uv(&primitive.triangles),
+            texture: &texture,
+            material: primitive.material(),
+            vertex_alpha: None,
+        };
+        let options = MeshOptions { model, ..fixed(2) };
+        bake_mesh(&mesh, &options).unwrap().report.counts
     };
-    assert_eq!(
-        bake_mesh(&mesh, &fixed(2)).unwrap().report.counts,
-        [32, 0, 0, 0]
-    );
-    // Well-formed but not modelled: the primitive is refused (listed with
-    // its reason, the field named), the asset still reads.
-    for (transform, message) in [
-        (
-            json!({"rotation": 0.5}),
-            "materials[0].pbrMetallicRoughness.baseColorTexture.extensions.KHR_texture_transform.rotation: 0.5: a rotation other than 0 cannot be baked exactly",
+    let (exact, gpu) = (Model::Exact, Model::GpuBinary32);
+    assert_eq!(bake_as(primitive, exact), [32, 0, 0, 0]);
+    // The GPU model: the 8 micro-triangles on the texel boundary u' = 1/4
+    // are unknown (a binary32 hit there may round into texel 0).
+    assert_eq!(bake_as(primitive, gpu), [24, 0, 8, 0]);
+    // A rotation, and values no binary32 sum holds exactly, are read and
+    // modelled (issue 34): a quarter turn of the square scaled by 0.1 and
+    // moved by the offset lands at u' in [0.605, 0.705], away from the
+    // opaque texel.
+    let turned = asset(
+        &rgba,
+        with_transform(
+            json!({"rotation": std::f32::consts::FRAC_PI_2, "offset": [0.705, 0.285], "scale": [0.1, 0.1]}),
         ),
-        (
-            json!({"offset": [1e-9, 0]}),
-            "materials[0].pbrMetallicRoughness.baseColorTexture.extensions.KHR_texture_transform: offset [1e-9, 0.0] and scale [1.0, 1.0] map TEXCOORD_0 (1, 0) of triangle 0 of meshes[0].primitives[0] to a point that is not a pair of binary32 values",
-        ),
-    ] {
-        let read = asset(&rgba, with_transform(transform)).unwrap();
-        assert!(read.primitives.is_empty());
-        assert_eq!(read.refused.len(), 1);
-        let refused = &read.refused[0];
-        assert_eq!((refused.mesh, refused.primitive), (0, 0));
-        let reason = refused.reason.to_string();
-        assert!(reason.starts_with(message), "{reason}");
+    )
+    .unwrap();
+    assert!(turned.refused.is_empty());
+    let t = &turned.primitives[0];
+    assert_eq!(t.uv_transform.rotation(), std::f32::consts::FRAC_PI_2);
+    for (placed, source) in t.placed_triangles().iter().zip(&t.triangles) {
+        for (p, [u, v]) in placed.iter().zip(source) {
+            // offset + R (scale uv) with R a quarter turn: (-0.1 v, 0.1 u).
+            assert!((p[0] - (0.705 - 0.1 * v)).abs() < 1e-6, "{p:?}");
+            assert!((p[1] - (0.285 + 0.1 * u)).abs() < 1e-6, "{p:?}");
+        }
     }
+    // u' in [0.605, 0.705]: texels 1..=3 under linear filtering, all
+    // transparent. The exact model cannot place vertices whose images are
+    // not binary32: unknown-opaque (sound).
+    assert_eq!(bake_as(t, gpu), [32, 0, 0, 0]);
+    assert_eq!(bake_as(t, exact), [0, 0, 0, 32]);
+    // Well-formed but not modelled: a rotation beyond 65536 radians. The
+    // primitive is refused (listed with its reason, the field named), the
+    // asset still reads.
+    let read = asset(&rgba, with_transform(json!({"rotation": 1e6}))).unwrap();
+    assert!(read.primitives.is_empty());
+    assert_eq!(read.refused.len(), 1);
+    let refused = &read.refused[0];
+    assert_eq!((refused.mesh, refused.primitive), (0, 0));
+    let reason = refused.reason.to_string();
+    assert!(
+        reason.starts_with("materials[0].pbrMetallicRoughness.baseColorTexture.extensions.KHR_texture_transform: texture transform rotation 1000000: expected at most 65536 radians in magnitude, refused"),
+        "{reason}"
+    );
     // Malformed: an error, with the field named.
     for (transform, message) in [
         (

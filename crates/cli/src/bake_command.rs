@@ -10,12 +10,13 @@ mod summary;
 
 use crate::bake_args::{self, BakeArgs};
 use crate::inputs::sampler::sampler_options;
-use crate::inputs::{flags, index_width, read_input};
+use crate::inputs::{flags, index_width, read_input, Job};
 use crate::progress::{clear_on_interrupt, Progress};
 use cli_support::args::{Command, Flag};
 use cli_support::output::{print_then, Exit, Failure, Program};
 use cli_support::write_all_or_nothing::{install_interrupt_handler, Destination, Refusal};
 use micromap_index::bake::mesh::{bake_meshes, MeshBakeError};
+use micromap_index::bake::UvTriangle;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use summary::{StateCounts, StatusCounts, Summary, Widening};
@@ -61,8 +62,8 @@ pub(crate) static BAKE: Command = Command {
   lock and any directory the bake created and leaves DIR as it was; after
   it, DIR holds the new files; the message says which (exit 130).
   With --gltf, a MASK primitive the model does not cover (a
-  KHR_texture_transform with a rotation, or one moving a UV off the binary32
-  values) is left out, named with its reason on stderr and in summary.json
+  KHR_texture_transform rotation beyond 65536 radians) is left out, named
+  with its reason on stderr and in summary.json
   (refused_primitives), and the rest is baked and written: exit 5
   (--strict: exit 2, nothing written).
   Exit 0 baked; 2 bad options, malformed input, or existing outputs without
@@ -209,13 +210,16 @@ fn bake(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> 
             total,
             p.flag("--quiet"),
         );
+        // Drawn where the shader samples: the transformed triangles.
+        let placed: Vec<Vec<UvTriangle>> = input.jobs.iter().map(Job::placed_triangles).collect();
         let drawn = crate::preview::render(
             &input.images,
             model,
             input
                 .jobs
                 .iter()
-                .map(|job| (job.image, job.sampler, job.triangles.as_slice())),
+                .zip(&placed)
+                .map(|(job, placed)| (job.image, job.sampler, placed.as_slice())),
             &baked,
             &mut |done| drawing.update(done, total),
         )

@@ -19,6 +19,7 @@ use cli_support::args::{Command, Flag, Parsed};
 use cli_support::output::{print_then, Exit, Failure, Program};
 use cli_support::write_all_or_nothing::{Destination, Refusal};
 use micromap_index::bake::mesh::{bake_meshes, LevelRule};
+use micromap_index::bake::UvTransform;
 use micromap_index::micromap::IndexWidth;
 use micromap_index_render::{
     classify_lookup, Camera, Classified, ErrorClass, Faults, Frame, Lookup, Method, Micromaps,
@@ -199,6 +200,7 @@ fn scene_of(input: &Input, from_gltf: bool) -> Result<Scene, Failure> {
                 job.name
             )));
         }
+        let placed = job.placed_triangles();
         let flat: Vec<[[f32; 3]; 3]>;
         let positions = match &job.positions {
             Some(positions) => positions,
@@ -221,14 +223,19 @@ fn scene_of(input: &Input, from_gltf: bool) -> Result<Scene, Failure> {
             .add_placed_mesh(
                 SceneMesh {
                     texture: job.image,
+                    // The shader samples the transformed coordinates:
+                    // the scene interpolates them per vertex (placed),
+                    // which the bake's margin covers too (`docs/bake.md`,
+                    // "Texture transforms").
                     material: micromap_index::bake::mesh::Material {
                         sampler: job.sampler,
                         cutoff: job.cutoff,
                         alpha_factor: job.factor,
+                        uv_transform: UvTransform::IDENTITY,
                     },
                 },
                 positions,
-                &job.triangles,
+                &placed,
                 &job.instances,
             )
             .map_err(|e| Failure::Malformed(format!("{}: {e}", job.name)))?;

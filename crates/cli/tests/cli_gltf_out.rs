@@ -222,7 +222,8 @@ fn what_cannot_be_written_or_checked_is_refused() {
 }
 
 /// A primitive the model does not cover (here `KHR_texture_transform`
-/// with a rotation on the one material of meshes[2].primitives[0]) is left
+/// with a rotation beyond 65536 radians on the one material of
+/// meshes[2].primitives[0]) is left
 /// out: exit 5, named on stderr and in summary.json, the other five baked,
 /// written back without the extension on it, and the output verifies
 /// sound. `--strict` makes it exit 2 with nothing written.
@@ -235,13 +236,13 @@ fn a_primitive_that_cannot_be_baked_is_left_out_or_refused() {
     let mut gltf: serde_json::Value =
         serde_json::from_slice(&std::fs::read(format!("{SPONZA}/cards.gltf")).unwrap()).unwrap();
     gltf["materials"][3]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] =
-        serde_json::json!({"KHR_texture_transform": {"rotation": 0.25}});
+        serde_json::json!({"KHR_texture_transform": {"rotation": 1e6}});
     gltf["extensionsUsed"] = serde_json::json!(["KHR_texture_transform"]);
     let asset = dir.join("rotated.gltf");
     std::fs::write(&asset, serde_json::to_vec(&gltf).unwrap()).unwrap();
     let asset = asset.to_str().unwrap();
     let reason = "materials[3].pbrMetallicRoughness.baseColorTexture.extensions.\
-                  KHR_texture_transform.rotation: 0.25: a rotation other than 0";
+                  KHR_texture_transform: texture transform rotation 1000000: expected at most 65536 radians";
 
     let strict = dir.join("strict");
     let refused = run(&[

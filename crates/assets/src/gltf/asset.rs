@@ -3,7 +3,7 @@
 
 use crate::{AlphaImage, AssetError};
 use micromap_index::bake::mesh::Material;
-use micromap_index::bake::{Cutoff, Sampler};
+use micromap_index::bake::{Cutoff, Sampler, UvTransform};
 
 /// One triangle primitive of a glTF mesh whose material is alpha-tested
 /// (`alphaMode: "MASK"`) with a base colour texture.
@@ -42,13 +42,22 @@ pub struct MaskPrimitive {
     /// `KHR_texture_transform`, which overrides it): the triangles are
     /// `TEXCOORD_<tex_coord>`.
     pub tex_coord: u32,
-    /// The UVs of each triangle, in order, with the indices applied and the
-    /// texture's `KHR_texture_transform` (if any) applied exactly (or
-    /// vertices `3i, 3i + 1, 3i + 2` without indices). Integer UVs
+    /// The UVs of each triangle, in order, with the indices applied (or
+    /// vertices `3i, 3i + 1, 3i + 2` without indices), as stored: the
+    /// texture's `KHR_texture_transform` is [`uv_transform`](Self::uv_transform),
+    /// which the shader applies to the interpolated coordinate. Integer UVs
     /// (`KHR_mesh_quantization`) are converted as glTF says: normalized
     /// `c / 255`, `c / 65535`, `max(c / 127, -1)`, `max(c / 32767, -1)`,
     /// each one binary32 division; others as the integer's value.
     pub triangles: Vec<[[f32; 2]; 3]>,
+    /// The base-colour texture's `KHR_texture_transform` (offset,
+    /// rotation and scale, each rounded once from its JSON text to
+    /// binary32), or [`UvTransform::IDENTITY`] without one. The baker
+    /// models the shader's binary32 transform of the interpolated
+    /// coordinate ([`Material::uv_transform`]);
+    /// [`placed_triangles`](Self::placed_triangles) gives the transformed
+    /// triangles for drawing.
+    pub uv_transform: UvTransform,
     /// The `COLOR_0` alpha of each triangle's vertices (as
     /// [`triangles`](Self::triangles), one entry per triangle), which
     /// multiplies the texture's alpha; `None` without `COLOR_0` or with a
@@ -92,7 +101,20 @@ impl MaskPrimitive {
             sampler: self.sampler,
             cutoff: self.cutoff,
             alpha_factor: self.alpha_factor,
+            uv_transform: self.uv_transform,
         }
+    }
+
+    /// [`triangles`](Self::triangles) through
+    /// [`uv_transform`](Self::uv_transform), each vertex rounded once to
+    /// binary32 ([`UvTransform::place`]): the triangles in texture space,
+    /// for previews and renderers that transform per vertex.
+    #[must_use]
+    pub fn placed_triangles(&self) -> Vec<[[f32; 2]; 3]> {
+        self.triangles
+            .iter()
+            .map(|t| t.map(|c| self.uv_transform.place(c)))
+            .collect()
     }
 }
 
@@ -134,15 +156,15 @@ pub struct GltfAsset {
     /// are not triangles, materials that are not `MASK` (counted), `MASK`
     /// materials without a base colour texture, base-colour images without
     /// an alpha channel (read as alpha 1), `COLOR_0` alpha (multiplied in),
-    /// `KHR_texture_transform` (applied to the UVs), oddities of the GLB
+    /// `KHR_texture_transform` (modelled in the shader), oddities of the GLB
     /// container.
     pub warnings: Vec<String>,
     /// The `MASK` primitives that cannot be baked soundly, in order, each
     /// with its reason; they are not among [`GltfAsset::primitives`]. A
     /// malformed asset is an error instead; these are well-formed
-    /// primitives the model does not cover (a `KHR_texture_transform` with
-    /// a rotation, or whose offset and scale move a UV off the binary32
-    /// values). A caller bakes the rest, or refuses the asset (`--strict`).
+    /// primitives the model does not cover (a `KHR_texture_transform`
+    /// rotation above [`MAX_ROTATION`](micromap_index::bake::MAX_ROTATION)
+    /// radians). A caller bakes the rest, or refuses the asset (`--strict`).
     pub refused: Vec<RefusedPrimitive>,
 }
 

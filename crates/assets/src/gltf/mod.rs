@@ -15,6 +15,7 @@ use self::files::{read_file, resolve_beside};
 use self::material::material_numbers;
 use self::reader::{with_reader, Reader};
 use crate::{AssetError, Limits};
+use micromap_index::bake::UvTransform;
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -121,11 +122,12 @@ pub fn read_gltf_file(path: &Path, limits: &Limits) -> Result<GltfAsset, AssetEr
 /// `UNSIGNED_SHORT`) gives [`MaskPrimitive::vertex_alpha`]; a `VEC3` one
 /// has alpha 1. `KHR_texture_transform` on the base-colour texture
 /// (`offset`, `rotation`, `scale`, and `texCoord`, which overrides the
-/// texture info's) is applied to the UVs as the extension defines it
-/// (`translation * rotation * scale`), each number rounded once from its
-/// text to binary32, when the result is exact: a rotation other than 0, or
-/// a vertex whose `scale * uv + offset` is not a binary32 pair, is an error
-/// (never a bake of coordinates the renderer does not sample).
+/// texture info's) is [`MaskPrimitive::uv_transform`], each number rounded
+/// once from its text to binary32: the triangles stay as stored, and the
+/// baker models the shader's transform of the interpolated UV
+/// (`translation * rotation * scale`) with its binary32 error. A rotation
+/// above [`MAX_ROTATION`](micromap_index::bake::MAX_ROTATION) radians
+/// refuses the primitive ([`GltfAsset::refused`]).
 ///
 /// A required extension
 /// other than `KHR_mesh_quantization`, `KHR_texture_transform`, `KHR_materials_*` (except
@@ -156,39 +158,19 @@ pub fn read_gltf_bytes(
     })
 }
 
-/// `transform` applied to every corner of `triangles`, exactly, or why it
-/// cannot be (the primitive is then refused, `GltfAsset::refused`).
-fn apply_transform(
+/// The library's [`UvTransform`] of `transform`, or why it cannot be one
+/// (the primitive is then refused, `GltfAsset::refused`): a rotation above
+/// [`MAX_ROTATION`](micromap_index::bake::MAX_ROTATION) radians.
+fn uv_transform(
     transform: &transform::Transform,
-    triangles: &mut [[[f32; 2]; 3]],
     texture_path: &str,
-    uv_key: &str,
-    primitive_path: &str,
-) -> Result<(), AssetError> {
-    let ext = format!("{texture_path}.extensions.KHR_texture_transform");
-    if transform.rotation != 0.0 {
-        return Err(AssetError::gltf(
-            format!("{ext}.rotation"),
-            format!(
-                "{}: a rotation other than 0 cannot be baked exactly (its sine and cosine are not binary32 values), refused",
-                transform.rotation
-            ),
-        ));
-    }
-    for (t, triangle) in triangles.iter_mut().enumerate() {
-        for corner in triangle.iter_mut() {
-            *corner = transform.apply(*corner).ok_or_else(|| {
-                AssetError::gltf(
-                    &ext,
-                    format!(
-                        "offset {:?} and scale {:?} map {uv_key} ({}, {}) of triangle {t} of {primitive_path} to a point that is not a pair of binary32 values: the transformed coordinates cannot be baked exactly, refused",
-                        transform.offset, transform.scale, corner[0], corner[1]
-                    ),
-                )
-            })?;
-        }
-    }
-    Ok(())
+) -> Result<UvTransform, AssetError> {
+    UvTransform::new(transform.offset, transform.rotation, transform.scale).map_err(|e| {
+        AssetError::gltf(
+            format!("{texture_path}.extensions.KHR_texture_transform"),
+            format!("{e}, refused"),
+        )
+    })
 }
 
 fn mode_name(mode: u64) -> &'static str {
@@ -304,26 +286,26 @@ impl Reader<'_, '_> {
                     Some(accessor) => Some(self.indices(accessor, &primitive.field("indices"))?),
                     None => None,
                 };
-                let mut triangles = self.triangles(&primitive.path, &uvs, indices.as_deref())?;
-                if let Some(transform) = transform {
-                    if let Err(reason) = apply_transform(
-                        &transform,
-                        &mut triangles,
-                        &texture_info.path,
-                        &uv_key,
-                        &primitive.path,
-                    ) {
-                        // Well-formed, but not modelled: this primitive is
-                        // refused, the rest of the asset is read.
-                        self.asset.refused.push(RefusedPrimitive {
-                            mesh: m,
-                            primitive: p,
-                            reason,
-                        });
-                        continue;
-                    }
-                    transformed.insert(material_index);
-                }
+                let triangles = self.triangles(&primitive.path, &uvs, indices.as_deref())?;
+                let uv_transform = match transform {
+                    None => UvTransform::IDENTITY,
+                    Some(transform) => match uv_transform(&transform, &texture_info.path) {
+                        Ok(t) => {
+                            transformed.insert(material_index);
+                            t
+                        }
+                        Err(reason) => {
+                            // Well-formed, but not modelled: this primitive
+                            // is refused, the rest of the asset is read.
+                            self.asset.refused.push(RefusedPrimitive {
+                                mesh: m,
+                                primitive: p,
+                                reason,
+                            });
+                            continue;
+                        }
+                    },
+                };
                 let vertex_alpha = match attributes.opt_usize("COLOR_0")? {
                     None => None,
                     Some(accessor) => {
@@ -376,6 +358,7 @@ impl Reader<'_, '_> {
                     sampler,
                     tex_coord,
                     triangles,
+                    uv_transform,
                     vertex_alpha,
                     positions,
                     instances: vec![IDENTITY_TRANSFORM],
@@ -406,7 +389,7 @@ impl Reader<'_, '_> {
         }
         for material in transformed {
             self.warn(format!(
-                "materials[{material}].pbrMetallicRoughness.baseColorTexture has KHR_texture_transform: applied to the UVs (exactly)"
+                "materials[{material}].pbrMetallicRoughness.baseColorTexture has KHR_texture_transform: modelled as the shader applies it to the interpolated UV (binary32)"
             ));
         }
         self.place_primitives(meshes.len());

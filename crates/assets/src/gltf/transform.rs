@@ -1,6 +1,6 @@
 //! `KHR_texture_transform` on the base-colour texture: read from its
-//! decimal text (one rounding to binary32, as the renderer's uniforms), and
-//! applied to the UVs where the result is exact in binary32.
+//! decimal text (one rounding to binary32, as the renderer's uniforms);
+//! the library's `UvTransform` models how the shader applies it.
 
 use super::json::{short, Obj};
 use super::reader::Reader;
@@ -28,31 +28,6 @@ fn raw_at<'a>(raw: &'a RawValue, path: &[&str]) -> Option<&'a RawValue> {
         at = map.get(key)?;
     }
     Some(at)
-}
-
-/// The binary32 sum `a + b` if it is exact (no rounding), as `f64`.
-fn exact_sum(a: f64, b: f64) -> Option<f32> {
-    let s = a + b;
-    // Knuth's two-sum: the rounding error of `a + b`, exactly.
-    let bb = s - a;
-    let error = (a - (s - bb)) + (b - bb);
-    let narrow = s as f32;
-    (error == 0.0 && f64::from(narrow) == s && s.is_finite()).then_some(narrow)
-}
-
-impl Transform {
-    /// Applies the transform to one UV if the exact result is a binary32
-    /// pair; `None` otherwise. Rotation must be 0 (its sine and cosine are
-    /// not exact), which the reader checks.
-    pub(super) fn apply(&self, [u, v]: [f32; 2]) -> Option<[f32; 2]> {
-        // A product of two binary32 values is exact in f64 (48 bits).
-        let su = f64::from(self.scale[0]) * f64::from(u);
-        let sv = f64::from(self.scale[1]) * f64::from(v);
-        Some([
-            exact_sum(su, f64::from(self.offset[0]))?,
-            exact_sum(sv, f64::from(self.offset[1]))?,
-        ])
-    }
 }
 
 impl<'a> Reader<'a, '_> {
@@ -118,29 +93,5 @@ impl<'a> Reader<'a, '_> {
             scale,
             tex_coord: ext.opt_u32("texCoord")?,
         }))
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn exact_sums_only() {
-        assert_eq!(exact_sum(0.5, 0.25), Some(0.75));
-        // 2^-30 is below half an ulp of 1: the sum rounds.
-        assert_eq!(exact_sum(1.0, (2f64).powi(-30)), None);
-        // Exact in f64 but not in binary32.
-        assert_eq!(exact_sum(1.0, (2f64).powi(-40) * 1e3), None);
-        assert_eq!(exact_sum(1e300, 1e300), None);
-        let t = Transform {
-            offset: [0.25, -1.0],
-            rotation: 0.0,
-            scale: [0.5, 2.0],
-            tex_coord: None,
-        };
-        assert_eq!(t.apply([0.5, 0.75]), Some([0.5, 0.5]));
-        // 0.1f32 / 2 + 0.25 needs more than 24 bits.
-        assert_eq!(t.apply([0.1, 0.0]), None);
     }
 }

@@ -12,7 +12,7 @@ use cli_support::input::refuse_blocking;
 use cli_support::output::Failure;
 use files::{asset_failure, asset_limits, read_file, INPUT_FILE_LIMIT};
 use micromap_index::bake::mesh::{Material, Mesh, MeshTriangles};
-use micromap_index::bake::{Cutoff, Sampler, UvTriangle};
+use micromap_index::bake::{Cutoff, Sampler, UvTransform, UvTriangle};
 use micromap_index::micromap::IndexWidth;
 use micromap_index_assets::{
     decode_alpha_image, read_gltf_file, read_triangles_json, AlphaImage, ImageTexture,
@@ -29,7 +29,10 @@ pub(crate) struct Job {
     pub(crate) factor: f32,
     pub(crate) sampler: Sampler,
     pub(crate) cutoff: Cutoff,
+    /// The stored texture coordinates (before `uv_transform`).
     pub(crate) triangles: Vec<UvTriangle>,
+    /// glTF's `KHR_texture_transform` (the identity for `--texture`).
+    pub(crate) uv_transform: UvTransform,
     /// glTF's `COLOR_0` alpha per triangle (`None` for `--texture`).
     pub(crate) vertex_alpha: Option<Vec<[f32; 3]>>,
     /// glTF's `POSITION` per triangle (`None` for `--texture` or without
@@ -40,6 +43,18 @@ pub(crate) struct Job {
     /// Where `render` draws the triangles: glTF's node transforms
     /// (`MaskPrimitive::instances`), the identity for `--texture`.
     pub(crate) instances: Vec<[f32; 12]>,
+}
+
+impl Job {
+    /// The triangles the shader samples: each vertex through
+    /// `uv_transform`, rounded once to binary32 (for drawing; the bake
+    /// models the shader's own transform).
+    pub(crate) fn placed_triangles(&self) -> Vec<UvTriangle> {
+        self.triangles
+            .iter()
+            .map(|t| t.map(|c| self.uv_transform.place(c)))
+            .collect()
+    }
 }
 
 pub(crate) struct Input {
@@ -90,6 +105,7 @@ impl Input {
                     sampler: job.sampler,
                     cutoff: job.cutoff,
                     alpha_factor: job.factor,
+                    uv_transform: job.uv_transform,
                 },
                 vertex_alpha: job.vertex_alpha.as_deref(),
             })
@@ -125,6 +141,7 @@ pub(crate) fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Fa
                     },
                     cutoff: cutoff_of(s.cutoff.unwrap_or(prim.cutoff.alpha()))?,
                     triangles: prim.triangles.clone(),
+                    uv_transform: prim.uv_transform,
                     vertex_alpha: prim.vertex_alpha.clone(),
                     positions: prim.positions.clone(),
                     gltf: Some((prim.mesh, prim.primitive)),
@@ -173,6 +190,7 @@ pub(crate) fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Fa
                     },
                     cutoff: cutoff_of(s.cutoff.unwrap_or(0.5))?,
                     triangles,
+                    uv_transform: UvTransform::IDENTITY,
                     vertex_alpha: None,
                     positions: None,
                     gltf: None,

@@ -162,6 +162,7 @@ pub(super) fn verify_texture(
             sampler: job.sampler,
             cutoff: job.cutoff,
             alpha_factor: job.factor,
+            uv_transform: job.uv_transform,
         },
         vertex_alpha: None,
     };
