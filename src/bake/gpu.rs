@@ -96,24 +96,10 @@ pub(crate) fn margin(
     level: u32,
     unit: &TextureUnit,
 ) -> Option<TexelMargin> {
-    // |x| and max by hand: neither is in `core` at the minimum Rust.
-    let abs = |x: f64| f64::from_bits(x.to_bits() & !(1 << 63));
-    let max = |x: f64, y: f64| if x >= y { x } else { y };
-    let a = c.iter().map(|&x| abs(f64::from(x))).fold(0.0, max);
-    let d = max(
-        abs(f64::from(c[1]) - f64::from(c[0])),
-        abs(f64::from(c[2]) - f64::from(c[0])),
-    );
+    let (a, d) = extent(c);
     let s = f64::from(size);
-    let (r, floor) = match unit.interpolation {
-        Interpolation::F32 => (1.0, 0.0),
-        Interpolation::F16 => {
-            if a >= exp2(15) {
-                return None;
-            }
-            (exp2(13) * (1.0 + exp2(-6)), s * exp2(-22))
-        }
-    };
+    let (r, floor) = precision(unit, a)?;
+    let floor = s * floor;
     let m = s * d * exp2(-25 - level as i32)
         + r * s * a * (exp2(-20) + exp2(-21))
         + exp2(-21)
@@ -141,23 +127,9 @@ pub(crate) fn margin_transformed(
     level: u32,
     unit: &TextureUnit,
 ) -> Option<TexelMargin> {
-    let abs = |x: f64| f64::from_bits(x.to_bits() & !(1 << 63));
-    let max = |x: f64, y: f64| if x >= y { x } else { y };
-    let a = c.iter().map(|&x| abs(f64::from(x))).fold(0.0, max);
-    let d = max(
-        abs(f64::from(c[1]) - f64::from(c[0])),
-        abs(f64::from(c[2]) - f64::from(c[0])),
-    );
+    let (a, d) = extent(c);
     let s = f64::from(size);
-    let (r, floor) = match unit.interpolation {
-        Interpolation::F32 => (1.0, 0.0),
-        Interpolation::F16 => {
-            if a >= exp2(15) || e.source_max >= exp2(15) {
-                return None;
-            }
-            (exp2(13) * (1.0 + exp2(-6)), exp2(-22))
-        }
-    };
+    let (r, floor) = precision(unit, if a >= e.source_max { a } else { e.source_max })?;
     let window = d * exp2(-25 - level as i32);
     let interpolation = r * exp2(-20) * e.interpolated + floor * e.row_sum;
     let transform = r * e.tau + e.rho * (1.0 + exp2(-20));
@@ -167,6 +139,30 @@ pub(crate) fn margin_transformed(
         return None;
     }
     Some(four_bits(m))
+}
+
+/// `A = max |c_k|` and `D = max(|c1 - c0|, |c2 - c0|)` of one axis.
+fn extent(c: [f32; 3]) -> (f64, f64) {
+    // |x| and max by hand: neither is in `core` at the minimum Rust.
+    let abs = |x: f64| f64::from_bits(x.to_bits() & !(1 << 63));
+    let max = |x: f64, y: f64| if x >= y { x } else { y };
+    let a = c.iter().map(|&x| abs(f64::from(x))).fold(0.0, max);
+    let d = max(
+        abs(f64::from(c[1]) - f64::from(c[0])),
+        abs(f64::from(c[2]) - f64::from(c[0])),
+    );
+    (a, d)
+}
+
+/// The interpolation's error factor `r` and absolute floor (in texture
+/// units) of `unit`: `(1, 0)` in binary32; in 16-bit floats `2^13 (1 +
+/// 2^-6)` and `2^-22`, or `None` when the coordinates' magnitude `a`
+/// reaches `2^15`.
+fn precision(unit: &TextureUnit, a: f64) -> Option<(f64, f64)> {
+    match unit.interpolation {
+        Interpolation::F32 => Some((1.0, 0.0)),
+        Interpolation::F16 => (a < exp2(15)).then(|| (exp2(13) * (1.0 + exp2(-6)), exp2(-22))),
+    }
 }
 
 /// `m` (positive, finite) enlarged by `2^-30` relative and rounded up to
