@@ -46,7 +46,8 @@ pub(crate) static BAKE: Command = Command {
                             EXT_mesh_opacity_micromap on every baked primitive
                             (.gltf: plus NAME.micromap.bin, and NAME.bin for a
                             .glb input's BIN chunk; docs/gltf-out.md)
-    preview.png             the texture, each pixel of a triangle coloured by
+    preview.png             a tile per material (its texture, captioned with
+                            material and cutoff), each pixel of a triangle coloured by
                             the state of the micro-triangle under it (green
                             opaque, blue transparent, yellow unknown-opaque,
                             red unknown-transparent), wrapped with the job's
@@ -163,8 +164,13 @@ fn bake(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> 
     }
     // The preview's size is known from the textures: refused before the
     // bake, not after it.
+    let (tiles, tile_of_job) =
+        crate::preview::tiles_of(input.jobs.iter().map(|job| crate::preview::TileSpec {
+            image: job.image,
+            caption: job.tile_caption(),
+        }));
     if preview {
-        crate::preview::check_size(&input.images, args.options.model)
+        crate::preview::check_size(&input.images, &tiles, args.options.model)
             .map_err(Failure::Malformed)?;
     }
 
@@ -214,12 +220,14 @@ fn bake(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> 
         let placed: Vec<Vec<UvTriangle>> = input.jobs.iter().map(Job::placed_triangles).collect();
         let drawn = crate::preview::render(
             &input.images,
+            &tiles,
             model,
             input
                 .jobs
                 .iter()
                 .zip(&placed)
-                .map(|(job, placed)| (job.image, job.sampler, placed.as_slice())),
+                .zip(&tile_of_job)
+                .map(|((job, placed), &tile)| (tile, job.sampler, placed.as_slice())),
             &baked,
             &mut |done| drawing.update(done, total),
         )

@@ -1,7 +1,10 @@
-//! `preview.png` of a bake: each texture (side by side when there are
-//! several) in grey, every triangle tinted by the states of its
-//! micro-triangles, the mesh triangles' edges in white, and under them a
-//! legend of the colours and the model ([`legend`]).
+//! `preview.png` of a bake: one tile per material (the jobs that share an
+//! image and a caption, e.g. `material 3, cutoff 0.3`; side by side, in
+//! rows when there are many), each its texture in grey under the caption,
+//! every triangle of its jobs tinted by the states of its micro-triangles,
+//! the mesh triangles' edges in white, and under the tiles a legend of the
+//! colours and the model ([`legend`]). Jobs of different materials on one
+//! texture get tiles of their own, so each material's result can be read.
 //!
 //! The picture is drawn at its own resolution, not per micro-triangle:
 //! each pixel whose centre lies in a triangle takes the state of the
@@ -48,35 +51,77 @@ pub(crate) struct Drawn {
 /// The most pixels a preview may have (an 8192 x 8192 picture).
 const MAX_PIXELS: u64 = 1 << 26;
 
+/// One tile: the image it shows and its caption. Jobs with the same image
+/// and caption are drawn on the same tile.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(crate) struct TileSpec {
+    /// Index into the images.
+    pub(crate) image: usize,
+    /// Drawn above the tile (the legend's font: lower case, digits,
+    /// `-:,.` and spaces).
+    pub(crate) caption: String,
+}
+
+/// The tiles of `jobs` (each job's image and caption), in order of first
+/// use, and each job's tile.
+pub(crate) fn tiles_of(jobs: impl Iterator<Item = TileSpec>) -> (Vec<TileSpec>, Vec<usize>) {
+    let mut tiles: Vec<TileSpec> = Vec::new();
+    let mut of_job = Vec::new();
+    for job in jobs {
+        let at = match tiles.iter().position(|t| *t == job) {
+            Some(at) => at,
+            None => {
+                tiles.push(job);
+                tiles.len() - 1
+            }
+        };
+        of_job.push(at);
+    }
+    (tiles, of_job)
+}
+
 /// Where the tiles go and how large the picture is.
 struct Layout {
     /// Texels to pixels (1..=8).
     scale: u32,
-    /// Each image's tile's left edge.
-    offsets: Vec<u32>,
+    /// Each tile's top-left corner (its caption's; the image starts
+    /// [`legend::caption_height`] below).
+    corners: Vec<(u32, u32)>,
     width: u32,
     height: u32,
     /// The tiles' height (the legend is under it).
     tiles_height: u32,
 }
 
-/// The picture's layout for `images` and the legend of `model`, or why it
-/// is refused (over [`MAX_PIXELS`]): known before the bake, so a preview
-/// too large to draw is refused before any micro-triangle is baked.
-fn layout(images: &[AlphaImage], model: Model) -> Result<Layout, String> {
-    let max_side = images
+/// The picture's layout for `tiles` of `images` and the legend of `model`,
+/// or why it is refused (over [`MAX_PIXELS`]): known before the bake, so a
+/// preview too large to draw is refused before any micro-triangle is
+/// baked. Tiles go left to right in rows of `ceil(sqrt(n))`, each as wide
+/// as its image or its caption, each row as tall as its tallest tile.
+fn layout(images: &[AlphaImage], tiles: &[TileSpec], model: Model) -> Result<Layout, String> {
+    let max_side = tiles
         .iter()
-        .map(|i| i.width.max(i.height))
+        .map(|t| images[t.image].width.max(images[t.image].height))
         .max()
         .unwrap_or(1);
     let scale = (TARGET / max_side.max(1)).clamp(1, 8);
-    // Tiles side by side, top-aligned.
-    let mut offsets = Vec::new();
+    let columns = (1..).find(|c| c * c >= tiles.len()).unwrap_or(1).max(1);
+    let caption = legend::caption_height();
+    let mut corners = Vec::new();
     let (mut width, mut height) = (0u32, 0u32);
-    for image in images {
-        offsets.push(width);
-        width = width.saturating_add(image.width * scale);
-        height = height.max(image.height * scale);
+    for row in tiles.chunks(columns) {
+        let (mut x, mut row_height) = (0u32, 0u32);
+        for tile in row {
+            let image = &images[tile.image];
+            corners.push((x, height));
+            let tile_width = (image.width.saturating_mul(scale))
+                .max(legend::caption_width(&tile.caption))
+                .saturating_add(legend::GAP);
+            x = x.saturating_add(tile_width);
+            row_height = row_height.max(image.height.saturating_mul(scale).saturating_add(caption));
+        }
+        width = width.max(x);
+        height = height.saturating_add(row_height);
     }
     let tiles_height = height;
     let (legend_width, legend_height) = legend::size(model);
@@ -90,25 +135,30 @@ fn layout(images: &[AlphaImage], model: Model) -> Result<Layout, String> {
     }
     Ok(Layout {
         scale,
-        offsets,
+        corners,
         width,
         height,
         tiles_height,
     })
 }
 
-/// Why the preview of `images` under `model` would be refused, checked
-/// before the bake.
-pub(crate) fn check_size(images: &[AlphaImage], model: Model) -> Result<(), String> {
-    layout(images, model).map(drop)
+/// Why the preview of `tiles` of `images` under `model` would be refused,
+/// checked before the bake.
+pub(crate) fn check_size(
+    images: &[AlphaImage],
+    tiles: &[TileSpec],
+    model: Model,
+) -> Result<(), String> {
+    layout(images, tiles, model).map(drop)
 }
 
-/// The picture as PNG bytes. `jobs`: (image index, sampler, triangles),
-/// job `j` being mesh `j` of `baked`, baked under `model` (named in the
-/// legend); `progress` is told how many triangles (of all jobs together)
-/// have been drawn or skipped.
+/// The picture as PNG bytes. `tiles` as [`tiles_of`] gives them; `jobs`:
+/// (tile index, sampler, triangles), job `j` being mesh `j` of `baked`,
+/// baked under `model` (named in the legend); `progress` is told how many
+/// triangles (of all jobs together) have been drawn or skipped.
 pub(crate) fn render<'a>(
     images: &[AlphaImage],
+    tiles: &[TileSpec],
     model: Model,
     jobs: impl Iterator<Item = (usize, Sampler, &'a [UvTriangle])>,
     baked: &MeshBake,
@@ -116,17 +166,20 @@ pub(crate) fn render<'a>(
 ) -> Result<Drawn, String> {
     let Layout {
         scale,
-        offsets,
+        corners,
         width,
         height,
         tiles_height,
-    } = layout(images, model)?;
+    } = layout(images, tiles, model)?;
     let mut canvas = Canvas {
         width: width.max(1),
         height: height.max(1),
         rgb: vec![0; width.max(1) as usize * height.max(1) as usize * 3],
     };
-    for (image, &x0) in images.iter().zip(&offsets) {
+    let caption = legend::caption_height();
+    for (tile, &(x0, y0)) in tiles.iter().zip(&corners) {
+        let image = &images[tile.image];
+        legend::caption(&mut canvas, x0, y0, &tile.caption);
         for y in 0..image.height * scale {
             for x in 0..image.width * scale {
                 let i = (y / scale) as usize * image.width as usize + (x / scale) as usize;
@@ -136,17 +189,24 @@ pub(crate) fn render<'a>(
                     AlphaTexels::Float(t) => t[i].clamp(0.0, 1.0),
                 };
                 let grey = (40.0 + 180.0 * alpha) as u8;
-                canvas.blend(i64::from(x0 + x), i64::from(y), [grey; 3], 1.0);
+                canvas.blend(
+                    i64::from(x0 + x),
+                    i64::from(y0 + caption + y),
+                    [grey; 3],
+                    1.0,
+                );
             }
         }
     }
     let mut pixels_left = PIXEL_BUDGET;
     let (mut drawn, mut skipped) = (0u64, 0u64);
     let mut done = 0;
-    for (job, (image_index, sampler, triangles)) in jobs.enumerate() {
-        let image = &images[image_index];
+    for (job, (tile_index, sampler, triangles)) in jobs.enumerate() {
+        let image = &images[tiles[tile_index].image];
+        let (x0, y0) = corners[tile_index];
         let tile = Tile {
-            x0: offsets[image_index],
+            x0,
+            y0: y0 + caption,
             width: image.width * scale,
             height: image.height * scale,
             address: [sampler.address_u, sampler.address_v],
@@ -246,7 +306,9 @@ fn wrap(mode: AddressMode, i: i64, size: u32) -> Option<i64> {
 }
 
 struct Tile {
+    /// Where the image's top-left texel is drawn.
     x0: u32,
+    y0: u32,
     width: u32,
     height: u32,
     /// The job's address modes (u, v): a triangle past the unit square is
@@ -265,7 +327,12 @@ impl Tile {
         ) else {
             return;
         };
-        canvas.blend(i64::from(self.x0) + x, y, colour, weight);
+        canvas.blend(
+            i64::from(self.x0) + x,
+            i64::from(self.y0) + y,
+            colour,
+            weight,
+        );
     }
 
     /// Blends the pixels whose centres lie in the triangle `p` (edges
@@ -387,8 +454,13 @@ mod tests {
                 &mut |_, _| {},
             )
             .unwrap();
+            let tiles = [TileSpec {
+                image: 0,
+                caption: "cutoff 0.5".into(),
+            }];
             let drawn = render(
                 std::slice::from_ref(&image),
+                &tiles,
                 model,
                 std::iter::empty(),
                 &nothing,
@@ -399,15 +471,105 @@ mod tests {
         };
         let (width, height, gpu) = draw(Model::GpuBinary32);
         let (legend_width, legend_height) = legend::size(Model::GpuBinary32);
-        // 2 texels at the largest scale, 8: a 16-pixel tile.
-        assert_eq!((width, height), (legend_width.max(16), 16 + legend_height));
+        // 2 texels at the largest scale, 8: a 16-pixel tile under its
+        // caption.
+        let tiles_height = legend::caption_height() + 16;
+        assert_eq!(
+            (width, height),
+            (legend_width.max(16), tiles_height + legend_height)
+        );
         let (_, exact_height, exact) = draw(Model::Exact);
         assert_eq!(exact_height, height);
         let (w, h) = (width as usize, height as usize);
         let first_difference =
             (0..w * h).find(|&i| gpu[3 * i..3 * i + 3] != exact[3 * i..3 * i + 3]);
         let row = first_difference.expect("the model line differs") / w;
-        assert!(row >= 16, "row {row}: above the legend");
+        assert!(row >= tiles_height as usize, "row {row}: above the legend");
+    }
+
+    /// Two materials on one texture get a tile each, with its caption:
+    /// alpha 0.5 everywhere is opaque under cutoff 0.4 and transparent
+    /// under 0.6, and each tile shows its own material's state.
+    #[test]
+    fn each_material_gets_its_own_captioned_tile() {
+        use micromap_index::bake::mesh::{
+            bake_meshes, LevelRule, Material, Mesh, MeshOptions, MeshTriangles,
+        };
+        use micromap_index::bake::{Cutoff, Unorm8Texture};
+        let image = AlphaImage {
+            width: 4,
+            height: 4,
+            texels: AlphaTexels::Unorm8(vec![128; 16]),
+        };
+        let texture = Unorm8Texture::new(4, 4, &[128; 16]).unwrap();
+        let triangle = [[[0.0f32, 0.0], [1.0, 0.0], [0.0, 1.0]]];
+        let mesh = |cutoff: f32| Mesh {
+            triangles: MeshTriangles::Uv(&triangle),
+            texture: &texture,
+            material: Material {
+                cutoff: Cutoff::new(cutoff, Default::default()).unwrap(),
+                ..Material::default()
+            },
+            vertex_alpha: None,
+        };
+        let options = MeshOptions {
+            levels: LevelRule::Fixed(micromap_index::Level::new(0).unwrap()),
+            ..MeshOptions::default()
+        };
+        let baked = bake_meshes(&[mesh(0.4), mesh(0.6)], &options, &mut |_, _| {}).unwrap();
+        let specs = ["material 0, cutoff 0.4", "material 1, cutoff 0.6"].map(|c| TileSpec {
+            image: 0,
+            caption: c.into(),
+        });
+        let (tiles, of_job) = tiles_of(specs.iter().cloned());
+        assert_eq!((tiles.len(), of_job.as_slice()), (2, &[0, 1][..]));
+        // The same image and caption twice: one tile.
+        assert_eq!(
+            tiles_of([specs[0].clone(), specs[0].clone()].into_iter())
+                .0
+                .len(),
+            1
+        );
+        let model = Model::GpuBinary32;
+        let drawn = render(
+            std::slice::from_ref(&image),
+            &tiles,
+            model,
+            of_job
+                .iter()
+                .map(|&t| (t, Sampler::default(), &triangle[..])),
+            &baked,
+            &mut |_| {},
+        )
+        .unwrap();
+        let decoder = png::Decoder::new(std::io::Cursor::new(drawn.png));
+        let mut reader = decoder.read_info().unwrap();
+        let mut rgb = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut rgb).unwrap();
+        let layout = layout(std::slice::from_ref(&image), &tiles, model).unwrap();
+        let pixel = |x: u32, y: u32| {
+            let at = ((y * info.width + x) * 3) as usize;
+            [rgb[at], rgb[at + 1], rgb[at + 2]]
+        };
+        let caption = legend::caption_height();
+        let inside = |t: usize| {
+            let (x0, y0) = layout.corners[t];
+            pixel(x0 + layout.scale, y0 + caption + layout.scale)
+        };
+        // Opaque is green, transparent blue (blended over the grey).
+        let (opaque, transparent) = (inside(0), inside(1));
+        assert!(opaque[1] > opaque[2], "{opaque:?}");
+        assert!(transparent[2] > transparent[1], "{transparent:?}");
+        // Side by side, each under a caption with text in it.
+        assert_eq!(layout.corners[0].1, layout.corners[1].1);
+        assert!(layout.corners[1].0 >= 4 * layout.scale);
+        for &(x0, y0) in &layout.corners {
+            let text = (y0..y0 + caption)
+                .flat_map(|y| (x0..x0 + 60).map(move |x| (x, y)))
+                .filter(|&(x, y)| pixel(x, y) == [235, 235, 235])
+                .count();
+            assert!(text > 20, "caption at ({x0}, {y0}): {text} text pixels");
+        }
     }
 
     /// Each pixel takes the state of the micro-triangle under its centre:
@@ -426,6 +588,7 @@ mod tests {
         };
         let tile = Tile {
             x0: 0,
+            y0: 0,
             width: size,
             height: size,
             address: [AddressMode::ClampToEdge; 2],

@@ -40,12 +40,23 @@ pub(crate) struct Job {
     pub(crate) positions: Option<Vec<[[f32; 3]; 3]>>,
     /// glTF's (mesh, primitive) (`None` for `--texture`).
     pub(crate) gltf: Option<(usize, usize)>,
+    /// glTF's material index (`None` for `--texture`).
+    pub(crate) material: Option<usize>,
     /// Where `render` draws the triangles: glTF's node transforms
     /// (`MaskPrimitive::instances`), the identity for `--texture`.
     pub(crate) instances: Vec<[f32; 12]>,
 }
 
 impl Job {
+    /// The caption of the preview tile this job is drawn on (jobs with
+    /// the same image and caption share a tile): its material and cutoff.
+    pub(crate) fn tile_caption(&self) -> String {
+        match self.material {
+            Some(m) => format!("material {m}, cutoff {}", self.cutoff.alpha()),
+            None => format!("cutoff {}", self.cutoff.alpha()),
+        }
+    }
+
     /// The triangles the shader samples: each vertex through
     /// `uv_transform`, rounded once to binary32 (for drawing; the bake
     /// models the shader's own transform).
@@ -145,6 +156,7 @@ pub(crate) fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Fa
                     vertex_alpha: prim.vertex_alpha.clone(),
                     positions: prim.positions.clone(),
                     gltf: Some((prim.mesh, prim.primitive)),
+                    material: Some(prim.material),
                     instances: prim.instances.clone(),
                 });
             }
@@ -194,6 +206,7 @@ pub(crate) fn read_input(p: &Parsed<'_>, s: &SamplerOptions) -> Result<Input, Fa
                     vertex_alpha: None,
                     positions: None,
                     gltf: None,
+                    material: None,
                     instances: vec![micromap_index_assets::IDENTITY_TRANSFORM],
                 }],
                 warnings: Vec::new(),

@@ -1,6 +1,7 @@
 //! The legend under `preview.png`'s tiles: a swatch and a name for each
-//! colour, and the model the bake used, in a 5 x 7 pixel font with
-//! descenders (drawn here: the CLI takes no font dependency).
+//! colour, and the model the bake used, and each tile's caption, in a
+//! 5 x 7 pixel font with descenders (drawn here: the CLI takes no font
+//! dependency).
 
 use super::canvas::{Canvas, COLOURS};
 use micromap_index::bake::Model;
@@ -48,6 +49,37 @@ pub(super) fn size(model: Model) -> (u32, u32) {
         2 * MARGIN + SWATCH + MARGIN + longest * CELL_W,
         2 * MARGIN + lines.len() as u32 * LINE_H,
     )
+}
+
+/// The pixels between two tiles.
+pub(super) const GAP: u32 = MARGIN;
+
+/// The height of a tile's caption strip (one line with its margins).
+pub(super) fn caption_height() -> u32 {
+    2 * MARGIN + LINE_H
+}
+
+/// The width of `text` as a caption (with its margins).
+pub(super) fn caption_width(text: &str) -> u32 {
+    2 * MARGIN + text.chars().count() as u32 * CELL_W
+}
+
+/// Draws the caption strip `text` with its top-left corner at `(x0, y0)`:
+/// the legend's background, the text in its colour.
+pub(super) fn caption(canvas: &mut Canvas, x0: u32, y0: u32, text: &str) {
+    fill_rect(
+        canvas,
+        x0,
+        y0,
+        caption_width(text),
+        caption_height(),
+        BACKGROUND,
+    );
+    let mut x = x0 + MARGIN;
+    for c in text.chars() {
+        glyph(canvas, x, y0 + MARGIN, c);
+        x += CELL_W;
+    }
 }
 
 /// Draws the legend with its top-left corner at `(0, top)`.
