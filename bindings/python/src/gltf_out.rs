@@ -60,7 +60,6 @@ impl GltfOut {
     ) -> PyResult<Vec<(String, Vec<u8>)>> {
         let written = write_gltf_micromaps_file(
             asset,
-            &self.dir,
             buffers,
             primitives,
             &self.container,

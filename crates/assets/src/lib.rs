@@ -55,9 +55,9 @@ mod tests;
 
 pub use self::gltf::{
     read_gltf_bytes, read_gltf_file, read_gltf_micromaps, read_gltf_micromaps_file,
-    relative_uri_prefix, write_gltf_micromaps, write_gltf_micromaps_file, GltfAsset, GltfContainer,
-    GltfFiles, GltfImageInfo, GltfMicromap, GltfMicromapPrimitive, GltfMicromapWrite,
-    GltfMicromaps, MaskPrimitive, RefusedPrimitive, EXTENSION, IDENTITY_TRANSFORM, MAX_GLTF_LEVEL,
+    write_gltf_micromaps, write_gltf_micromaps_file, GltfAsset, GltfContainer, GltfFiles,
+    GltfImageInfo, GltfMicromap, GltfMicromapPrimitive, GltfMicromapWrite, GltfMicromaps,
+    MaskPrimitive, RefusedPrimitive, EXTENSION, IDENTITY_TRANSFORM, MAX_GLTF_LEVEL,
 };
 pub use self::image::{decode_alpha_image, decode_image_alpha, AlphaSource, MissingAlpha};
 pub use self::tris_json::read_triangles_json;

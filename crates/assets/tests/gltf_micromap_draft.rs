@@ -80,9 +80,10 @@ fn open(files: &GltfFiles, container: &GltfContainer) -> Written {
                     assert_eq!(b, 0, "only buffer 0 may lack a uri (the BIN chunk)");
                     bin.clone().expect("a BIN chunk for buffer 0")
                 }
+                // Every output stands alone: a URI names one of its files.
                 Some(uri) => match files.sidecars.iter().find(|(name, _)| percent(name) == uri) {
                     Some((_, bytes)) => bytes.clone(),
-                    None => sponza(uri),
+                    None => panic!("buffers[{b}].uri {uri:?} leads out of the output's files"),
                 },
             };
             assert!(
@@ -352,16 +353,13 @@ fn input_json(input: &[u8]) -> Value {
     }
 }
 
-/// Everything the writer does not own is unchanged; a `.glb` holds the
-/// input's images as views of their very bytes.
+/// Everything the writer does not own is unchanged; the output (`.glb`
+/// or `.gltf`) holds the input's images as views of their very bytes.
 fn check_kept(input: &Value, written: &Written) {
     let output = &written.json;
     for (key, value) in input.as_object().unwrap() {
         match key.as_str() {
-            "images"
-                if output["buffers"].as_array().unwrap().len() == 1
-                    && output["buffers"][0].get("uri").is_none() =>
-            {
+            "images" => {
                 for (i, image) in value.as_array().unwrap().iter().enumerate() {
                     let out = &output["images"][i];
                     let Some(uri) = image.get("uri").and_then(Value::as_str) else {
@@ -419,7 +417,6 @@ fn write(
     let w = GltfMicromapWrite {
         buffers,
         primitives: prims,
-        uri_prefix: "",
     };
     write_gltf_micromaps(input, &mut resolve_sponza, &w, c).unwrap()
 }
@@ -629,7 +626,6 @@ fn writer_refuses_what_the_draft_forbids() {
         let w = GltfMicromapWrite {
             buffers,
             primitives: prims,
-            uri_prefix: "",
         };
         write_gltf_micromaps(input, &mut resolve_sponza, &w, &GltfContainer::Glb)
             .unwrap_err()

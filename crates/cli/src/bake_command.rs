@@ -44,8 +44,9 @@ pub(crate) static BAKE: Command = Command {
     summary.json            states, known fraction, micromaps, sizes, time
     NAME.gltf or NAME.glb   with --gltf-out: the asset written back with
                             EXT_mesh_opacity_micromap on every baked primitive
-                            (.gltf: plus NAME.micromap.bin, and NAME.bin for a
-                            .glb input's BIN chunk; docs/gltf-out.md)
+                            (.gltf: plus NAME.micromap.bin, and NAME.bin with
+                            the asset's buffers and images, so DIR can be
+                            moved; docs/gltf-out.md)
     preview.png             a tile per material (its texture, captioned with
                             material and cutoff), each pixel of a triangle coloured by
                             the state of the micro-triangle under it (green
@@ -299,7 +300,7 @@ fn bake(program: &Program, options: &[&str]) -> Result<(String, Exit), Failure> 
             let asset = Path::new(p.get("--gltf").unwrap_or_default());
             let primitives: Vec<(usize, usize)> =
                 input.jobs.iter().filter_map(|j| j.gltf).collect();
-            gltf_out.files(&p, asset, &out, buffers, &primitives)?
+            gltf_out.files(&p, asset, buffers, &primitives)?
         }
         None => Vec::new(),
     };

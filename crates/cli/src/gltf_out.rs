@@ -60,13 +60,12 @@ impl GltfOut {
     }
 
     /// The files of the asset at `asset` written back with `buffers` (one
-    /// geometry per `(mesh, primitive)` of `primitives`), for DIR `out`,
-    /// under the asset's limits of `p`.
+    /// geometry per `(mesh, primitive)` of `primitives`), under the asset's
+    /// limits of `p`.
     pub(crate) fn files(
         &self,
         p: &Parsed<'_>,
         asset: &Path,
-        out: &Path,
         buffers: &MicromapBuffers,
         primitives: &[(usize, usize)],
     ) -> Result<Vec<(String, Vec<u8>)>, Failure> {
@@ -74,7 +73,7 @@ impl GltfOut {
         // The fault is the input asset's (a duplicate member, a malformed
         // buffer): the message names it, and what was being written.
         let written =
-            write_gltf_micromaps_file(asset, out, buffers, primitives, &self.container, &limits)
+            write_gltf_micromaps_file(asset, buffers, primitives, &self.container, &limits)
                 .map_err(|e| {
                     asset_failure(
                         &e.within(asset.display().to_string()),

@@ -68,12 +68,11 @@ pub(crate) fn tiles_of(jobs: impl Iterator<Item = TileSpec>) -> (Vec<TileSpec>, 
     let mut tiles: Vec<TileSpec> = Vec::new();
     let mut of_job = Vec::new();
     for job in jobs {
-        let at = match tiles.iter().position(|t| *t == job) {
-            Some(at) => at,
-            None => {
-                tiles.push(job);
-                tiles.len() - 1
-            }
+        let at = if let Some(at) = tiles.iter().position(|t| *t == job) {
+            at
+        } else {
+            tiles.push(job);
+            tiles.len() - 1
         };
         of_job.push(at);
     }
@@ -105,7 +104,10 @@ fn layout(images: &[AlphaImage], tiles: &[TileSpec], model: Model) -> Result<Lay
         .max()
         .unwrap_or(1);
     let scale = (TARGET / max_side.max(1)).clamp(1, 8);
-    let columns = (1..).find(|c| c * c >= tiles.len()).unwrap_or(1).max(1);
+    // ceil(sqrt(n)) columns (at least 1), so the picture stays near square.
+    let columns = (1..=tiles.len().max(1))
+        .find(|c| c * c >= tiles.len())
+        .unwrap_or(1);
     let caption = legend::caption_height();
     let mut corners = Vec::new();
     let (mut width, mut height) = (0u32, 0u32);
@@ -507,7 +509,7 @@ mod tests {
             triangles: MeshTriangles::Uv(&triangle),
             texture: &texture,
             material: Material {
-                cutoff: Cutoff::new(cutoff, Default::default()).unwrap(),
+                cutoff: Cutoff::new(cutoff, micromap_index::bake::Comparison::default()).unwrap(),
                 ..Material::default()
             },
             vertex_alpha: None,

@@ -1,7 +1,7 @@
 //! `bake --gltf-out` round-trips through glTF with `EXT_mesh_opacity_micromap`
 //! and `verify-bake --gltf` passes on it, from another directory than the
-//! asset's (a `.gltf`'s URIs are relocated; a `.glb` holds its images and
-//! buffers, and verifies moved away), as `.gltf` and `.glb`; micromaps made
+//! asset's (a `.glb` holds its images and buffers, a `.gltf` holds them in
+//! its `NAME.bin`; both verify moved away), as `.gltf` and `.glb`; micromaps made
 //! wrong are caught (exit 1); what cannot be written is refused (exit 2)
 //! with nothing written.
 
@@ -70,22 +70,42 @@ fn baked_gltf_verifies_in_every_container() {
             .map(|p| p["known_micro_triangles"].as_u64().unwrap())
             .sum();
         assert!(known > 0, "{report}");
-        // A .glb stands alone: moved into a folder of its own, it still
-        // verifies (its images and buffers are in its BIN chunk).
-        if Path::new(name).extension().is_some_and(|e| e == "glb") {
+        // The output stands alone: a .glb moved into a folder of its own,
+        // a .gltf's folder moved (its images and buffers are in its BIN
+        // chunk or its NAME.bin), it still verifies.
+        let moved = if Path::new(name).extension().is_some_and(|e| e == "glb") {
             let alone = dir.join("alone");
             std::fs::create_dir_all(&alone).unwrap();
             let moved = alone.join(name);
             std::fs::rename(&written, &moved).unwrap();
-            let again = run(&["verify-bake", "--gltf", moved.to_str().unwrap(), "--json"]);
+            moved
+        } else {
+            let elsewhere = dir.join("elsewhere/deeper still");
+            std::fs::create_dir_all(elsewhere.parent().unwrap()).unwrap();
+            std::fs::rename(&out, &elsewhere).unwrap();
+            let gltf: serde_json::Value =
+                serde_json::from_slice(&std::fs::read(elsewhere.join(name)).unwrap()).unwrap();
+            let stem = name.trim_end_matches(".gltf").replace(' ', "%20");
+            let uris: Vec<&str> = ["buffers", "images"]
+                .iter()
+                .flat_map(|k| gltf[*k].as_array().unwrap())
+                .filter_map(|o| o["uri"].as_str())
+                .collect();
             assert_eq!(
-                again.status.code(),
-                Some(0),
-                "{input} -> {name}, moved: {}",
-                text(&again.stderr)
+                uris,
+                [format!("{stem}.bin"), format!("{stem}.micromap.bin")],
+                "{input} -> {name}: only its own files"
             );
-            assert_eq!(text(&again.stdout), report, "{input} -> {name}, moved");
-        }
+            elsewhere.join(name)
+        };
+        let again = run(&["verify-bake", "--gltf", moved.to_str().unwrap(), "--json"]);
+        assert_eq!(
+            again.status.code(),
+            Some(0),
+            "{input} -> {name}, moved: {}",
+            text(&again.stderr)
+        );
+        assert_eq!(text(&again.stdout), report, "{input} -> {name}, moved");
     }
 }
 

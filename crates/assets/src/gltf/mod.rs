@@ -47,9 +47,7 @@ pub use self::micromap_ext::{
     GltfMicromaps,
 };
 pub use self::nodes::IDENTITY_TRANSFORM;
-pub use self::write::{
-    relative_uri_prefix, write_gltf_micromaps, GltfContainer, GltfFiles, GltfMicromapWrite,
-};
+pub use self::write::{write_gltf_micromaps, GltfContainer, GltfFiles, GltfMicromapWrite};
 pub use self::write_dir::write_gltf_micromaps_file;
 
 #[cfg(test)]

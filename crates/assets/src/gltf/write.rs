@@ -6,7 +6,6 @@ use super::embed::{embed_into_bin, exactly, load_uri};
 use super::extension::{EXTENSION, MAX_GLTF_LEVEL};
 use super::glb::{split_glb, GLB_BIN, GLB_JSON};
 use super::raw::{field, parse_raw, to_raw, RawObject};
-use super::uri::has_scheme;
 use crate::{AssetError, Limits};
 use micromap_index::micromap::{
     Api, IndexWidth, MicromapBuffers, MicromapIndex, TriangleRecord, UsageCount,
@@ -14,7 +13,6 @@ use micromap_index::micromap::{
 use serde_json::value::RawValue;
 use serde_json::{json, Value};
 use std::fmt::Write as _;
-use std::path::Path;
 
 /// The container [`write_gltf_micromaps`] writes.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -25,9 +23,12 @@ pub enum GltfContainer {
     /// input's other buffers and every image it names by a URI (images get
     /// a buffer view and a `mimeType`).
     Glb,
-    /// A `.gltf`: the micromap bytes are a new last buffer, the file
-    /// `<stem>.micromap.bin` next to it; an input GLB's `BIN` chunk becomes
-    /// the file `<stem>.bin`.
+    /// A `.gltf` that stands alone with the files next to it: the micromap
+    /// bytes are a new last buffer, the file `<stem>.micromap.bin`; the
+    /// input's buffers and every image it names by a URI are gathered, as
+    /// a `.glb`'s chunk gathers them, into buffer 0, the file `<stem>.bin`
+    /// (images get a buffer view and a `mimeType`), so the output's folder
+    /// can be moved.
     Json {
         /// The output's file name without `.gltf` (no directory part).
         stem: String,
@@ -41,11 +42,6 @@ pub struct GltfMicromapWrite<'a> {
     pub buffers: &'a MicromapBuffers,
     /// The `(mesh, primitive)` each geometry of `buffers` belongs to.
     pub primitives: &'a [(usize, usize)],
-    /// Prepended to every relative URI of `buffers` and `images` that is
-    /// kept (a `.gltf` output keeps them; a `.glb` embeds them): the way
-    /// from the output's directory to the input's, percent-encoded and
-    /// ending in `/`, or empty when both are the same.
-    pub uri_prefix: &'a str,
 }
 
 /// The files [`write_gltf_micromaps`] makes.
@@ -93,7 +89,7 @@ pub struct GltfFiles {
 /// let gltf = br#"{"asset":{"version":"2.0"},"accessors":[{"count":3,"componentType":5126,"type":"VEC3"}],
 ///   "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]}"#;
 /// let buffers = MicromapBuffers::build([TriangleOpacity::Special(State::Opaque)], Default::default()).unwrap();
-/// let write = GltfMicromapWrite { buffers: &buffers, primitives: &[(0, 0)], uri_prefix: "" };
+/// let write = GltfMicromapWrite { buffers: &buffers, primitives: &[(0, 0)] };
 /// let mut no_files = |_: &str| unreachable!();
 /// let files = write_gltf_micromaps(gltf, &mut no_files, &write, &GltfContainer::Glb).unwrap();
 /// assert!(files.main.starts_with(b"glTF") && files.sidecars.is_empty());
@@ -177,59 +173,44 @@ pub fn write_gltf_micromaps(
     let mut gltf_buffers: Vec<RawObject> = root.parse("buffers", "")?.unwrap_or_default();
     let mut sidecars = Vec::new();
 
-    // Relative URIs of the input's buffers and images, seen from the output.
-    let relocate = |object: &mut RawObject, path: &str| -> Result<(), AssetError> {
-        if write.uri_prefix.is_empty() {
-            return Ok(());
-        }
-        if let Some(uri) = object.parse::<String>("uri", path)? {
-            if !uri.starts_with("data:") && !has_scheme(&uri) {
-                object.set("uri", to_raw(&format!("{}{uri}", write.uri_prefix))?);
-            }
-        }
-        Ok(())
-    };
-    let had_uri: Vec<bool> = gltf_buffers
-        .iter()
-        .map(|b| b.get("uri").is_some())
-        .collect();
-    // A GLB embeds its images below; a .gltf points back at them.
     let mut images = root.parse::<Vec<RawObject>>("images", "")?;
-    if let (Some(images), GltfContainer::Json { .. }) = (&mut images, container) {
-        for (i, image) in images.iter_mut().enumerate() {
-            relocate(image, &format!("images[{i}]"))?;
-        }
-    }
 
-    // The host buffer the micromap bytes are appended to.
+    // Buffer 0's bytes (from its URI or the GLB's BIN chunk), its URI
+    // dropped: every output gathers the input's buffers and images there,
+    // so the output stands alone.
     let byte_length = |buffer: &RawObject, b: usize| -> Result<usize, AssetError> {
         buffer
             .parse::<usize>("byteLength", &format!("buffers[{b}]"))?
             .ok_or_else(|| AssetError::gltf(format!("buffers[{b}].byteLength"), "missing"))
     };
+    let mut first_buffer = |buffers: &mut Vec<RawObject>| -> Result<Vec<u8>, AssetError> {
+        if buffers.is_empty() {
+            buffers.push(RawObject::default());
+            return Ok(Vec::new());
+        }
+        let length = byte_length(&buffers[0], 0)?;
+        let bytes = match buffers[0].parse::<String>("uri", "buffers[0]")? {
+            None => bin
+                .ok_or_else(|| {
+                    AssetError::gltf("buffers[0].uri", "missing, and there is no GLB BIN chunk")
+                })?
+                .to_vec(),
+            Some(uri) => load_uri(&uri, resolve)?,
+        };
+        buffers[0].remove("uri");
+        exactly(bytes, length, "buffers[0]")
+    };
+    let names_anything = !gltf_buffers.is_empty()
+        || images
+            .as_deref()
+            .unwrap_or_default()
+            .iter()
+            .any(|image| image.get("uri").is_some());
+
+    // The host buffer the micromap bytes are appended to.
     let (host_index, mut host) = match container {
         GltfContainer::Glb => {
-            let mut host = if gltf_buffers.is_empty() {
-                gltf_buffers.push(RawObject::default());
-                Vec::new()
-            } else {
-                let length = byte_length(&gltf_buffers[0], 0)?;
-                let bytes = match gltf_buffers[0].parse::<String>("uri", "buffers[0]")? {
-                    None => bin
-                        .ok_or_else(|| {
-                            AssetError::gltf(
-                                "buffers[0].uri",
-                                "missing, and there is no GLB BIN chunk",
-                            )
-                        })?
-                        .to_vec(),
-                    Some(uri) => load_uri(&uri, resolve)?,
-                };
-                gltf_buffers[0].remove("uri");
-                exactly(bytes, length, "buffers[0]")?
-            };
-            // Everything else the input names moves into the chunk: the
-            // .glb stands alone.
+            let mut host = first_buffer(&mut gltf_buffers)?;
             embed_into_bin(
                 &mut host,
                 &mut gltf_buffers,
@@ -240,25 +221,26 @@ pub fn write_gltf_micromaps(
             (0, host)
         }
         GltfContainer::Json { stem } => {
-            if let (Some(bin), Some(first)) = (bin, gltf_buffers.first_mut()) {
-                if first.get("uri").is_none() {
-                    let length = byte_length(first, 0)?;
-                    let name = format!("{stem}.bin");
-                    first.set("uri", to_raw(&percent_encode(&name))?);
-                    sidecars.push((name, exactly(bin.to_vec(), length, "buffers[0]")?));
-                }
+            // As a GLB's chunk, but in the file `<stem>.bin` beside the
+            // output: a folder that can be moved, with no URI out of it.
+            if names_anything {
+                let mut resources = first_buffer(&mut gltf_buffers)?;
+                embed_into_bin(
+                    &mut resources,
+                    &mut gltf_buffers,
+                    &mut views,
+                    images.as_deref_mut().unwrap_or_default(),
+                    resolve,
+                )?;
+                let name = format!("{stem}.bin");
+                gltf_buffers[0].set("byteLength", to_raw(&resources.len())?);
+                gltf_buffers[0].set("uri", to_raw(&percent_encode(&name))?);
+                sidecars.push((name, resources));
             }
             gltf_buffers.push(RawObject::default());
             (gltf_buffers.len() - 1, Vec::new())
         }
     };
-
-    // Only the input's own URIs move (the host of a GLB lost its URI).
-    for (b, buffer) in gltf_buffers.iter_mut().enumerate() {
-        if had_uri.get(b) == Some(&true) && buffer.get("uri").is_some() {
-            relocate(buffer, &format!("buffers[{b}]"))?;
-        }
-    }
 
     let mut add_view =
         |host: &mut Vec<u8>, bytes: &[u8], name: &str| -> Result<usize, AssetError> {
@@ -489,52 +471,6 @@ fn percent_encode(name: &str) -> String {
         }
     }
     out
-}
-
-/// The [`GltfMicromapWrite::uri_prefix`] for an output in `output_dir` of
-/// an asset in `asset_dir` (both must exist; an empty path is the current
-/// directory): `../` for each directory of the output below the common
-/// ancestor, then the asset's directories from there, percent-encoded,
-/// each followed by `/`; empty when both are the same directory. A
-/// directory whose name is not UTF-8 (which a URI cannot name) is
-/// [`AssetError::Uri`].
-///
-/// ```
-/// use micromap_index_assets::relative_uri_prefix;
-/// let here = std::env::current_dir().unwrap();
-/// assert_eq!(relative_uri_prefix(&here, "".as_ref()).unwrap(), "");
-/// assert_eq!(relative_uri_prefix(&here.join("src"), &here).unwrap(), "../");
-/// ```
-pub fn relative_uri_prefix(output_dir: &Path, asset_dir: &Path) -> Result<String, AssetError> {
-    let canonical = |dir: &Path| {
-        let dir = if dir.as_os_str().is_empty() {
-            Path::new(".")
-        } else {
-            dir
-        };
-        dir.canonicalize().map_err(|e| AssetError::Io {
-            path: dir.display().to_string(),
-            message: e.to_string(),
-        })
-    };
-    let (out, from) = (canonical(output_dir)?, canonical(asset_dir)?);
-    let out_parts: Vec<_> = out.components().collect();
-    let from_parts: Vec<_> = from.components().collect();
-    let common = out_parts
-        .iter()
-        .zip(&from_parts)
-        .take_while(|(a, b)| a == b)
-        .count();
-    let mut prefix = "../".repeat(out_parts.len() - common);
-    for part in &from_parts[common..] {
-        let text = part.as_os_str().to_str().ok_or_else(|| AssetError::Uri {
-            uri: from.display().to_string(),
-            message: "a directory name that is not UTF-8 cannot be written in a URI".into(),
-        })?;
-        prefix.push_str(&percent_encode(text));
-        prefix.push('/');
-    }
-    Ok(prefix)
 }
 
 /// A GLB of `json` (padded with spaces) and the `BIN` chunk `bin` (padded

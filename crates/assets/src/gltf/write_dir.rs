@@ -3,13 +3,11 @@
 //! NAME` writes into `--out DIR`, and Python's `bake_gltf(gltf_out=...)`):
 //! the output's container from its file name
 //! ([`GltfContainer::from_file_name`]), the files it makes
-//! ([`GltfContainer::file_names`]), and the bytes, with every kept relative
-//! URI re-based from the asset's directory onto the output's.
+//! ([`GltfContainer::file_names`]), and the bytes (everything the asset
+//! names gathered into the output's own files, so its folder can move).
 
 use super::files::{read_file, resolve_beside};
-use super::write::{
-    relative_uri_prefix, write_gltf_micromaps, GltfContainer, GltfFiles, GltfMicromapWrite,
-};
+use super::write::{write_gltf_micromaps, GltfContainer, GltfFiles, GltfMicromapWrite};
 use crate::{AssetError, Limits};
 use micromap_index::micromap::MicromapBuffers;
 use std::path::{Component, Path};
@@ -45,7 +43,7 @@ impl GltfContainer {
 
     /// Every file an output named `name` in this container may make, `name`
     /// first: for JSON also `<stem>.micromap.bin` and `<stem>.bin` (the
-    /// latter only when the input is a GLB with a `BIN` chunk).
+    /// latter only when the input names a buffer or an image).
     ///
     /// ```
     /// use micromap_index_assets::GltfContainer;
@@ -66,17 +64,15 @@ impl GltfContainer {
 
 /// The glTF file `asset` written back as `container` with `buffers` (one
 /// geometry per `(mesh, primitive)` of `primitives`), by
-/// [`write_gltf_micromaps`], for an output in `out_dir` (which must exist):
-/// every relative URI kept is prefixed with
-/// [`relative_uri_prefix`]`(out_dir, asset's directory)`. The asset and
-/// every file it names that the writer reads are read within
-/// [`Limits::max_bytes`], relative to the asset's directory (absolute paths
-/// refused, as [`read_gltf_file`](super::read_gltf_file) does). Writes
-/// nothing: the caller writes [`GltfFiles::main`] under its name and the
-/// sidecars under theirs into `out_dir`.
+/// [`write_gltf_micromaps`]: everything the asset names is gathered into
+/// the output's own files, so no URI leads out of the output's folder. The
+/// asset and every file it names are read within [`Limits::max_bytes`],
+/// relative to the asset's directory (absolute paths refused, as
+/// [`read_gltf_file`](super::read_gltf_file) does). Writes nothing: the
+/// caller writes [`GltfFiles::main`] under its name and the sidecars under
+/// theirs into one folder.
 pub fn write_gltf_micromaps_file(
     asset: &Path,
-    out_dir: &Path,
     buffers: &MicromapBuffers,
     primitives: &[(usize, usize)],
     container: &GltfContainer,
@@ -84,7 +80,6 @@ pub fn write_gltf_micromaps_file(
 ) -> Result<GltfFiles, AssetError> {
     let input = read_file(asset, limits.max_bytes)?;
     let from = asset.parent().unwrap_or(Path::new(""));
-    let prefix = relative_uri_prefix(out_dir, from)?;
     let mut resolve = resolve_beside(from, limits);
     write_gltf_micromaps(
         &input,
@@ -92,7 +87,6 @@ pub fn write_gltf_micromaps_file(
         &GltfMicromapWrite {
             buffers,
             primitives,
-            uri_prefix: &prefix,
         },
         container,
     )

@@ -226,7 +226,6 @@ fn check_written(
     let write = GltfMicromapWrite {
         buffers: &buffers,
         primitives: &primitives,
-        uri_prefix: "",
     };
     let written = match write_gltf_micromaps(data, resolve, &write, &GltfContainer::Glb) {
         Ok(files) => files,
