@@ -176,9 +176,9 @@ fn framing(scene: &Scene, (w, h): (u32, u32)) -> Result<Camera, Failure> {
         .ok_or_else(|| Failure::Malformed("the scene draws no triangle".into()))
 }
 
-/// The scene of the input: positions from glTF, or the UV layout for
-/// `--texture`; refused: a glTF primitive without `POSITION`, `COLOR_0`
-/// alpha (the tracer does not interpolate it).
+/// The scene of the input: positions from glTF (with `COLOR_0` alpha and
+/// the transformed texture coordinates), or the UV layout for
+/// `--texture`; refused: a glTF primitive without `POSITION`.
 fn scene_of(input: &Input, from_gltf: bool) -> Result<Scene, Failure> {
     let textures = input
         .images
@@ -194,12 +194,6 @@ fn scene_of(input: &Input, from_gltf: bool) -> Result<Scene, Failure> {
         .collect();
     let mut scene = Scene::new(textures);
     for job in &input.jobs {
-        if job.vertex_alpha.is_some() {
-            return Err(Failure::Malformed(format!(
-                "{}: COLOR_0 alpha is not rendered (render interpolates no vertex colour); nothing rendered",
-                job.name
-            )));
-        }
         let placed = job.placed_triangles();
         let flat: Vec<[[f32; 3]; 3]>;
         let positions = match &job.positions {
@@ -220,7 +214,7 @@ fn scene_of(input: &Input, from_gltf: bool) -> Result<Scene, Failure> {
             }
         };
         scene
-            .add_placed_mesh(
+            .add_placed_mesh_with_vertex_alpha(
                 SceneMesh {
                     texture: job.image,
                     // The shader samples the transformed coordinates:
@@ -236,6 +230,7 @@ fn scene_of(input: &Input, from_gltf: bool) -> Result<Scene, Failure> {
                 },
                 positions,
                 &placed,
+                job.vertex_alpha.as_deref(),
                 &job.instances,
             )
             .map_err(|e| Failure::Malformed(format!("{}: {e}", job.name)))?;

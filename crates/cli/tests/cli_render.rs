@@ -1070,3 +1070,124 @@ fn assert_passes_query(name: &str, args: &[&str]) {
         assert_eq!(m["pixels_differing_from_must_equal"], 0, "{name}: {m}");
     }
 }
+
+/// The committed fern with a `COLOR_0` alpha added, 0.3 at each mesh's
+/// lowest vertex to 1.0 at its highest, linear in height (`FLOAT` `VEC4`,
+/// a buffer of its own), written with copies of its buffer and texture
+/// into `dir`; the path of its `.gltf`.
+fn fern_with_vertex_alpha(dir: &std::path::Path) -> String {
+    let fern = root().join("assets/polyhaven-fern02");
+    let mut gltf: Value =
+        serde_json::from_slice(&std::fs::read(fern.join("fern_02.gltf")).unwrap()).unwrap();
+    let bin = std::fs::read(fern.join("fern_02.bin")).unwrap();
+    let mut colors = Vec::new();
+    let meshes = gltf["meshes"].as_array().unwrap().len();
+    for m in 0..meshes {
+        let primitives = gltf["meshes"][m]["primitives"].as_array().unwrap().len();
+        for p in 0..primitives {
+            let position = &gltf["accessors"][gltf["meshes"][m]["primitives"][p]["attributes"]
+                ["POSITION"]
+                .as_u64()
+                .unwrap() as usize];
+            let count = position["count"].as_u64().unwrap() as usize;
+            let view = &gltf["bufferViews"][position["bufferView"].as_u64().unwrap() as usize];
+            let at = view["byteOffset"].as_u64().unwrap_or(0) as usize
+                + position["byteOffset"].as_u64().unwrap_or(0) as usize;
+            let stride = view["byteStride"].as_u64().unwrap_or(12) as usize;
+            let ys: Vec<f32> = (0..count)
+                .map(|i| {
+                    let o = at + stride * i + 4;
+                    f32::from_le_bytes(bin[o..o + 4].try_into().unwrap())
+                })
+                .collect();
+            let (lo, hi) = ys
+                .iter()
+                .fold((f32::INFINITY, f32::NEG_INFINITY), |(l, h), &y| {
+                    (l.min(y), h.max(y))
+                });
+            let start = colors.len();
+            for y in ys {
+                let alpha = 0.3 + 0.7 * (y - lo) / (hi - lo).max(f32::MIN_POSITIVE);
+                for c in [1.0f32, 1.0, 1.0, alpha.clamp(0.0, 1.0)] {
+                    colors.extend_from_slice(&c.to_le_bytes());
+                }
+            }
+            let views = gltf["bufferViews"].as_array_mut().unwrap();
+            views.push(serde_json::json!({"buffer": 1, "byteOffset": start, "byteLength": colors.len() - start}));
+            let view = views.len() - 1;
+            let accessors = gltf["accessors"].as_array_mut().unwrap();
+            accessors.push(serde_json::json!({"bufferView": view, "componentType": 5126, "count": count, "type": "VEC4"}));
+            let accessor = accessors.len() - 1;
+            gltf["meshes"][m]["primitives"][p]["attributes"]["COLOR_0"] = accessor.into();
+        }
+    }
+    gltf["buffers"]
+        .as_array_mut()
+        .unwrap()
+        .push(serde_json::json!({"byteLength": colors.len(), "uri": "colors.bin"}));
+    std::fs::create_dir_all(dir.join("textures")).unwrap();
+    std::fs::write(dir.join("colors.bin"), colors).unwrap();
+    std::fs::write(dir.join("fern_02.bin"), bin).unwrap();
+    for image in gltf["images"].as_array().unwrap() {
+        let uri = image["uri"].as_str().unwrap();
+        std::fs::copy(fern.join(uri), dir.join(uri)).unwrap();
+    }
+    let path = dir.join("fern_vertex_alpha.gltf");
+    std::fs::write(&path, serde_json::to_vec(&gltf).unwrap()).unwrap();
+    path.to_string_lossy().into_owned()
+}
+
+/// `render` draws vertex alpha (issue 34: it refused such assets): the
+/// shader multiplies the binary32-interpolated `COLOR_0` alpha in after the
+/// factor, and our bakes of the fern with a vertex alpha pass the check
+/// under both lookups. The control: the micromaps of the fern without
+/// vertex alpha, rendered with it, are contradicted (their opaque states
+/// ignore the lower alpha), and the exact host classification calls the
+/// contradictions the micromap's fault.
+#[test]
+fn vertex_alpha_is_rendered_and_checked() {
+    if !device("vertex-alpha") {
+        return;
+    }
+    let dir = scratch("render-vertex-alpha-asset");
+    let fern = fern_with_vertex_alpha(&dir);
+    for level in ["2", "5"] {
+        assert_passes(
+            &format!("vertex-alpha-{level}"),
+            &["--gltf", &fern, "--level", level, "--size", "128x128"],
+        );
+    }
+    let plain = scratch("render-vertex-alpha-plain");
+    let o = run(&[
+        "bake",
+        "--gltf",
+        &asset("assets/polyhaven-fern02/fern_02.gltf"),
+        "--level",
+        "5",
+        "--quiet",
+        "--force",
+        "--no-preview",
+        "--out",
+        plain.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", describe(&o));
+    let json = assert_fails(
+        "vertex-alpha-ignored",
+        &[
+            "--gltf",
+            &fern,
+            "--micromaps",
+            plain.to_str().unwrap(),
+            "--size",
+            "128x128",
+            "--methods",
+            "flat-4-state",
+        ],
+    );
+    let contradicted = method(&json, "flat-4-state")["contradicted"]
+        .as_u64()
+        .unwrap();
+    assert!(contradicted > 0, "{json}");
+    let text = json.to_string();
+    assert!(text.contains("micromap-wrong"), "{text}");
+}

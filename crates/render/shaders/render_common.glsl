@@ -36,15 +36,18 @@
 #define RENDER_COMMON_GLSL
 
 layout(set = 0, binding = 0) uniform accelerationStructureEXT scene;
-// Per triangle (the BLAS's primitive order): uv0, uv1, uv2 (6 floats).
+// Per triangle (the BLAS's primitive order), TRI_WORDS floats: uv0, uv1,
+// uv2, then the vertex alphas a0, a1, a2 (1 for a mesh without).
+#define TRI_WORDS 9u
 layout(std430, set = 0, binding = 1) readonly buffer TriangleUvs { float tri_uv[]; };
 // Per triangle: its material (mesh) number.
 layout(std430, set = 0, binding = 2) readonly buffer TriangleMesh { uint tri_mesh[]; };
 // Per mesh, MESH_WORDS words: texel base, width, height, filter (0 nearest,
 // 1 linear), address u, address v (0 repeat, 1 mirrored repeat, 2 clamp to
 // edge, 3 clamp to border, 4 mirror clamp to edge), cutoff (float bits),
-// comparison (0 >=, 1 >), alpha factor (float bits), border alpha (float bits).
-#define MESH_WORDS 10u
+// comparison (0 >=, 1 >), alpha factor (float bits), border alpha (float
+// bits), vertex alpha (1: multiplied in).
+#define MESH_WORDS 11u
 layout(std430, set = 0, binding = 3) readonly buffer Meshes { uint mesh_info[]; };
 layout(std430, set = 0, binding = 4) readonly buffer Texels { float texels[]; };
 layout(std430, set = 0, binding = 5) readonly buffer Data { uint data_words[]; };
@@ -130,14 +133,16 @@ float texel_alpha(uint m, int x, int y)
 }
 
 // The alpha the alpha test compares at barycentrics b of triangle prim:
-// the filtered alpha times the mesh's alpha factor, in binary32.
+// the filtered alpha times the mesh's alpha factor (times its vertex
+// alpha), in binary32.
 float alpha_value(uint prim, vec2 b)
 {
     uint m = tri_mesh[prim];
     uint base = m * MESH_WORDS;
     precise float w0 = 1.0 - b.x - b.y;
-    precise float u = w0 * tri_uv[6u * prim] + b.x * tri_uv[6u * prim + 2u] + b.y * tri_uv[6u * prim + 4u];
-    precise float v = w0 * tri_uv[6u * prim + 1u] + b.x * tri_uv[6u * prim + 3u] + b.y * tri_uv[6u * prim + 5u];
+    uint t = TRI_WORDS * prim;
+    precise float u = w0 * tri_uv[t] + b.x * tri_uv[t + 2u] + b.y * tri_uv[t + 4u];
+    precise float v = w0 * tri_uv[t + 1u] + b.x * tri_uv[t + 3u] + b.y * tri_uv[t + 5u];
 #ifdef MMI_SAMPLER_LOOKUP
     // The texture unit filters (nearest or linear, the mesh's sampler).
     float alpha = textureLod(textures[nonuniformEXT(m)], vec2(u, v), 0.0).r;
@@ -162,6 +167,12 @@ float alpha_value(uint prim, vec2 b)
     }
 #endif
     precise float value = alpha * uintBitsToFloat(mesh_info[base + 8u]);
+    if (mesh_info[base + 10u] != 0u) {
+        // glTF's COLOR_0 alpha, interpolated in binary32, multiplied in
+        // after the factor.
+        precise float va = w0 * tri_uv[t + 6u] + b.x * tri_uv[t + 7u] + b.y * tri_uv[t + 8u];
+        value = value * va;
+    }
     return value;
 }
 

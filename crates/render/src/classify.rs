@@ -3,7 +3,7 @@
 //! recorded binary32 barycentrics `(b1, b2)` the exact hit point
 //! `(1 - b1 - b2) uv0 + b1 uv1 + b2 uv2` in rationals, the micro-triangle
 //! and state the library looks up there, and the alpha test at the exact
-//! point. If the exact alpha test agrees with the micromap, the shader's
+//! point (the vertex alpha interpolated there exactly too). If the exact alpha test agrees with the micromap, the shader's
 //! binary32 texture coordinate rounded across a texel boundary
 //! ([`ContradictionClass::Binary32Rounding`]); otherwise the micromap is
 //! wrong for the exact hit point ([`ContradictionClass::MicromapWrong`]).
@@ -75,7 +75,7 @@ pub struct Classified {
     /// The alpha test at the exact point.
     pub exact_opaque: bool,
     /// The alpha it compares at the exact point (filtered, times the
-    /// factor), rounded to `f64`.
+    /// factor and the vertex alpha), rounded to `f64`.
     pub exact_alpha: f64,
     /// The alpha the lookup compared ([`Contradiction::alpha_bits`]).
     pub judged_alpha: f32,
@@ -189,7 +189,11 @@ pub fn classify_lookup(
             }
         }
     }
-    let value = filtered * rational(mesh.material.alpha_factor);
+    let mut value = filtered * rational(mesh.material.alpha_factor);
+    // glTF's COLOR_0 alpha at the exact point.
+    if let Some(a) = scene.vertex_alpha(t) {
+        value *= &rb0 * rational(a[0]) + &rb1 * rational(a[1]) + &rb2 * rational(a[2]);
+    }
     let exact_alpha = value.to_f64().unwrap_or(f64::NAN);
     let cutoff = rational(mesh.material.cutoff.alpha());
     let exact_opaque = match mesh.material.cutoff.comparison() {

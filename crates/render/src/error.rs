@@ -61,6 +61,22 @@ pub enum SceneError {
         /// The triangle in the mesh.
         triangle: usize,
     },
+    /// Vertex alphas for another number of triangles than the UVs.
+    VertexAlphaLength {
+        /// The mesh's number.
+        mesh: usize,
+        /// Vertex-alpha triangles.
+        vertex_alpha: usize,
+        /// UV triangles.
+        uvs: usize,
+    },
+    /// A vertex alpha outside `[0, 1]` (or NaN).
+    VertexAlpha {
+        /// The mesh's number.
+        mesh: usize,
+        /// The triangle in the mesh.
+        triangle: usize,
+    },
     /// More than `2^24` triangles in all.
     TooManyTriangles,
     /// A transform that is not finite.
@@ -98,6 +114,18 @@ impl fmt::Display for SceneError {
             SceneError::NotFinite { mesh, triangle } => write!(
                 f,
                 "mesh {mesh} triangle {triangle}: a position or UV is not finite"
+            ),
+            SceneError::VertexAlphaLength {
+                mesh,
+                vertex_alpha,
+                uvs,
+            } => write!(
+                f,
+                "mesh {mesh}: vertex alphas for {vertex_alpha} triangles, {uvs} UV triangles"
+            ),
+            SceneError::VertexAlpha { mesh, triangle } => write!(
+                f,
+                "mesh {mesh} triangle {triangle}: a vertex alpha outside [0, 1]"
             ),
             SceneError::TooManyTriangles => f.write_str("more than 2^24 triangles"),
             SceneError::Transform { mesh, instance } => write!(

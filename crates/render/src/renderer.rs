@@ -438,7 +438,7 @@ impl Renderer {
             (m.data(), m.records(), m.indices())
         });
         let contents: [Vec<u8>; 9] = [
-            scene.uv_bytes(),
+            scene.triangle_bytes(),
             scene.mesh_of_bytes(),
             scene.mesh_info_bytes(),
             scene.texel_bytes(),

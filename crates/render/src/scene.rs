@@ -50,6 +50,11 @@ pub struct Scene {
     instances: Vec<Vec<[f32; 12]>>,
     positions: Vec<[[f32; 3]; 3]>,
     uvs: Vec<UvTriangle>,
+    /// Per triangle: its vertices' alphas (glTF's `COLOR_0` alpha; 1 for
+    /// a mesh without).
+    vertex_alpha: Vec<[f32; 3]>,
+    /// Per mesh: whether it has vertex alpha (the shader multiplies it in).
+    has_vertex_alpha: Vec<bool>,
     mesh_of: Vec<u32>,
 }
 
@@ -64,6 +69,8 @@ impl Scene {
             instances: Vec::new(),
             positions: Vec::new(),
             uvs: Vec::new(),
+            vertex_alpha: Vec::new(),
+            has_vertex_alpha: Vec::new(),
             mesh_of: Vec::new(),
         }
     }
@@ -93,7 +100,45 @@ impl Scene {
         uvs: &[UvTriangle],
         instances: &[[f32; 12]],
     ) -> Result<(), RenderError> {
+        self.add_placed_mesh_with_vertex_alpha(mesh, positions, uvs, None, instances)
+    }
+
+    /// [`add_placed_mesh`](Self::add_placed_mesh) with the alphas of each
+    /// triangle's vertices (glTF's `COLOR_0` alpha, one entry per
+    /// triangle, each in `[0, 1]`), which the shader interpolates in
+    /// binary32 (`w a0 + b1 a1 + b2 a2`, `w = 1 - b1 - b2`) and multiplies
+    /// into the alpha it tests, after the alpha factor (as a glTF
+    /// renderer's `texture * baseColorFactor * COLOR_0`). Refused besides:
+    /// a list of another length, or an alpha outside `[0, 1]`.
+    pub fn add_placed_mesh_with_vertex_alpha(
+        &mut self,
+        mesh: SceneMesh,
+        positions: &[[[f32; 3]; 3]],
+        uvs: &[UvTriangle],
+        vertex_alpha: Option<&[[f32; 3]]>,
+        instances: &[[f32; 12]],
+    ) -> Result<(), RenderError> {
         let mesh_number = self.meshes.len();
+        if let Some(alphas) = vertex_alpha {
+            if alphas.len() != uvs.len() {
+                return Err(SceneError::VertexAlphaLength {
+                    mesh: mesh_number,
+                    vertex_alpha: alphas.len(),
+                    uvs: uvs.len(),
+                }
+                .into());
+            }
+            if let Some(triangle) = alphas
+                .iter()
+                .position(|a| a.iter().any(|x| !(0.0..=1.0).contains(x)))
+            {
+                return Err(SceneError::VertexAlpha {
+                    mesh: mesh_number,
+                    triangle,
+                }
+                .into());
+            }
+        }
         let Some(t) = self.textures.get(mesh.texture) else {
             return Err(SceneError::NoTexture {
                 mesh: mesh_number,
@@ -153,6 +198,13 @@ impl Scene {
         self.instances.push(instances.to_vec());
         self.positions.extend_from_slice(positions);
         self.uvs.extend_from_slice(uvs);
+        match vertex_alpha {
+            Some(alphas) => self.vertex_alpha.extend_from_slice(alphas),
+            None => self
+                .vertex_alpha
+                .extend(std::iter::repeat([1.0; 3]).take(uvs.len())),
+        }
+        self.has_vertex_alpha.push(vertex_alpha.is_some());
         self.mesh_of.extend(std::iter::repeat(m).take(uvs.len()));
         Ok(())
     }
@@ -261,13 +313,22 @@ impl Scene {
         &self.textures
     }
 
-    pub(crate) fn uv_bytes(&self) -> Vec<u8> {
+    /// The shader's `tri_uv` (`TRI_WORDS` floats per triangle): its
+    /// three UVs, then its three vertex alphas.
+    pub(crate) fn triangle_bytes(&self) -> Vec<u8> {
         self.uvs
             .iter()
-            .flatten()
-            .flatten()
-            .flat_map(|x| x.to_le_bytes())
+            .zip(&self.vertex_alpha)
+            .flat_map(|(uv, alpha)| uv.iter().flatten().chain(alpha).copied())
+            .flat_map(f32::to_le_bytes)
             .collect()
+    }
+
+    /// Triangle `t`'s vertex alphas, if its mesh has vertex alpha.
+    #[must_use]
+    pub fn vertex_alpha(&self, t: usize) -> Option<[f32; 3]> {
+        let m = *self.mesh_of.get(t)? as usize;
+        self.has_vertex_alpha[m].then(|| self.vertex_alpha[t])
     }
 
     pub(crate) fn mesh_of_bytes(&self) -> Vec<u8> {
@@ -290,7 +351,7 @@ impl Scene {
             AddressMode::MirrorClampToEdge => 4,
         };
         let mut words = Vec::new();
-        for m in &self.meshes {
+        for (mesh_number, m) in self.meshes.iter().enumerate() {
             let t = &self.textures[m.texture];
             let s = m.material.sampler;
             words.extend([
@@ -304,6 +365,7 @@ impl Scene {
                 u32::from(m.material.cutoff.comparison() == Comparison::Above),
                 m.material.alpha_factor.to_bits(),
                 s.border_alpha.to_bits(),
+                u32::from(self.has_vertex_alpha[mesh_number]),
             ]);
         }
         words.iter().flat_map(|w| w.to_le_bytes()).collect()
