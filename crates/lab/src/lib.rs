@@ -26,5 +26,6 @@ pub mod prove;
 pub mod prove_all_levels;
 pub mod rng;
 pub mod succinct_maps;
+pub mod uv_transform_oracle;
 pub use micromap_index_conformance::value;
 pub mod vectors;

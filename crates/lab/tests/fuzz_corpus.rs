@@ -141,6 +141,11 @@ fn bake_budgets() {
 }
 
 #[test]
+fn bake_transformed() {
+    replay("bake_transformed", fuzzing::bake_transformed);
+}
+
+#[test]
 fn texel_tables_within() {
     replay("texel_tables_within", fuzzing::texel_tables_within);
 }
