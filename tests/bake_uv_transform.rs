@@ -52,3 +52,53 @@ fn different_transforms_are_never_deduplicated() {
     });
     assert_eq!(together.report.counts, summed);
 }
+
+/// Transforms whose images overflow binary32 or lie far off the texture
+/// bake (levels chosen by the rule, auto) without a panic: the triangle is
+/// unknown-opaque, as any coordinates the exact grid cannot hold.
+#[test]
+fn extreme_transforms_bake_unknown_without_panicking() {
+    use micromap_index::bake::mesh::{
+        bake_mesh, LevelRule, Material, Mesh, MeshOptions, MeshTriangles,
+    };
+    use micromap_index::bake::{Interpolation, Model, TextureUnit};
+    let texture = Unorm8Texture::new(4, 1, &[255, 0, 0, 0]).unwrap();
+    let triangle = [[[0.0f32, 0.0], [1.0, 0.0], [0.0, 1.0]]];
+    for (offset, rotation, scale) in [
+        ([0.0, 0.0], 0.0, [3e38f32, 3e38]),
+        ([3e38, -3e38], 1.0, [1.0, 1.0]),
+        ([0.5, 0.5], 65536.0, [1e-30, 1e30]),
+        ([1e20, 0.0], -3.0, [0.0, 0.0]),
+    ] {
+        let transform = UvTransform::new(offset, rotation, scale).unwrap();
+        for model in Model::ALL {
+            for interpolation in [Interpolation::F32, Interpolation::F16] {
+                let mesh = Mesh {
+                    triangles: MeshTriangles::Uv(&triangle),
+                    texture: &texture,
+                    material: Material {
+                        uv_transform: transform,
+                        ..Material::default()
+                    },
+                    vertex_alpha: None,
+                };
+                let options = MeshOptions {
+                    levels: LevelRule::Useful {
+                        max: Level::new(6).unwrap(),
+                    },
+                    model,
+                    texture_unit: TextureUnit::default().with_interpolation(interpolation),
+                    ..MeshOptions::default()
+                };
+                let report = bake_mesh(&mesh, &options).unwrap().report;
+                assert_eq!(report.triangles, 1);
+                let known = report.counts[0] + report.counts[1];
+                assert_eq!(
+                    known, 0,
+                    "{offset:?} {rotation} {scale:?} {model:?} {interpolation:?}: {:?}",
+                    report.status
+                );
+            }
+        }
+    }
+}

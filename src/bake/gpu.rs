@@ -112,9 +112,9 @@ pub(crate) fn margin(
 /// coordinates the shader transforms ([`UvTransform`](super::UvTransform)): `c` the axis's
 /// placed coordinates, `e` the transform's error terms. In texture units,
 /// with `w = D 2^(-25-n)` (the index window through the placed edges),
-/// `i = r 2^-20 interpolated + f row_sum` (the source interpolation's
-/// error through the linear part; `f` 16-bit floats' `2^-22` spacing, else
-/// 0), `t = r tau + rho (1 + 2^-20)` and `E = w + i + t`:
+/// `i = r 2^-20 interpolated + f (row_sum + 1)` (the source
+/// interpolation's error through the linear part and the transform's own
+/// absolute rounding; `f` 16-bit floats' `2^-22` spacing, else 0), `t = r tau + rho (1 + 2^-20)` and `E = w + i + t`:
 ///
 /// `m = S E + r 2^-21 (S (A + E) + 1) + 2^-k`
 ///
@@ -131,7 +131,10 @@ pub(crate) fn margin_transformed(
     let s = f64::from(size);
     let (r, floor) = precision(unit, if a >= e.source_max { a } else { e.source_max })?;
     let window = d * exp2(-25 - level as i32);
-    let interpolation = r * exp2(-20) * e.interpolated + floor * e.row_sum;
+    // 16-bit floats' absolute spacing: the interpolation's through the
+    // linear part, and the transform's own operations (at most five, half
+    // a spacing each) once more.
+    let interpolation = r * exp2(-20) * e.interpolated + floor * (e.row_sum + 1.0);
     let transform = r * e.tau + e.rho * (1.0 + exp2(-20));
     let error = window + interpolation + transform;
     let m = s * error + r * exp2(-21) * (s * (a + error) + 1.0) + unit.snap_radius();
