@@ -50,7 +50,7 @@ fn bake_error(e: MeshBakeError, names: &[MeshInfo]) -> PyErr {
 /// `bake --texture --triangles`); the Python layer documents the options.
 #[pyfunction]
 #[pyo3(signature = (alpha, uvs, options, *, filter, address, border_alpha, cutoff,
-    opaque_above, alpha_factor))]
+    opaque_above, alpha_factor, uv_transform=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn bake<'py>(
     py: Python<'py>,
@@ -63,9 +63,11 @@ pub(crate) fn bake<'py>(
     cutoff: f32,
     opaque_above: bool,
     alpha_factor: f32,
+    uv_transform: Option<([f32; 2], f32, [f32; 2])>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let alpha = AlphaArray::new(alpha)?;
     let uvs = UvArray::new(uvs)?;
+    let uv_transform = options::uv_transform(uv_transform)?;
     let c = options.check()?;
     let sampler = options::sampler(
         options::filter(filter)?,
@@ -111,7 +113,7 @@ pub(crate) fn bake<'py>(
                 sampler,
                 cutoff,
                 alpha_factor,
-                uv_transform: micromap_index::bake::UvTransform::IDENTITY,
+                uv_transform,
             },
             vertex_alpha: None,
         };

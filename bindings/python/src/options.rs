@@ -6,7 +6,7 @@
 use micromap_index::bake::mesh::Mips;
 use micromap_index::bake::{
     bake_level as library_bake_level, AddressMode, Comparison, Cutoff, Filter, Model, Sampler,
-    TextureUnit, Threads,
+    TextureUnit, Threads, UvTransform,
 };
 use micromap_index::micromap::{Format, IndexWidth, UnknownPolicy};
 use micromap_index::names::ParseNameError;
@@ -126,6 +126,18 @@ pub(crate) fn border(value: f32) -> PyResult<f32> {
 
 /// The cutoff rule: `alpha >= cutoff` (glTF's), or `alpha > cutoff` with
 /// `opaque_above`; `cutoff` in `[0, 1]` (as `--cutoff`).
+/// `uv_transform=(offset, rotation, scale)` (glTF's
+/// `KHR_texture_transform`, applied by the shader to the interpolated
+/// coordinate), or the identity for `None`: a `ValueError` for values
+/// `UvTransform::new` refuses.
+pub(crate) fn uv_transform(value: Option<([f32; 2], f32, [f32; 2])>) -> PyResult<UvTransform> {
+    match value {
+        None => Ok(UvTransform::IDENTITY),
+        Some((offset, rotation, scale)) => UvTransform::new(offset, rotation, scale)
+            .map_err(|e| value_error(format!("uv_transform: {e}"))),
+    }
+}
+
 pub(crate) fn cutoff(value: f32, opaque_above: bool) -> PyResult<Cutoff> {
     if !(0.0..=1.0).contains(&value) {
         return Err(value_error(format!(

@@ -27,7 +27,7 @@ const MAX_DECODED_BYTES: u64 = (1 << 32) + (1 << 30);
 #[pyfunction]
 #[pyo3(signature = (alpha, uvs, *, data, triangles, indices, index_width, usage, filter,
     address, border_alpha, cutoff, opaque_above, alpha_factor, model, subtexel_bits, interpolation, filter_error, linear, max_report, max_checks,
-    lenient_layout, record_stride, index_stride))]
+    lenient_layout, record_stride, index_stride, uv_transform=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn verify<'py>(
     py: Python<'py>,
@@ -54,6 +54,7 @@ pub(crate) fn verify<'py>(
     lenient_layout: bool,
     record_stride: Option<i64>,
     index_stride: Option<i64>,
+    uv_transform: Option<([f32; 2], f32, [f32; 2])>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let alpha = AlphaArray::new(alpha)?;
     let uvs = UvArray::new(uvs)?;
@@ -98,7 +99,7 @@ pub(crate) fn verify<'py>(
         sampler,
         cutoff,
         alpha_factor,
-        uv_transform: micromap_index::bake::UvTransform::IDENTITY,
+        uv_transform: options::uv_transform(uv_transform)?,
     };
     let model = options::model(model)?;
     let unit = options::texture_unit(subtexel_bits, interpolation, filter_error, linear)?;

@@ -305,3 +305,27 @@ def test_gltf_mips_and_threads_equal_the_cli(cli_bake):
     result = mmi.bake_gltf(asset, max_level=6, mips="all", threads=2)
     files, _ = cli_bake("--gltf", asset, "--max-level", "6", "--mips", "all", "--threads", "2")
     assert_same_files(result, files)
+
+
+def test_uv_transform_is_baked_as_the_shader_applies_it():
+    """``uv_transform`` (glTF's KHR_texture_transform) goes through the
+    library's ``Material::uv_transform``: under the exact model an exact
+    transform bakes the bytes of the transformed coordinates; under the GPU
+    model a rotated one bakes sound under the same transform and is
+    contradicted without it; values the model refuses are a ValueError."""
+    alpha = mmi.read_alpha(THORN)
+    uvs = mmi.read_triangles(GRID)
+    exact = ((0.25, 0.0), 0.0, (0.5, 0.5))
+    moved = uvs * np.float32(0.5) + np.array([0.25, 0.0], dtype=np.float32)
+    a = mmi.bake(alpha, uvs, level=4, model="exact", uv_transform=exact)
+    b = mmi.bake(alpha, moved, level=4, model="exact")
+    assert a.files() == b.files()
+    turned = ((0.705, 0.285), 0.3, (0.35, 0.35))
+    result = mmi.bake(alpha, uvs, level=4, uv_transform=turned)
+    assert mmi.verify(alpha, uvs, result, uv_transform=turned).sound
+    plain = mmi.verify(alpha, uvs, result)
+    assert not plain.sound and plain.contradictions > 0
+    with pytest.raises(ValueError, match="uv_transform: texture transform rotation"):
+        mmi.bake(alpha, uvs, level=2, uv_transform=((0.0, 0.0), 1e6, (1.0, 1.0)))
+    with pytest.raises(ValueError, match="must be finite"):
+        mmi.verify(alpha, uvs, result, uv_transform=((float("nan"), 0.0), 0.0, (1.0, 1.0)))

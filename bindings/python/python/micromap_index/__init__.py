@@ -81,6 +81,8 @@ FILE_NAMES = (
 )
 
 Address = Union[str, Tuple[str, str]]
+# KHR_texture_transform's (offset, rotation, scale).
+UvTransformParams = Tuple[Tuple[float, float], float, Tuple[float, float]]
 
 
 @dataclass(frozen=True)
@@ -236,6 +238,7 @@ def bake(
     threads: Optional[int] = None,
     work_budget: Optional[int] = None,
     bake_work_budget: Optional[int] = None,
+    uv_transform: Optional[UvTransformParams] = None,
 ) -> BakeResult:
     """Bakes opacity micromaps for ``uvs`` over the alpha texture ``alpha``.
 
@@ -282,7 +285,13 @@ def bake(
     (``--work-budget``, default 67,108,864) work units one triangle may
     spend, the rest left unknown; ``bake_work_budget``
     (``--bake-work-budget``, default 17,179,869,184) all triangles
-    together.
+    together; ``uv_transform`` ``(offset, rotation, scale)`` (glTF's
+    ``KHR_texture_transform``: ``offset`` and ``scale`` pairs, ``rotation``
+    in radians), which the renderer's shader applies to the interpolated
+    coordinate: ``uvs`` are then the stored coordinates, and the bake models
+    the shader's binary32 transform (``docs/bake.md``, "Texture
+    transforms"; a ``ValueError`` for values that are not finite or a
+    rotation beyond 65,536 radians).
 
     Releases the GIL while baking, on copies of ``alpha`` and ``uvs``.
     Raises ``TypeError`` / ``ValueError``, or ``MemoryError`` when a copy
@@ -302,6 +311,7 @@ def bake(
             cutoff=cutoff,
             opaque_above=opaque_above,
             alpha_factor=alpha_factor,
+            uv_transform=uv_transform,
         )
     )
 
@@ -346,16 +356,18 @@ def bake_gltf(
     exist): the asset is also written back there with
     ``EXT_mesh_opacity_micromap`` on every baked primitive, as ``bake --gltf
     ASSET --out DIR --gltf-out NAME`` writes it, byte for byte (the same
-    library code; ``.gltf`` adds ``NAME.micromap.bin``, and ``NAME.bin`` for
-    a ``.glb`` input's ``BIN`` chunk; relative URIs point from ``DIR`` back
-    to the asset's files). Not with ``filter``, ``address``,
+    library code; ``.gltf`` adds ``NAME.micromap.bin`` and ``NAME.bin``,
+    which holds the asset's buffers and images, so ``DIR`` can be moved).
+    Not with ``filter``, ``address``,
     ``border_alpha``, ``cutoff`` or ``opaque_above`` (a ``ValueError``: the
     micromaps must match the asset's own sampling). Existing files are
     replaced; every file is written to a temporary first and renamed only
     when all are written. ``result.gltf_out`` lists the paths.
 
-    A primitive the model does not cover (a ``KHR_texture_transform`` with a
-    rotation, or one moving a UV off the binary32 values) is left out and
+    ``KHR_texture_transform`` (any offset, rotation and scale) is baked as
+    the shader applies it (``docs/bake.md``, "Texture transforms"). A
+    primitive the model does not cover (a rotation beyond 65,536 radians)
+    is left out and
     listed in ``result.refused_primitives`` with its reason (the CLI's exit
     5); with ``strict=True`` it is a ``ValueError`` instead, as ``bake
     --strict``.
@@ -455,6 +467,7 @@ def verify(
     lenient_layout: bool = False,
     record_stride: Optional[int] = None,
     index_stride: Optional[int] = None,
+    uv_transform: Optional[UvTransformParams] = None,
 ) -> VerifyReport:
     """Checks micromap buffers -- a :class:`BakeResult`, or ``data``,
     ``triangles``, ``indices`` and (optionally) ``usage`` from any baker, as
@@ -476,7 +489,8 @@ def verify(
     (``None``: tight): a record stride is at least 8 and a multiple of 4, an
     index stride a multiple of the index width (else a ``ValueError``); the
     bytes between elements are ignored and a buffer holds whole strides or
-    ends right after its last element. Releases the GIL while checking."""
+    ends right after its last element. ``uv_transform`` as :func:`bake`
+    takes it. Releases the GIL while checking."""
     if buffers is not None:
         if any(x is not None for x in (data, triangles, indices, usage)):
             raise TypeError("give either a BakeResult or data/triangles/indices/usage, not both")
@@ -513,5 +527,6 @@ def verify(
         lenient_layout=lenient_layout,
         record_stride=record_stride,
         index_stride=index_stride,
+        uv_transform=uv_transform,
     )
     return VerifyReport(**raw)

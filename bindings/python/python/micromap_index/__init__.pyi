@@ -22,6 +22,7 @@ USAGE_DTYPE: np.dtype
 FILE_NAMES: Tuple[str, str, str, str]
 
 Address = Union[str, Tuple[str, str]]
+UvTransformParams = Tuple[Tuple[float, float], float, Tuple[float, float]]
 _Buffer = Union[bytes, bytearray, memoryview, np.ndarray]
 _Alpha = Union[npt.NDArray[np.uint8], npt.NDArray[np.uint16], npt.NDArray[np.float32]]
 
@@ -83,6 +84,7 @@ def bake(
     threads: Optional[int] = ...,
     work_budget: Optional[int] = ...,
     bake_work_budget: Optional[int] = ...,
+    uv_transform: Optional[UvTransformParams] = ...,
 ) -> BakeResult: ...
 def bake_gltf(
     path: Union[str, "os.PathLike[str]"],
@@ -138,4 +140,5 @@ def verify(
     lenient_layout: bool = ...,
     record_stride: Optional[int] = ...,
     index_stride: Optional[int] = ...,
+    uv_transform: Optional[UvTransformParams] = ...,
 ) -> VerifyReport: ...

@@ -158,8 +158,9 @@ def _file_digest(path: Path) -> str:
 
 
 def _uri_base(asset: Path, cache_dir: Path) -> str:
-    """How an entry (``cache_dir/<key>``) reaches the asset's folder: what
-    the written glTF's relative URIs start with."""
+    """How an entry (``cache_dir/<key>``) reaches the asset's folder (part
+    of the key: a written glTF stands alone, but an entry stays tied to the
+    cache it was baked for)."""
     return os.path.relpath(asset.resolve().parent, cache_dir.resolve() / "entry")
 
 
