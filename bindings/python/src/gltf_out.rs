@@ -19,7 +19,7 @@ pub(crate) struct GltfOut {
 
 impl GltfOut {
     /// `path` ending in `NAME.gltf` or `NAME.glb`; the directory (which
-    /// must exist when the files are made) is the rest.
+    /// must exist: an `OSError` naming it otherwise) is the rest.
     pub(crate) fn new(path: &Path) -> PyResult<GltfOut> {
         let refused = || {
             value_error(format!(
@@ -36,6 +36,15 @@ impl GltfOut {
             Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
             _ => PathBuf::from("."),
         };
+        // The directory must exist: checked here, before anything is
+        // baked (the written files stand alone, so the writer itself never
+        // reads it).
+        if !dir.is_dir() {
+            return Err(PyOSError::new_err(format!(
+                "gltf_out {name:?}: the directory {} does not exist",
+                dir.display()
+            )));
+        }
         Ok(GltfOut {
             dir,
             name: name.to_string(),
