@@ -110,8 +110,9 @@ fn inside_the_folder_confined_is_the_same_bake() {
     }
 }
 
-/// `verify-bake --gltf` reads the asset's micromaps under the same scope:
-/// a `--gltf-out` written next to the asset with its textures above is
+/// `verify-bake --gltf` reads the asset's micromaps under the same scope.
+/// A `--gltf-out` output stands alone, so it verifies with the flag; with
+/// its micromap buffer moved out of its folder (its URI `../`), it is
 /// verified without the flag and refused with it.
 #[test]
 fn verify_bake_is_confined_too() {
@@ -121,14 +122,28 @@ fn verify_bake_is_confined_too() {
     let baked = bake(&asset, &out, &["--gltf-out", "x.gltf"]);
     assert_eq!(baked.status.code(), Some(0), "{}", text(&baked.stderr));
     let written = out.join("x.gltf");
-    let free = run(&["verify-bake", "--gltf", written.to_str().unwrap()]);
+    let verify = |confined: bool| {
+        let mut args = vec!["verify-bake", "--gltf", written.to_str().unwrap()];
+        if confined {
+            args.push("--confine-uris");
+        }
+        run(&args)
+    };
+    for confined in [false, true] {
+        let o = verify(confined);
+        assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    }
+    std::fs::rename(out.join("x.micromap.bin"), dir.join("asset/x.micromap.bin")).unwrap();
+    let json = std::fs::read_to_string(&written).unwrap();
+    assert!(json.contains("\"x.micromap.bin\""));
+    std::fs::write(
+        &written,
+        json.replace("\"x.micromap.bin\"", "\"../x.micromap.bin\""),
+    )
+    .unwrap();
+    let free = verify(false);
     assert_eq!(free.status.code(), Some(0), "{}", text(&free.stderr));
-    let confined = run(&[
-        "verify-bake",
-        "--gltf",
-        written.to_str().unwrap(),
-        "--confine-uris",
-    ]);
+    let confined = verify(true);
     let message = text(&confined.stderr);
     assert_eq!(confined.status.code(), Some(2), "{message}");
     assert!(
