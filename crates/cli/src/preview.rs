@@ -113,12 +113,15 @@ fn layout(images: &[AlphaImage], tiles: &[TileSpec], model: Model) -> Result<Lay
     let (mut width, mut height) = (0u32, 0u32);
     for row in tiles.chunks(columns) {
         let (mut x, mut row_height) = (0u32, 0u32);
-        for tile in row {
+        for (k, tile) in row.iter().enumerate() {
             let image = &images[tile.image];
+            // A gap between tiles, none after the row's last.
+            if k > 0 {
+                x = x.saturating_add(legend::GAP);
+            }
             corners.push((x, height));
-            let tile_width = (image.width.saturating_mul(scale))
-                .max(legend::caption_width(&tile.caption))
-                .saturating_add(legend::GAP);
+            let tile_width =
+                (image.width.saturating_mul(scale)).max(legend::caption_width(&tile.caption));
             x = x.saturating_add(tile_width);
             row_height = row_height.max(image.height.saturating_mul(scale).saturating_add(caption));
         }
