@@ -2,7 +2,7 @@
 //! [`super::verify`], verifies them). Construction, the triangle's frames
 //! on the exact grid, and the choice of walk.
 
-use super::alpha_test::AlphaTest;
+use super::alpha_test::{AlphaTest, VertexScale};
 use super::classify::{Classifier, Grid, Margin, Placed, TexelClasses};
 use super::exact::{AxisFrame, FrameError};
 use super::gpu::{margin, margin_transformed, Model};
@@ -12,7 +12,7 @@ use super::texture::{AlphaTexture, Cutoff, Filter, Sampler, TextureError};
 use super::texture_unit::{LinearRule, TextureUnit};
 use super::triangle::{BakeError, BakedTriangle, TriangleStatus, UvTriangle};
 use super::uv_transform::UvTransform;
-use super::walk::{walk_whole, Spent};
+use super::walk::{largest_alpha, walk_whole, Spent};
 use super::work::DEFAULT_TRIANGLE_WORK_BUDGET;
 use crate::micromap::BakedOpacity;
 use crate::micromap::{Format, Micromap, State, UnknownPolicy};
@@ -133,12 +133,25 @@ impl Baker {
     /// of `scale` (the filter's error scales with it).
     pub(crate) fn new_on(
         texture: &(impl AlphaTexture + ?Sized),
+        test: (Sampler, Cutoff, TextureUnit, f64),
+        max_bytes: u64,
+        runner: &Runner,
+    ) -> Result<Baker, TextureError> {
+        Self::new_on_vertex(texture, test, None, max_bytes, runner)
+    }
+
+    /// [`new_on`](Self::new_on) for triangles whose vertex alphas all lie
+    /// in `vertex` (when given): their bakes ([`bake_split`](Self::bake_split))
+    /// multiply the texture's alpha by them.
+    pub(crate) fn new_on_vertex(
+        texture: &(impl AlphaTexture + ?Sized),
         (sampler, cutoff, unit, scale): (Sampler, Cutoff, TextureUnit, f64),
+        vertex: Option<VertexScale>,
         max_bytes: u64,
         runner: &Runner,
     ) -> Result<Baker, TextureError> {
         let unit = unit.check().map_err(TextureError::TextureUnit)?;
-        let test = AlphaTest::new(cutoff, sampler.filter, &unit, scale);
+        let test = AlphaTest::new(cutoff, sampler.filter, &unit, scale).with_vertex(vertex);
         Ok(Baker {
             classifier: Classifier {
                 classes: TexelClasses::new_within(texture, sampler, test, max_bytes, runner)?,
@@ -371,17 +384,29 @@ impl Baker {
 
     /// [`bake_within`](Self::bake_within), with a triangle of
     /// [`SPLIT_FROM_LEVEL`] or above walked on the current thread pool's
-    /// threads when `split` (the same result: see [`walk`](Self::walk)).
+    /// threads when `split` (the same result: see [`walk`](Self::walk)),
+    /// its texture's alpha times the vertex `alphas` when given (only on a
+    /// baker made for them: [`new_on`](Self::new_on)'s `vertex`).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn bake_split(
         &self,
-        uv: &UvTriangle,
+        (uv, alphas): (&UvTriangle, Option<[f32; 3]>),
         level: Level,
         format: Format,
         two_state: UnknownPolicy,
         max_work: u64,
         split: bool,
     ) -> Result<BakedTriangle, BakeError> {
-        self.bake_as(self.model, uv, level, format, two_state, max_work, split)
+        let model = self.model;
+        self.bake_alpha(
+            model,
+            (uv, alphas),
+            level,
+            format,
+            two_state,
+            max_work,
+            split,
+        )
     }
 
     /// [`bake_within`](Self::bake_within) under `model`, split as
@@ -391,6 +416,22 @@ impl Baker {
         &self,
         model: Model,
         uv: &UvTriangle,
+        level: Level,
+        format: Format,
+        two_state: UnknownPolicy,
+        max_work: u64,
+        split: bool,
+    ) -> Result<BakedTriangle, BakeError> {
+        self.bake_alpha(model, (uv, None), level, format, two_state, max_work, split)
+    }
+
+    /// [`bake_as`](Self::bake_as), times the vertex `alphas` when given
+    /// (see [`bake_split`](Self::bake_split)).
+    #[allow(clippy::too_many_arguments)]
+    fn bake_alpha(
+        &self,
+        model: Model,
+        (uv, alphas): (&UvTriangle, Option<[f32; 3]>),
         level: Level,
         format: Format,
         two_state: UnknownPolicy,
@@ -409,6 +450,14 @@ impl Baker {
                 speculative_work: 0,
             }
         };
+        if let Some(alphas) = alphas {
+            // The mesh bake makes its bakers for their triangles' alphas.
+            let covered = self.covers(alphas);
+            debug_assert!(covered, "a baker made for other vertex alphas");
+            if !covered {
+                return Ok(whole_unknown(TriangleStatus::OutOfExactRange));
+            }
+        }
         let mut map = Micromap::new(level, format)?;
         let (fx, fy, grid) = match self.frames(model, uv, level) {
             Ok(frames) => frames,
@@ -420,8 +469,15 @@ impl Baker {
                 // micro-triangles are the widening's cost.
                 if model == Model::GpuBinary32 {
                     let four = Format::FourState;
-                    let exact =
-                        self.bake_as(Model::Exact, uv, level, four, two_state, max_work, split)?;
+                    let exact = self.bake_alpha(
+                        Model::Exact,
+                        (uv, alphas),
+                        level,
+                        four,
+                        two_state,
+                        max_work,
+                        split,
+                    )?;
                     unknown.widened = exact.counts[0] + exact.counts[1];
                     unknown.work = exact.work;
                 }
@@ -434,9 +490,10 @@ impl Baker {
         let mut counts = [0u64; 4];
         let out = (&mut map, &mut counts);
         let split = split && n >= SPLIT_FROM_LEVEL;
+        let policy = (two_state, alphas);
         let walk = |c: &Classifier, out| match root.narrowed(grid) {
-            Some(narrow) => Self::walk(c, narrow, (n, grid), two_state, max_work, split, out),
-            None => Self::walk(c, root, (n, grid), two_state, max_work, split, out),
+            Some(narrow) => Self::walk(c, narrow, (n, grid), policy, max_work, split, out),
+            None => Self::walk(c, root, (n, grid), policy, max_work, split, out),
         };
         let (spent, speculative_work) = walk(&self.classifier, out)?;
         Ok(BakedTriangle {
@@ -447,6 +504,19 @@ impl Baker {
             work: spent.work,
             speculative_work,
         })
+    }
+
+    /// Whether its texel classes hold for a triangle with vertex alphas
+    /// `alphas` (made by [`new_on_vertex`](Self::new_on_vertex) for a range
+    /// holding theirs, under linear filtering by value): the condition for
+    /// baking or verifying it with them.
+    pub(super) fn covers(&self, alphas: [f32; 3]) -> bool {
+        let test = &self.classifier.classes.test;
+        test.by_value
+            && test.vertex.is_some_and(|v| {
+                let whole = VertexScale::over(alphas.map(f64::from), largest_alpha(alphas));
+                v.lo <= whole.lo && whole.hi <= v.hi
+            })
     }
 
     /// The top-down walk of [`bake`](Self::bake) from the whole triangle
@@ -461,7 +531,7 @@ impl Baker {
         classifier: &Classifier,
         root: Placed<C>,
         (level, grid): (u32, Grid),
-        two_state: UnknownPolicy,
+        two_state: (UnknownPolicy, Option<[f32; 3]>),
         max_work: u64,
         split: bool,
         out: (&mut Micromap, &mut [u64; 4]),

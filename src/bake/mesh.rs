@@ -300,7 +300,7 @@ fn bake_distinct(
             let mips = &plan.mips[w.baker as usize];
             match w.bound {
                 None if mips.is_empty() => baker
-                    .bake_split(&w.uv, w.level, format, unknown, max_work, split)
+                    .bake_split((&w.uv, w.alphas), w.level, format, unknown, max_work, split)
                     .map_err(MeshBakeError::Bake),
                 None => {
                     let mut pairs = vec![(baker, baker)];
@@ -678,5 +678,149 @@ mod tests {
             "{reported:?}"
         );
         assert_eq!(reported.len() as u64, verdict.contradictions);
+    }
+
+    /// Under linear filtering by value the walk reads the vertex alpha per
+    /// part: at every point of a known micro-triangle the exact bilinear
+    /// value times the exact interpolated alpha is on the state's side of
+    /// the cutoff; triangles whose alpha crosses the cutoff's level are
+    /// known on both sides of it; the verifier calls the bake sound and
+    /// catches a state made wrong; equal UVs with equal alphas share a
+    /// bake, equal UVs with other alphas do not.
+    #[test]
+    fn vertex_alpha_is_read_per_part_under_linear_filtering() {
+        let (w, h) = (16usize, 16usize);
+        let texels: Vec<u8> = (0..w * h)
+            .map(|i| {
+                let (x, y) = ((i % w) as f64, (i / w) as f64);
+                (127.5 + 127.5 * ((x * 0.7).sin() * (y * 0.45).cos())) as u8
+            })
+            .collect();
+        let texture = Unorm8Texture::new(w as u32, h as u32, &texels).unwrap();
+        let material = Material {
+            sampler: crate::bake::Sampler {
+                filter: crate::bake::Filter::Linear,
+                address_u: crate::bake::AddressMode::ClampToEdge,
+                address_v: crate::bake::AddressMode::ClampToEdge,
+                border_alpha: 0.0,
+            },
+            ..Material::default()
+        };
+        let count = 40usize;
+        let mut triangles: Vec<UvTriangle> = (0..count)
+            .map(|t| {
+                let (x, y) = ((t % 8) as f32 / 10.0, (t / 8) as f32 / 6.0);
+                [[x, y], [x + 0.25, y + 0.05], [x + 0.02, y + 0.3]]
+            })
+            .collect();
+        let mut alphas: Vec<[f32; 3]> = (0..count)
+            .map(|t| {
+                let a = 0.3 + 0.7 * (t as f32 / count as f32);
+                [1.0, a, (1.3 - a).clamp(0.0, 1.0)]
+            })
+            .collect();
+        // Two repeats: one with the same alphas (shares the bake), one
+        // with others (does not).
+        triangles.extend([triangles[5], triangles[5]]);
+        alphas.extend([alphas[5], [0.5, 0.5, 0.5]]);
+        let level = Level::new(4).unwrap();
+        let options = MeshOptions {
+            levels: LevelRule::Fixed(level),
+            ..MeshOptions::default()
+        };
+        let mesh = Mesh {
+            triangles: MeshTriangles::Uv(&triangles),
+            texture: &texture,
+            material,
+            vertex_alpha: Some(&alphas),
+        };
+        let baked = bake_mesh(&mesh, &options).unwrap();
+        assert_eq!(baked.report.distinct_triangles, count + 1);
+        // The exact filtered value at texel coordinates (x, y), clamped.
+        let texel = |x: isize, y: isize| {
+            let (x, y) = (x.clamp(0, w as isize - 1), y.clamp(0, h as isize - 1));
+            f64::from(texels[y as usize * w + x as usize]) / 255.0
+        };
+        let bilinear = |x: f64, y: f64| {
+            let (fx, fy) = ((x - 0.5).floor(), (y - 0.5).floor());
+            let (a, b) = (x - 0.5 - fx, y - 0.5 - fy);
+            let (i, j) = (fx as isize, fy as isize);
+            (1.0 - a) * (1.0 - b) * texel(i, j)
+                + a * (1.0 - b) * texel(i + 1, j)
+                + (1.0 - a) * b * texel(i, j + 1)
+                + a * b * texel(i + 1, j + 1)
+        };
+        let (mut known, mut crossing_known) = (0u64, [0u64; 2]);
+        for (t, uv) in triangles.iter().enumerate() {
+            let opacity = baked.opacity(0, t).unwrap();
+            let va = alphas[t];
+            for i in 0..(1u64 << (2 * level.get())) {
+                let state = opacity.state(i).unwrap();
+                if !state.is_known() {
+                    continue;
+                }
+                known += 1;
+                let micro = crate::inverse::micro_triangle(level, i).unwrap();
+                let [p, q, r] = micro.vertices_f64();
+                let mut sides = [false; 2];
+                for j in 0..=8 {
+                    for k in 0..=(8 - j) {
+                        let (s, z) = (f64::from(j) / 8.0, f64::from(k) / 8.0);
+                        let b1 = (1.0 - s - z) * p.0 + s * q.0 + z * r.0;
+                        let b2 = (1.0 - s - z) * p.1 + s * q.1 + z * r.1;
+                        let at = |c: usize| {
+                            (1.0 - b1 - b2) * f64::from(uv[0][c])
+                                + b1 * f64::from(uv[1][c])
+                                + b2 * f64::from(uv[2][c])
+                        };
+                        let v = (1.0 - b1 - b2) * f64::from(va[0])
+                            + b1 * f64::from(va[1])
+                            + b2 * f64::from(va[2]);
+                        let texture_alpha = bilinear(at(0) * w as f64, at(1) * h as f64);
+                        sides[usize::from(texture_alpha >= 0.5)] = true;
+                        let alpha = texture_alpha * v;
+                        if (alpha - 0.5).abs() < 1e-6 {
+                            continue;
+                        }
+                        assert_eq!(
+                            alpha >= 0.5,
+                            state == crate::micromap::State::Opaque,
+                            "triangle {t} micro {i}: alpha {alpha} at ({b1}, {b2})"
+                        );
+                    }
+                }
+                // Known where the texture alone would say otherwise: the
+                // alpha, read per part, decided it.
+                if sides[1] && state == crate::micromap::State::Transparent {
+                    crossing_known[0] += 1;
+                }
+                if sides[1] && state == crate::micromap::State::Opaque {
+                    crossing_known[1] += 1;
+                }
+            }
+        }
+        assert!(known > 4000, "{known}");
+        assert!(
+            crossing_known[0] > 20 && crossing_known[1] > 20,
+            "{crossing_known:?}"
+        );
+        let opacities: Vec<_> = (0..triangles.len())
+            .map(|t| baked.opacity(0, t).unwrap())
+            .collect();
+        let opacities: Vec<_> = opacities.iter().map(BakedOpacity::as_opacity).collect();
+        let verdict = verify_mesh(&mesh, &opacities, &options, u64::MAX, &mut |_, _| {}).unwrap();
+        assert!(verdict.is_sound(triangles.len()), "{verdict:?}");
+        // Triangle 7 all opaque: its alpha is below the cutoff somewhere.
+        let mut wrong = opacities.clone();
+        wrong[7] = crate::micromap::TriangleOpacity::Special(crate::micromap::State::Opaque);
+        let mut reported = Vec::new();
+        let verdict = verify_mesh(&mesh, &wrong, &options, u64::MAX, &mut |t, _| {
+            reported.push(t);
+        })
+        .unwrap();
+        assert!(
+            verdict.contradictions > 0 && reported.iter().all(|&t| t == 7),
+            "{reported:?}"
+        );
     }
 }

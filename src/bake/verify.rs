@@ -3,10 +3,12 @@
 //! area can read a texel of the other class is a [`Contradiction`], with an
 //! exact witness point where one is found.
 
+use super::alpha_test::VertexScale;
 use super::baker::Baker;
 use super::classify::{is_small, Block, Classes, Grid, Placed};
 use super::exact::{ExactTriangle, TexelPoint};
 use super::triangle::UvTriangle;
+use super::walk::largest_alpha;
 use crate::inverse::micro_triangles;
 use crate::micromap::{State, TriangleOpacity};
 use crate::Level;
@@ -127,6 +129,20 @@ impl Baker {
         uv: &UvTriangle,
         opacity: &TriangleOpacity<'_>,
         max_known: u64,
+        visit: impl FnMut(Contradiction),
+    ) -> VerifyCounts {
+        self.verify_each_alpha((uv, None), opacity, max_known, visit)
+    }
+
+    /// [`verify_each`](Self::verify_each) of a triangle whose texture's
+    /// alpha is multiplied by its vertex `alphas` when given (only on a
+    /// baker made for them, as [`bake_split`](Self::bake_split) says; on
+    /// another, every known micro-triangle is undecided).
+    pub(crate) fn verify_each_alpha(
+        &self,
+        (uv, alphas): (&UvTriangle, Option<[f32; 3]>),
+        opacity: &TriangleOpacity<'_>,
+        max_known: u64,
         mut visit: impl FnMut(Contradiction),
     ) -> VerifyCounts {
         let level = match opacity {
@@ -140,6 +156,32 @@ impl Baker {
         let mut report = VerifyCounts::default();
         let Ok((fx, fy, grid)) = self.frames(self.model, uv, level) else {
             return report;
+        };
+        // With vertex alpha: the alpha at a micro-triangle corner `(a, b)`
+        // (of `2^level` per side, as placed: vertex 0 at the origin).
+        let vertex = match alphas {
+            None => None,
+            Some(v) if self.covers(v) => {
+                let side = f64::from(1u32 << level.get());
+                let v = v.map(f64::from);
+                let at = move |(a, b): (u64, u64)| {
+                    let (a, b) = (a as f64, b as f64);
+                    (v[0] * (side - a - b) + v[1] * a + v[2] * b) / side
+                };
+                Some((at, largest_alpha(alphas.unwrap_or_default())))
+            }
+            Some(_) => {
+                report.checked = true;
+                for t in micro_triangles(level) {
+                    if state_of(t.index()).is_known() {
+                        report.known += 1;
+                        report.undecided += 1;
+                    } else {
+                        report.unknown += 1;
+                    }
+                }
+                return report;
+            }
         };
         report.checked = true;
         let mut stack = Vec::new();
@@ -158,7 +200,9 @@ impl Baker {
                 opaque: state == State::Transparent,
                 transparent: state == State::Opaque,
             };
-            let p = Self::place(&fx, &fy, level.get(), t.vertices_scaled());
+            let corners = t.vertices_scaled();
+            let alphas = vertex.map(|(at, largest)| (corners.map(at), largest));
+            let p = Self::place(&fx, &fy, level.get(), corners);
             let exact = ExactTriangle::new(p.x, p.y);
             // A larger budget than baking: a verdict, not a bake.
             let search = self.classifier.classes.search(
@@ -176,7 +220,7 @@ impl Baker {
             let classes = &self.classifier.classes;
             if witness_block.is_some() && classes.test.by_value {
                 let budget = u64::from(self.classifier.block_budget).saturating_mul(16);
-                match self.value_verdict(p, grid, state, budget) {
+                match self.value_verdict(p, (grid, alphas), state, budget) {
                     ValueVerdict::Holds => {}
                     ValueVerdict::Undecided => report.undecided += 1,
                     ValueVerdict::Contradicted(at) => {
@@ -243,11 +287,16 @@ impl Baker {
     /// the same margin in texels (the dilated pieces cover the dilated
     /// whole), as the bake's walk splits them, until `budget` cells and
     /// splits are spent or the pieces are [`MAX_VALUE_SPLITS`] levels
-    /// down: then [`ValueVerdict::Undecided`].
+    /// down: then [`ValueVerdict::Undecided`]. With vertex alpha (the
+    /// corners' exact alphas and the triangle's largest), each piece is
+    /// judged by its own range, and a piece found contradicted whose range
+    /// is wider than the interpolation's margin is split too (a special
+    /// index is judged whole, but was baked in parts): a contradiction is
+    /// reported only where splitting no longer narrows the alpha.
     fn value_verdict(
         &self,
         p: Placed<i128>,
-        grid: Grid,
+        (grid, alphas): (Grid, Option<([f64; 3], f64)>),
         state: State,
         budget: u64,
     ) -> ValueVerdict {
@@ -262,27 +311,45 @@ impl Baker {
         let mut work = 0u64;
         let mut undecided = false;
         let mut stack = Vec::new();
-        stack.push((p, grid, 0u32));
-        while let Some((p, grid, depth)) = stack.pop() {
+        let (corners, largest) = alphas.unwrap_or(([0.0; 3], 0.0));
+        stack.push((p, corners, grid, 0u32));
+        while let Some((p, corners, grid, depth)) = stack.pop() {
             work += 1;
             let block = self.classifier.bounding_block(&p, grid);
             if !other(classes.quick(block)) {
                 continue;
             }
+            let at_limit = depth == MAX_VALUE_SPLITS || work > budget;
             if is_small(block) {
-                let r = classes.region_value(&p, grid);
+                let scale = alphas.map(|_| VertexScale::over(corners, largest));
+                let r = classes.region_value(&p, grid, scale);
                 work += u64::from(r.cells);
-                if other(Classes::of_bits(r.bits)) {
+                if !other(Classes::of_bits(r.bits)) {
+                    continue;
+                }
+                // Contradicted even at the alpha most in the state's
+                // favour (the piece's highest for opaque, lowest for
+                // transparent): so at the witness's own alpha too. Else a
+                // narrower piece has a narrower alpha: split.
+                let favour = scale.map(|s| {
+                    let a = if state == State::Opaque { s.hi } else { s.lo };
+                    VertexScale { lo: a, hi: a }
+                });
+                let sure = if favour == scale {
+                    r
+                } else {
+                    classes.region_value(&p, grid, favour)
+                };
+                if other(Classes::of_bits(sure.bits)) {
                     let at = if state == State::Opaque {
-                        r.argmin
+                        sure.argmin
                     } else {
-                        r.argmax
+                        sure.argmax
                     };
                     return ValueVerdict::Contradicted(at);
                 }
-                continue;
             }
-            if depth == MAX_VALUE_SPLITS || work > budget {
+            if at_limit {
                 undecided = true;
                 continue;
             }
@@ -297,17 +364,20 @@ impl Baker {
             let mid = |a: usize, b: usize| ((x[a] + x[b]) / 2, (y[a] + y[b]) / 2);
             let (m01, m12, m20) = (mid(0, 1), mid(1, 2), mid(2, 0));
             let v = [(x[0], y[0]), (x[1], y[1]), (x[2], y[2])];
-            for piece in [
-                [v[0], m01, m20],
-                [m01, v[1], m12],
-                [m20, m12, v[2]],
-                [m01, m12, m20],
+            let c = corners;
+            let half = |a: f64, b: f64| (a + b) * 0.5;
+            let (a01, a12, a20) = (half(c[0], c[1]), half(c[1], c[2]), half(c[2], c[0]));
+            for (piece, alphas) in [
+                ([v[0], m01, m20], [c[0], a01, a20]),
+                ([m01, v[1], m12], [a01, c[1], a12]),
+                ([m20, m12, v[2]], [a20, a12, c[2]]),
+                ([m01, m12, m20], [a01, a12, a20]),
             ] {
                 let piece = Placed {
                     x: piece.map(|q| q.0),
                     y: piece.map(|q| q.1),
                 };
-                stack.push((piece, finer, depth + 1));
+                stack.push((piece, alphas, finer, depth + 1));
             }
         }
         if undecided {

@@ -85,7 +85,7 @@ fn each_leaf_is_what_it_alone_classifies_as() {
             let classes = &baker.classifier.classes;
             let small = crate::bake::classify::is_small(baker.classifier.bounding_block(&p, grid));
             let known = if search.classes.is_mixed() && classes.test.by_value && small {
-                Classes::of_bits(classes.region_value(&p, grid).bits)
+                Classes::of_bits(classes.region_value(&p, grid, None).bits)
             } else {
                 search.classes
             };
@@ -183,10 +183,24 @@ fn narrow_and_wide_walks_agree_near_their_threshold() {
         let policy = UnknownPolicy::Fallback;
         let c = &baker.classifier;
         let wide = bake(&|map, counts| {
-            walk_whole(c, (root, level, grid), policy, u64::MAX, (map, counts)).unwrap()
+            walk_whole(
+                c,
+                (root, level, grid),
+                (policy, None),
+                u64::MAX,
+                (map, counts),
+            )
+            .unwrap()
         });
         let narrowed = bake(&|map, counts| {
-            walk_whole(c, (narrow, level, grid), policy, u64::MAX, (map, counts)).unwrap()
+            walk_whole(
+                c,
+                (narrow, level, grid),
+                (policy, None),
+                u64::MAX,
+                (map, counts),
+            )
+            .unwrap()
         });
         assert_eq!(narrowed, wide, "{root:?} {shifts:?} level {level}");
         for (total, count) in seen.iter_mut().zip(wide.1) {

@@ -38,6 +38,7 @@
 
 use super::classes::{margin_in, Block, Grid, Placed};
 use super::tables::TexelClasses;
+use crate::bake::alpha_test::VertexScale;
 use crate::num::wide::GridInt;
 
 /// The widening of the extremes for this module's own `f64` arithmetic, in
@@ -295,17 +296,18 @@ impl Running {
         }
     }
 
-    /// The class bits under `classes`' test: the lowest value less the
-    /// spread and the slack, the highest plus the slack. A NaN texel gives
-    /// a NaN mix, which passes no cutoff: a value that fails.
-    fn bits(&self, classes: &TexelClasses) -> u8 {
+    /// The class bits under `classes`' test, times a vertex alpha in
+    /// `scale`: the lowest value less the spread and the slack, the
+    /// highest plus the slack. A NaN texel gives a NaN mix, which passes
+    /// no cutoff: a value that fails.
+    fn bits(&self, classes: &TexelClasses, scale: Option<VertexScale>) -> u8 {
         let slack = VALUE_SLACK * self.largest;
         let min = if self.nan {
             f64::NAN
         } else {
             self.min - classes.spread - slack
         };
-        classes.test.range_bits(min, self.max + slack)
+        classes.test.range_bits(min, self.max + slack, scale)
     }
 }
 
@@ -321,8 +323,14 @@ impl TexelClasses {
 
     /// What the filtered value may do at the grid point `(x, y)` (grid
     /// `shifts`), as class bits: its footprint's classes when they are one,
-    /// else the value itself, widened as the module docs say.
-    pub(crate) fn point_bits<C: GridInt>(&self, (x, y): (C, C), (sx, sy): (u32, u32)) -> u8 {
+    /// else the value itself, widened as the module docs say, times a
+    /// vertex alpha in `scale` (none: 1).
+    pub(crate) fn point_bits<C: GridInt>(
+        &self,
+        (x, y): (C, C),
+        (sx, sy): (u32, u32),
+        scale: Option<VertexScale>,
+    ) -> u8 {
         let block: Block<C> = self.bounding_block((x, x), (y, y), Grid::exact((sx, sy)));
         let classes = self.quick(block);
         if !classes.is_mixed() {
@@ -343,14 +351,20 @@ impl TexelClasses {
             bilinear(v, a.clamp(0.0, 1.0), b.clamp(0.0, 1.0)),
             Where::default(),
         );
-        running.bits(self)
+        running.bits(self, scale)
     }
 
     /// What the filtered value may do over `p` dilated by `grid`'s margin
     /// (see the [module docs](self)). Only for a micro-triangle whose
     /// bounding block of texels is small (below 64 texels on a side) and
-    /// a table holding values.
-    pub(crate) fn region_value<C: GridInt>(&self, p: &Placed<C>, grid: Grid) -> RegionValue {
+    /// a table holding values. With `scale`, the value times a vertex
+    /// alpha in it.
+    pub(crate) fn region_value<C: GridInt>(
+        &self,
+        p: &Placed<C>,
+        grid: Grid,
+        scale: Option<VertexScale>,
+    ) -> RegionValue {
         let (sx, sy) = grid.shifts;
         let x: [i128; 3] = p.x.map(Into::into);
         let y: [i128; 3] = p.y.map(Into::into);
@@ -409,7 +423,7 @@ impl TexelClasses {
                 }
             }
         }
-        let bits = quick.bits(self);
+        let bits = quick.bits(self, scale);
         if bits != 3 {
             return RegionValue {
                 bits,
@@ -439,7 +453,7 @@ impl TexelClasses {
                 for (value, at) in box_corners(v, ci, cj) {
                     range.add(value, at);
                 }
-                let need = range.bits(self) & !bits;
+                let need = range.bits(self, scale) & !bits;
                 if need == 0 {
                     continue;
                 }
@@ -471,7 +485,7 @@ impl TexelClasses {
                     let value = bilinear(v, a.clamp(0.0, 1.0), b.clamp(0.0, 1.0));
                     exact.add(value, (ci, cj, a, b));
                 });
-                let found = exact.bits(self) & need;
+                let found = exact.bits(self, scale) & need;
                 if found & 2 != 0 {
                     argmin = at(exact.argmin);
                 }

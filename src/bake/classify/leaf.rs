@@ -7,6 +7,7 @@
 use super::classes::{is_small, Block, Classes, Grid, Placed};
 use super::search::Search;
 use super::tables::TexelClasses;
+use crate::bake::alpha_test::VertexScale;
 use crate::bake::exact::ExactTriangle;
 use crate::num::wide::GridInt;
 use alloc::vec::Vec;
@@ -48,11 +49,14 @@ impl Classifier {
     /// The classes a placed micro-triangle samples: the bounding block
     /// first (most micro-triangles end there), then the footprints of its
     /// vertices and edge midpoints, then the exact search if still mixed.
+    /// With vertex alpha, `scale` is its range over `p` (the texel classes
+    /// hold for every alpha of the texture's: the points and the value
+    /// take `p`'s own).
     pub(crate) fn classify<C: GridInt>(
         &self,
         p: &Placed<C>,
         grid: Grid,
-        points: Points,
+        (points, scale): (Points, Option<VertexScale>),
         stack: &mut Vec<Block>,
     ) -> (Classes, bool, u64) {
         let bounding = self.bounding_block(p, grid);
@@ -61,7 +65,7 @@ impl Classifier {
             return (quick, false, 1);
         }
         let (classes, exhausted, work) =
-            self.classify_mixed_block(p, grid, bounding, points, stack);
+            self.classify_mixed_block(p, grid, bounding, (points, scale), stack);
         (classes, exhausted, 1 + work)
     }
 
@@ -71,7 +75,7 @@ impl Classifier {
         &self,
         p: &Placed<C>,
         grid: Grid,
-        points: Points,
+        points: (Points, Option<VertexScale>),
         stack: &mut Vec<Block>,
     ) -> (Classes, bool, u64, bool) {
         if grid.margin == (None, None) {
@@ -93,7 +97,7 @@ impl Classifier {
         &self,
         p: &Placed<C>,
         grid: Grid,
-        points: Points,
+        (points, scale): (Points, Option<VertexScale>),
         stack: &mut Vec<Block>,
     ) -> (Classes, bool, u64, bool) {
         let bounding = self.bounding_block(p, grid);
@@ -108,14 +112,15 @@ impl Classifier {
         // those of the order below (exact model first): the dilated
         // region decides the state either way.
         if self.classes.test.by_value && is_small(bounding) {
-            let r = self.classes.region_value(p, grid);
+            let r = self.classes.region_value(p, grid, scale);
             let classes = Classes::of_bits(r.bits);
             let work = 1 + u64::from(r.cells);
             if classes.opaque != classes.transparent {
                 return (classes, false, work, false);
             }
             let exact_grid = Grid::exact(grid.shifts);
-            let (exact, exact_exhausted, exact_work) = self.classify(p, exact_grid, points, stack);
+            let (exact, exact_exhausted, exact_work) =
+                self.classify(p, exact_grid, (points, scale), stack);
             let widened = !exact_exhausted && exact.opaque != exact.transparent;
             return (classes, false, work + exact_work, widened);
         }
@@ -125,9 +130,9 @@ impl Classifier {
         let exact_grid = Grid::exact(grid.shifts);
         let exact_bounding = self.bounding_block(p, exact_grid);
         let (exact, exact_exhausted, exact_work) = if exact_bounding == bounding {
-            self.classify_mixed_block(p, exact_grid, exact_bounding, points, stack)
+            self.classify_mixed_block(p, exact_grid, exact_bounding, (points, scale), stack)
         } else {
-            self.classify(p, exact_grid, points, stack)
+            self.classify(p, exact_grid, (points, scale), stack)
         };
         if exact.is_mixed() && !exact_exhausted {
             return (Classes::BOTH, false, 1 + exact_work, false);
@@ -141,7 +146,7 @@ impl Classifier {
             exact
         };
         let (classes, exhausted, work) =
-            self.classify_mixed_block(p, grid, bounding, Points::None(known), stack);
+            self.classify_mixed_block(p, grid, bounding, (Points::None(known), scale), stack);
         let unknown = classes.opaque == classes.transparent;
         let exact_known = exact.opaque != exact.transparent;
         let widened = unknown && !exhausted && !exact_exhausted && exact_known;
@@ -159,7 +164,7 @@ impl Classifier {
         p: &Placed<C>,
         grid: Grid,
         bounding: Block<C>,
-        points: Points,
+        (points, scale): (Points, Option<VertexScale>),
         stack: &mut Vec<Block>,
     ) -> (Classes, bool, u64) {
         let mut work = 0;
@@ -180,7 +185,7 @@ impl Classifier {
             for k in first..6 {
                 let (a, b) = (k % 3, if k < 3 { k % 3 } else { (k + 1) % 3 });
                 let doubled = (p.x[a] + p.x[b], p.y[a] + p.y[b]);
-                sure = sure.union(self.point_classes(doubled, grid.shifts));
+                sure = sure.union(self.point_classes(doubled, grid.shifts, scale));
                 work += 1;
                 if sure.is_mixed() {
                     return (sure, false, work);
@@ -190,7 +195,7 @@ impl Classifier {
         // Linear filtering by value, a small block: the value over the
         // region decides, not which texels it reads.
         if self.classes.test.by_value && is_small(bounding) {
-            let r = self.classes.region_value(p, grid);
+            let r = self.classes.region_value(p, grid, scale);
             return (Classes::of_bits(r.bits), false, work + u64::from(r.cells));
         }
         // Only the classes the points did not read are searched for.
@@ -218,6 +223,7 @@ impl Classifier {
         &self,
         p: &Placed<C>,
         grid: Grid,
+        scale: Option<VertexScale>,
     ) -> (Option<crate::micromap::State>, u64) {
         if !self.classes.test.by_value {
             return (None, 0);
@@ -229,7 +235,7 @@ impl Classifier {
         if b.x1 - b.x0 > three || b.y1 - b.y0 > three {
             return (None, 0);
         }
-        let r = self.classes.region_value(p, grid);
+        let r = self.classes.region_value(p, grid, scale);
         (Classes::of_bits(r.bits).known_state(), u64::from(r.cells))
     }
 
@@ -242,9 +248,10 @@ impl Classifier {
         &self,
         (x, y): (C, C),
         (sx, sy): (u32, u32),
+        scale: Option<VertexScale>,
     ) -> Classes {
         if self.classes.test.by_value {
-            return Classes::of_bits(self.classes.point_bits((x, y), (sx + 1, sy + 1)));
+            return Classes::of_bits(self.classes.point_bits((x, y), (sx + 1, sy + 1), scale));
         }
         let fine = Grid::exact((sx + 1, sy + 1));
         self.classes

@@ -4,19 +4,22 @@
 //! levels are equal, and they are read through the same texture (the same
 //! object) with bit-for-bit equal sampler, cutoff and alpha factor, and the
 //! same vertex-alpha range (the range, not the alphas, is what the bake
-//! reads). [`Plan`] finds the classes in order of first appearance, so the
+//! reads under nearest filtering and linear filtering by footprint) or,
+//! under linear filtering by value, the same vertex alphas (its walk reads
+//! the alpha per part). [`Plan`] finds the classes in order of first appearance, so the
 //! first-appearance order of the micromaps, and with it every output byte,
 //! is what baking each triangle in turn gives.
 
 use super::input::{
     check_vertex_alpha, make_room, push_vertex_ranges, room, Mesh, MeshBakeError, MeshOptions,
 };
+use crate::bake::alpha_test::VertexScale;
 use crate::bake::baker::Baker;
 use crate::bake::material::{vertex_bound_baker, vertex_range, FactorTexture, VertexBounds};
 use crate::bake::mips::mip_bakers;
 use crate::bake::mips::Mips;
 use crate::bake::parallel::Runner;
-use crate::bake::texture::AlphaTexture;
+use crate::bake::texture::{AlphaTexture, Filter};
 use crate::bake::texture_unit::LinearRule;
 use crate::bake::triangle::{TriangleStatus, UvTriangle};
 use crate::micromap::TriangleEntry;
@@ -48,6 +51,9 @@ pub(super) struct Work {
     /// Indices into [`Plan::bounds`] of the lower and the upper bound's
     /// bakers when the mesh has vertex alpha.
     pub(super) bound: Option<(u32, u32)>,
+    /// The vertex alphas when the mesh has them and its baker reads them
+    /// per part (linear filtering by value; `bound` is `None` then).
+    pub(super) alphas: Option<[f32; 3]>,
     pub(super) uv: UvTriangle,
     pub(super) level: Level,
     /// How many input triangles it stands for.
@@ -80,12 +86,17 @@ struct FirstSeen {
 
 impl FirstSeen {
     /// The key of a distinct triangle, bit for bit.
-    fn key(w: &Work) -> [u32; 10] {
+    fn key(w: &Work) -> [u32; 14] {
         let uv = w.uv;
+        let alphas = w.alphas.unwrap_or_default().map(f32::to_bits);
         [
             w.baker,
             w.bound.map_or(0, |b| b.0 + 1),
             w.bound.map_or(0, |b| b.1 + 1),
+            u32::from(w.alphas.is_some()),
+            alphas[0],
+            alphas[1],
+            alphas[2],
             w.level.get(),
             uv[0][0].to_bits(),
             uv[0][1].to_bits(),
@@ -96,7 +107,7 @@ impl FirstSeen {
         ]
     }
 
-    fn slot(key: &[u32; 10], mask: usize) -> usize {
+    fn slot(key: &[u32; 14], mask: usize) -> usize {
         let hash = key.iter().fold(0u64, |h, &k| {
             (h.rotate_left(5) ^ u64::from(k)).wrapping_mul(0x517c_c1b7_2722_0a95)
         });
@@ -104,7 +115,7 @@ impl FirstSeen {
     }
 
     /// Where `key` is: `Ok(index in work)`, or `Err(empty slot)` for it.
-    fn find(&self, key: &[u32; 10], work: &[Work]) -> Result<u32, usize> {
+    fn find(&self, key: &[u32; 14], work: &[Work]) -> Result<u32, usize> {
         let mask = self.slots.len() - 1;
         let mut s = Self::slot(key, mask);
         loop {
@@ -143,9 +154,13 @@ impl FirstSeen {
     }
 }
 
-/// The material as exact bits, with the texture's address: what a baker is
-/// made from.
-type BakerKey = (usize, [u32; 12]);
+/// Per mesh: its baker, its vertex alphas, and whether the walk reads them
+/// per part.
+type MeshBaker<'v> = (u32, Option<&'v [[f32; 3]]>, bool);
+
+/// The material as exact bits, with the texture's address, and the range
+/// of vertex alphas its walks read per part: what a baker is made from.
+type BakerKey = (usize, [u32; 12], Option<[u64; 2]>);
 
 /// The distinct triangles of all meshes and the bakers they need.
 pub(super) struct Plan {
@@ -187,7 +202,7 @@ impl Plan {
         // Pass 1, mesh by mesh in order (so the first refused mesh is the
         // error): each mesh's baker, and per baker the lows and highs of
         // its meshes' vertex-alpha ranges.
-        let mut mesh_bakers: Vec<(u32, Option<&[[f32; 3]]>)> = room(meshes.len())?;
+        let mut mesh_bakers: Vec<MeshBaker<'_>> = room(meshes.len())?;
         let mut ranges: Vec<(Vec<u64>, Vec<u64>)> = Vec::new();
         for (m, (mesh, triangles)) in meshes.iter().zip(triangles).enumerate() {
             let triangles = triangles.as_ref();
@@ -200,6 +215,12 @@ impl Plan {
             }
             let material = &mesh.material;
             let texture_error = |error| MeshBakeError::Texture { mesh: m, error };
+            // Under linear filtering by value the walk reads the vertex
+            // alpha per part, against texel classes that hold over all of
+            // the mesh's alphas; otherwise bound bakers (below).
+            let by_value = material.sampler.filter == Filter::Linear
+                && options.texture_unit.linear == LinearRule::Value;
+            let per_part = vertex_alpha.filter(|_| by_value).map(VertexScale::over_all);
             let key = (
                 core::ptr::from_ref(mesh.texture).cast::<()>() as usize,
                 [
@@ -218,6 +239,7 @@ impl Plan {
                     material.uv_transform.scale()[0].to_bits(),
                     material.uv_transform.scale()[1].to_bits(),
                 ],
+                per_part.map(|v| [v.lo.to_bits(), v.hi.to_bits()]),
             );
             let candidates = bakers.entry(key).or_default();
             let baker = if let Some(&(baker, _)) = candidates
@@ -239,10 +261,12 @@ impl Plan {
                 let make_for = |unit| {
                     move |texture: &dyn AlphaTexture, sampler| {
                         let test = (sampler, material.cutoff, unit, scale);
-                        Ok(Baker::new_on(texture, test, u64::MAX, runner)?
-                            .with_block_budget(options.block_budget)
-                            .with_model(options.model)
-                            .with_uv_transform(material.uv_transform))
+                        Ok(
+                            Baker::new_on_vertex(texture, test, per_part, u64::MAX, runner)?
+                                .with_block_budget(options.block_budget)
+                                .with_model(options.model)
+                                .with_uv_transform(material.uv_transform),
+                        )
                     }
                 };
                 // The mip levels' bounds hold for linear filtering by
@@ -268,8 +292,8 @@ impl Plan {
                 candidates.push((id, mesh.texture));
                 id
             };
-            mesh_bakers.push((baker, vertex_alpha));
-            if let Some(alphas) = vertex_alpha {
+            mesh_bakers.push((baker, vertex_alpha, per_part.is_some()));
+            if let Some(alphas) = vertex_alpha.filter(|_| per_part.is_none()) {
                 ranges.resize_with(ranges.len().max(baker as usize + 1), Default::default);
                 push_vertex_ranges(&mut ranges[baker as usize], alphas)?;
             }
@@ -287,7 +311,7 @@ impl Plan {
         for (m, ((mesh, triangles), levels)) in meshes.iter().zip(triangles).zip(levels).enumerate()
         {
             let triangles = triangles.as_ref();
-            let (baker, vertex_alpha) = mesh_bakers[m];
+            let (baker, vertex_alpha, per_part) = mesh_bakers[m];
             let material = &mesh.material;
             let texture_error = |error| MeshBakeError::Texture { mesh: m, error };
             // The baker of one side's bound `v` (bits) of `baker`, made once.
@@ -315,16 +339,19 @@ impl Plan {
             // pushes without reallocating.
             make_room(&mut plan.work, triangles.len())?;
             for (t, (uv, &level)) in triangles.iter().zip(levels).enumerate() {
-                let bound = match vertex_alpha {
-                    None => None,
+                let (bound, alphas) = match vertex_alpha {
+                    None => (None, None),
+                    Some(alphas) if per_part => (None, Some(alphas[t])),
                     Some(alphas) => {
                         let (low, high) = grids[baker as usize].snap(vertex_range(alphas[t]));
-                        Some((bound_baker(false, low)?, bound_baker(true, high)?))
+                        let bound = (bound_baker(false, low)?, bound_baker(true, high)?);
+                        (Some(bound), None)
                     }
                 };
                 let work = Work {
                     baker,
                     bound,
+                    alphas,
                     uv: *uv,
                     level,
                     triangles: 0,

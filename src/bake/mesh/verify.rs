@@ -3,9 +3,12 @@
 //! (alpha factor, vertex alpha), with [`Baker::verify_each`].
 
 use super::input::{check_vertex_alpha, push_vertex_ranges, Mesh, MeshBakeError, MeshOptions};
+use crate::bake::alpha_test::VertexScale;
 use crate::bake::baker::Baker;
 use crate::bake::material::{vertex_bound_baker, vertex_range, FactorTexture, VertexBounds};
 use crate::bake::parallel::Runner;
+use crate::bake::texture::Filter;
+use crate::bake::texture_unit::LinearRule;
 use crate::bake::verify::Contradiction;
 use crate::micromap::{State, TriangleOpacity};
 use alloc::collections::BTreeMap;
@@ -131,16 +134,20 @@ pub fn verify_mesh(
     let scale = f64::from(material.alpha_factor);
     let test = (material.sampler, material.cutoff, unit, scale);
     let serial = Runner::serial();
+    // Under linear filtering by value, vertex alpha is judged per
+    // micro-triangle, as the bake reads it ([`VertexScale`]).
+    let by_value = material.sampler.filter == Filter::Linear && unit.linear == LinearRule::Value;
+    let per_part = vertex_alpha.filter(|_| by_value).map(VertexScale::over_all);
     let baker = if material.alpha_factor == 1.0 {
-        Baker::new_on(mesh.texture, test, u64::MAX, &serial)
+        Baker::new_on_vertex(mesh.texture, test, per_part, u64::MAX, &serial)
     } else {
-        Baker::new_on(&factor, test, u64::MAX, &serial)
+        Baker::new_on_vertex(&factor, test, per_part, u64::MAX, &serial)
     }
     .map_err(texture_error)?
     .with_block_budget(judge.block_budget)
     .with_model(model)
     .with_uv_transform(material.uv_transform);
-    // Vertex alpha, in two passes per triangle. First against the bounds
+    // Otherwise vertex alpha in two passes per triangle. First against the bounds
     // the ranges snap to (at most VERTEX_BOUNDS bakers per side, as the
     // bake's): a snapped range is wider, so its bounds find every
     // contradiction the exact range's find, and maybe more. Only a
@@ -148,6 +155,7 @@ pub fn verify_mesh(
     // its exact range (bakers made on demand; at most EXACT_BAKERS kept).
     let grid = match vertex_alpha {
         None => VertexBounds::default(),
+        Some(_) if per_part.is_some() => VertexBounds::default(),
         Some(alphas) => {
             let mut ranges = (Vec::new(), Vec::new());
             push_vertex_ranges(&mut ranges, alphas).map_err(MeshVerifyError::Mesh)?;
@@ -174,6 +182,9 @@ pub fn verify_mesh(
         let remaining = max_known.saturating_sub(out.known);
         let counts = match vertex_alpha {
             None => baker.verify_each(uv, opacity, remaining, |c| visit(t, c)),
+            Some(alphas) if per_part.is_some() => {
+                baker.verify_each_alpha((uv, Some(alphas[t])), opacity, remaining, |c| visit(t, c))
+            }
             Some(alphas) => {
                 let range = vertex_range(alphas[t]);
                 // Each bound decides the states it is the bound of.
