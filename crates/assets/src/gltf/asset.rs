@@ -73,11 +73,19 @@ pub struct MaskPrimitive {
     /// 3x4, binary32, rounded once from binary64 products) of the default
     /// scene's nodes that instance [`mesh`](Self::mesh), depth first from
     /// the scene's roots: `matrix`, or `translation * rotation * scale`,
-    /// composed from the roots down. Empty when no node of the scene
-    /// instances the mesh; [`IDENTITY_TRANSFORM`](super::IDENTITY_TRANSFORM)
-    /// once when the asset has no `nodes`, or when its node tree is
-    /// malformed (a warning says why). `KHR_mesh_gpu_instancing` instances
-    /// are not included.
+    /// composed from the roots down. A node with `EXT_mesh_gpu_instancing`
+    /// (or its `KHR_` spelling) contributes one transform per instance, in
+    /// accessor order, `node_world * T * R * S` with the instance's
+    /// `TRANSLATION`, `ROTATION` (normalised) and `SCALE` (each identity
+    /// when absent), and not its own world transform; the extension on a
+    /// node without a mesh is ignored (the extension defines nothing for
+    /// it). Empty when no node of the scene instances the mesh;
+    /// [`IDENTITY_TRANSFORM`](super::IDENTITY_TRANSFORM) once when the
+    /// asset has no `nodes`, or when its node tree or an instancing
+    /// extension in it is malformed (a warning says why: among others,
+    /// attributes of different counts, an extension without attributes,
+    /// whose instance count is then undefined, a type the extension does
+    /// not allow), or when the transforms exceed the byte budget.
     pub instances: Vec<[f32; 12]>,
 }
 

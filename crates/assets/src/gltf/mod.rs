@@ -13,7 +13,7 @@
 
 use self::files::{read_file, resolve_beside};
 use self::material::material_numbers;
-use self::reader::{with_reader, Reader};
+use self::reader::{bytes_of, with_reader, Reader};
 use crate::{AssetError, Limits};
 use micromap_index::bake::UvTransform;
 use std::collections::{BTreeMap, BTreeSet};
@@ -27,6 +27,7 @@ mod extension;
 mod files;
 mod glb;
 mod image;
+mod instancing;
 mod json;
 mod material;
 mod micromap_ext;
@@ -89,8 +90,8 @@ pub fn read_gltf_file(path: &Path, limits: &Limits) -> Result<GltfAsset, AssetEr
 /// percent-encoded) are decoded here, and URIs with any other scheme are
 /// refused without calling it. For fuzzing without a filesystem.
 ///
-/// For every primitive of every mesh (in order; nodes and scenes are not
-/// read, so every mesh counts once):
+/// For every primitive of every mesh (in order; every mesh counts once:
+/// the default scene's nodes only place it, [`MaskPrimitive::instances`]):
 ///
 /// * mode 4 (`TRIANGLES`, the default) is read; other modes are skipped
 ///   with a warning;
@@ -130,11 +131,14 @@ pub fn read_gltf_file(path: &Path, limits: &Limits) -> Result<GltfAsset, AssetEr
 /// A required extension
 /// other than `KHR_mesh_quantization`, `KHR_texture_transform`, `KHR_materials_*` (except
 /// `KHR_materials_pbrSpecularGlossiness`), `KHR_lights_punctual`,
-/// `KHR_mesh_gpu_instancing` and `EXT_mesh_opacity_micromap` is an error. Accessor alignment is not checked.
+/// `EXT_mesh_gpu_instancing` (also spelt `KHR_mesh_gpu_instancing`, which
+/// this reader has always accepted; it is read as the same extension) and
+/// `EXT_mesh_opacity_micromap` is an error. Accessor alignment is not checked.
 ///
 /// Limits: each image is decoded within [`Limits::max_pixels`]; the loaded
-/// buffers, decoded images and UV, index and triangle arrays together stay
-/// within [`Limits::max_bytes`]. Every index, offset and length is checked
+/// buffers, decoded images, UV, index and triangle arrays and instance
+/// transforms together stay within [`Limits::max_bytes`] (instance
+/// transforms over it are a warning, as a malformed node tree). Every index, offset and length is checked
 /// with overflow-free arithmetic. Never panics.
 ///
 /// ```
@@ -394,10 +398,30 @@ impl Reader<'_, '_> {
         Ok(())
     }
 
-    /// Each primitive's [`MaskPrimitive::instances`] from the node tree
-    /// (bakes do not need it: a malformed tree is a warning).
+    /// Each primitive's [`MaskPrimitive::instances`] from the node tree and
+    /// its `EXT_mesh_gpu_instancing` (bakes do not need them: a malformed
+    /// tree or extension, or transforms over the byte budget, is a
+    /// warning).
     fn place_primitives(&mut self, meshes: usize) {
-        match nodes::mesh_instances(&self.root, meshes) {
+        let root = self.root.clone();
+        let placed = nodes::mesh_instances(&root, meshes, &mut |node| self.gpu_instances(node))
+            .and_then(|instances| {
+                let Some(instances) = instances else {
+                    return Ok(None);
+                };
+                // Each primitive holds a copy of its mesh's transforms.
+                let bytes = self
+                    .asset
+                    .primitives
+                    .iter()
+                    .map(|p| bytes_of(instances[p.mesh].len() as u64, 48))
+                    .fold(0, u64::saturating_add);
+                self.budget
+                    .take(|| "the primitives' instance transforms".to_string(), bytes)
+                    .map_err(|e| e.to_string())?;
+                Ok(Some(instances))
+            });
+        match placed {
             Ok(None) => {}
             Ok(Some(instances)) => {
                 for p in &mut self.asset.primitives {

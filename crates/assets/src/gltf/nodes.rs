@@ -2,16 +2,23 @@
 //! for each mesh, the world transforms of the nodes that instance it, for
 //! renderers ([`MaskPrimitive::instances`](super::MaskPrimitive::instances)).
 //! A node's local transform is its `matrix` (column-major) or the product
-//! of `translation`, `rotation` (the quaternion normalised) and `scale`;
+//! of `translation`, `rotation` (the quaternion normalised, `trs`) and
+//! `scale`;
 //! world transforms are composed from the roots down in binary64 and
-//! rounded once to binary32. Bakes do not depend on this: a malformed tree
-//! is a reason, not an error.
+//! rounded once to binary32. A node with `EXT_mesh_gpu_instancing`
+//! (`instancing`) places its mesh once per instance instead, at the
+//! node's world transform times the instance's. Bakes do not depend on
+//! this: a malformed tree is a reason, not an error.
 
 use super::json::Obj;
 use serde_json::Value;
 
 /// A row-major 3x4 affine transform (the last row is `0 0 0 1`).
 pub(super) type Affine = [f64; 12];
+
+/// A node's instance transforms (`EXT_mesh_gpu_instancing`), `None`
+/// without them, or why they are refused.
+pub(super) type InstanceTransforms = Result<Option<Vec<Affine>>, String>;
 
 /// The identity transform, row-major 3x4 in binary32
 /// ([`MaskPrimitive::instances`](super::MaskPrimitive::instances) of an
@@ -75,26 +82,46 @@ fn local(node: &Obj<'_>) -> Result<Affine, String> {
     let t = numbers(node, "translation", 3)?.unwrap_or_else(|| vec![0.0; 3]);
     let q = numbers(node, "rotation", 4)?.unwrap_or_else(|| vec![0.0, 0.0, 0.0, 1.0]);
     let s = numbers(node, "scale", 3)?.unwrap_or_else(|| vec![1.0; 3]);
-    let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
-    if !(n.is_finite() && n > 0.0) {
-        return Err(format!("{}: a zero quaternion", node.field("rotation")));
+    trs(
+        [t[0], t[1], t[2]],
+        [q[0], q[1], q[2], q[3]],
+        [s[0], s[1], s[2]],
+    )
+    .ok_or_else(|| {
+        format!(
+            "{}: a zero quaternion (or one whose squared norm overflows)",
+            node.field("rotation")
+        )
+    })
+}
+
+/// `translation * rotation * scale` in binary64, the quaternion `x, y, z,
+/// w` normalised: each rotation entry is a quadratic form of the stored
+/// quaternion divided by its squared norm (`(w² + x² - y² - z²) / n²`,
+/// `2 (x y - z w) / n²`, ...), one division each and no square root, so a
+/// quarter turn such as `(0, 0, c, c)` gives exact zeros and ones. `None`
+/// for a zero (or not finite) quaternion.
+pub(super) fn trs(t: [f64; 3], q: [f64; 4], s: [f64; 3]) -> Option<Affine> {
+    let [x, y, z, w] = q;
+    let n2 = x * x + y * y + z * z + w * w;
+    if !(n2.is_finite() && n2 > 0.0) {
+        return None;
     }
-    let [x, y, z, w] = [q[0] / n, q[1] / n, q[2] / n, q[3] / n];
     let rot = [
         [
-            1.0 - 2.0 * (y * y + z * z),
-            2.0 * (x * y - z * w),
-            2.0 * (x * z + y * w),
+            (w * w + x * x - y * y - z * z) / n2,
+            2.0 * (x * y - z * w) / n2,
+            2.0 * (x * z + y * w) / n2,
         ],
         [
-            2.0 * (x * y + z * w),
-            1.0 - 2.0 * (x * x + z * z),
-            2.0 * (y * z - x * w),
+            2.0 * (x * y + z * w) / n2,
+            (w * w - x * x + y * y - z * z) / n2,
+            2.0 * (y * z - x * w) / n2,
         ],
         [
-            2.0 * (x * z - y * w),
-            2.0 * (y * z + x * w),
-            1.0 - 2.0 * (x * x + y * y),
+            2.0 * (x * z - y * w) / n2,
+            2.0 * (y * z + x * w) / n2,
+            (w * w - x * x - y * y + z * z) / n2,
         ],
     ];
     let mut out = [0.0; 12];
@@ -104,7 +131,7 @@ fn local(node: &Obj<'_>) -> Result<Affine, String> {
         }
         out[4 * r + 3] = t[r];
     }
-    Ok(out)
+    Some(out)
 }
 
 /// For each of `meshes` meshes, the binary32 world transforms of the
@@ -112,11 +139,17 @@ fn local(node: &Obj<'_>) -> Result<Affine, String> {
 /// scene's roots; `None` when the asset has no `nodes` (every mesh then
 /// counts once, in its own space). The default scene is `scene`, else
 /// `scenes[0]`; without `scenes`, every node that is no other node's child
-/// is a root. Refused (with the reason): a node reached twice (a cycle or
-/// two parents), an index out of range, a transform that is not finite.
-pub(super) fn mesh_instances(
-    root: &Obj<'_>,
+/// is a root. `instancing` gives the instance transforms of a node with a
+/// mesh (`EXT_mesh_gpu_instancing`), or `None` for a node without them: a
+/// node with them places its mesh once per instance, at `world * instance`
+/// (composed in binary64, rounded once), and never at `world` alone.
+/// Refused (with the reason): a node reached twice (a cycle or two
+/// parents), an index out of range, a transform that is not finite, and
+/// whatever `instancing` refuses.
+pub(super) fn mesh_instances<'a>(
+    root: &Obj<'a>,
     meshes: usize,
+    instancing: &mut dyn FnMut(&Obj<'a>) -> InstanceTransforms,
 ) -> Result<Option<Vec<Vec<[f32; 12]>>>, String> {
     let nodes = root.opt_array("nodes").map_err(error)?.unwrap_or_default();
     if nodes.is_empty() {
@@ -171,16 +204,32 @@ pub(super) fn mesh_instances(
         }
         let world = compose(&parent, &local(&n)?);
         if let Some(m) = n.opt_usize("mesh").map_err(error)? {
-            let rounded = world.map(|x| x as f32);
-            if rounded.iter().any(|x| !x.is_finite()) {
-                return Err(format!(
-                    "nodes[{i}]: its world transform is not finite in binary32"
-                ));
-            }
-            instances
+            let placed = instances
                 .get_mut(m)
-                .ok_or_else(|| format!("{}: meshes[{m}] does not exist", n.field("mesh")))?
-                .push(rounded);
+                .ok_or_else(|| format!("{}: meshes[{m}] does not exist", n.field("mesh")))?;
+            let round = |transform: &Affine| {
+                Some(transform.map(|x| x as f32)).filter(|t| t.iter().all(|x| x.is_finite()))
+            };
+            match instancing(&n)? {
+                None => placed.push(round(&world).ok_or_else(|| {
+                    format!("nodes[{i}]: its world transform is not finite in binary32")
+                })?),
+                Some(locals) => {
+                    placed.try_reserve(locals.len()).map_err(|_| {
+                        format!(
+                            "nodes[{i}]: {} instances do not fit in memory",
+                            locals.len()
+                        )
+                    })?;
+                    for (k, local) in locals.iter().enumerate() {
+                        placed.push(round(&compose(&world, local)).ok_or_else(|| {
+                            format!(
+                                "nodes[{i}]: instance {k}'s world transform is not finite in binary32"
+                            )
+                        })?);
+                    }
+                }
+            }
         }
         for c in children(&n)?.into_iter().rev() {
             stack.push((c, world));

@@ -8,6 +8,7 @@
 
 use super::asset::GltfAsset;
 use super::glb::split_glb;
+use super::instancing::{INSTANCING, INSTANCING_KHR};
 use super::json::{short, Obj};
 use super::material::raw_materials;
 use crate::{AssetError, Limits};
@@ -111,15 +112,17 @@ pub(super) struct Reader<'a, 'r> {
 }
 
 /// Extensions a glTF may require that the reader models
-/// (`KHR_mesh_quantization`, `KHR_texture_transform`) or that do not change
-/// the mask.
+/// (`KHR_mesh_quantization`, `KHR_texture_transform`,
+/// `EXT_mesh_gpu_instancing`, also under the `KHR_` spelling it has always
+/// accepted) or that do not change the mask.
 fn supported_required(name: &str) -> bool {
     matches!(
         name,
         "KHR_mesh_quantization"
             | "KHR_texture_transform"
             | "KHR_lights_punctual"
-            | "KHR_mesh_gpu_instancing"
+            | INSTANCING
+            | INSTANCING_KHR
             | "EXT_mesh_opacity_micromap"
     ) || (name.starts_with("KHR_materials_") && name != "KHR_materials_pbrSpecularGlossiness")
 }
