@@ -1275,3 +1275,362 @@ fn material_variants_are_named_in_a_warning() {
         ]
     );
 }
+
+// ------------------------------------------------- EXT_mesh_gpu_instancing
+
+/// Little-endian `f32`s.
+fn f32_bytes(values: &[f32]) -> Vec<u8> {
+    values.iter().flat_map(|x| x.to_le_bytes()).collect()
+}
+
+/// Appends `bytes` to `bin` (from a multiple of 4) as a buffer view of its
+/// own and `accessor` (its `bufferView` set) to `json`; the accessor's
+/// index.
+fn add_accessor(json: &mut Value, bin: &mut Vec<u8>, mut accessor: Value, bytes: &[u8]) -> usize {
+    while bin.len() % 4 != 0 {
+        bin.push(0);
+    }
+    push(
+        &mut json["bufferViews"],
+        json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": bytes.len()}),
+    );
+    bin.extend_from_slice(bytes);
+    json["buffers"][0]["byteLength"] = json!(bin.len());
+    accessor["bufferView"] = json!(json["bufferViews"].as_array().unwrap().len() - 1);
+    push(&mut json["accessors"], accessor);
+    json["accessors"].as_array().unwrap().len() - 1
+}
+
+/// A `FLOAT` accessor of `type` (`VEC3`, `VEC4`) holding `values`.
+fn float_accessor(json: &mut Value, bin: &mut Vec<u8>, ty: &str, values: &[f32]) -> usize {
+    let components = if ty == "VEC3" { 3 } else { 4 };
+    add_accessor(
+        json,
+        bin,
+        json!({"componentType": 5126, "count": values.len() / components, "type": ty}),
+        &f32_bytes(values),
+    )
+}
+
+/// The fixture with `nodes` (scene 0 holds node 0) after `build` added its
+/// accessors; read.
+fn instanced(build: impl FnOnce(&mut Value, &mut Vec<u8>) -> Value) -> GltfAsset {
+    instanced_with(build, &Limits::default())
+}
+
+fn instanced_with(
+    build: impl FnOnce(&mut Value, &mut Vec<u8>) -> Value,
+    limits: &Limits,
+) -> GltfAsset {
+    let (mut json, mut bin) = fixture();
+    let nodes = build(&mut json, &mut bin);
+    json["nodes"] = nodes;
+    json["scenes"] = json!([{"nodes": [0]}]);
+    read_with(&json, &bin, limits).unwrap()
+}
+
+/// Three instances (a translation; a translation, a quarter turn about z
+/// and a non-uniform scale; a non-uniform scale with a translation) under
+/// a node translated by 10 in x: each
+/// instance is drawn at `node * T * R * S`, and the node itself is not
+/// drawn; its child is placed by the node's own transform. The expected
+/// matrices are worked out by hand (row-major 3x4).
+#[test]
+fn gltf_gpu_instancing_places_each_instance() {
+    // Rz(90°): x -> y, y -> -x.
+    let expected = [
+        // T(10, 0, 0) * T(1, 2, 3)
+        [1.0, 0.0, 0.0, 11.0, 0.0, 1.0, 0.0, 2.0, 0.0, 0.0, 1.0, 3.0],
+        // T(10, 0, 0) * T(1, 0, 0) * Rz(90°) * S(1, 2, 1): the columns of
+        // Rz scaled (S * Rz would scale its rows), the instance's
+        // translation not rotated (Rz * T would make it (0, 1, 0)), the
+        // node's neither (instance * node would put it at (0, 10, 0)).
+        [0.0, -2.0, 0.0, 11.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0],
+        // T(10, 0, 0) * T(0, -1, 0) * S(2, 3, 4)
+        [2.0, 0.0, 0.0, 10.0, 0.0, 3.0, 0.0, -1.0, 0.0, 0.0, 4.0, 0.0],
+        // The child: T(10, 0, 0) * T(0, 0, 5), once.
+        [1.0, 0.0, 0.0, 10.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 5.0],
+    ];
+    let half = std::f32::consts::FRAC_1_SQRT_2;
+    // ROTATION as FLOAT (the quarter turn rounded to binary32, normalised
+    // by the reader), and as normalized BYTE and SHORT (127 and 32767 are
+    // 1: the quaternion (0, 0, 1, 1), normalised).
+    let byte_rotation = [0i8, 0, 0, 127, 0, 0, 127, 127, 0, 0, 0, 127];
+    let short_rotation: Vec<u8> = [0i16, 0, 0, 32767, 0, 0, 32767, 32767, 0, 0, 0, 32767]
+        .iter()
+        .flat_map(|c| c.to_le_bytes())
+        .collect();
+    for (name, rotation, required) in [
+        ("float", 5126, "EXT_mesh_gpu_instancing"),
+        ("byte", 5120, "EXT_mesh_gpu_instancing"),
+        ("short", 5122, "KHR_mesh_gpu_instancing"),
+    ] {
+        let asset = instanced(|json, bin| {
+            json["extensionsUsed"] = json!([required]);
+            json["extensionsRequired"] = json!([required]);
+            let t = float_accessor(
+                json,
+                bin,
+                "VEC3",
+                &[1.0, 2.0, 3.0, 1.0, 0.0, 0.0, 0.0, -1.0, 0.0],
+            );
+            let r = match rotation {
+                5126 => float_accessor(
+                    json,
+                    bin,
+                    "VEC4",
+                    &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, half, half, 0.0, 0.0, 0.0, 1.0],
+                ),
+                5120 => add_accessor(
+                    json,
+                    bin,
+                    json!({"componentType": 5120, "normalized": true, "count": 3, "type": "VEC4"}),
+                    &byte_rotation.map(|c| c as u8),
+                ),
+                _ => add_accessor(
+                    json,
+                    bin,
+                    json!({"componentType": 5122, "normalized": true, "count": 3, "type": "VEC4"}),
+                    &short_rotation,
+                ),
+            };
+            let s = float_accessor(
+                json,
+                bin,
+                "VEC3",
+                &[1.0, 1.0, 1.0, 1.0, 2.0, 1.0, 2.0, 3.0, 4.0],
+            );
+            json!([
+                {
+                    "mesh": 0,
+                    "translation": [10, 0, 0],
+                    "children": [1],
+                    "extensions": {required: {"attributes": {"TRANSLATION": t, "ROTATION": r, "SCALE": s}}}
+                },
+                {"mesh": 0, "translation": [0, 0, 5]},
+            ])
+        });
+        assert_eq!(asset.warnings, Vec::<String>::new(), "{name}");
+        assert_eq!(asset.primitives[0].instances, expected, "{name}");
+        // The bake's input is what it was.
+        assert_eq!(asset.primitives[0].triangles, QUAD, "{name}");
+    }
+    // Only a custom attribute: as many instances, each the node's own
+    // transform (a missing TRANSLATION, ROTATION or SCALE is the identity);
+    // the extension on a node without a mesh is ignored.
+    let asset = instanced(|json, bin| {
+        let ids = add_accessor(
+            json,
+            bin,
+            json!({"componentType": 5125, "count": 2, "type": "SCALAR"}),
+            &[0, 0, 0, 0, 1, 0, 0, 0],
+        );
+        json!([
+            {"mesh": 0, "translation": [0, 7, 0], "children": [1],
+             "extensions": {"EXT_mesh_gpu_instancing": {"attributes": {"_ID": ids}}}},
+            {"extensions": {"EXT_mesh_gpu_instancing": {}}},
+        ])
+    });
+    assert_eq!(asset.warnings, Vec::<String>::new());
+    let seven = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 7.0, 0.0, 0.0, 1.0, 0.0];
+    assert_eq!(asset.primitives[0].instances, [seven, seven]);
+}
+
+/// A malformed `EXT_mesh_gpu_instancing` is a malformed node tree: a
+/// warning saying why, the mesh drawn once unplaced, the bake's input
+/// unchanged; never an error or a panic. An extension without attributes
+/// (or with none in them) is malformed: the schema asks for at least one,
+/// and without one the instance count is not defined.
+#[test]
+fn gltf_malformed_gpu_instancing_is_a_warning() {
+    type Build = Box<dyn Fn(&mut Value, &mut Vec<u8>) -> Value>;
+    let node = |ext: Value| json!([{"mesh": 0, "extensions": {"EXT_mesh_gpu_instancing": ext}}]);
+    let three = [0.0f32; 9];
+    let cases: Vec<(Build, &str)> = vec![
+        (
+            Box::new(move |json, bin| {
+                let t = float_accessor(json, bin, "VEC3", &three);
+                let s = float_accessor(json, bin, "VEC3", &three[..6]);
+                node(json!({"attributes": {"TRANSLATION": t, "SCALE": s}}))
+            }),
+            "TRANSLATION has 3 instances but SCALE has 2 (all attributes must have the same count)",
+        ),
+        (
+            Box::new(move |_, _| node(json!({}))),
+            "no attributes, so no instance count",
+        ),
+        (
+            Box::new(move |_, _| node(json!({"attributes": {}}))),
+            "no attributes, so no instance count",
+        ),
+        (
+            Box::new(move |_, _| node(json!({"attributes": {"TRANSLATION": 99}}))),
+            "accessors[99] does not exist",
+        ),
+        (
+            Box::new(move |_, _| node(json!({"attributes": {"TRANSLATION": "zero"}}))),
+            "expected a non-negative integer",
+        ),
+        (
+            Box::new(move |json, bin| {
+                let t = float_accessor(json, bin, "VEC4", &[0.0; 8]);
+                node(json!({"attributes": {"TRANSLATION": t}}))
+            }),
+            "expected \"VEC3\"",
+        ),
+        (
+            Box::new(move |json, bin| {
+                let r = add_accessor(
+                    json,
+                    bin,
+                    json!({"componentType": 5120, "count": 1, "type": "VEC4"}),
+                    &[0, 0, 0, 127],
+                );
+                node(json!({"attributes": {"ROTATION": r}}))
+            }),
+            "expected FLOAT or normalized BYTE or SHORT for ROTATION",
+        ),
+        (
+            Box::new(move |json, bin| {
+                let s = add_accessor(
+                    json,
+                    bin,
+                    json!({"componentType": 5123, "normalized": true, "count": 1, "type": "VEC3"}),
+                    &[0; 6],
+                );
+                node(json!({"attributes": {"SCALE": s}}))
+            }),
+            "expected FLOAT for SCALE",
+        ),
+        (
+            Box::new(move |json, bin| {
+                let t = float_accessor(json, bin, "VEC3", &[0.0, f32::NAN, 0.0]);
+                node(json!({"attributes": {"TRANSLATION": t}}))
+            }),
+            "element 0 is [0.0, NaN, 0.0], not finite",
+        ),
+        (
+            Box::new(move |json, bin| {
+                let r =
+                    float_accessor(json, bin, "VEC4", &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0]);
+                node(json!({"attributes": {"ROTATION": r}}))
+            }),
+            "ROTATION: element 1 is a zero quaternion",
+        ),
+        (
+            Box::new(move |json, bin| {
+                let s = float_accessor(json, bin, "VEC3", &[1.0, 1.0, 1.0, 3e38, 1.0, 1.0]);
+                let mut nodes = node(json!({"attributes": {"SCALE": s}}));
+                nodes[0]["scale"] = json!([2, 2, 2]);
+                nodes
+            }),
+            "nodes[0]: instance 1's world transform is not finite in binary32",
+        ),
+        (
+            Box::new(move |json, bin| {
+                let t = add_accessor(
+                    json,
+                    bin,
+                    json!({"componentType": 5126, "count": 0, "type": "VEC3"}),
+                    &[],
+                );
+                node(json!({"attributes": {"TRANSLATION": t}}))
+            }),
+            "a count of 0 instances",
+        ),
+        (
+            Box::new(move |json, bin| {
+                let t = float_accessor(json, bin, "VEC3", &three);
+                json!([{"mesh": 0, "extensions": {
+                    "EXT_mesh_gpu_instancing": {"attributes": {"TRANSLATION": t}},
+                    "KHR_mesh_gpu_instancing": {"attributes": {"TRANSLATION": t}},
+                }}])
+            }),
+            "both EXT_mesh_gpu_instancing and KHR_mesh_gpu_instancing",
+        ),
+        // A count from the input, past the data: refused by the accessor
+        // reader.
+        (
+            Box::new(move |json, bin| {
+                let t = float_accessor(json, bin, "VEC3", &three);
+                json["accessors"][t]["count"] = json!(4);
+                node(json!({"attributes": {"TRANSLATION": t}}))
+            }),
+            "run past the end of bufferViews",
+        ),
+        // Without a buffer view, the count is zeros: the byte budget
+        // refuses it before any allocation.
+        (
+            Box::new(move |json, _| {
+                push(
+                    &mut json["accessors"],
+                    json!({"componentType": 5126, "count": 1u64 << 40, "type": "VEC3"}),
+                );
+                node(json!({"attributes": {"TRANSLATION": 2}}))
+            }),
+            "is over the limit",
+        ),
+    ];
+    for (build, why) in cases {
+        let asset = instanced(build);
+        assert_eq!(asset.primitives[0].triangles, QUAD, "{why}");
+        assert_eq!(asset.primitives[0].instances, [IDENTITY_TRANSFORM], "{why}");
+        assert_eq!(asset.warnings.len(), 1, "{why}: {:?}", asset.warnings);
+        assert!(
+            asset.warnings[0].starts_with("node transforms not applied (")
+                && asset.warnings[0].contains(why),
+            "{why}: {:?}",
+            asset.warnings
+        );
+    }
+}
+
+/// Instance transforms count against [`Limits::max_bytes`] (the decoded
+/// attributes, the transforms, and each primitive's copy): over it, a
+/// warning, never an allocation past the budget.
+#[test]
+fn gltf_gpu_instances_stay_within_the_byte_budget() {
+    let build = |json: &mut Value, bin: &mut Vec<u8>| {
+        let t = float_accessor(json, bin, "VEC3", &vec![0.0; 3 * 1000]);
+        json!([{"mesh": 0, "extensions": {"EXT_mesh_gpu_instancing": {"attributes": {"TRANSLATION": t}}}}])
+    };
+    let asset = instanced(build);
+    assert_eq!(asset.warnings, Vec::<String>::new());
+    assert_eq!(asset.primitives[0].instances.len(), 1000);
+    // What the asset needs without the instances, plus a little: the
+    // 1000 transforms (96 + 48 bytes each, and 48 for the primitive's
+    // copy) do not fit.
+    let (mut json, mut bin) = fixture();
+    let needed = {
+        let nodes = build(&mut json, &mut bin);
+        json["nodes"] = nodes;
+        let mut low = 0u64;
+        let mut high = Limits::default().max_bytes;
+        // The smallest budget that reads the asset with its instances.
+        while low + 1 < high {
+            let mid = (low + high) / 2;
+            let limits = Limits {
+                max_bytes: mid,
+                ..Limits::default()
+            };
+            match read_with(&json, &bin, &limits) {
+                Ok(a) if a.warnings.is_empty() => high = mid,
+                _ => low = mid,
+            }
+        }
+        high
+    };
+    let limits = Limits {
+        max_bytes: needed - 1000 * 48,
+        ..Limits::default()
+    };
+    let asset = read_with(&json, &bin, &limits).unwrap();
+    assert_eq!(asset.primitives[0].instances, [IDENTITY_TRANSFORM]);
+    assert_eq!(asset.warnings.len(), 1, "{:?}", asset.warnings);
+    assert!(
+        asset.warnings[0].contains("the primitives' instance transforms")
+            && asset.warnings[0].contains("is over the limit"),
+        "{:?}",
+        asset.warnings
+    );
+}
