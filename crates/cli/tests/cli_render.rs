@@ -14,8 +14,9 @@
 //! flipped states; lavapipe's 8-bit filtered alphas contradict only where
 //! the exact point agrees (`texture-unit`), and a bake for a filter error of
 //! 1/255 holds under them; a border alpha no Vulkan border colour has is
-//! refused for it by name. Exit codes for bad input and for a machine without a
-//! device.
+//! refused for it by name. `EXT_mesh_gpu_instancing` instances are each
+//! drawn at their own place, as plain nodes would place them, and pass.
+//! Exit codes for bad input and for a machine without a device.
 //!
 //! Without a device each test prints `SKIPPED: ...` and passes, unless
 //! `MICROMAP_REQUIRE_VULKAN=1` (the CI tier), where it fails. The
@@ -86,6 +87,12 @@ fn device(test: &str) -> bool {
 /// `render --check` with `args`, into a fresh directory; the output and
 /// the parsed render.json (when written).
 fn check(name: &str, args: &[&str]) -> (Output, Option<Value>) {
+    let (o, json, _) = check_at(name, args);
+    (o, json)
+}
+
+/// [`check`], and the directory it wrote into.
+fn check_at(name: &str, args: &[&str]) -> (Output, Option<Value>, std::path::PathBuf) {
     let out = scratch(&format!("render-{name}"));
     let mut all = vec![
         "render",
@@ -99,7 +106,7 @@ fn check(name: &str, args: &[&str]) -> (Output, Option<Value>) {
     let json = std::fs::read(out.join("render.json"))
         .ok()
         .map(|b| serde_json::from_slice(&b).unwrap());
-    (o, json)
+    (o, json, out)
 }
 
 /// Both tracers, as render.json names them (`render` traces both by
@@ -150,7 +157,12 @@ fn describe(o: &Output) -> String {
 /// candidate is contradicted; the methods agree on what they saw.
 fn assert_passes(name: &str, args: &[&str]) {
     let (o, json) = check(name, args);
-    assert_eq!(o.status.code(), Some(0), "{name}: {}", describe(&o));
+    assert_passed(name, &o, json);
+}
+
+/// [`assert_passes`] on a check's output and render.json, which it returns.
+fn assert_passed(name: &str, o: &Output, json: Option<Value>) -> Value {
+    assert_eq!(o.status.code(), Some(0), "{name}: {}", describe(o));
     let json = json.unwrap();
     assert_eq!(json["check"]["passed"], true, "{name}");
     assert_eq!(json["tracers"], serde_json::json!(TRACERS), "{name}");
@@ -202,6 +214,7 @@ fn assert_passes(name: &str, args: &[&str]) {
         }
     }
     assert!(json["device"].as_str().unwrap().len() > 3);
+    json
 }
 
 /// A negative control fails the check (exit 1), naming contradictions.
@@ -1190,4 +1203,166 @@ fn vertex_alpha_is_rendered_and_checked() {
     assert!(contradicted > 0, "{json}");
     let text = json.to_string();
     assert!(text.contains("micromap-wrong"), "{text}");
+}
+
+/// The committed cards with mesh 0 (the thorn cards, x 0..5.5, y 0..1,
+/// z 0) placed three times, written with copies of its buffer and
+/// textures into `dir`: with `instanced`, by one node with
+/// `EXT_mesh_gpu_instancing` (required; `TRANSLATION` and `SCALE` in a
+/// buffer of their own); without, by three plain nodes with the same
+/// translations and scales. The other meshes keep their nodes. The path
+/// of its `.gltf`.
+fn cards_placed_thrice(dir: &std::path::Path, instanced: bool) -> String {
+    let cards = root().join("assets/crytek-sponza");
+    let mut gltf: Value =
+        serde_json::from_slice(&std::fs::read(cards.join("cards.gltf")).unwrap()).unwrap();
+    // Above the thorn grid (y 0..2), apart from each other; the middle one
+    // squashed to half its height.
+    let translations = [[0.0f32, 0.0, 0.0], [0.0, 3.0, 0.0], [0.0, 5.0, 0.0]];
+    let scales = [[1.0f32, 1.0, 1.0], [1.0, 0.5, 1.0], [1.0, 1.0, 1.0]];
+    assert_eq!(gltf["nodes"][0]["mesh"], 0);
+    let mut nodes = gltf["nodes"].as_array().unwrap()[1..].to_vec();
+    if instanced {
+        let bytes: Vec<u8> = translations
+            .iter()
+            .chain(&scales)
+            .flatten()
+            .flat_map(|x| x.to_le_bytes())
+            .collect();
+        std::fs::write(dir.join("instances.bin"), &bytes).unwrap();
+        let buffers = gltf["buffers"].as_array_mut().unwrap();
+        buffers.push(serde_json::json!({"byteLength": bytes.len(), "uri": "instances.bin"}));
+        let buffer = buffers.len() - 1;
+        let views = gltf["bufferViews"].as_array_mut().unwrap();
+        views.push(serde_json::json!({"buffer": buffer, "byteOffset": 0, "byteLength": 36}));
+        views.push(serde_json::json!({"buffer": buffer, "byteOffset": 36, "byteLength": 36}));
+        let view = views.len() - 2;
+        let accessors = gltf["accessors"].as_array_mut().unwrap();
+        for k in 0..2 {
+            accessors.push(serde_json::json!({"bufferView": view + k, "componentType": 5126, "count": 3, "type": "VEC3"}));
+        }
+        let accessor = accessors.len() - 2;
+        nodes.insert(
+            0,
+            serde_json::json!({"mesh": 0, "extensions": {"EXT_mesh_gpu_instancing": {
+                "attributes": {"TRANSLATION": accessor, "SCALE": accessor + 1}
+            }}}),
+        );
+        gltf["extensionsUsed"] = serde_json::json!(["EXT_mesh_gpu_instancing"]);
+        gltf["extensionsRequired"] = serde_json::json!(["EXT_mesh_gpu_instancing"]);
+    } else {
+        for (t, s) in translations.iter().zip(&scales).rev() {
+            nodes.insert(
+                0,
+                serde_json::json!({"mesh": 0, "translation": t, "scale": s}),
+            );
+        }
+    }
+    gltf["nodes"] = Value::Array(nodes);
+    // A scene of every root (each node is one).
+    let roots: Vec<usize> = (0..gltf["nodes"].as_array().unwrap().len()).collect();
+    gltf["scenes"] = serde_json::json!([{"nodes": roots}]);
+    gltf["scene"] = serde_json::json!(0);
+    std::fs::copy(cards.join("cards.bin"), dir.join("cards.bin")).unwrap();
+    for image in gltf["images"].as_array().unwrap() {
+        let uri = image["uri"].as_str().unwrap();
+        std::fs::copy(cards.join(uri), dir.join(uri)).unwrap();
+    }
+    let path = dir.join(if instanced {
+        "cards_instanced.gltf"
+    } else {
+        "cards_three_nodes.gltf"
+    });
+    std::fs::write(&path, serde_json::to_vec(&gltf).unwrap()).unwrap();
+    path.to_string_lossy().into_owned()
+}
+
+/// `render` draws every `EXT_mesh_gpu_instancing` instance at its own
+/// place (the reader once ignored the extension and drew an instanced
+/// node's mesh once, at the node): our bake of the cards with the thorn
+/// cards instanced three times passes the check under both tracers and
+/// lookups; its pictures are those of the same placements by three plain
+/// nodes, file for file (every picture of every tracer, lookup and
+/// method); and under the same camera it hits more pixels than the
+/// committed cards, placed once.
+#[test]
+fn gpu_instancing_draws_every_instance_and_passes() {
+    if !device("instancing") {
+        return;
+    }
+    let instanced = cards_placed_thrice(&scratch("render-instancing-asset"), true);
+    let three_nodes = cards_placed_thrice(&scratch("render-instancing-nodes-asset"), false);
+    // A fixed camera over everything (x 0..6.25, y 0..6), looking down -z.
+    let options = [
+        "--level",
+        "4",
+        "--size",
+        "128x128",
+        "--camera",
+        "3.2,3.2,14,3.2,3.2,0,40",
+    ];
+    let with = |asset: &str, more: &[&'static str]| -> Vec<String> {
+        ["--gltf", asset]
+            .iter()
+            .chain(&options)
+            .chain(more)
+            .map(|s| (*s).to_string())
+            .collect()
+    };
+    let run_check = |name: &str, args: &[String]| {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        check_at(name, &args)
+    };
+    let (o, json, instanced_out) = run_check("instancing", &with(&instanced, &[]));
+    assert!(!text(&o.stderr).contains("not applied"), "{}", describe(&o));
+    let instanced_json = assert_passed("instancing", &o, json);
+    let (o, json, nodes_out) = run_check("instancing-nodes", &with(&three_nodes, &[]));
+    let nodes_json = assert_passed("instancing-nodes", &o, json);
+    assert_eq!(instanced_json["hit_fraction"], nodes_json["hit_fraction"]);
+    // Every file but render.json (which holds times) is a picture.
+    let pictures = |dir: &std::path::Path| -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n != "render.json")
+            .collect();
+        names.sort();
+        names
+    };
+    let names = pictures(&instanced_out);
+    assert!(names.contains(&"alpha-test.png".to_string()), "{names:?}");
+    assert_eq!(names, pictures(&nodes_out));
+    for name in &names {
+        assert!(
+            std::fs::read(instanced_out.join(name)).unwrap()
+                == std::fs::read(nodes_out.join(name)).unwrap(),
+            "{name} differs between the instanced cards and three plain nodes"
+        );
+    }
+    // The committed cards, under the same camera: the instances drawn
+    // apart cover more of the picture.
+    let cards = asset("assets/crytek-sponza/cards.gltf");
+    let (o, json, _) = run_check(
+        "instancing-once",
+        &with(
+            &cards,
+            &[
+                "--methods",
+                "flat-4-state",
+                "--tracer",
+                "query",
+                "--lookup",
+                "shader",
+            ],
+        ),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", describe(&o));
+    let once = json.unwrap()["hit_fraction"].as_f64().unwrap();
+    let thrice = instanced_json["hit_fraction"].as_f64().unwrap();
+    // The second and third instance (y 3..3.5 and 5..6) lie where the
+    // committed cards have nothing.
+    assert!(
+        once > 0.0 && thrice > once,
+        "hit fraction {thrice} instanced, {once} once"
+    );
 }
