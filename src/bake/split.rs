@@ -32,9 +32,7 @@
 use super::classify::{Classifier, Grid, Placed};
 use super::parallel::map_claimed_in_order;
 use super::triangle::BakeError;
-use super::walk::{
-    largest_alpha, root_alphas, walk_subtree, Node, SharedStop, Spent, Split, Subtree, Walk,
-};
+use super::walk::{walk_subtree, Node, SharedStop, Spent, Split, Subtree, Walk};
 use crate::micromap::{Micromap, UnknownPolicy};
 use crate::num::wide::GridInt;
 use alloc::vec::Vec;
@@ -90,26 +88,21 @@ pub(crate) struct SplitSpent {
 
 /// The split walk of the whole triangle `root` at `level` on `grid` (see
 /// the [module docs](self)): fills `map` and `counts` as the serial walk
-/// with `max_work` units does (vertex `alphas` as there).
+/// with `max_work` units does.
 pub(crate) fn walk_split<C: GridInt>(
     classifier: &Classifier,
     (root, level, grid): (Placed<C>, u32, Grid),
-    (two_state, alphas): (UnknownPolicy, Option<[f32; 3]>),
+    two_state: UnknownPolicy,
     max_work: u64,
     (map, counts): (&mut Micromap, &mut [u64; 4]),
 ) -> Result<SplitSpent, BakeError> {
-    let vertices = (
-        [0, 1, 2].map(|k| (root.x[k], root.y[k])),
-        root_alphas(alphas),
-    );
-    let largest = alphas.map(largest_alpha);
+    let vertices = [0, 1, 2].map(|k| (root.x[k], root.y[k]));
     let format = map.format();
     let sub = subtree_level(level, max_work);
     let depth = level - sub;
 
     // 1. Collect: the top, no budget, the nodes at `depth` set aside.
-    let mut top = Walk::new(classifier, (level, grid), two_state, u64::MAX, map, counts)
-        .with_vertex_alpha(largest);
+    let mut top = Walk::new(classifier, (level, grid), two_state, u64::MAX, map, counts);
     top.split = Split::Collect {
         depth,
         nodes: Vec::new(),
@@ -130,7 +123,7 @@ pub(crate) fn walk_split<C: GridInt>(
         walk_subtree(
             classifier,
             (node, depth, level, grid),
-            (two_state, format, largest),
+            (two_state, format),
             budget,
             shared,
         )
@@ -224,8 +217,7 @@ pub(crate) fn walk_split<C: GridInt>(
     let Walk { map, counts, .. } = top;
     *counts = [0; 4];
     let mut subtrees = done.into_iter();
-    let mut replay = Walk::new(classifier, (level, grid), two_state, max_work, map, counts)
-        .with_vertex_alpha(largest);
+    let mut replay = Walk::new(classifier, (level, grid), two_state, max_work, map, counts);
     replay.split = Split::Replay {
         depth,
         subtrees: &mut subtrees,

@@ -10,7 +10,6 @@
 //! elsewhere ([`Split::Replay`]): the split walk of [`super::split`] runs
 //! them in parallel with the serial walk's result.
 
-use super::alpha_test::VertexScale;
 use super::classify::{is_small, Block, Classes, Classifier, Grid, Placed, Points};
 use super::triangle::{BakeError, TriangleStatus};
 use crate::micromap::{Format, Micromap, MicromapError, State, UnknownPolicy};
@@ -26,12 +25,6 @@ fn midpoint<C: GridInt>(a: (C, C), b: (C, C)) -> (C, C) {
     ((a.0 + b.0) >> 1, (a.1 + b.1) >> 1)
 }
 
-/// The midpoint of two corners' vertex alphas (see [`Walk::visit`]).
-#[inline]
-fn alpha_midpoint(a: f64, b: f64) -> f64 {
-    (a + b) * 0.5
-}
-
 /// Sets `count` states of `map` from `first`: one leaf (most calls) by
 /// [`Micromap::set`], a range by [`Micromap::fill`].
 #[inline]
@@ -44,13 +37,11 @@ fn put(map: &mut Micromap, first: u64, count: u64, state: State) -> Result<(), M
 }
 
 /// A node of the walk set aside at the split depth: its index at that
-/// depth, its grid vertices, their vertex alphas (see [`Walk::visit`])
-/// and its `top_flip`.
+/// depth, its grid vertices and its `top_flip`.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Node<C> {
     pub(crate) index: u64,
     pub(crate) vertices: [(C, C); 3],
-    pub(crate) alphas: [f64; 3],
     pub(crate) top_flip: bool,
 }
 
@@ -128,9 +119,6 @@ pub(crate) struct Walk<'a, C> {
     /// See [`Subtree::last_check`].
     last_check: u64,
     grid: Grid,
-    /// With vertex alpha, the triangle's largest vertex alpha (the
-    /// interpolation's error scales with it, [`VertexScale::over`]).
-    largest_alpha: Option<f64>,
     two_state: UnknownPolicy,
     pub(crate) map: &'a mut Micromap,
     pub(crate) counts: &'a mut [u64; 4],
@@ -174,7 +162,6 @@ impl<'a, C: GridInt> Walk<'a, C> {
             out_of_work: false,
             last_check: 0,
             grid,
-            largest_alpha: None,
             two_state,
             map,
             counts,
@@ -185,22 +172,6 @@ impl<'a, C: GridInt> Walk<'a, C> {
             shared: None,
             stopped: false,
         }
-    }
-
-    /// The same walk of a triangle with vertex alpha, the largest of its
-    /// vertices' being `largest` (the nodes' alphas are given to
-    /// [`visit`](Self::visit)).
-    pub(crate) fn with_vertex_alpha(mut self, largest: Option<f64>) -> Self {
-        self.largest_alpha = largest;
-        self
-    }
-
-    /// The vertex alpha's range over a node whose corners' exact alphas
-    /// are `alphas` (none without vertex alpha).
-    #[inline]
-    fn scale(&self, alphas: [f64; 3]) -> Option<VertexScale> {
-        self.largest_alpha
-            .map(|largest| VertexScale::over(alphas, largest))
     }
 
     /// The same walk, also stopped once the walks sharing `stop` have spent
@@ -262,12 +233,8 @@ impl<'a, C: GridInt> Walk<'a, C> {
     }
 
     /// One micro-triangle of the walk: its depth and index in the tree,
-    /// its grid vertices `(x, y)`, their exact vertex alphas (with vertex
-    /// alpha: the triangle's at the root, a child's corners are its
-    /// parent's and their midpoints, as for the vertices, so each is the
-    /// affine alpha at that corner; `f64` midpoints of binary32 values
-    /// are exact to far below [`VertexScale::over`]'s widening; unused
-    /// without), and the walk's `top_flip` (which numbers its children). A micro-triangle of a coarser level contains its
+    /// its grid vertices `(x, y)`, and the walk's `top_flip` (which numbers
+    /// its children). A micro-triangle of a coarser level contains its
     /// descendants, so a uniform one decides all of them (a contiguous
     /// index range) at once; only mixed ones descend, by recursion (depth
     /// at most the level). A child's vertices are its parent's and their
@@ -278,7 +245,7 @@ impl<'a, C: GridInt> Walk<'a, C> {
         &mut self,
         depth: u32,
         index: u64,
-        (vertices, alphas): ([(C, C); 3], [f64; 3]),
+        vertices: [(C, C); 3],
         top_flip: bool,
     ) -> Result<(), BakeError> {
         if let Split::Collect {
@@ -291,7 +258,6 @@ impl<'a, C: GridInt> Walk<'a, C> {
                 nodes.push(Node {
                     index,
                     vertices,
-                    alphas,
                     top_flip,
                 });
                 work_before.push(self.work);
@@ -314,11 +280,10 @@ impl<'a, C: GridInt> Walk<'a, C> {
                 return self.replay(index);
             }
         }
-        let scale = self.scale(alphas);
         if depth == n {
             // A level-0 map: its one leaf (deeper leaves are read four at a
             // time by `visit_leaves`).
-            return self.visit_leaf(&p, index, (Points::All, scale));
+            return self.visit_leaf(&p, index, Points::All);
         }
         // Above the finest level only the bounding block is read: a mixed
         // block descends, and the children decide more cheaply than an
@@ -331,21 +296,19 @@ impl<'a, C: GridInt> Walk<'a, C> {
         // Linear filtering by value: a node reading both classes may still
         // have a value that passes (fails) everywhere; then so do all its
         // leaves, which are not visited.
-        let (state, work) = self.classifier.value_state(&p, self.grid, scale);
+        let (state, work) = self.classifier.value_state(&p, self.grid);
         self.work += work;
         if let Some(state) = state {
             return self.set_known(index, up, state);
         }
         if depth + 1 == n {
-            return self.visit_leaves(index, (vertices, alphas), top_flip);
+            return self.visit_leaves(index, vertices, top_flip);
         }
         for child in 0..4 {
-            let (alphas, _) =
-                crate::inverse::child_vertices(child, top_flip, alphas, alpha_midpoint);
             let (vertices, top_flip) =
                 crate::inverse::child_vertices(child, top_flip, vertices, midpoint);
             let index = 4 * index + u64::from(child);
-            self.visit(depth + 1, index, (vertices, alphas), top_flip)?;
+            self.visit(depth + 1, index, vertices, top_flip)?;
         }
         Ok(())
     }
@@ -381,12 +344,7 @@ impl<'a, C: GridInt> Walk<'a, C> {
     /// One leaf (finest micro-triangle) `p` with its index: classified
     /// ([`Classifier::classify_leaf`], reading `points`), then set known or
     /// unknown and counted.
-    fn visit_leaf(
-        &mut self,
-        p: &Placed<C>,
-        leaf: u64,
-        points: (Points, Option<VertexScale>),
-    ) -> Result<(), BakeError> {
+    fn visit_leaf(&mut self, p: &Placed<C>, leaf: u64, points: Points) -> Result<(), BakeError> {
         let (classes, out_of_budget, work, widened) =
             self.classifier
                 .classify_leaf(p, self.grid, points, &mut self.stack);
@@ -412,20 +370,11 @@ impl<'a, C: GridInt> Walk<'a, C> {
     fn visit_leaves(
         &mut self,
         index: u64,
-        (vertices, alphas): ([(C, C); 3], [f64; 3]),
+        vertices: [(C, C); 3],
         top_flip: bool,
     ) -> Result<(), BakeError> {
         let [a, b, c] = vertices;
         let points = [a, b, c, midpoint(a, b), midpoint(b, c), midpoint(c, a)];
-        let [a, b, c] = alphas;
-        let point_alphas = [
-            a,
-            b,
-            c,
-            alpha_midpoint(a, b),
-            alpha_midpoint(b, c),
-            alpha_midpoint(c, a),
-        ];
         // Which of `points` the midpoint of two corners is.
         let between = |i: u8, j: u8| match i + j {
             1 => 3,
@@ -441,7 +390,6 @@ impl<'a, C: GridInt> Walk<'a, C> {
                 x: corners.map(|i| points[usize::from(i)].0),
                 y: corners.map(|i| points[usize::from(i)].1),
             };
-            let scale = self.scale(corners.map(|i| point_alphas[usize::from(i)]));
             if self.out_of_work_here() {
                 self.set_unknown(&p, leaf, 1)?;
                 continue;
@@ -453,9 +401,8 @@ impl<'a, C: GridInt> Walk<'a, C> {
                     let classes = *read[i].get_or_insert_with(|| {
                         self.work += 1;
                         let (x, y) = points[i];
-                        let scale = self.scale([point_alphas[i]; 3]);
                         self.classifier
-                            .point_classes((x + x, y + y), self.grid.shifts, scale)
+                            .point_classes((x + x, y + y), self.grid.shifts)
                     });
                     sure = sure.union(classes);
                     if sure.is_mixed() {
@@ -471,7 +418,7 @@ impl<'a, C: GridInt> Walk<'a, C> {
                 }
                 vertex_points = Points::Midpoints(sure);
             }
-            self.visit_leaf(&p, leaf, (vertex_points, scale))?;
+            self.visit_leaf(&p, leaf, vertex_points)?;
         }
         Ok(())
     }
@@ -509,36 +456,23 @@ impl<'a, C: GridInt> Walk<'a, C> {
 pub(crate) fn walk_whole<C: GridInt>(
     classifier: &Classifier,
     (root, level, grid): (Placed<C>, u32, Grid),
-    (two_state, alphas): (UnknownPolicy, Option<[f32; 3]>),
+    two_state: UnknownPolicy,
     max_work: u64,
     (map, counts): (&mut Micromap, &mut [u64; 4]),
 ) -> Result<Spent, BakeError> {
     let vertices = [0, 1, 2].map(|k| (root.x[k], root.y[k]));
-    let mut walk = Walk::new(classifier, (level, grid), two_state, max_work, map, counts)
-        .with_vertex_alpha(alphas.map(largest_alpha));
-    walk.visit(0, 0, (vertices, root_alphas(alphas)), false)?;
+    let mut walk = Walk::new(classifier, (level, grid), two_state, max_work, map, counts);
+    walk.visit(0, 0, vertices, false)?;
     Ok(walk.spent())
-}
-
-/// The largest of a triangle's vertex alphas (see [`Walk::with_vertex_alpha`]).
-pub(crate) fn largest_alpha(alphas: [f32; 3]) -> f64 {
-    f64::from(alphas[0].max(alphas[1]).max(alphas[2]))
-}
-
-/// The root's corner alphas for [`Walk::visit`] (zeros, unused, without
-/// vertex alpha).
-pub(crate) fn root_alphas(alphas: Option<[f32; 3]>) -> [f64; 3] {
-    alphas.map_or([0.0; 3], |a| a.map(f64::from))
 }
 
 /// The walk of one node's subtree (`node` at `depth` of a walk of
 /// `level` on `grid`), into a map of its own of `subtree_level`, with
-/// `max_work` units, also stopped by `shared` when given; `largest` as
-/// [`Walk::with_vertex_alpha`] takes it.
+/// `max_work` units, also stopped by `shared` when given.
 pub(crate) fn walk_subtree<C: GridInt>(
     classifier: &Classifier,
     (node, depth, level, grid): (&Node<C>, u32, u32, Grid),
-    (two_state, format, largest): (UnknownPolicy, Format, Option<f64>),
+    (two_state, format): (UnknownPolicy, Format),
     max_work: u64,
     shared: Option<&SharedStop>,
 ) -> Result<Subtree, BakeError> {
@@ -552,12 +486,11 @@ pub(crate) fn walk_subtree<C: GridInt>(
         max_work,
         &mut map,
         &mut counts,
-    )
-    .with_vertex_alpha(largest);
+    );
     if let Some(stop) = shared {
         walk = walk.sharing(stop);
     }
-    walk.visit(depth, 0, (node.vertices, node.alphas), node.top_flip)?;
+    walk.visit(depth, 0, node.vertices, node.top_flip)?;
     let Walk {
         work,
         widened,

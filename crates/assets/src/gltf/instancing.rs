@@ -10,15 +10,7 @@
 use super::accessor::component_name;
 use super::json::Obj;
 use super::nodes::{trs, Affine, InstanceTransforms};
-use super::reader::{bytes_of, Reader};
-
-/// The extension's name, as the Khronos registry has it (ratified).
-pub(super) const INSTANCING: &str = "EXT_mesh_gpu_instancing";
-
-/// The same extension under the name this reader has always accepted in
-/// `extensionsRequired` (no registry extension has it): read as
-/// [`INSTANCING`].
-pub(super) const INSTANCING_KHR: &str = "KHR_mesh_gpu_instancing";
+use super::reader::{bytes_of, Reader, INSTANCING, INSTANCING_KHR};
 
 /// The attributes that make the instance transform, in the order their
 /// counts are compared (custom attributes after them).

@@ -8,7 +8,6 @@
 
 use super::asset::GltfAsset;
 use super::glb::split_glb;
-use super::instancing::{INSTANCING, INSTANCING_KHR};
 use super::json::{short, Obj};
 use super::material::raw_materials;
 use crate::{AssetError, Limits};
@@ -17,6 +16,14 @@ use serde_json::Value;
 use std::borrow::Cow;
 use std::collections::HashMap;
 use std::rc::Rc;
+
+/// The extension's name, as the Khronos registry has it (ratified).
+pub(super) const INSTANCING: &str = "EXT_mesh_gpu_instancing";
+
+/// The same extension under the name this reader has always accepted in
+/// `extensionsRequired` (no registry extension has it): read as
+/// [`INSTANCING`] (by `super::instancing`).
+pub(super) const INSTANCING_KHR: &str = "KHR_mesh_gpu_instancing";
 
 /// `f` on a [`Reader`] of the glTF `bytes` whose header is checked.
 pub(super) fn with_reader<T>(
