@@ -42,6 +42,23 @@ pub(crate) struct AlphaTest {
     pub(crate) vertex: Option<VertexScale>,
 }
 
+/// The exact vertex alpha (to `f64` rounding) at the corner `(a, b)` of
+/// the barycentric grid with `side` (a power of two) steps per side (vertex 0 at the
+/// origin, vertex 1 at `(side, 0)`, vertex 2 at `(0, side)`), for vertex
+/// alphas `v`: the one formula the bake and the verifier use.
+#[inline]
+pub(crate) fn alpha_at(v: [f64; 3], side: f64, (a, b): (u64, u64)) -> f64 {
+    let (a, b) = (a as f64, b as f64);
+    // `side` is a power of two: times its inverse is the exact quotient.
+    (v[0] * (side - a - b) + v[1] * a + v[2] * b) * (1.0 / side)
+}
+
+/// The largest of a triangle's vertex alphas (the interpolation's error
+/// scales with it, [`VertexScale::over`]).
+pub(crate) fn largest_alpha(alphas: [f32; 3]) -> f64 {
+    f64::from(alphas[0].max(alphas[1]).max(alphas[2]))
+}
+
 /// The range `[lo, hi]` (both `>= 0`) a GPU's binary32 interpolation of
 /// the vertex alpha can give over some part of a triangle, its rounding
 /// included (`docs/bake.md`, "Vertex alpha"): what the filtered, factored
@@ -68,6 +85,35 @@ impl VertexScale {
         }
     }
 
+    /// A "range" narrower than any inside this one, for bounds that hold
+    /// for all of them (the tests are monotone in the range: a lower low
+    /// may fail more, a higher high may pass more): its low is this
+    /// range's high and its high this range's low.
+    pub(crate) fn narrowest(self) -> VertexScale {
+        VertexScale {
+            lo: self.hi,
+            hi: self.lo,
+        }
+    }
+
+    /// The smallest range holding this one and `other`.
+    pub(crate) fn union(self, other: VertexScale) -> VertexScale {
+        VertexScale {
+            lo: self.lo.min(other.lo),
+            hi: self.hi.max(other.hi),
+        }
+    }
+
+    /// A "range" no wider than this one and `other` (the highest low, the
+    /// lowest high; possibly low above high): bits taken at it are in the
+    /// bits of both.
+    pub(crate) fn intersection(self, other: VertexScale) -> VertexScale {
+        VertexScale {
+            lo: self.lo.max(other.lo),
+            hi: self.hi.min(other.hi),
+        }
+    }
+
     /// The range over whole triangles with vertex alphas `triangles`:
     /// holds each one's [`over`](Self::over).
     pub(crate) fn over_all(triangles: &[[f32; 3]]) -> VertexScale {
@@ -76,8 +122,7 @@ impl VertexScale {
             hi: 0.0,
         };
         for &a in triangles {
-            let largest = f64::from(a[0].max(a[1]).max(a[2]));
-            let v = VertexScale::over(a.map(f64::from), largest);
+            let v = VertexScale::over(a.map(f64::from), largest_alpha(a));
             all.lo = all.lo.min(v.lo);
             all.hi = all.hi.max(v.hi);
         }
@@ -125,18 +170,6 @@ impl AlphaTest {
         self
     }
 
-    /// [`low`](Self::low), then times the lowest alpha of `scale`.
-    fn low_scaled(&self, v: f64, scale: Option<VertexScale>) -> f64 {
-        let v = self.low(v);
-        scale.map_or(v, |s| s.low(v))
-    }
-
-    /// [`high`](Self::high), then times the highest alpha of `scale`.
-    fn high_scaled(&self, v: f64, scale: Option<VertexScale>) -> f64 {
-        let v = self.high(v);
-        scale.map_or(v, |s| s.high(v))
-    }
-
     /// The lowest value the GPU may compare when the values read mix to
     /// at least `v`: `v` itself under nearest filtering; under linear, less
     /// the filter's error and the factor's roundings (relative to the
@@ -175,8 +208,38 @@ impl AlphaTest {
     /// a region, times a vertex alpha in `scale` (none: 1), make of it:
     /// `(may pass, may fail)` as class bits.
     pub(crate) fn range_bits(&self, min: f64, max: f64, scale: Option<VertexScale>) -> u8 {
-        let may_pass = self.cutoff.is_opaque(self.high_scaled(max, scale));
-        let may_fail = !self.cutoff.is_opaque(self.low_scaled(min, scale));
+        self.bounds(min, max).bits(self, scale)
+    }
+
+    /// The part of [`range_bits`](Self::range_bits) that does not depend
+    /// on the vertex alpha: the lowest and highest values the GPU may
+    /// compare before it.
+    pub(crate) fn bounds(&self, min: f64, max: f64) -> CompareBounds {
+        CompareBounds {
+            low: self.low(min),
+            high: self.high(max),
+        }
+    }
+}
+
+/// The lowest and highest value the GPU may compare, before a vertex
+/// alpha ([`AlphaTest::bounds`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct CompareBounds {
+    low: f64,
+    high: f64,
+}
+
+impl CompareBounds {
+    /// The class bits times a vertex alpha in `scale` (none: 1).
+    #[inline]
+    pub(crate) fn bits(self, test: &AlphaTest, scale: Option<VertexScale>) -> u8 {
+        let (low, high) = match scale {
+            None => (self.low, self.high),
+            Some(s) => (s.low(self.low), s.high(self.high)),
+        };
+        let may_pass = test.cutoff.is_opaque(high);
+        let may_fail = !test.cutoff.is_opaque(low);
         u8::from(may_pass) | (u8::from(may_fail) << 1)
     }
 }

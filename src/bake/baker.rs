@@ -2,7 +2,7 @@
 //! [`super::verify`], verifies them). Construction, the triangle's frames
 //! on the exact grid, and the choice of walk.
 
-use super::alpha_test::{AlphaTest, VertexScale};
+use super::alpha_test::{largest_alpha, AlphaTest, VertexScale};
 use super::classify::{Classifier, Grid, Margin, Placed, TexelClasses};
 use super::exact::{AxisFrame, FrameError};
 use super::gpu::{margin, margin_transformed, Model};
@@ -12,12 +12,14 @@ use super::texture::{AlphaTexture, Cutoff, Filter, Sampler, TextureError};
 use super::texture_unit::{LinearRule, TextureUnit};
 use super::triangle::{BakeError, BakedTriangle, TriangleStatus, UvTriangle};
 use super::uv_transform::UvTransform;
-use super::walk::{largest_alpha, walk_whole, Spent};
+use super::walk::{walk_whole, Spent};
+use super::walk_variants::VariantWalk;
 use super::work::DEFAULT_TRIANGLE_WORK_BUDGET;
 use crate::micromap::BakedOpacity;
 use crate::micromap::{Format, Micromap, State, UnknownPolicy};
 use crate::num::wide::GridInt;
 use crate::Level;
+use alloc::vec::Vec;
 
 /// Block tests a micro-triangle may use before the baker calls it unknown
 /// (see [`Baker::with_block_budget`]).
@@ -385,8 +387,8 @@ impl Baker {
     /// [`bake_within`](Self::bake_within), with a triangle of
     /// [`SPLIT_FROM_LEVEL`] or above walked on the current thread pool's
     /// threads when `split` (the same result: see [`walk`](Self::walk)),
-    /// its texture's alpha times the vertex `alphas` when given (only on a
-    /// baker made for them: [`new_on`](Self::new_on)'s `vertex`).
+    /// its texture's alpha times the vertex `alphas` when given
+    /// ([`bake_variants`](Self::bake_variants) with one variant).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn bake_split(
         &self,
@@ -398,15 +400,34 @@ impl Baker {
         split: bool,
     ) -> Result<BakedTriangle, BakeError> {
         let model = self.model;
-        self.bake_alpha(
-            model,
-            (uv, alphas),
-            level,
-            format,
-            two_state,
-            max_work,
-            split,
-        )
+        match alphas {
+            None => self.bake_as(model, uv, level, format, two_state, max_work, split),
+            Some(alphas) => {
+                let mut one = self.bake_variants(
+                    model,
+                    (uv, &[alphas]),
+                    level,
+                    (format, two_state),
+                    max_work,
+                )?;
+                Ok(one.remove(0))
+            }
+        }
+    }
+
+    /// A triangle `level` deep, every micro-triangle unknown-opaque with
+    /// `status` (what a triangle whose coordinates cannot be placed gets).
+    fn whole_unknown(level: Level, status: TriangleStatus) -> BakedTriangle {
+        let mut counts = [0u64; 4];
+        counts[State::UnknownOpaque.bits() as usize] = level.micro_triangle_count() as u64;
+        BakedTriangle {
+            opacity: BakedOpacity::Special(State::UnknownOpaque),
+            status,
+            counts,
+            widened: 0,
+            work: 0,
+            speculative_work: 0,
+        }
     }
 
     /// [`bake_within`](Self::bake_within) under `model`, split as
@@ -422,62 +443,21 @@ impl Baker {
         max_work: u64,
         split: bool,
     ) -> Result<BakedTriangle, BakeError> {
-        self.bake_alpha(model, (uv, None), level, format, two_state, max_work, split)
-    }
-
-    /// [`bake_as`](Self::bake_as), times the vertex `alphas` when given
-    /// (see [`bake_split`](Self::bake_split)).
-    #[allow(clippy::too_many_arguments)]
-    fn bake_alpha(
-        &self,
-        model: Model,
-        (uv, alphas): (&UvTriangle, Option<[f32; 3]>),
-        level: Level,
-        format: Format,
-        two_state: UnknownPolicy,
-        max_work: u64,
-        split: bool,
-    ) -> Result<BakedTriangle, BakeError> {
-        let whole_unknown = |status| {
-            let mut counts = [0u64; 4];
-            counts[State::UnknownOpaque.bits() as usize] = level.micro_triangle_count() as u64;
-            BakedTriangle {
-                opacity: BakedOpacity::Special(State::UnknownOpaque),
-                status,
-                counts,
-                widened: 0,
-                work: 0,
-                speculative_work: 0,
-            }
-        };
-        if let Some(alphas) = alphas {
-            // The mesh bake makes its bakers for their triangles' alphas.
-            let covered = self.covers(alphas);
-            debug_assert!(covered, "a baker made for other vertex alphas");
-            if !covered {
-                return Ok(whole_unknown(TriangleStatus::OutOfExactRange));
-            }
-        }
         let mut map = Micromap::new(level, format)?;
         let (fx, fy, grid) = match self.frames(model, uv, level) {
             Ok(frames) => frames,
-            Err(FrameError::NotFinite) => return Ok(whole_unknown(TriangleStatus::NotFinite)),
+            Err(FrameError::NotFinite) => {
+                return Ok(Self::whole_unknown(level, TriangleStatus::NotFinite))
+            }
             Err(FrameError::OutOfRange) => {
-                let mut unknown = whole_unknown(TriangleStatus::OutOfExactRange);
+                let mut unknown = Self::whole_unknown(level, TriangleStatus::OutOfExactRange);
                 // The GPU model's margin can push a triangle the exact
                 // grid holds off it: then the whole exact bake's known
                 // micro-triangles are the widening's cost.
                 if model == Model::GpuBinary32 {
                     let four = Format::FourState;
-                    let exact = self.bake_alpha(
-                        Model::Exact,
-                        (uv, alphas),
-                        level,
-                        four,
-                        two_state,
-                        max_work,
-                        split,
-                    )?;
+                    let exact =
+                        self.bake_as(Model::Exact, uv, level, four, two_state, max_work, split)?;
                     unknown.widened = exact.counts[0] + exact.counts[1];
                     unknown.work = exact.work;
                 }
@@ -490,10 +470,9 @@ impl Baker {
         let mut counts = [0u64; 4];
         let out = (&mut map, &mut counts);
         let split = split && n >= SPLIT_FROM_LEVEL;
-        let policy = (two_state, alphas);
         let walk = |c: &Classifier, out| match root.narrowed(grid) {
-            Some(narrow) => Self::walk(c, narrow, (n, grid), policy, max_work, split, out),
-            None => Self::walk(c, root, (n, grid), policy, max_work, split, out),
+            Some(narrow) => Self::walk(c, narrow, (n, grid), two_state, max_work, split, out),
+            None => Self::walk(c, root, (n, grid), two_state, max_work, split, out),
         };
         let (spent, speculative_work) = walk(&self.classifier, out)?;
         Ok(BakedTriangle {
@@ -504,6 +483,102 @@ impl Baker {
             work: spent.work,
             speculative_work,
         })
+    }
+
+    /// One triangle with several vertex-alpha variants (at most
+    /// [`MAX_VARIANTS`](super::walk_variants::MAX_VARIANTS)), each its texture's alpha times its `alphas`, in
+    /// one walk ([`super::walk_variants`]): one bake per variant, in order.
+    /// The work is the walk's, given to the first (the others' is 0), and
+    /// `max_work` caps the walk. Only on a baker made for their alphas
+    /// ([`covers`](Self::covers)); a variant it does not cover is unknown
+    /// ([`TriangleStatus::OutOfExactRange`]).
+    pub(crate) fn bake_variants(
+        &self,
+        model: Model,
+        (uv, alphas): (&UvTriangle, &[[f32; 3]]),
+        level: Level,
+        (format, two_state): (Format, UnknownPolicy),
+        max_work: u64,
+    ) -> Result<Vec<BakedTriangle>, BakeError> {
+        let mut baked: Vec<BakedTriangle> = Vec::with_capacity(alphas.len());
+        let (fx, fy, grid) = match self.frames(model, uv, level) {
+            Ok(frames) => frames,
+            Err(FrameError::NotFinite) => {
+                baked.resize(
+                    alphas.len(),
+                    Self::whole_unknown(level, TriangleStatus::NotFinite),
+                );
+                return Ok(baked);
+            }
+            Err(FrameError::OutOfRange) => {
+                let unknown = Self::whole_unknown(level, TriangleStatus::OutOfExactRange);
+                baked.resize(alphas.len(), unknown);
+                // As in `bake_as`: the exact bake's known micro-triangles
+                // are the widening's cost.
+                if model == Model::GpuBinary32 {
+                    let four = (Format::FourState, two_state);
+                    let exact =
+                        self.bake_variants(Model::Exact, (uv, alphas), level, four, max_work)?;
+                    for (b, e) in baked.iter_mut().zip(exact) {
+                        b.widened = e.counts[0] + e.counts[1];
+                        b.work = e.work;
+                    }
+                }
+                return Ok(baked);
+            }
+        };
+        // Only the variants the baker covers are walked.
+        let covered: Vec<[f32; 3]> = alphas.iter().copied().filter(|&a| self.covers(a)).collect();
+        debug_assert!(
+            covered.len() == alphas.len(),
+            "a baker made for other vertex alphas"
+        );
+        let n = level.get();
+        let side = 1u64 << n;
+        let root = Self::place(&fx, &fy, n, [(0, 0), (side, 0), (0, side)]);
+        let mut walk = VariantWalk::new(
+            &self.classifier,
+            (n, grid),
+            (two_state, format),
+            max_work,
+            &covered,
+        )?;
+        let bary = [(0, 0), (side, 0), (0, side)];
+        let open = walk.all();
+        if let Some(narrow) = root.narrowed(grid) {
+            let vertices = [0, 1, 2].map(|k| (narrow.x[k], narrow.y[k]));
+            walk.visit((0, 0), (vertices, bary), false, open)?;
+        } else {
+            let vertices = [0, 1, 2].map(|k| (root.x[k], root.y[k]));
+            walk.visit((0, 0), (vertices, bary), false, open)?;
+        }
+        let (work, out_of_work) = (walk.work, walk.out_of_work);
+        let mut walked = walk.out.into_iter();
+        for &a in alphas {
+            if !self.covers(a) {
+                baked.push(Self::whole_unknown(level, TriangleStatus::OutOfExactRange));
+                continue;
+            }
+            let v = walked
+                .next()
+                .expect("a walked variant for every covered one");
+            let status = if out_of_work {
+                TriangleStatus::WorkBudgetExceeded
+            } else if v.exhausted {
+                TriangleStatus::BlockBudgetExceeded
+            } else {
+                TriangleStatus::Exact
+            };
+            baked.push(BakedTriangle {
+                opacity: BakedOpacity::Map(v.map),
+                status,
+                counts: v.counts,
+                widened: v.widened,
+                work: if baked.is_empty() { work } else { 0 },
+                speculative_work: 0,
+            });
+        }
+        Ok(baked)
     }
 
     /// Whether its texel classes hold for a triangle with vertex alphas
@@ -531,7 +606,7 @@ impl Baker {
         classifier: &Classifier,
         root: Placed<C>,
         (level, grid): (u32, Grid),
-        two_state: (UnknownPolicy, Option<[f32; 3]>),
+        two_state: UnknownPolicy,
         max_work: u64,
         split: bool,
         out: (&mut Micromap, &mut [u64; 4]),

@@ -293,7 +293,7 @@ fn bake_distinct(
     let chunk_cost = CHUNK_COST_PER_THREAD.saturating_mul(threads as u64);
     // A large triangle is split over the pool's threads when there are
     // several (`Baker::walk`; the same result either way).
-    let bake =
+    let bake_one =
         |w: &distinct::Work, max_work: u64, split: bool| -> Result<BakedTriangle, MeshBakeError> {
             let (format, unknown) = (options.format, options.unknown);
             let baker = &plan.bakers[w.baker as usize];
@@ -315,6 +315,37 @@ fn bake_distinct(
                 }
             }
         };
+    // A group of vertex-alpha variants is baked by its first, in one walk
+    // (`distinct::Plan::group_variants`); the others' bakes wait in `held`
+    // until their turn. `None`: a variant baked by its group's first.
+    let bake = |w: &distinct::Work,
+                max_work: u64,
+                split: bool|
+     -> Result<Option<Vec<BakedTriangle>>, MeshBakeError> {
+        if w.leader.is_some() {
+            return Ok(None);
+        }
+        if w.members.len() < 2 {
+            return bake_one(w, max_work, split).map(|b| Some(vec![b]));
+        }
+        let baker = &plan.bakers[w.baker as usize];
+        let mut alphas = input::room(w.members.len())?;
+        for &m in &w.members {
+            alphas.push(plan.work[m as usize].alphas.unwrap_or([1.0; 3]));
+        }
+        baker
+            .bake_variants(
+                baker.model,
+                (&w.uv, &alphas),
+                w.level,
+                (options.format, options.unknown),
+                max_work,
+            )
+            .map(Some)
+            .map_err(MeshBakeError::Bake)
+    };
+    let mut held: alloc::collections::BTreeMap<u32, BakedTriangle> =
+        alloc::collections::BTreeMap::new();
     let mut builder = MicromapBuffersBuilder::new(options.buffers);
     let mut distinct = input::room(plan.work.len())?;
     let mut work_left = options.bake_work_budget;
@@ -330,11 +361,23 @@ fn bake_distinct(
         let at_start = options.triangle_work_budget.min(work_left);
         let baked = runner.map_in_order(chunk, min_len, |w| bake(w, at_start, threads > 1));
         let mut triangles = 0;
-        for (w, b) in chunk.iter().zip(baked) {
+        for ((id, w), b) in (start..).zip(chunk).zip(baked) {
             let allowance = options.triangle_work_budget.min(work_left);
-            let mut b = b?;
+            let mut b = match b? {
+                Some(group) => {
+                    let mut group = group.into_iter();
+                    let first = group.next().expect("a bake per variant, the first first");
+                    for (&m, b) in w.members.iter().skip(1).zip(group) {
+                        held.insert(m, b);
+                    }
+                    first
+                }
+                None => held
+                    .remove(&(id as u32))
+                    .expect("a group's first comes before its other variants"),
+            };
             if allowance < at_start && b.work >= allowance {
-                b = bake(w, allowance, false)?;
+                b = bake_one(w, allowance, false)?;
             }
             work_left = work_left.saturating_sub(b.work);
             let level = b.opacity.level();
@@ -736,6 +779,47 @@ mod tests {
         };
         let baked = bake_mesh(&mesh, &options).unwrap();
         assert_eq!(baked.report.distinct_triangles, count + 1);
+        // The variants of one UV triangle are walked together; each bakes
+        // as it does alone (and as a group of its own repeats).
+        let mut grouped = triangles.clone();
+        let mut grouped_alphas = alphas.clone();
+        for &a in &alphas[..count] {
+            grouped.push(triangles[0]);
+            grouped_alphas.push(a);
+        }
+        let many = Mesh {
+            triangles: MeshTriangles::Uv(&grouped),
+            vertex_alpha: Some(&grouped_alphas),
+            ..mesh
+        };
+        let many = bake_mesh(&many, &options).unwrap();
+        for t in 0..triangles.len() {
+            let alone = Mesh {
+                triangles: MeshTriangles::Uv(&triangles[t..=t]),
+                vertex_alpha: Some(&alphas[t..=t]),
+                ..mesh
+            };
+            let alone = bake_mesh(&alone, &options).unwrap();
+            let states =
+                |x: Option<TriangleBake>| x.map(|x| (x.level, x.status, x.counts, x.widened));
+            assert_eq!(
+                states(alone.triangle(0, 0)),
+                states(baked.triangle(0, t)),
+                "triangle {t}"
+            );
+            assert_eq!(alone.opacity(0, 0), baked.opacity(0, t), "triangle {t}");
+            assert_eq!(alone.opacity(0, 0), many.opacity(0, t), "triangle {t}");
+        }
+        for t in 0..count {
+            let alone = Mesh {
+                triangles: MeshTriangles::Uv(&triangles[0..1]),
+                vertex_alpha: Some(&alphas[t..=t]),
+                ..mesh
+            };
+            let alone = bake_mesh(&alone, &options).unwrap();
+            let at = triangles.len() + t;
+            assert_eq!(alone.opacity(0, 0), many.opacity(0, at), "variant {t}");
+        }
         // The exact filtered value at texel coordinates (x, y), clamped.
         let texel = |x: isize, y: isize| {
             let (x, y) = (x.clamp(0, w as isize - 1), y.clamp(0, h as isize - 1));

@@ -134,6 +134,7 @@ mod triangle;
 mod uv_transform;
 mod verify;
 mod walk;
+mod walk_variants;
 mod work;
 
 pub use baker::{Baker, DEFAULT_BLOCK_BUDGET};

@@ -3,12 +3,11 @@
 //! area can read a texel of the other class is a [`Contradiction`], with an
 //! exact witness point where one is found.
 
-use super::alpha_test::VertexScale;
+use super::alpha_test::{alpha_at, largest_alpha, VertexScale};
 use super::baker::Baker;
 use super::classify::{is_small, Block, Classes, Grid, Placed};
 use super::exact::{ExactTriangle, TexelPoint};
 use super::triangle::UvTriangle;
-use super::walk::largest_alpha;
 use crate::inverse::micro_triangles;
 use crate::micromap::{State, TriangleOpacity};
 use crate::Level;
@@ -164,10 +163,7 @@ impl Baker {
             Some(v) if self.covers(v) => {
                 let side = f64::from(1u32 << level.get());
                 let v = v.map(f64::from);
-                let at = move |(a, b): (u64, u64)| {
-                    let (a, b) = (a as f64, b as f64);
-                    (v[0] * (side - a - b) + v[1] * a + v[2] * b) / side
-                };
+                let at = move |c: (u64, u64)| alpha_at(v, side, c);
                 Some((at, largest_alpha(alphas.unwrap_or_default())))
             }
             Some(_) => {

@@ -28,7 +28,12 @@ fn midpoint<C: GridInt>(a: (C, C), b: (C, C)) -> (C, C) {
 /// Sets `count` states of `map` from `first`: one leaf (most calls) by
 /// [`Micromap::set`], a range by [`Micromap::fill`].
 #[inline]
-fn put(map: &mut Micromap, first: u64, count: u64, state: State) -> Result<(), MicromapError> {
+pub(crate) fn put(
+    map: &mut Micromap,
+    first: u64,
+    count: u64,
+    state: State,
+) -> Result<(), MicromapError> {
     if count == 1 {
         map.set(first, state)
     } else {
@@ -347,7 +352,7 @@ impl<'a, C: GridInt> Walk<'a, C> {
     fn visit_leaf(&mut self, p: &Placed<C>, leaf: u64, points: Points) -> Result<(), BakeError> {
         let (classes, out_of_budget, work, widened) =
             self.classifier
-                .classify_leaf(p, self.grid, points, &mut self.stack);
+                .classify_leaf(p, self.grid, (points, None), &mut self.stack);
         self.work += work;
         self.widened += u64::from(widened);
         if let Some(state) = classes.known_state() {
@@ -402,7 +407,7 @@ impl<'a, C: GridInt> Walk<'a, C> {
                         self.work += 1;
                         let (x, y) = points[i];
                         self.classifier
-                            .point_classes((x + x, y + y), self.grid.shifts)
+                            .point_classes((x + x, y + y), self.grid.shifts, None)
                     });
                     sure = sure.union(classes);
                     if sure.is_mixed() {

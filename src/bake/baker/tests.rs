@@ -183,24 +183,10 @@ fn narrow_and_wide_walks_agree_near_their_threshold() {
         let policy = UnknownPolicy::Fallback;
         let c = &baker.classifier;
         let wide = bake(&|map, counts| {
-            walk_whole(
-                c,
-                (root, level, grid),
-                (policy, None),
-                u64::MAX,
-                (map, counts),
-            )
-            .unwrap()
+            walk_whole(c, (root, level, grid), policy, u64::MAX, (map, counts)).unwrap()
         });
         let narrowed = bake(&|map, counts| {
-            walk_whole(
-                c,
-                (narrow, level, grid),
-                (policy, None),
-                u64::MAX,
-                (map, counts),
-            )
-            .unwrap()
+            walk_whole(c, (narrow, level, grid), policy, u64::MAX, (map, counts)).unwrap()
         });
         assert_eq!(narrowed, wide, "{root:?} {shifts:?} level {level}");
         for (total, count) in seen.iter_mut().zip(wide.1) {

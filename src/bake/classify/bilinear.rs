@@ -38,7 +38,7 @@
 
 use super::classes::{margin_in, Block, Grid, Placed};
 use super::tables::TexelClasses;
-use crate::bake::alpha_test::VertexScale;
+use crate::bake::alpha_test::{CompareBounds, VertexScale};
 use crate::num::wide::GridInt;
 
 /// The widening of the extremes for this module's own `f64` arithmetic, in
@@ -75,13 +75,33 @@ fn floor(t: f64) -> i128 {
 /// bit 1: may fail), with a point of it where the value is lowest and one
 /// where it is highest (texel coordinates from the texture's corner; the
 /// corners of the quick bound's box when that decided).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct RegionValue {
     pub(crate) bits: u8,
     pub(crate) argmin: (f64, f64),
     pub(crate) argmax: (f64, f64),
     /// Cells evaluated (work units).
     pub(crate) cells: u32,
+}
+
+/// What a point reads ([`TexelClasses::point_reading`]): its footprint's
+/// classes when they are one (whatever the vertex alpha: the texel classes
+/// hold for all of it), else its value's bounds.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum PointReading {
+    Classes(u8),
+    Value(CompareBounds),
+}
+
+impl PointReading {
+    /// The class bits, times a vertex alpha in `scale` (none: 1).
+    #[inline]
+    pub(crate) fn bits(self, classes: &TexelClasses, scale: Option<VertexScale>) -> u8 {
+        match self {
+            PointReading::Classes(bits) => bits,
+            PointReading::Value(bounds) => bounds.bits(&classes.test, scale),
+        }
+    }
 }
 
 /// A polygon of at most 16 vertices (the hull has at most 12; each of four
@@ -301,13 +321,18 @@ impl Running {
     /// highest plus the slack. A NaN texel gives a NaN mix, which passes
     /// no cutoff: a value that fails.
     fn bits(&self, classes: &TexelClasses, scale: Option<VertexScale>) -> u8 {
+        self.bounds(classes).bits(&classes.test, scale)
+    }
+
+    /// What [`bits`](Self::bits) compares, before the vertex alpha.
+    fn bounds(&self, classes: &TexelClasses) -> CompareBounds {
         let slack = VALUE_SLACK * self.largest;
         let min = if self.nan {
             f64::NAN
         } else {
             self.min - classes.spread - slack
         };
-        classes.test.range_bits(min, self.max + slack, scale)
+        classes.test.bounds(min, self.max + slack)
     }
 }
 
@@ -327,14 +352,26 @@ impl TexelClasses {
     /// vertex alpha in `scale` (none: 1).
     pub(crate) fn point_bits<C: GridInt>(
         &self,
-        (x, y): (C, C),
-        (sx, sy): (u32, u32),
+        point: (C, C),
+        shifts: (u32, u32),
         scale: Option<VertexScale>,
     ) -> u8 {
+        self.point_reading(point, shifts).bits(self, scale)
+    }
+
+    /// What [`point_bits`](Self::point_bits) reads at a point, before the
+    /// vertex alpha.
+    pub(crate) fn point_reading<C: GridInt>(
+        &self,
+        (x, y): (C, C),
+        (sx, sy): (u32, u32),
+    ) -> PointReading {
         let block: Block<C> = self.bounding_block((x, x), (y, y), Grid::exact((sx, sy)));
         let classes = self.quick(block);
         if !classes.is_mixed() {
-            return u8::from(classes.opaque) | (u8::from(classes.transparent) << 1);
+            return PointReading::Classes(
+                u8::from(classes.opaque) | (u8::from(classes.transparent) << 1),
+            );
         }
         let block = block.wide();
         let (x, y): (i128, i128) = (x.into(), y.into());
@@ -351,7 +388,7 @@ impl TexelClasses {
             bilinear(v, a.clamp(0.0, 1.0), b.clamp(0.0, 1.0)),
             Where::default(),
         );
-        running.bits(self, scale)
+        PointReading::Value(running.bounds(self))
     }
 
     /// What the filtered value may do over `p` dilated by `grid`'s margin
@@ -365,6 +402,155 @@ impl TexelClasses {
         grid: Grid,
         scale: Option<VertexScale>,
     ) -> RegionValue {
+        let region = Region::new(p, grid);
+        let mut cells = 0u32;
+        // 2. The quick bound.
+        let quick = region.quick(self, &mut cells);
+        let bits = quick.bits(self, scale);
+        if bits != 3 {
+            return RegionValue {
+                bits,
+                argmin: region.at(quick.argmin),
+                argmax: region.at(quick.argmax),
+                cells,
+            };
+        }
+        // 3. The exact extremes, per cell and only where they can tell:
+        //    a cell whose quick range cannot fail (pass) is not searched
+        //    for a failing (passing) point, and the search stops once the
+        //    region is known to do both. The class bits are those of the
+        //    region's exact extremes (the test is monotone in the value, so
+        //    the region may pass iff some cell's part may); the points are a
+        //    lowest point of a part that may fail and a highest point of one
+        //    that may pass.
+        let (mut bits, mut argmin, mut argmax) = (0u8, (0.0, 0.0), (0.0, 0.0));
+        let polygon = region.polygon();
+        'cells: for j in region.cells_y.clone() {
+            for i in region.cells_x.clone() {
+                let need = |range: &Running| range.bits(self, scale) & !bits;
+                let Some(exact) = region.exact_cell(self, &polygon, (i, j), &quick, need) else {
+                    continue;
+                };
+                cells += 1;
+                let found = exact.bits(self, scale) & need(&exact.range);
+                if found & 2 != 0 {
+                    argmin = region.at(exact.running.argmin);
+                }
+                if found & 1 != 0 {
+                    argmax = region.at(exact.running.argmax);
+                }
+                bits |= found;
+                if bits == 3 {
+                    break 'cells;
+                }
+            }
+        }
+        RegionValue {
+            bits,
+            argmin,
+            argmax,
+            cells,
+        }
+    }
+
+    /// The first read of [`region_value`](Self::region_value) for many
+    /// vertex alphas at once (the same region times several alphas): the
+    /// region and its quick bound, with the cells read (work units); the
+    /// exact extremes follow on demand ([`RegionRead::exact`]).
+    pub(crate) fn region_read<C: GridInt>(&self, p: &Placed<C>, grid: Grid) -> (RegionRead, u32) {
+        let region = Region::new(p, grid);
+        let mut cells = 0u32;
+        let quick = region.quick(self, &mut cells);
+        (RegionRead { region, quick }, cells)
+    }
+}
+
+/// A region and its quick bound ([`TexelClasses::region_read`]).
+pub(crate) struct RegionRead {
+    region: Region,
+    quick: Running,
+}
+
+impl RegionRead {
+    /// What the quick bound compares: [`region_value`](TexelClasses::region_value)'s
+    /// answer for every alpha range it decides (bits other than both).
+    pub(crate) fn quick(&self, classes: &TexelClasses) -> CompareBounds {
+        self.quick.bounds(classes)
+    }
+
+    /// What the exact extremes compare, for alpha ranges inside `wide`
+    /// whose quick bits are both, each no narrower than `narrow` (low at
+    /// most `narrow.lo`, high at least `narrow.hi`): for each, the bits
+    /// [`region_value`](TexelClasses::region_value) gives it alone (the
+    /// union of the cells' parts' bits). The cells are skipped and the
+    /// search stopped as there, for all the ranges at once: a cell is
+    /// skipped when its quick range at `wide` adds nothing to what the
+    /// parts so far give at `narrow`, and the search stops when that is
+    /// both (the bits are monotone in the range), so neither changes an
+    /// answer. Adds the cells read to `cells`.
+    pub(crate) fn exact(
+        &self,
+        classes: &TexelClasses,
+        (wide, narrow): (VertexScale, VertexScale),
+        cells: &mut u32,
+    ) -> CompareBounds {
+        let region = &self.region;
+        let polygon = region.polygon();
+        let mut all = Running::new();
+        all.largest = self.quick.largest;
+        'cells: for j in region.cells_y.clone() {
+            for i in region.cells_x.clone() {
+                let so_far = all.bits(classes, Some(narrow));
+                let need = |range: &Running| range.bits(classes, Some(wide)) & !so_far;
+                let Some(exact) = region.exact_cell(classes, &polygon, (i, j), &self.quick, need)
+                else {
+                    continue;
+                };
+                *cells += 1;
+                all.nan |= exact.running.nan;
+                all.min = all.min.min(exact.running.min);
+                all.max = all.max.max(exact.running.max);
+                if all.bits(classes, Some(narrow)) == 3 {
+                    break 'cells;
+                }
+            }
+        }
+        all.bounds(classes)
+    }
+}
+
+/// One cell's part of a region: its exact extremes, and the cell's quick
+/// range they were asked for by.
+struct CellExtremes {
+    running: Running,
+    range: Running,
+}
+
+impl CellExtremes {
+    fn bits(&self, classes: &TexelClasses, scale: Option<VertexScale>) -> u8 {
+        self.running.bits(classes, scale)
+    }
+}
+
+/// A placed micro-triangle dilated by a grid's margin, in `f64` texel
+/// coordinates relative to its first texel (steps 1 to 3 of the
+/// [module docs](self) read it).
+struct Region {
+    ox: i128,
+    oy: i128,
+    vertices: [(f64, f64); 3],
+    margin: (f64, f64),
+    /// The dilated region's bounding box.
+    x0: f64,
+    x1: f64,
+    y0: f64,
+    y1: f64,
+    cells_x: core::ops::RangeInclusive<i128>,
+    cells_y: core::ops::RangeInclusive<i128>,
+}
+
+impl Region {
+    fn new<C: GridInt>(p: &Placed<C>, grid: Grid) -> Region {
         let (sx, sy) = grid.shifts;
         let x: [i128; 3] = p.x.map(Into::into);
         let y: [i128; 3] = p.y.map(Into::into);
@@ -389,120 +575,119 @@ impl TexelClasses {
             y0 = y0.min(py - my);
             y1 = y1.max(py + my);
         }
-        let at = |(ci, cj, a, b): Where| {
-            (
-                to_f64(ox) + ci + a.clamp(0.0, 1.0),
-                to_f64(oy) + cj + b.clamp(0.0, 1.0),
-            )
-        };
-        // The bounding box's part in the cell centred at `(ci, cj)` (cell
-        // coordinates), at its corners: on a box a bilinear function's
-        // extremes are at its corners. Steps 2 and 3 both read it.
-        let box_corners = |v: [f64; 4], ci: f64, cj: f64| {
-            let (a0, a1) = ((x0 - ci).clamp(0.0, 1.0), (x1 - ci).clamp(0.0, 1.0));
-            let (b0, b1) = ((y0 - cj).clamp(0.0, 1.0), (y1 - cj).clamp(0.0, 1.0));
-            [(a0, b0), (a1, b0), (a0, b1), (a1, b1)]
-                .map(|(a, b)| (bilinear(v, a, b), (ci, cj, a, b)))
-        };
-        let cells_x = floor(x0 - 0.5)..=floor(x1 - 0.5);
-        let cells_y = floor(y0 - 0.5)..=floor(y1 - 0.5);
-        let mut cells = 0u32;
-        // 2. The quick bound: the bounding box's part in each cell, at its
-        //    corners.
+        Region {
+            ox,
+            oy,
+            vertices,
+            margin: (mx, my),
+            x0,
+            x1,
+            y0,
+            y1,
+            cells_x: floor(x0 - 0.5)..=floor(x1 - 0.5),
+            cells_y: floor(y0 - 0.5)..=floor(y1 - 0.5),
+        }
+    }
+
+    /// A point given to [`Running::add`], in texel coordinates from the
+    /// texture's corner.
+    fn at(&self, (ci, cj, a, b): Where) -> (f64, f64) {
+        (
+            to_f64(self.ox) + ci + a.clamp(0.0, 1.0),
+            to_f64(self.oy) + cj + b.clamp(0.0, 1.0),
+        )
+    }
+
+    /// The bounding box's part in the cell centred at `(ci, cj)` (cell
+    /// coordinates), at its corners: on a box a bilinear function's
+    /// extremes are at its corners. Steps 2 and 3 both read it.
+    fn box_corners(&self, v: [f64; 4], ci: f64, cj: f64) -> [(f64, Where); 4] {
+        let (a0, a1) = (
+            (self.x0 - ci).clamp(0.0, 1.0),
+            (self.x1 - ci).clamp(0.0, 1.0),
+        );
+        let (b0, b1) = (
+            (self.y0 - cj).clamp(0.0, 1.0),
+            (self.y1 - cj).clamp(0.0, 1.0),
+        );
+        [(a0, b0), (a1, b0), (a0, b1), (a1, b1)].map(|(a, b)| (bilinear(v, a, b), (ci, cj, a, b)))
+    }
+
+    /// 2. The quick bound: the bounding box's part in each cell, at its
+    ///    corners (counting the cells in `cells`).
+    fn quick(&self, classes: &TexelClasses, cells: &mut u32) -> Running {
         let mut quick = Running::new();
-        for j in cells_y.clone() {
-            for i in cells_x.clone() {
+        for j in self.cells_y.clone() {
+            for i in self.cells_x.clone() {
                 let (ci, cj) = (to_f64(i) + 0.5, to_f64(j) + 0.5);
-                let v = self.cell_values(ox + i, oy + j);
-                cells += 1;
+                let v = classes.cell_values(self.ox + i, self.oy + j);
+                *cells += 1;
                 for value in v {
                     quick.largest = quick.largest.max(value.abs());
                 }
-                for (value, at) in box_corners(v, ci, cj) {
+                for (value, at) in self.box_corners(v, ci, cj) {
                     quick.add(value, at);
                 }
             }
         }
-        let bits = quick.bits(self, scale);
-        if bits != 3 {
-            return RegionValue {
-                bits,
-                argmin: at(quick.argmin),
-                argmax: at(quick.argmax),
-                cells,
-            };
+        quick
+    }
+
+    /// The dilated region as a polygon.
+    fn polygon(&self) -> Polygon {
+        dilated(self.vertices, self.margin)
+    }
+
+    /// 3. The exact extremes of the region's part in cell `(i, j)`, when
+    ///    `need` (of the cell's quick range) asks for some class and the
+    ///    part is not empty.
+    fn exact_cell(
+        &self,
+        classes: &TexelClasses,
+        polygon: &Polygon,
+        (i, j): (i128, i128),
+        quick: &Running,
+        need: impl Fn(&Running) -> u8,
+    ) -> Option<CellExtremes> {
+        let (ci, cj) = (to_f64(i) + 0.5, to_f64(j) + 0.5);
+        // The cell's quick range again (step 2's, read anew: few regions
+        // get here).
+        let v = classes.cell_values(self.ox + i, self.oy + j);
+        let mut range = Running::new();
+        range.largest = quick.largest;
+        for (value, at) in self.box_corners(v, ci, cj) {
+            range.add(value, at);
         }
-        // 3. The exact extremes, per cell and only where they can tell:
-        //    a cell whose quick range cannot fail (pass) is not searched
-        //    for a failing (passing) point, and the search stops once the
-        //    region is known to do both. The class bits are those of the
-        //    region's exact extremes (the test is monotone in the value, so
-        //    the region may pass iff some cell's part may); the points are a
-        //    lowest point of a part that may fail and a highest point of one
-        //    that may pass.
-        let region = dilated(vertices, (mx, my));
-        let (mut bits, mut argmin, mut argmax) = (0u8, (0.0, 0.0), (0.0, 0.0));
-        'cells: for j in cells_y {
-            for i in cells_x.clone() {
-                let (ci, cj) = (to_f64(i) + 0.5, to_f64(j) + 0.5);
-                // The cell's quick range again (step 2's, read anew: few
-                // regions get here).
-                let v = self.cell_values(ox + i, oy + j);
-                let mut range = Running::new();
-                range.largest = quick.largest;
-                for (value, at) in box_corners(v, ci, cj) {
-                    range.add(value, at);
-                }
-                let need = range.bits(self, scale) & !bits;
-                if need == 0 {
-                    continue;
-                }
-                let mut piece = region;
-                for q in &mut piece.points[..piece.len] {
-                    *q = (q.0 - ci, q.1 - cj);
-                }
-                // Clipped only by the cell's sides the region crosses (a
-                // side the bounding box stays within removes nothing).
-                if x0 < ci {
-                    piece = piece.clip(|q| q.0);
-                }
-                if x1 > ci + 1.0 {
-                    piece = piece.clip(|q| 1.0 - q.0);
-                }
-                if y0 < cj {
-                    piece = piece.clip(|q| q.1);
-                }
-                if y1 > cj + 1.0 {
-                    piece = piece.clip(|q| 1.0 - q.1);
-                }
-                if piece.len == 0 {
-                    continue;
-                }
-                cells += 1;
-                let mut exact = Running::new();
-                exact.largest = quick.largest;
-                candidates(&piece, v, |a, b| {
-                    let value = bilinear(v, a.clamp(0.0, 1.0), b.clamp(0.0, 1.0));
-                    exact.add(value, (ci, cj, a, b));
-                });
-                let found = exact.bits(self, scale) & need;
-                if found & 2 != 0 {
-                    argmin = at(exact.argmin);
-                }
-                if found & 1 != 0 {
-                    argmax = at(exact.argmax);
-                }
-                bits |= found;
-                if bits == 3 {
-                    break 'cells;
-                }
-            }
+        if need(&range) == 0 {
+            return None;
         }
-        RegionValue {
-            bits,
-            argmin,
-            argmax,
-            cells,
+        let mut piece = *polygon;
+        for q in &mut piece.points[..piece.len] {
+            *q = (q.0 - ci, q.1 - cj);
         }
+        // Clipped only by the cell's sides the region crosses (a side the
+        // bounding box stays within removes nothing).
+        if self.x0 < ci {
+            piece = piece.clip(|q| q.0);
+        }
+        if self.x1 > ci + 1.0 {
+            piece = piece.clip(|q| 1.0 - q.0);
+        }
+        if self.y0 < cj {
+            piece = piece.clip(|q| q.1);
+        }
+        if self.y1 > cj + 1.0 {
+            piece = piece.clip(|q| 1.0 - q.1);
+        }
+        if piece.len == 0 {
+            return None;
+        }
+        let mut running = Running::new();
+        running.largest = quick.largest;
+        candidates(&piece, v, |a, b| {
+            let value = bilinear(v, a.clamp(0.0, 1.0), b.clamp(0.0, 1.0));
+            running.add(value, (ci, cj, a, b));
+        });
+        Some(CellExtremes { running, range })
     }
 }

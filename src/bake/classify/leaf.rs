@@ -223,7 +223,6 @@ impl Classifier {
         &self,
         p: &Placed<C>,
         grid: Grid,
-        scale: Option<VertexScale>,
     ) -> (Option<crate::micromap::State>, u64) {
         if !self.classes.test.by_value {
             return (None, 0);
@@ -235,7 +234,7 @@ impl Classifier {
         if b.x1 - b.x0 > three || b.y1 - b.y0 > three {
             return (None, 0);
         }
-        let r = self.classes.region_value(p, grid, scale);
+        let r = self.classes.region_value(p, grid, None);
         (Classes::of_bits(r.bits).known_state(), u64::from(r.cells))
     }
 

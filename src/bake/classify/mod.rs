@@ -13,6 +13,7 @@ mod search;
 mod tables;
 mod wrap;
 
+pub(crate) use bilinear::PointReading;
 pub(crate) use classes::{is_small, Block, Classes, Grid, Margin, Placed};
 #[cfg(test)]
 pub(crate) use classes::{NARROW_SHIFT, NARROW_WALK_COORDINATE};

@@ -22,6 +22,7 @@ use crate::bake::parallel::Runner;
 use crate::bake::texture::{AlphaTexture, Filter};
 use crate::bake::texture_unit::LinearRule;
 use crate::bake::triangle::{TriangleStatus, UvTriangle};
+use crate::bake::walk_variants::MAX_VARIANTS;
 use crate::micromap::TriangleEntry;
 use crate::Level;
 use alloc::collections::BTreeMap;
@@ -54,6 +55,13 @@ pub(super) struct Work {
     /// The vertex alphas when the mesh has them and its baker reads them
     /// per part (linear filtering by value; `bound` is `None` then).
     pub(super) alphas: Option<[f32; 3]>,
+    /// With `alphas`: the first of the distinct triangles with the same
+    /// baker, UVs and level and other alphas (at most
+    /// [`MAX_VARIANTS`] together), which bakes them all in one walk; `None`
+    /// for that first one.
+    pub(super) leader: Option<u32>,
+    /// For the first one: every one of them, itself first.
+    pub(super) members: Vec<u32>,
     pub(super) uv: UvTriangle,
     pub(super) level: Level,
     /// How many input triangles it stands for.
@@ -62,10 +70,13 @@ pub(super) struct Work {
 
 impl Work {
     /// The cost model: micro-triangles classified (two bakes with vertex
-    /// alpha).
+    /// alpha bounds; one walk for a group of variants, about the cost of
+    /// two, made by its first).
     pub(super) fn cost(&self) -> u64 {
         let micro = 1u64 << (2 * self.level.get().min(31));
-        if self.bound.is_some() {
+        if self.leader.is_some() {
+            1
+        } else if self.bound.is_some() || self.members.len() > 1 {
             micro.saturating_mul(2)
         } else {
             micro
@@ -199,6 +210,26 @@ impl Plan {
         // Candidates by key; equal keys are checked for the same texture
         // object (data pointer and vtable).
         let mut bakers: BTreeMap<BakerKey, Vec<(u32, &dyn AlphaTexture)>> = BTreeMap::new();
+        // The range of every vertex alpha read per part, over all meshes:
+        // the texel classes of those bakers hold over it, so meshes with
+        // the same texture and material share a baker (and their equal
+        // UVs a walk) whatever their alphas.
+        let by_value = |mesh: &Mesh<'_>| {
+            mesh.material.sampler.filter == Filter::Linear
+                && options.texture_unit.linear == LinearRule::Value
+        };
+        let mut all_alphas: Option<VertexScale> = None;
+        for (m, (mesh, triangles)) in meshes.iter().zip(triangles).enumerate() {
+            if let Ok(Some(alphas)) = check_vertex_alpha(m, mesh, triangles.as_ref().len()) {
+                if by_value(mesh) && !alphas.is_empty() {
+                    let v = VertexScale::over_all(alphas);
+                    all_alphas = Some(all_alphas.map_or(v, |a| VertexScale {
+                        lo: a.lo.min(v.lo),
+                        hi: a.hi.max(v.hi),
+                    }));
+                }
+            }
+        }
         // Pass 1, mesh by mesh in order (so the first refused mesh is the
         // error): each mesh's baker, and per baker the lows and highs of
         // its meshes' vertex-alpha ranges.
@@ -218,9 +249,7 @@ impl Plan {
             // Under linear filtering by value the walk reads the vertex
             // alpha per part, against texel classes that hold over all of
             // the mesh's alphas; otherwise bound bakers (below).
-            let by_value = material.sampler.filter == Filter::Linear
-                && options.texture_unit.linear == LinearRule::Value;
-            let per_part = vertex_alpha.filter(|_| by_value).map(VertexScale::over_all);
+            let per_part = vertex_alpha.filter(|_| by_value(mesh)).and(all_alphas);
             let key = (
                 core::ptr::from_ref(mesh.texture).cast::<()>() as usize,
                 [
@@ -352,6 +381,8 @@ impl Plan {
                     baker,
                     bound,
                     alphas,
+                    leader: None,
+                    members: Vec::new(),
                     uv: *uv,
                     level,
                     triangles: 0,
@@ -362,6 +393,40 @@ impl Plan {
             }
             plan.of_triangle.push(of_triangle);
         }
+        plan.group_variants()?;
         Ok(plan)
+    }
+
+    /// Groups the distinct triangles with vertex alphas read per part by
+    /// baker, level and UVs (bit for bit), in order, at most
+    /// [`MAX_VARIANTS`] per group: each group's first bakes it.
+    fn group_variants(&mut self) -> Result<(), MeshBakeError> {
+        let mut groups: BTreeMap<(u32, u32, [u32; 6]), Vec<u32>> = BTreeMap::new();
+        for (id, w) in self.work.iter().enumerate() {
+            if w.alphas.is_none() {
+                continue;
+            }
+            let uv = w.uv.map(|c| c.map(f32::to_bits));
+            let key = (
+                w.baker,
+                w.level.get(),
+                [uv[0][0], uv[0][1], uv[1][0], uv[1][1], uv[2][0], uv[2][1]],
+            );
+            let members = groups.entry(key).or_default();
+            make_room(members, 1)?;
+            members.push(id as u32);
+        }
+        for members in groups.into_values() {
+            for group in members.chunks(MAX_VARIANTS) {
+                let leader = group[0];
+                for &m in &group[1..] {
+                    self.work[m as usize].leader = Some(leader);
+                }
+                let list = &mut self.work[leader as usize].members;
+                make_room(list, group.len())?;
+                list.extend_from_slice(group);
+            }
+        }
+        Ok(())
     }
 }
