@@ -146,6 +146,11 @@ fn bake_transformed() {
 }
 
 #[test]
+fn bake_vertex_alpha() {
+    replay("bake_vertex_alpha", fuzzing::bake_vertex_alpha);
+}
+
+#[test]
 fn texel_tables_within() {
     replay("texel_tables_within", fuzzing::texel_tables_within);
 }

@@ -26,6 +26,7 @@
 //! | [`triangles_json`] | `triangles_json` | [`assets::read_triangles_json`] never panics; what it accepts writes back and reads back bit for bit |
 //! | [`bake_budgets`] | `bake_budgets` | [`mesh::bake_meshes`] under work budgets never panics, spends within one micro-triangle of each budget, counts every cut triangle, and bakes only what the verifier finds sound |
 //! | [`bake_transformed`] | `bake_transformed` | [`Baker::with_uv_transform`] never panics; [`UvTransform::new`] refuses exactly non-finite parameters and rotations beyond `MAX_ROTATION`; no known micro-triangle is contradicted by [`uv_transform_oracle`](crate::uv_transform_oracle) (the shader's binary32 transform, nearest filter) |
+//! | [`bake_vertex_alpha`] | `bake_vertex_alpha` | [`mesh::bake_mesh`] with vertex alpha under linear filtering by value never panics; each triangle bakes alone as in its mesh (where its UVs are walked with other alphas); every known micro-triangle holds at sampled points under the exact bilinear value times the exact alpha; [`mesh::verify_mesh`] calls the bake sound |
 //! | [`texel_tables_within`] | `texel_tables_within` | [`Baker::new_within`] builds the texel tables only within its byte limit and otherwise answers a typed error naming the bytes and the limit (never an abort) |
 //! | [`gltf_asset`] | `gltf_asset` | [`assets::read_gltf_bytes`] (URIs served [`FUZZ_PNG`]) never panics, stays within [`FUZZ_LIMITS`], and what it accepts is consistent |
 //!
@@ -60,6 +61,8 @@
 //! [`assets::read_triangles_json`]: micromap_index_assets::read_triangles_json
 //! [`assets::read_gltf_bytes`]: micromap_index_assets::read_gltf_bytes
 //! [`mesh::bake_meshes`]: micromap_index::bake::mesh::bake_meshes
+//! [`mesh::bake_mesh`]: micromap_index::bake::mesh::bake_mesh
+//! [`mesh::verify_mesh`]: micromap_index::bake::mesh::verify_mesh
 //! [`Baker::new_within`]: micromap_index::bake::Baker::new_within
 //! [`Baker::with_uv_transform`]: micromap_index::bake::Baker::with_uv_transform
 //! [`UvTransform::new`]: micromap_index::bake::UvTransform::new
@@ -67,6 +70,7 @@
 mod assets;
 mod bake_budgets;
 mod bake_transformed;
+mod bake_vertex_alpha;
 mod eval_input;
 mod exact_walk_vs_fixed;
 mod inverse_round_trip;
@@ -78,6 +82,7 @@ mod vector_reader;
 pub use assets::{alpha_image, gltf_asset, triangles_json, FUZZ_LIMITS, FUZZ_PNG};
 pub use bake_budgets::{bake_budgets, texel_tables_within};
 pub use bake_transformed::bake_transformed;
+pub use bake_vertex_alpha::bake_vertex_alpha;
 pub use eval_input::eval_input;
 pub use exact_walk_vs_fixed::exact_walk_vs_fixed;
 pub use inverse_round_trip::inverse_round_trip;
