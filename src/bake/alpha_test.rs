@@ -6,6 +6,7 @@
 //! "may fail", never narrows, so a decision from it holds for every value
 //! the texture unit of `docs/bake.md` ("The texture unit") may compare.
 
+use super::float::abs;
 use super::material::{TINY, VERTEX_MARGIN};
 use super::texture::{Cutoff, Filter};
 use super::texture_unit::{LinearRule, TextureUnit};
@@ -135,16 +136,14 @@ impl VertexScale {
     /// and [`TINY`] absolute cover it). NaN stays NaN.
     fn low(self, x: f64) -> f64 {
         let p = if x >= 0.0 { x * self.lo } else { x * self.hi };
-        let abs = f64::from_bits(p.to_bits() & !(1 << 63));
-        p - abs * VERTEX_MARGIN - TINY
+        p - abs(p) * VERTEX_MARGIN - TINY
     }
 
     /// The highest binary32 product of a value of at most `x` and an alpha
     /// in the range (see [`low`](Self::low)).
     fn high(self, x: f64) -> f64 {
         let p = if x >= 0.0 { x * self.hi } else { x * self.lo };
-        let abs = f64::from_bits(p.to_bits() & !(1 << 63));
-        p + abs * VERTEX_MARGIN + TINY
+        p + abs(p) * VERTEX_MARGIN + TINY
     }
 }
 
@@ -154,7 +153,6 @@ impl AlphaTest {
     /// vertex alpha bounds).
     pub(crate) fn new(cutoff: Cutoff, filter: Filter, unit: &TextureUnit, scale: f64) -> AlphaTest {
         let linear = filter == Filter::Linear;
-        let abs = |x: f64| f64::from_bits(x.to_bits() & !(1 << 63));
         AlphaTest {
             cutoff,
             linear_slack: linear.then(|| f64::from(unit.filter_error) * abs(scale)),
@@ -178,7 +176,7 @@ impl AlphaTest {
         match self.linear_slack {
             None => v,
             Some(e) => {
-                let size = f64::from_bits(v.to_bits() & !(1 << 63)) + e;
+                let size = abs(v) + e;
                 (v - e) - size * PRODUCT_ROUNDING - SUBNORMAL
             }
         }
@@ -190,7 +188,7 @@ impl AlphaTest {
         match self.linear_slack {
             None => v,
             Some(e) => {
-                let size = f64::from_bits(v.to_bits() & !(1 << 63)) + e;
+                let size = abs(v) + e;
                 (v + e) + size * PRODUCT_ROUNDING + SUBNORMAL
             }
         }

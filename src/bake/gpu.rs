@@ -4,6 +4,7 @@
 //! dilates every micro-triangle. The derivation is in `docs/bake.md` ("The GPU model");
 //! the names below follow it.
 
+use super::float::{abs, exp2};
 use super::texture_unit::{Interpolation, TextureUnit};
 use super::uv_transform::AxisErrors;
 use crate::names::named_enum;
@@ -46,11 +47,6 @@ named_enum!(
     "gpu-binary32 or exact",
     [(GpuBinary32, "gpu-binary32"), (Exact, "exact")]
 );
-
-/// `2^k` as `f64`, for `-1022 <= k <= 1023`.
-fn exp2(k: i32) -> f64 {
-    f64::from_bits(((1023 + k) as u64) << 52)
-}
 
 /// The least `e` with `x <= 2^e`, for a positive normal `x`.
 fn ceil_log2(x: f64) -> i32 {
@@ -147,7 +143,6 @@ pub(crate) fn margin_transformed(
 /// `A = max |c_k|` and `D = max(|c1 - c0|, |c2 - c0|)` of one axis.
 fn extent(c: [f32; 3]) -> (f64, f64) {
     // |x| and max by hand: neither is in `core` at the minimum Rust.
-    let abs = |x: f64| f64::from_bits(x.to_bits() & !(1 << 63));
     let max = |x: f64, y: f64| if x >= y { x } else { y };
     let a = c.iter().map(|&x| abs(f64::from(x))).fold(0.0, max);
     let d = max(

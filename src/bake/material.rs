@@ -5,6 +5,7 @@
 //! ([`VertexBoundTexture`], [`vertex_range`]).
 
 use super::baker::Baker;
+use super::float::abs;
 use super::parallel::Runner;
 use super::texture::{faithful_f32, AlphaTexture, Cutoff, Sampler, TextureError};
 use super::texture_unit::TextureUnit;
@@ -55,7 +56,7 @@ impl Material {
     /// ([`UvTransform::place`]), for the level choice and the area weights.
     #[must_use]
     pub fn placed(&self, uv: &UvTriangle) -> UvTriangle {
-        uv.map(|c| self.uv_transform.place(c))
+        self.uv_transform.place_triangle(uv)
     }
 }
 
@@ -137,11 +138,10 @@ impl VertexBoundTexture<'_> {
     fn bound(&self, texel: f64) -> f64 {
         // NaN stays NaN: it passes no cutoff, on the GPU either.
         let product = f64::from(texel_f32(texel)) * self.factor * self.v;
-        let abs = f64::from_bits(product.to_bits() & !(1 << 63));
         if self.upper {
-            product + abs * VERTEX_MARGIN + TINY
+            product + abs(product) * VERTEX_MARGIN + TINY
         } else {
-            product - abs * VERTEX_MARGIN - TINY
+            product - abs(product) * VERTEX_MARGIN - TINY
         }
     }
 }

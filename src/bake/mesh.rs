@@ -73,8 +73,7 @@ fn texel_area(uv: &UvTriangle, (w, h): (u32, u32)) -> f64 {
         )
     });
     let a = (p[1].0 - p[0].0) * (p[2].1 - p[0].1) - (p[1].1 - p[0].1) * (p[2].0 - p[0].0);
-    // |a| without std.
-    let a = f64::from_bits(a.to_bits() & !(1 << 63));
+    let a = super::float::abs(a);
     if a.is_finite() {
         a
     } else {

@@ -121,6 +121,7 @@ mod alpha_test;
 mod baker;
 mod classify;
 mod exact;
+mod float;
 mod gpu;
 mod level;
 mod material;

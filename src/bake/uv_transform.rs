@@ -20,6 +20,8 @@
 //!    within a binary32 unit in the last place) and applied in any order,
 //!    with or without fused multiply-adds.
 
+use super::float::{abs, exp2};
+
 /// The largest `|rotation|` accepted, in radians: far beyond any asset's
 /// (glTF exporters write angles in `[-2 pi, 2 pi]`), small enough that the
 /// argument reduction of the sine and cosine stays exact (`k * PIO2_HI` exact for
@@ -31,16 +33,6 @@ pub const MAX_ROTATION: f32 = 65536.0;
 /// `f64` the reduction and the polynomials lose (the tests measure below
 /// `2^-50`), and far below every other term of the margin.
 pub(crate) const TRIG_ERROR: f64 = 1.0 / (1u64 << 40) as f64;
-
-/// `2^k` as `f64`, for `-1022 <= k <= 1023`.
-fn exp2(k: i32) -> f64 {
-    f64::from_bits(((1023 + k) as u64) << 52)
-}
-
-/// `|x|` without `std`.
-fn abs(x: f64) -> f64 {
-    f64::from_bits(x.to_bits() & !(1 << 63))
-}
 
 /// `(sin x, cos x)` for `|x| <= MAX_ROTATION`, within [`TRIG_ERROR`].
 ///
@@ -249,6 +241,14 @@ impl UvTransform {
                 (f64::from(self.offset[a]) + l[a][0] * u + l[a][1] * v) as f32
             }
         })
+    }
+
+    /// A triangle's vertices each [`place`](Self::place)d: the triangle the
+    /// shader samples, for level choices, area weights, previews and
+    /// renderers that transform per vertex.
+    #[must_use]
+    pub fn place_triangle(&self, uv: &[[f32; 2]; 3]) -> [[f32; 2]; 3] {
+        uv.map(|c| self.place(c))
     }
 
     /// The image of `uv` if it is exactly a binary32 pair (rotation 0 and

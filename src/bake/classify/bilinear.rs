@@ -39,16 +39,12 @@
 use super::classes::{margin_in, Block, Grid, Placed};
 use super::tables::TexelClasses;
 use crate::bake::alpha_test::{CompareBounds, VertexScale};
+use crate::bake::float::{abs, exp2};
 use crate::num::wide::GridInt;
 
 /// The widening of the extremes for this module's own `f64` arithmetic, in
 /// units of the largest texel value (at least 1): see the module docs.
 const VALUE_SLACK: f64 = 1.0 / (1u64 << 36) as f64;
-
-/// `2^k` as `f64`, for `-1022 <= k <= 1023`.
-fn exp2(k: i32) -> f64 {
-    f64::from_bits(((1023 + k) as u64) << 52)
-}
 
 /// `c` as `f64`: through `i64` where it fits (an `i128` conversion is a
 /// library call).
@@ -382,7 +378,7 @@ impl TexelClasses {
         let v = self.cell_values(block.x0, block.y0);
         let mut running = Running::new();
         for value in v {
-            running.largest = running.largest.max(value.abs());
+            running.largest = running.largest.max(abs(value));
         }
         running.add(
             bilinear(v, a.clamp(0.0, 1.0), b.clamp(0.0, 1.0)),
@@ -623,7 +619,7 @@ impl Region {
                 let v = classes.cell_values(self.ox + i, self.oy + j);
                 *cells += 1;
                 for value in v {
-                    quick.largest = quick.largest.max(value.abs());
+                    quick.largest = quick.largest.max(abs(value));
                 }
                 for (value, at) in self.box_corners(v, ci, cj) {
                     quick.add(value, at);

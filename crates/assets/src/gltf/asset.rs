@@ -121,7 +121,7 @@ impl MaskPrimitive {
     pub fn placed_triangles(&self) -> Vec<[[f32; 2]; 3]> {
         self.triangles
             .iter()
-            .map(|t| t.map(|c| self.uv_transform.place(c)))
+            .map(|t| self.uv_transform.place_triangle(t))
             .collect()
     }
 }

@@ -63,7 +63,7 @@ impl Job {
     pub(crate) fn placed_triangles(&self) -> Vec<UvTriangle> {
         self.triangles
             .iter()
-            .map(|t| t.map(|c| self.uv_transform.place(c)))
+            .map(|t| self.uv_transform.place_triangle(t))
             .collect()
     }
 }

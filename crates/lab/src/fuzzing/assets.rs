@@ -322,7 +322,7 @@ fn bake_primitive(asset: &GltfAsset, primitive: &MaskPrimitive) {
 }
 
 /// The GPU-model bake's widening count is the exact model's extra known
-/// micro-triangles, and a bake for mip levels 0..=2 (without vertex alpha,
+/// micro-triangles (where both place the triangles alike), and a bake for mip levels 0..=2 (without vertex alpha,
 /// which it refuses) knows no more than the level-0 bake, all of the
 /// same state.
 fn widening_and_mips_hold(mesh: &Mesh<'_>, options: &MeshOptions, gpu: &BakeReport) {
@@ -335,7 +335,15 @@ fn widening_and_mips_hold(mesh: &Mesh<'_>, options: &MeshOptions, gpu: &BakeRepo
         },
     )
     .expect("the GPU model's bake succeeded");
-    if gpu.status.block_budget_exceeded + exact.report.status.block_budget_exceeded == 0 {
+    // (A transformed vertex the exact model cannot place exactly leaves its
+    // triangle unknown there, while the GPU model's widening is counted on
+    // its own placement: the count holds where the exact model places every
+    // triangle, as the GPU model does, or without a transform.)
+    let placed_alike =
+        mesh.material.uv_transform.is_identity() || exact.report.status.out_of_exact_range == 0;
+    if gpu.status.block_budget_exceeded + exact.report.status.block_budget_exceeded == 0
+        && placed_alike
+    {
         assert_eq!(known(gpu) + gpu.widened, known(&exact.report));
     }
     let mips = MeshOptions {
