@@ -21,7 +21,7 @@ use core::sync::atomic::{AtomicU64, Ordering};
 /// The midpoint of two grid points of a node above the map's level (exact:
 /// see [`Walk::visit`]).
 #[inline]
-fn midpoint<C: GridInt>(a: (C, C), b: (C, C)) -> (C, C) {
+pub(crate) fn midpoint<C: GridInt>(a: (C, C), b: (C, C)) -> (C, C) {
     ((a.0 + b.0) >> 1, (a.1 + b.1) >> 1)
 }
 

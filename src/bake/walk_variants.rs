@@ -7,14 +7,17 @@
 //! by differs ([`VertexScale`]). So the walk is made once:
 //!
 //! 1. **A node** decided by its bounding block's texel classes (which hold
-//!    for every alpha of the mesh) is decided for every variant still
-//!    open there.
+//!    for every alpha the bake reads this way) is decided for every
+//!    variant still open there.
 //! 2. **Otherwise, a node with a footprint of at most 3 x 3 texels** has
 //!    its filtered value's extremes read once
 //!    ([`region_read`](super::classify::TexelClasses::region_read)),
 //!    and each open variant is decided by them times its own alpha range
 //!    over the node; the variants left open descend.
-//! 3. **A leaf** the same way, with its dilated region; a variant left
+//! 3. **A leaf** first by its corners' values (read once per point for
+//!    every variant, as bit masks): a variant they show both passing and
+//!    failing has it unknown; the others the same way as a node, with the
+//!    leaf's dilated region; a variant left
 //!    unknown there is classified on the exact grid too, for the widening's
 //!    count (as [`Classifier::classify_leaf`] does). A leaf whose bounding
 //!    block is too large for the value is classified per variant by
@@ -28,7 +31,7 @@
 use super::alpha_test::{alpha_at, largest_alpha, VertexScale};
 use super::classify::{is_small, Block, Classes, Classifier, Grid, Placed, PointReading, Points};
 use super::triangle::BakeError;
-use super::walk::put;
+use super::walk::{midpoint, put};
 use crate::micromap::{Format, Micromap, State, UnknownPolicy};
 use crate::num::wide::GridInt;
 use alloc::vec::Vec;
@@ -84,12 +87,6 @@ type Bary = [(u64, u64); 3];
 #[inline]
 fn bary_midpoint(p: (u64, u64), q: (u64, u64)) -> (u64, u64) {
     ((p.0 + q.0) / 2, (p.1 + q.1) / 2)
-}
-
-/// The midpoint of two grid points of a node above the map's level.
-#[inline]
-fn midpoint<C: GridInt>(a: (C, C), b: (C, C)) -> (C, C) {
-    ((a.0 + b.0) >> 1, (a.1 + b.1) >> 1)
 }
 
 impl<'a> VariantWalk<'a> {
