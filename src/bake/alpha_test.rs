@@ -34,13 +34,19 @@ pub(crate) struct AlphaTest {
     /// ([`TextureUnit::filter_error`] times the factor the texture's
     /// values carry); `None` for nearest filtering.
     linear_slack: Option<f64>,
-    /// Linear filtering judged by value ([`LinearRule::Value`]).
+    /// Linear filtering judged by value ([`judges_by_value`]).
     pub(crate) by_value: bool,
     /// With vertex alpha: the range every interpolated vertex alpha of the
     /// texture's triangles lies in. The texel classes are taken over all
     /// of it (so a class decision holds for any part of any triangle); a
     /// value decision takes the part's own range ([`VertexScale`]).
     pub(crate) vertex: Option<VertexScale>,
+}
+
+/// Whether a sampler with `filter` is judged by its filtered value under
+/// `unit`: linear filtering under [`LinearRule::Value`].
+pub(crate) fn judges_by_value(filter: Filter, unit: &TextureUnit) -> bool {
+    filter == Filter::Linear && unit.linear == LinearRule::Value
 }
 
 /// The exact vertex alpha (to `f64` rounding) at the corner `(a, b)` of
@@ -115,20 +121,20 @@ impl VertexScale {
         }
     }
 
+    /// The range over a whole triangle with vertex alphas `alphas`.
+    pub(crate) fn of_triangle(alphas: [f32; 3]) -> VertexScale {
+        VertexScale::over(alphas.map(f64::from), largest_alpha(alphas))
+    }
+
     /// The range over whole triangles with vertex alphas `triangles`:
-    /// holds each one's [`over`](Self::over).
+    /// holds each one's [`of_triangle`](Self::of_triangle) (`[0, 0]` for
+    /// none).
     pub(crate) fn over_all(triangles: &[[f32; 3]]) -> VertexScale {
-        let mut all = VertexScale {
-            lo: f64::MAX,
-            hi: 0.0,
-        };
-        for &a in triangles {
-            let v = VertexScale::over(a.map(f64::from), largest_alpha(a));
-            all.lo = all.lo.min(v.lo);
-            all.hi = all.hi.max(v.hi);
-        }
-        all.lo = all.lo.min(all.hi);
-        all
+        triangles
+            .iter()
+            .map(|&a| VertexScale::of_triangle(a))
+            .reduce(VertexScale::union)
+            .unwrap_or(VertexScale { lo: 0.0, hi: 0.0 })
     }
 
     /// The lowest binary32 product of a value of at least `x` and an alpha
@@ -152,11 +158,11 @@ impl AlphaTest {
     /// values are the texels' times `scale` (an alpha factor, at most 1 for
     /// vertex alpha bounds).
     pub(crate) fn new(cutoff: Cutoff, filter: Filter, unit: &TextureUnit, scale: f64) -> AlphaTest {
-        let linear = filter == Filter::Linear;
         AlphaTest {
             cutoff,
-            linear_slack: linear.then(|| f64::from(unit.filter_error) * abs(scale)),
-            by_value: linear && unit.linear == LinearRule::Value,
+            linear_slack: (filter == Filter::Linear)
+                .then(|| f64::from(unit.filter_error) * abs(scale)),
+            by_value: judges_by_value(filter, unit),
             vertex: None,
         }
     }

@@ -2,14 +2,14 @@
 //! [`super::verify`], verifies them). Construction, the triangle's frames
 //! on the exact grid, and the choice of walk.
 
-use super::alpha_test::{largest_alpha, AlphaTest, VertexScale};
+use super::alpha_test::{judges_by_value, AlphaTest, VertexScale};
 use super::classify::{Classifier, Grid, Margin, Placed, TexelClasses};
 use super::exact::{AxisFrame, FrameError};
 use super::gpu::{margin, margin_transformed, Model};
 use super::parallel::Runner;
 use super::split::{walk_split, SPLIT_FROM_LEVEL};
-use super::texture::{AlphaTexture, Cutoff, Filter, Sampler, TextureError};
-use super::texture_unit::{LinearRule, TextureUnit};
+use super::texture::{AlphaTexture, Cutoff, Sampler, TextureError};
+use super::texture_unit::TextureUnit;
 use super::triangle::{BakeError, BakedTriangle, TriangleStatus, UvTriangle};
 use super::uv_transform::UvTransform;
 use super::walk::{walk_whole, Spent};
@@ -126,8 +126,7 @@ impl Baker {
     /// values straddle the cutoff takes a second `2 (w + 1) (h + 1)`.
     #[must_use]
     pub fn table_bytes(width: u32, height: u32, sampler: Sampler, unit: TextureUnit) -> u64 {
-        let by_value = sampler.filter == Filter::Linear && unit.linear == LinearRule::Value;
-        TexelClasses::table_bytes(width, height, by_value)
+        TexelClasses::table_bytes(width, height, judges_by_value(sampler.filter, &unit))
     }
 
     /// [`new_for`](Self::new_for), its tables built on `runner`'s threads
@@ -389,7 +388,6 @@ impl Baker {
     /// threads when `split` (the same result: see [`walk`](Self::walk)),
     /// its texture's alpha times the vertex `alphas` when given
     /// ([`bake_variants`](Self::bake_variants) with one variant).
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn bake_split(
         &self,
         (uv, alphas): (&UvTriangle, Option<[f32; 3]>),
@@ -528,11 +526,16 @@ impl Baker {
             }
         };
         // Only the variants the baker covers are walked.
-        let covered: Vec<[f32; 3]> = alphas.iter().copied().filter(|&a| self.covers(a)).collect();
+        let covers: Vec<bool> = alphas.iter().map(|&a| self.covers(a)).collect();
         debug_assert!(
-            covered.len() == alphas.len(),
+            covers.iter().all(|&c| c),
             "a baker made for other vertex alphas"
         );
+        let covered: Vec<[f32; 3]> = alphas
+            .iter()
+            .zip(&covers)
+            .filter_map(|(&a, &c)| c.then_some(a))
+            .collect();
         let n = level.get();
         let side = 1u64 << n;
         let root = Self::place(&fx, &fy, n, [(0, 0), (side, 0), (0, side)]);
@@ -554,8 +557,8 @@ impl Baker {
         }
         let (work, out_of_work) = (walk.work, walk.out_of_work);
         let mut walked = walk.out.into_iter();
-        for &a in alphas {
-            if !self.covers(a) {
+        for covered in covers {
+            if !covered {
                 baked.push(Self::whole_unknown(level, TriangleStatus::OutOfExactRange));
                 continue;
             }
@@ -589,7 +592,7 @@ impl Baker {
         let test = &self.classifier.classes.test;
         test.by_value
             && test.vertex.is_some_and(|v| {
-                let whole = VertexScale::over(alphas.map(f64::from), largest_alpha(alphas));
+                let whole = VertexScale::of_triangle(alphas);
                 v.lo <= whole.lo && whole.hi <= v.hi
             })
     }

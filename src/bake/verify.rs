@@ -162,9 +162,10 @@ impl Baker {
             None => None,
             Some(v) if self.covers(v) => {
                 let side = f64::from(1u32 << level.get());
+                let largest = largest_alpha(v);
                 let v = v.map(f64::from);
                 let at = move |c: (u64, u64)| alpha_at(v, side, c);
-                Some((at, largest_alpha(alphas.unwrap_or_default())))
+                Some((at, largest))
             }
             Some(_) => {
                 report.checked = true;
@@ -285,10 +286,11 @@ impl Baker {
     /// splits are spent or the pieces are [`MAX_VALUE_SPLITS`] levels
     /// down: then [`ValueVerdict::Undecided`]. With vertex alpha (the
     /// corners' exact alphas and the triangle's largest), each piece is
-    /// judged by its own range, and a piece found contradicted whose range
-    /// is wider than the interpolation's margin is split too (a special
-    /// index is judged whole, but was baked in parts): a contradiction is
-    /// reported only where splitting no longer narrows the alpha.
+    /// judged by its own range; a piece its range cannot confirm is
+    /// contradicted only if the value fails even at the alpha most in the
+    /// state's favour over it (so at the witness's own alpha too), and is
+    /// otherwise split like a large one (a special index is judged whole,
+    /// but was baked in parts: its pieces' alphas are narrower).
     fn value_verdict(
         &self,
         p: Placed<i128>,

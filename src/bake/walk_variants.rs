@@ -123,11 +123,7 @@ impl<'a> VariantWalk<'a> {
             stack: Vec::new(),
             decided: Vec::new(),
             scales: Vec::new(),
-            wide: alphas
-                .iter()
-                .map(|&a| VertexScale::over(a.map(f64::from), largest_alpha(a)))
-                .reduce(VertexScale::union)
-                .unwrap_or(VertexScale { lo: 0.0, hi: 0.0 }),
+            wide: VertexScale::over_all(alphas),
         })
     }
 

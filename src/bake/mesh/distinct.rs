@@ -13,13 +13,13 @@
 use super::input::{
     check_vertex_alpha, make_room, push_vertex_ranges, room, Mesh, MeshBakeError, MeshOptions,
 };
-use crate::bake::alpha_test::VertexScale;
+use crate::bake::alpha_test::{judges_by_value, VertexScale};
 use crate::bake::baker::Baker;
 use crate::bake::material::{vertex_bound_baker, vertex_range, FactorTexture, VertexBounds};
 use crate::bake::mips::mip_bakers;
 use crate::bake::mips::Mips;
 use crate::bake::parallel::Runner;
-use crate::bake::texture::{AlphaTexture, Filter};
+use crate::bake::texture::AlphaTexture;
 use crate::bake::texture_unit::LinearRule;
 use crate::bake::triangle::{TriangleStatus, UvTriangle};
 use crate::bake::walk_variants::MAX_VARIANTS;
@@ -214,19 +214,14 @@ impl Plan {
         // the texel classes of those bakers hold over it, so meshes with
         // the same texture and material share a baker (and their equal
         // UVs a walk) whatever their alphas.
-        let by_value = |mesh: &Mesh<'_>| {
-            mesh.material.sampler.filter == Filter::Linear
-                && options.texture_unit.linear == LinearRule::Value
-        };
+        let by_value =
+            |mesh: &Mesh<'_>| judges_by_value(mesh.material.sampler.filter, &options.texture_unit);
         let mut all_alphas: Option<VertexScale> = None;
         for (m, (mesh, triangles)) in meshes.iter().zip(triangles).enumerate() {
             if let Ok(Some(alphas)) = check_vertex_alpha(m, mesh, triangles.as_ref().len()) {
                 if by_value(mesh) && !alphas.is_empty() {
                     let v = VertexScale::over_all(alphas);
-                    all_alphas = Some(all_alphas.map_or(v, |a| VertexScale {
-                        lo: a.lo.min(v.lo),
-                        hi: a.hi.max(v.hi),
-                    }));
+                    all_alphas = Some(all_alphas.map_or(v, |a| a.union(v)));
                 }
             }
         }

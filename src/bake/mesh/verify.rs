@@ -3,12 +3,10 @@
 //! (alpha factor, vertex alpha), with [`Baker::verify_each`].
 
 use super::input::{check_vertex_alpha, push_vertex_ranges, Mesh, MeshBakeError, MeshOptions};
-use crate::bake::alpha_test::VertexScale;
+use crate::bake::alpha_test::{judges_by_value, VertexScale};
 use crate::bake::baker::Baker;
 use crate::bake::material::{vertex_bound_baker, vertex_range, FactorTexture, VertexBounds};
 use crate::bake::parallel::Runner;
-use crate::bake::texture::Filter;
-use crate::bake::texture_unit::LinearRule;
 use crate::bake::verify::Contradiction;
 use crate::micromap::{State, TriangleOpacity};
 use alloc::collections::BTreeMap;
@@ -136,7 +134,7 @@ pub fn verify_mesh(
     let serial = Runner::serial();
     // Under linear filtering by value, vertex alpha is judged per
     // micro-triangle, as the bake reads it ([`VertexScale`]).
-    let by_value = material.sampler.filter == Filter::Linear && unit.linear == LinearRule::Value;
+    let by_value = judges_by_value(material.sampler.filter, &unit);
     let per_part = vertex_alpha.filter(|_| by_value).map(VertexScale::over_all);
     let baker = if material.alpha_factor == 1.0 {
         Baker::new_on_vertex(mesh.texture, test, per_part, u64::MAX, &serial)
