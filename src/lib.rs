@@ -157,11 +157,21 @@ pub mod internals {
         pub use crate::kernel::coordinate::{
             binary32_coordinate, binary32_unit_coordinate, clamp_binary32,
         };
+        /// The chunked pipeline's buffers, for [`lanes`](super::lanes).
+        pub use crate::kernel::pipeline::{Cells, Halves, CHUNK};
         pub use crate::kernel::point::{clamp_flushed, truncate_float, BELOW_ONE};
         pub use crate::kernel::word::{
             interleave_16, interleave_32, narrow_lane, narrow_point, wide_lane, wide_point,
             LaneWord,
         };
+    }
+    /// The x86-64 SIMD lanes (SSE2, AVX2, AVX-512) run step by step, for
+    /// the lab's proof that they compute what the proved kernel computes
+    /// (`docs/verification.md`, section 10.12): safe wrappers that exist
+    /// only for a backend this CPU runs.
+    #[cfg(target_arch = "x86_64")]
+    pub mod lanes {
+        pub use crate::arch::x86_64::probe::{LaneProbe, Step, BLOCK};
     }
     pub use crate::uv2index::{
         binary64_coordinate, binary64_diagonal, cell_real_f32, cell_real_f64, exact_index_f32_ref,

@@ -27,7 +27,7 @@
 
 mod features;
 #[cfg(target_arch = "x86_64")]
-mod x86_64;
+pub(crate) mod x86_64;
 
 #[cfg(feature = "alloc")]
 pub(crate) use features::PopcntBody;

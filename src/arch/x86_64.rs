@@ -29,6 +29,30 @@ use super::features::has_avx512;
 use super::features::{has_popcnt, PopcntBody};
 use crate::kernel::{self, Cells, Halves, Lanes, Narrow, Params, Wide, CHUNK};
 
+/// # Safety
+/// The CPU must support `popcnt`.
+#[cfg(all(feature = "std", not(target_feature = "popcnt")))]
+#[target_feature(enable = "popcnt")]
+unsafe fn run_popcnt<B: PopcntBody>(body: B) -> B::Output {
+    // `run` is `#[inline(always)]` (the trait's contract): its body is
+    // compiled here, with `popcnt`.
+    body.run()
+}
+
+/// [`super::with_popcnt`] on x86-64: `body` compiled with hardware
+/// `popcnt` where the CPU has it, else the same code without.
+#[cfg(all(feature = "std", not(target_feature = "popcnt")))]
+#[inline]
+pub(super) fn with_popcnt<B: PopcntBody>(body: B) -> B::Output {
+    if has_popcnt() {
+        // SAFETY: `run_popcnt` enables only "popcnt", detected just above;
+        // its body is the safe code of `body`.
+        unsafe { run_popcnt(body) }
+    } else {
+        body.run()
+    }
+}
+
 /// Stamps a [`Lanes`] for one instruction set from one body: `$ops` names
 /// the set's intrinsics under common names, and `interleave` is either
 /// `shuffle` (byte shuffles, SSSE3 and up: a nibble table) or `unpack`
@@ -135,6 +159,52 @@ macro_rules! simd_lanes {
                         storeu_si(out.as_mut_ptr().add(k + LANES / 2).cast(), pairs(unpackhi_epi8(b0, b1)));
                         k += LANES;
                     }
+                }
+            }
+        }
+
+        $(#[$attr])*
+        #[cfg(feature = "unstable-public-internals")]
+        impl $name {
+            /// One step of `cells` lane-wise on every element of a block
+            /// (binary32 bits in, the step's bits out), with `cells`'
+            /// intrinsics and constant operands: what [`probe`] runs.
+            #[inline(always)]
+            fn step(&self, step: probe::Step, x: &[u32; probe::BLOCK], out: &mut [u32; probe::BLOCK]) {
+                use $ops::*;
+                use core::ptr::write_unaligned;
+                // SAFETY: as in `cells`; loads and stores of LANES 32-bit
+                // elements at offsets up to BLOCK minus LANES (BLOCK is a
+                // multiple of every LANES).
+                unsafe {
+                    let (floor, below_one) = (set1_ps(f32::MIN_POSITIVE), set1_ps(kernel::BELOW_ONE));
+                    let level = if let probe::Step::Scale(level) = step { level } else { 0 };
+                    let scale = set1_ps(Params::new(level, kernel::BINARY32_THRESHOLD).scale);
+                    let mut k = 0;
+                    while k < probe::BLOCK {
+                        let x = loadu_ps(x.as_ptr().add(k).cast());
+                        let at = out.as_mut_ptr().add(k);
+                        match step {
+                            probe::Step::Clamp => write_unaligned(at.cast(), min_ps(max_ps(x, floor), below_one)),
+                            probe::Step::Scale(_) => write_unaligned(at.cast(), mul_ps(x, scale)),
+                            probe::Step::Truncate => storeu_si(at.cast(), cvttps_epi32(x)),
+                            probe::Step::Fraction => write_unaligned(at.cast(), sub_ps(x, cvtepi32_ps(cvttps_epi32(x)))),
+                        }
+                        k += LANES;
+                    }
+                }
+            }
+
+            /// `cells`' `pack_u16` of the first LANES elements of `a` and
+            /// of `b` into the first 2 * LANES of `out`.
+            #[inline(always)]
+            fn pack(&self, a: &[u32; 16], b: &[u32; 16], out: &mut [u16; 32]) {
+                use $ops::*;
+                // SAFETY: as in `cells`; loads of LANES <= 16 u32 and a
+                // store of 2 * LANES <= 32 u16.
+                unsafe {
+                    let packed = pack_u16(loadu_si(a.as_ptr().cast()), loadu_si(b.as_ptr().cast()));
+                    storeu_si(out.as_mut_ptr().cast(), packed);
                 }
             }
         }
@@ -380,27 +450,190 @@ feature_loop!(
     |u, v, out, params| kernel::chunked::<Wide, _>(&Avx512Lanes(()), u, v, out, params)
 );
 
-/// # Safety
-/// The CPU must support `popcnt`.
-#[cfg(all(feature = "std", not(target_feature = "popcnt")))]
-#[target_feature(enable = "popcnt")]
-unsafe fn run_popcnt<B: PopcntBody>(body: B) -> B::Output {
-    // `run` is `#[inline(always)]` (the trait's contract): its body is
-    // compiled here, with `popcnt`.
-    body.run()
+/// Stamps one backend's [`probe`] functions: the lanes' methods compiled
+/// with the backend's features (called only where the CPU has them).
+#[cfg(feature = "unstable-public-internals")]
+macro_rules! probe_backend {
+    ($(#[$attr:meta])* $module:ident, $lanes:ident, $features:literal) => {
+        $(#[$attr])*
+        mod $module {
+            use super::super::*;
+            use super::{Step, BLOCK};
+
+            /// # Safety
+            /// The CPU must support every feature in the list.
+            #[target_feature(enable = $features)]
+            pub(super) unsafe fn step(step: Step, x: &[u32; BLOCK], out: &mut [u32; BLOCK]) {
+                $lanes(()).step(step, x, out);
+            }
+
+            /// # Safety
+            /// As [`step`].
+            #[target_feature(enable = $features)]
+            pub(super) unsafe fn pack(a: &[u32; 16], b: &[u32; 16], out: &mut [u16; 32]) {
+                $lanes(()).pack(a, b, out);
+            }
+
+            /// # Safety
+            /// As [`step`].
+            #[target_feature(enable = $features)]
+            pub(super) unsafe fn cells(u: &[f32; CHUNK], v: &[f32; CHUNK], params: &Params, cells: &mut Cells<u16>) {
+                $lanes(()).cells(u, v, params, cells);
+            }
+
+            /// # Safety
+            /// As [`step`].
+            #[target_feature(enable = $features)]
+            pub(super) unsafe fn interleave(halves: &Halves<u16>, out: &mut [u32; CHUNK]) {
+                $lanes(()).interleave(halves, out);
+            }
+
+            /// # Safety
+            /// As [`step`].
+            #[target_feature(enable = $features)]
+            pub(super) unsafe fn wide_interleave(halves: &Halves<u32>, out: &mut [u64; CHUNK]) {
+                $lanes(()).wide_interleave(halves, out);
+            }
+        }
+    };
 }
 
-/// [`super::with_popcnt`] on x86-64: `body` compiled with hardware
-/// `popcnt` where the CPU has it, else the same code without.
-#[cfg(all(feature = "std", not(target_feature = "popcnt")))]
-#[inline]
-pub(super) fn with_popcnt<B: PopcntBody>(body: B) -> B::Output {
-    if has_popcnt() {
-        // SAFETY: `run_popcnt` enables only "popcnt", detected just above;
-        // its body is the safe code of `body`.
-        unsafe { run_popcnt(body) }
-    } else {
-        body.run()
+/// The SIMD lanes' steps run one at a time, for the lab's proof that the
+/// x86-64 backends compute what `docs/verification.md` 10.12 says
+/// (`micromap-lab prove --all-levels`). A [`LaneProbe`] exists only for a
+/// backend this CPU runs; each method calls the backend's own lane methods
+/// (the ones `batch` runs, or a step of them with its intrinsics and
+/// constant operands) compiled with the backend's features.
+#[cfg(feature = "unstable-public-internals")]
+pub mod probe {
+    use super::{kernel, Cells, Halves, Params, CHUNK};
+    use crate::arch::Backend;
+
+    /// Elements per [`LaneProbe::step`] call.
+    pub const BLOCK: usize = 1024;
+
+    /// A step of the lanes' first half (`cells`), lane-wise.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub enum Step {
+        /// `min_ps(max_ps(x, set1_ps(f32::MIN_POSITIVE)), set1_ps(BELOW_ONE))`.
+        Clamp,
+        /// `mul_ps(x, set1_ps(scale))`, `scale` of `Params::new(level, _)`.
+        Scale(u32),
+        /// `cvttps_epi32(x)`.
+        Truncate,
+        /// `sub_ps(x, cvtepi32_ps(cvttps_epi32(x)))`.
+        Fraction,
+    }
+
+    probe_backend!(sse2, Sse2Lanes, "sse2");
+    probe_backend!(
+        #[cfg(feature = "std")]
+        avx2,
+        Avx2Lanes,
+        "avx2"
+    );
+    probe_backend!(
+        #[cfg(all(feature = "std", micromap_avx512))]
+        #[allow(clippy::incompatible_msrv)]
+        avx512,
+        Avx512Lanes,
+        "avx512f,avx512bw,avx512vl,avx512dq"
+    );
+
+    /// One backend's lanes, built only where this CPU runs it.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub struct LaneProbe {
+        backend: Backend,
+    }
+
+    /// Calls the backend's compilation of `$f`.
+    macro_rules! dispatch {
+        ($probe:ident, $f:ident($($arg:expr),*)) => {
+            match $probe.backend {
+                // SAFETY: SSE2 is the x86-64 baseline.
+                Backend::Portable => unsafe { sse2::$f($($arg),*) },
+                // SAFETY: a probe exists only for a backend whose every
+                // feature `Backend::is_available` detected (`new`).
+                #[cfg(feature = "std")]
+                Backend::Avx2 => unsafe { avx2::$f($($arg),*) },
+                // SAFETY: as above.
+                #[cfg(all(feature = "std", micromap_avx512))]
+                Backend::Avx512 => unsafe { avx512::$f($($arg),*) },
+                #[allow(unreachable_patterns)]
+                _ => unreachable!("a probe exists only for an available backend"),
+            }
+        };
+    }
+
+    impl LaneProbe {
+        /// The probe of `backend`'s lanes (`Portable`: SSE2), or `None`
+        /// where this CPU (or this build) cannot run it.
+        #[must_use]
+        pub fn new(backend: Backend) -> Option<LaneProbe> {
+            backend.is_available().then_some(LaneProbe { backend })
+        }
+
+        /// The backend.
+        #[must_use]
+        pub fn backend(&self) -> Backend {
+            self.backend
+        }
+
+        /// The instruction set's name (`SSE2`, `AVX2`, `AVX-512`).
+        #[must_use]
+        pub fn name(&self) -> &'static str {
+            match self.backend {
+                Backend::Portable => "SSE2",
+                Backend::Avx2 => "AVX2",
+                Backend::Avx512 => "AVX-512",
+            }
+        }
+
+        /// 32-bit lanes per vector.
+        #[must_use]
+        pub fn lanes(&self) -> usize {
+            match self.backend {
+                Backend::Portable => 4,
+                Backend::Avx2 => 8,
+                Backend::Avx512 => 16,
+            }
+        }
+
+        /// `step` lane-wise on every element of `x` (binary32 bits); `out`
+        /// holds the results' bits (an `i32` for [`Step::Truncate`]).
+        pub fn step(&self, step: Step, x: &[u32; BLOCK], out: &mut [u32; BLOCK]) {
+            dispatch!(self, step(step, x, out));
+        }
+
+        /// `cells`' `pack_u16(a, b)` on the first [`LaneProbe::lanes`]
+        /// elements of each; `out`'s first twice as many are written.
+        pub fn pack(&self, a: &[u32; 16], b: &[u32; 16], out: &mut [u16; 32]) {
+            dispatch!(self, pack(a, b, out));
+        }
+
+        /// The lanes' `cells` (what `batch::index_f32` runs) at `level`
+        /// (`0..=16`), cells in the lanes' order.
+        pub fn cells(
+            &self,
+            u: &[f32; CHUNK],
+            v: &[f32; CHUNK],
+            level: u32,
+            cells: &mut Cells<u16>,
+        ) {
+            let params = Params::new(level.min(16), kernel::BINARY32_THRESHOLD);
+            dispatch!(self, cells(u, v, &params, cells));
+        }
+
+        /// The lanes' `interleave` (`batch::index_f32`'s last stage).
+        pub fn interleave(&self, halves: &Halves<u16>, out: &mut [u32; CHUNK]) {
+            dispatch!(self, interleave(halves, out));
+        }
+
+        /// The lanes' `wide_interleave` (`batch::wide_index_f32`'s last
+        /// stage).
+        pub fn wide_interleave(&self, halves: &Halves<u32>, out: &mut [u64; CHUNK]) {
+            dispatch!(self, wide_interleave(halves, out));
+        }
     }
 }
 

@@ -80,7 +80,7 @@
 //! perfect shuffle of the word holding both (Hacker's Delight, 7-2).
 
 pub(crate) mod coordinate;
-mod pipeline;
+pub(crate) mod pipeline;
 pub(crate) mod point;
 #[cfg(any(test, not(target_arch = "x86_64")))]
 mod portable;

@@ -10,14 +10,14 @@ use super::Params;
 /// keeps its vector registers busy and is not unrolled into straight-line
 /// code (which the compiler vectorises worse), small enough that a chunk's
 /// buffers (3 to 6 KiB) stay in L1.
-pub(crate) const CHUNK: usize = 256;
+pub const CHUNK: usize = 256;
 
 /// The first half's output for one chunk: clamped cells (at most `last`)
-/// and the diagonal outcome (0 or 1), in the order a backend's [`Lanes`]
+/// and the diagonal outcome (0 or 1), in the order a backend's `Lanes`
 /// chose (the integer half works point by point, so any order the
 /// backend's interleave undoes is fine). `W` is `u16` for levels `0..=16`,
 /// `u32` for the wide form.
-pub(crate) struct Cells<W> {
+pub struct Cells<W> {
     /// `min(trunc(u * 2^level), last)` per point.
     pub iu: [W; CHUNK],
     /// `min(trunc(v * 2^level), last)` per point.
@@ -27,8 +27,8 @@ pub(crate) struct Cells<W> {
 }
 
 /// The integer half's output for one chunk: `b0` and `b1` before the
-/// interleave, in the order of [`Cells`].
-pub(crate) struct Halves<W> {
+/// interleave, in the order of `Cells`.
+pub struct Halves<W> {
     /// `b0` per point.
     pub b0: [W; CHUNK],
     /// `b1` per point.
