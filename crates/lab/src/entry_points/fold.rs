@@ -130,9 +130,9 @@ fn compare(name: &'static str, expected: &[Token], found: &[Token]) -> Result<()
 
 /// One token and the line it starts on.
 #[derive(Clone, Debug, PartialEq, Eq)]
-struct Token {
-    text: String,
-    line: usize,
+pub(super) struct Token {
+    pub(super) text: String,
+    pub(super) line: usize,
 }
 
 /// Splits Rust source into tokens: identifiers and numbers (with their
@@ -141,7 +141,7 @@ struct Token {
 /// `==`, `!=`, `<=`, `>=`, `&&`, `||`, `..` and single punctuation.
 /// Comments (line, block, nested) and whitespace are dropped. Errors: an
 /// unterminated comment or literal, with its line.
-fn tokenize(source: &str) -> Result<Vec<Token>, (usize, &'static str)> {
+pub(super) fn tokenize(source: &str) -> Result<Vec<Token>, (usize, &'static str)> {
     let chars: Vec<char> = source.chars().collect();
     let mut tokens = Vec::new();
     let (mut i, mut line) = (0, 1);
@@ -220,7 +220,11 @@ fn tokenize(source: &str) -> Result<Vec<Token>, (usize, &'static str)> {
             loop {
                 match at(i) {
                     None => return Err((start_line, "an unterminated string")),
-                    Some('\\') => i += 2,
+                    Some('\\') => {
+                        // An escape; a line continuation still ends a line.
+                        line += usize::from(at(i + 1) == Some('\n'));
+                        i += 2;
+                    }
                     Some('"') => {
                         i += 1;
                         break;
@@ -397,5 +401,11 @@ mod tests {
             "}"
         );
         assert!(tokenize("/* open").is_err() && tokenize("\"open").is_err());
+        // A string's line continuation still ends a line.
+        let tokens = tokenize("f(\"a \\\n b\");\ng").unwrap();
+        assert_eq!(
+            tokens.last().map(|t| (t.text.as_str(), t.line)),
+            Some(("g", 3))
+        );
     }
 }
