@@ -19,6 +19,10 @@
 //!   binary32 and level.
 //! * [`prove_float_first_half`]: the kernel's float first half
 //!   (`clamp_flushed`, `truncate_float`) against its claims, by exhaustion.
+//! * [`prove_simd_lanes`]: the x86-64 SIMD lanes (SSE2, AVX2, AVX-512)
+//!   are, token for token, the modelled intrinsics, and those intrinsics,
+//!   run on this CPU, compute the model's scalar steps at every input they
+//!   are given.
 //! * [`prove_walk_fold`]: `uv2index::index_unchecked` and `index` are, token
 //!   for token, the fold of `Walk::step` the transducer proof models.
 //!
@@ -36,6 +40,7 @@ mod first_half;
 mod float;
 mod fold;
 mod kernel;
+mod lanes;
 #[cfg(test)]
 mod tests;
 pub mod word;
@@ -46,3 +51,4 @@ pub use dyadic::*;
 pub use float::*;
 pub use fold::*;
 pub use kernel::*;
+pub use lanes::*;

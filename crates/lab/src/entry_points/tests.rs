@@ -297,3 +297,232 @@ fn a_float_truncation_on_at_least_is_refuted() {
     assert_eq!(example.step, "truncate_float");
     assert_eq!(f32::from_bits(example.bits), 1.0, "{example}");
 }
+
+/// The real source with the first occurrence of `from` (after `macro_rules!
+/// simd_lanes`, where the model starts) replaced.
+fn lanes_changed(from: &str, to: &str) -> String {
+    let start = lanes::SOURCE.find("macro_rules! simd_lanes").unwrap();
+    let (before, after) = lanes::SOURCE.split_at(start);
+    assert!(after.contains(from), "{from}");
+    format!("{before}{}", after.replacen(from, to, 1))
+}
+
+/// The source line of the first occurrence of `text` after the model's start.
+fn lanes_line(text: &str) -> usize {
+    let start = lanes::SOURCE.find("macro_rules! simd_lanes").unwrap();
+    let at = start + lanes::SOURCE[start..].find(text).unwrap();
+    lanes::SOURCE[..at].lines().count() + usize::from(lanes::SOURCE[..at].ends_with('\n'))
+}
+
+#[test]
+fn the_simd_lanes_source_is_the_model() {
+    let tokens = check_lanes_source(lanes::SOURCE).unwrap();
+    assert!(tokens > 3000, "{tokens}");
+    // Layout and comments are free.
+    for source in [
+        lanes_changed(
+            "let fu = mul_ps(min_ps(max_ps(x, floor), below_one), scale);",
+            "let fu = mul_ps(\n  min_ps(max_ps(x, /* { */ floor), below_one), // )\n  scale);",
+        ),
+        lanes_changed("0, 1, 4, 5, 16, 17,", "0, 1, 4, 5, // the table\n 16, 17,"),
+    ] {
+        assert_eq!(check_lanes_source(&source), Ok(tokens));
+    }
+}
+
+#[test]
+fn changed_simd_lanes_are_refused_at_their_line() {
+    let cases = [
+        // The clamp's operands swapped: NaN would pass through `max`.
+        ("max_ps(x, floor)", "max_ps(floor, x)"),
+        // A wrong byte of the nibble table.
+        ("80, 81, 84, 85,", "80, 81, 86, 85,"),
+        // SSE2's pack bias changed.
+        ("x86::_mm_set1_epi32(0x8000)", "x86::_mm_set1_epi32(0x7fff)"),
+        // AVX2's `max_ps` bound to another intrinsic.
+        ("_mm256_max_ps as max_ps", "_mm256_min_ps as max_ps"),
+        // AVX2's 64-bit group order.
+        ("<0b11_01_10_00>", "<0b11_10_01_00>"),
+        // The diagonal truncated by a rounding conversion.
+        ("(iu, iv, cvttps_epi32(sum))", "(iu, iv, cvtps_epi32(sum))"),
+        // SSE2 stamped with the shuffle interleave.
+        (
+            "simd_lanes!(Sse2Lanes, sse2_ops, interleave: unpack);",
+            "simd_lanes!(Sse2Lanes, sse2_ops, interleave: shuffle);",
+        ),
+        // The AVX2 probe dispatched to the SSE2 lanes.
+        (
+            "Backend::Avx2 => unsafe { avx2::$f($($arg),*) },",
+            "Backend::Avx2 => unsafe { sse2::$f($($arg),*) },",
+        ),
+    ];
+    for (from, to) in cases {
+        let error = check_lanes_source(&lanes_changed(from, to)).unwrap_err();
+        assert_eq!(error.line, lanes_line(from), "{from}: {error}");
+    }
+    // An inserted statement and a deleted one.
+    let inserted = lanes_changed("k += 2 * LANES;", "k += 2 * LANES;\nk += 0;");
+    assert!(check_lanes_source(&inserted).unwrap_err().line > 0);
+    let deleted = lanes_changed("    x = xor_si(x, xor_si(t, slli_epi16::<2>(t)));\n", "");
+    assert!(check_lanes_source(&deleted).unwrap_err().line > 0);
+    // A second `simd_lanes!` definition: which one runs is not known.
+    let twice = format!(
+        "{}\nmacro_rules! simd_lanes {{ () => {{}} }}\n",
+        lanes::SOURCE
+    );
+    assert!(check_lanes_source(&twice)
+        .unwrap_err()
+        .detail
+        .contains("2 occurrences"));
+}
+
+#[cfg(target_arch = "x86_64")]
+mod simd_semantics {
+    use super::*;
+    use micromap_index::batch::Backend;
+    use micromap_index::internals::kernel::{Cells, Halves, CHUNK};
+    use micromap_index::internals::lanes::{LaneProbe, Step, BLOCK};
+
+    /// A few blocks of each range, the two interleaves whole.
+    fn small(clamp: u64, scale: u64, truncate: u64) -> Coverage {
+        Coverage {
+            clamp: clamp..clamp + 4 * BLOCK as u64,
+            scale: scale..scale + 4 * BLOCK as u64,
+            levels: 0..17,
+            truncate: truncate..truncate + 4 * BLOCK as u64,
+            interleave: Coverage::FULL.interleave,
+        }
+    }
+
+    fn probes() -> Vec<LaneProbe> {
+        Backend::ALL
+            .into_iter()
+            .filter_map(LaneProbe::new)
+            .collect()
+    }
+
+    #[test]
+    fn the_real_lanes_hold_the_readings() {
+        let probes = probes();
+        assert_eq!(probes[0].name(), "SSE2", "SSE2 is the x86-64 baseline");
+        let backends: Vec<&dyn LaneBackend> =
+            probes.iter().map(|p| p as &dyn LaneBackend).collect();
+        // NaNs and infinities, the smallest normals, the products near 1
+        // and the diagonal sums near 1.
+        for coverage in [
+            small(0x7f7f_f000, 0x0080_0000, 0x3f7f_f000),
+            small(0xff80_0000, 0x3f7f_c000, 0x0),
+        ] {
+            check_semantics(&backends, &coverage).unwrap();
+        }
+    }
+
+    #[test]
+    fn the_pack_order_is_undone_by_the_interleave() {
+        for lanes in [4, 8, 16] {
+            let mut seen = vec![false; CHUNK];
+            for at in 0..CHUNK {
+                seen[point_at(lanes, at)] = true;
+            }
+            assert!(seen.iter().all(|&s| s), "a permutation for {lanes} lanes");
+        }
+        assert_eq!(
+            (0..8).map(|at| point_at(4, at)).collect::<Vec<_>>(),
+            [0, 1, 2, 3, 4, 5, 6, 7]
+        );
+        assert_eq!(
+            (0..16).map(|at| point_at(8, at)).collect::<Vec<_>>(),
+            [0, 1, 2, 3, 8, 9, 10, 11, 4, 5, 6, 7, 12, 13, 14, 15]
+        );
+    }
+
+    /// The SSE2 lanes with one planted change (`mutant`).
+    struct Changed {
+        real: LaneProbe,
+        mutant: u8,
+    }
+
+    impl LaneBackend for Changed {
+        fn name(&self) -> &'static str {
+            "changed SSE2"
+        }
+        fn lanes(&self) -> usize {
+            self.real.lanes()
+        }
+        fn step(&self, step: Step, x: &[u32; BLOCK], out: &mut [u32; BLOCK]) {
+            self.real.step(step, x, out);
+            for (out, &x) in out.iter_mut().zip(x) {
+                let fx = f32::from_bits(x);
+                match (self.mutant, step) {
+                    // `max_ps(floor, x)`: a NaN passes `max` and `min`
+                    // returns its second operand.
+                    (1, Step::Clamp) if fx.is_nan() => {
+                        *out = micromap_index::internals::kernel::BELOW_ONE.to_bits();
+                    }
+                    // A rounding conversion for the truncating one.
+                    (2, Step::Truncate) => *out = fx.round_ties_even() as u32,
+                    // The scale of one level too high at level 16.
+                    (3, Step::Scale(16)) => *out = (fx * 131_072.0).to_bits(),
+                    _ => {}
+                }
+            }
+        }
+        fn pack(&self, a: &[u32; 16], b: &[u32; 16], out: &mut [u16; 32]) {
+            self.real.pack(a, b, out);
+            if self.mutant == 4 {
+                // The bias 0x7fff for 0x8000: every value one too high,
+                // saturated at 0xffff.
+                for out in out.iter_mut() {
+                    *out = out.saturating_add(1);
+                }
+            }
+        }
+        fn cells(&self, u: &[f32; CHUNK], v: &[f32; CHUNK], level: u32, cells: &mut Cells<u16>) {
+            self.real.cells(u, v, level, cells);
+        }
+        fn interleave(&self, halves: &Halves<u16>, out: &mut [u32; CHUNK]) {
+            self.real.interleave(halves, out);
+            if self.mutant == 5 {
+                // The nibble table's entry 14 is 86 instead of 84: one more
+                // bit in the byte of every b0 nibble 14.
+                for (out, &b0) in out.iter_mut().zip(&halves.b0) {
+                    for nibble in 0..4 {
+                        if (b0 >> (4 * nibble)) & 0xf == 14 {
+                            *out ^= 2 << (8 * nibble);
+                        }
+                    }
+                }
+            }
+        }
+        fn wide_interleave(&self, halves: &Halves<u32>, out: &mut [u64; CHUNK]) {
+            self.real.wide_interleave(halves, out);
+            if self.mutant == 6 {
+                // Two points swapped (a wrong group order).
+                out.swap(2, 4);
+            }
+        }
+    }
+
+    #[test]
+    fn changed_lanes_are_refuted() {
+        let coverage = small(0x7fc0_0000, 0x3f00_0000, 0x3f00_0000);
+        for (mutant, check) in [
+            (1, "the clamp"),
+            (2, "cvttps_epi32"),
+            (3, "mul_ps(x, 2^16)"),
+            (4, "pack_u16"),
+            // Caught first by the pipeline's order check, which runs
+            // through the same interleave.
+            (5, "cells then interleave"),
+            (6, "wide_interleave"),
+        ] {
+            let changed = Changed {
+                real: LaneProbe::new(Backend::Portable).unwrap(),
+                mutant,
+            };
+            let error = check_semantics(&[&changed], &coverage).unwrap_err();
+            assert!(error.check.starts_with(check), "mutant {mutant}: {error}");
+            assert_eq!(error.backend, "changed SSE2");
+        }
+    }
+}

@@ -9,9 +9,10 @@ use cli_support::output::{print_then, Exit, Program};
 use cli_support::write_all_or_nothing::write_files;
 use micromap_index_lab::entry_points::{
     prove_binary32_first_half, prove_binary64_first_half, prove_cell_dyadic,
-    prove_float_first_half, prove_kernel_integer_halves, prove_walk_fold, Binary32Counterexample,
-    Binary32Proof, Binary64Counterexample, Binary64Proof, DyadicCounterexample, DyadicProof,
-    FloatCounterexample, FloatProof, FoldMismatch, FoldProof, KernelProof, KernelProofError,
+    prove_float_first_half, prove_kernel_integer_halves, prove_simd_lanes, prove_walk_fold,
+    Binary32Counterexample, Binary32Proof, Binary64Counterexample, Binary64Proof,
+    DyadicCounterexample, DyadicProof, FloatCounterexample, FloatProof, FoldMismatch, FoldProof,
+    KernelProof, KernelProofError, LanesError, LanesProof,
 };
 use micromap_index_lab::prove::WalkVersion;
 use micromap_index_lab::prove_all_levels::{prove_all_levels, AllLevelsReport, Verdict};
@@ -34,9 +35,10 @@ pub(crate) static ALL_LEVELS: Command = Command {
   spec::cell_dyadic and exact_index_f64's first half (levels 0..=19) equal
   to the reference's code and definition at every input (decision
   diagrams), the kernel's float first half's two steps at every binary32
-  input (exhaustion), and index_unchecked, token for
-  token, the fold of Walk::step the product models (docs/verification.md
-  10.12); exit 0 all proved, 1 not; with --version1 it must fail and prints
+  input (exhaustion), index_unchecked, token for
+  token, the fold of Walk::step the product models, and the x86-64 SIMD
+  lanes, token for token, the modelled intrinsics, whose readings are run
+  on every backend this CPU has (docs/verification.md 10.12); exit 0 all proved, 1 not; with --version1 it must fail and prints
   a face; --list
   prints every product state and transition; --certificate writes the proved
   product for crates/lab/certificates/product.py (docs/verification.md 10),
@@ -246,6 +248,7 @@ struct EntryPoints {
     binary64: (Result<Binary64Proof, Binary64Counterexample>, f64),
     float: (Result<FloatProof, FloatCounterexample>, f64),
     fold: (Result<FoldProof, FoldMismatch>, f64),
+    lanes: (Result<LanesProof, LanesError>, f64),
 }
 
 impl EntryPoints {
@@ -262,6 +265,7 @@ impl EntryPoints {
             binary64: timed(prove_binary64_first_half),
             float: timed(prove_float_first_half),
             fold: timed(prove_walk_fold),
+            lanes: timed(prove_simd_lanes),
         }
     }
 
@@ -272,6 +276,7 @@ impl EntryPoints {
             && self.binary64.0.is_ok()
             && self.float.0.is_ok()
             && self.fold.0.is_ok()
+            && self.lanes.0.is_ok()
     }
 }
 
@@ -350,6 +355,28 @@ fn print_entry_points(out: &mut String, entry_points: &EntryPoints) {
             proof.tokens
         )
     });
+    print_entry_point(out, &entry_points.lanes, |proof, seconds| {
+        let skipped = if proof.skipped.is_empty() {
+            "none".to_owned()
+        } else {
+            format!(
+                "{} (not run by this CPU or build: structure only)",
+                proof.skipped.join(", ")
+            )
+        };
+        format!(
+            "the x86-64 SIMD lanes are, token for token, the modelled intrinsics ({} tokens of \
+             src/arch/x86_64.rs), whose readings hold at every input the lanes give them \
+             ({} lane inputs each, {seconds:.3} s): run {}; SKIPPED {skipped}",
+            proof.tokens,
+            proof.inputs,
+            if proof.checked.is_empty() {
+                "none".to_owned()
+            } else {
+                proof.checked.join(", ")
+            }
+        )
+    });
 }
 
 #[derive(Serialize)]
@@ -394,6 +421,7 @@ struct JsonReport {
     binary64_first_half: JsonKernels,
     float_first_half: JsonKernels,
     walk_fold: JsonKernels,
+    simd_lanes: JsonKernels,
 }
 
 fn print_json(
@@ -466,6 +494,7 @@ fn print_json(
                 .as_ref()
                 .map(|proof| proof.functions.len()),
         ),
+        simd_lanes: json_lanes(&entry_points.lanes.0),
     };
     match serde_json::to_string(&line) {
         Ok(text) => {
@@ -473,6 +502,18 @@ fn print_json(
         }
         Err(e) => program.report(format_args!("prove --all-levels: cannot write JSON: {e}")),
     }
+}
+
+/// The SIMD lanes' JSON verdict: the instruction sets run as its cases, and
+/// those skipped (structure only) in its detail.
+fn json_lanes(proof: &Result<LanesProof, LanesError>) -> JsonKernels {
+    let mut verdict = json_entry_point(proof.as_ref().map(|proof| proof.checked.len()));
+    if let Ok(proof) = proof {
+        if !proof.skipped.is_empty() {
+            verdict.detail = Some(format!("SKIPPED: {}", proof.skipped.join(", ")));
+        }
+    }
+    verdict
 }
 
 /// One entry point's JSON verdict: its case count, or its counterexample.
