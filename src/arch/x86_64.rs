@@ -180,17 +180,31 @@ macro_rules! simd_lanes {
                     let (floor, below_one) = (set1_ps(f32::MIN_POSITIVE), set1_ps(kernel::BELOW_ONE));
                     let level = if let probe::Step::Scale(level) = step { level } else { 0 };
                     let scale = set1_ps(Params::new(level, kernel::BINARY32_THRESHOLD).scale);
+                    let (input, output) = (x.as_ptr(), out.as_mut_ptr());
+                    // One loop per step (a `match` inside one loop would
+                    // be decided again for every vector).
                     let mut k = 0;
-                    while k < probe::BLOCK {
-                        let x = loadu_ps(x.as_ptr().add(k).cast());
-                        let at = out.as_mut_ptr().add(k);
-                        match step {
-                            probe::Step::Clamp => write_unaligned(at.cast(), min_ps(max_ps(x, floor), below_one)),
-                            probe::Step::Scale(_) => write_unaligned(at.cast(), mul_ps(x, scale)),
-                            probe::Step::Truncate => storeu_si(at.cast(), cvttps_epi32(x)),
-                            probe::Step::Fraction => write_unaligned(at.cast(), sub_ps(x, cvtepi32_ps(cvttps_epi32(x)))),
-                        }
-                        k += LANES;
+                    match step {
+                        probe::Step::Clamp => while k < probe::BLOCK {
+                            let x = loadu_ps(input.add(k).cast());
+                            write_unaligned(output.add(k).cast(), min_ps(max_ps(x, floor), below_one));
+                            k += LANES;
+                        },
+                        probe::Step::Scale(_) => while k < probe::BLOCK {
+                            let x = loadu_ps(input.add(k).cast());
+                            write_unaligned(output.add(k).cast(), mul_ps(x, scale));
+                            k += LANES;
+                        },
+                        probe::Step::Truncate => while k < probe::BLOCK {
+                            let x = loadu_ps(input.add(k).cast());
+                            storeu_si(output.add(k).cast(), cvttps_epi32(x));
+                            k += LANES;
+                        },
+                        probe::Step::Fraction => while k < probe::BLOCK {
+                            let x = loadu_ps(input.add(k).cast());
+                            write_unaligned(output.add(k).cast(), sub_ps(x, cvtepi32_ps(cvttps_epi32(x))));
+                            k += LANES;
+                        },
                     }
                 }
             }
