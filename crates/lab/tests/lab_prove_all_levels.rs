@@ -23,6 +23,7 @@ fn command_exits_0_when_proved_and_1_for_version1() {
         "the kernel's binary32 first half on the bits (wide, levels 0..=32;",
         "the kernel's float first half (clamp_flushed, truncate_float) holds its claims",
         "uv2index::index_unchecked and index are, token for token, the fold",
+        "the x86-64 SIMD lanes are, token for token, the modelled intrinsics",
     ] {
         assert!(text.contains(entry_point), "{entry_point}: {text}");
     }
@@ -45,6 +46,7 @@ fn command_exits_0_when_proved_and_1_for_version1() {
         "binary64_first_half",
         "float_first_half",
         "walk_fold",
+        "simd_lanes",
     ] {
         let proved = format!("\"{field}\":{{\"verdict\":\"proved\"");
         assert!(text.contains(&proved), "{field}: {text}");

@@ -35,14 +35,14 @@ pub(crate) static ALL_LEVELS: Command = Command {
   spec::cell_dyadic and exact_index_f64's first half (levels 0..=19) equal
   to the reference's code and definition at every input (decision
   diagrams), the kernel's float first half's two steps at every binary32
-  input (exhaustion), index_unchecked, token for
-  token, the fold of Walk::step the product models, and the x86-64 SIMD
-  lanes, token for token, the modelled intrinsics, whose readings are run
-  on every backend this CPU has (docs/verification.md 10.12); exit 0 all proved, 1 not; with --version1 it must fail and prints
-  a face; --list
-  prints every product state and transition; --certificate writes the proved
-  product for crates/lab/certificates/product.py (docs/verification.md 10),
-  exit 3 if it cannot.",
+  input (exhaustion), index_unchecked, token for token, the fold of
+  Walk::step the product models, and the x86-64 SIMD lanes, token for
+  token, the modelled intrinsics, whose readings are run on every backend
+  this CPU has (docs/verification.md 10.12); exit 0 all proved, 1 not; with
+  --version1 it must fail and prints a face; --list prints every product
+  state and transition; --certificate writes the proved product for
+  crates/lab/certificates/product.py (docs/verification.md 10), exit 3 if
+  it cannot.",
     flags: &[
         Flag::switch(
             "--all-levels",
