@@ -61,7 +61,8 @@
 //!   bake's. Implies `std`.
 //! * `unstable-public-internals`: the test oracles the verification crate
 //!   needs (module `internals`: `*_ref` twins, the talk's version 1 walk, the
-//!   rounding-window predicate). Not covered by semver.
+//!   rounding-window predicate, the kernel's generic steps and, on x86-64,
+//!   a probe of the SIMD lanes). Not covered by semver.
 //!
 //! With `default-features = false` the crate is `no_std`, allocation-free and
 //! dependency-free: the reference in binary32, by integers and on dyadics, the
