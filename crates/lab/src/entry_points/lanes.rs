@@ -67,6 +67,9 @@ pub(super) const SOURCE: &str = include_str!("../../../../src/arch/x86_64.rs");
 /// terms in its comments.
 const MODEL: &str = include_str!("x86_64_model.txt");
 
+/// The instruction sets of the x86-64 lanes, as [`LanesProof`] names them.
+pub(super) const INSTRUCTION_SETS: [&str; 3] = ["SSE2", "AVX2", "AVX-512"];
+
 /// Where the modelled region starts (`macro_rules! simd_lanes`).
 const START: [&str; 3] = ["macro_rules", "!", "simd_lanes"];
 /// Where it ends (not included): the file's unit tests.
@@ -213,7 +216,7 @@ pub fn prove_simd_lanes() -> Result<LanesProof, LanesError> {
             .into_iter()
             .filter_map(LaneProbe::new)
             .collect();
-        let skipped = ["SSE2", "AVX2", "AVX-512"]
+        let skipped = INSTRUCTION_SETS
             .into_iter()
             .filter(|name| probes.iter().all(|p| p.name() != *name))
             .collect();
@@ -231,7 +234,7 @@ pub fn prove_simd_lanes() -> Result<LanesProof, LanesError> {
     Ok(LanesProof {
         tokens,
         checked: Vec::new(),
-        skipped: vec!["SSE2", "AVX2", "AVX-512"],
+        skipped: INSTRUCTION_SETS.to_vec(),
         inputs: 0,
     })
 }

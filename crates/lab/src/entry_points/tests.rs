@@ -417,6 +417,18 @@ mod simd_semantics {
         }
     }
 
+    /// Every backend run is named by one of the names the proof lists
+    /// (the others are listed as skipped), each backend under its own.
+    #[test]
+    fn every_backend_is_run_or_named() {
+        let names: Vec<&str> = probes().iter().map(LaneProbe::name).collect();
+        assert_eq!(names.len(), Backend::available().count());
+        for (i, name) in names.iter().enumerate() {
+            assert!(lanes::INSTRUCTION_SETS.contains(name), "{name}");
+            assert!(!names[..i].contains(name), "{name} twice");
+        }
+    }
+
     #[test]
     fn the_pack_order_is_undone_by_the_interleave() {
         for lanes in [4, 8, 16] {
