@@ -164,8 +164,8 @@ pub mod internals {
         };
     }
     pub use crate::uv2index::{
-        binary64_coordinate, binary64_diagonal, cell_real_f32, cell_real_f64, exact_index_f32_ref,
-        exact_index_f64_ref,
+        binary64_clamped_coordinate, binary64_coordinate, binary64_diagonal, cell_real_f32,
+        cell_real_f64, exact_index_f32_ref, exact_index_f64_ref,
     };
 
     /// The highest level at which `uv2index::exact_index_f32` / `_f64` use

@@ -25,7 +25,8 @@ pub(crate) fn unit_coordinate(bits: u32, params: &Params) -> (u32, u32) {
 }
 
 /// The reference's clamp to `[0, 1]` on floats, with two changes that
-/// leave its index alone:
+/// leave its index alone (the lab proves it: `docs/verification.md`
+/// 10.12, `crates/lab/src/entry_points/clamp.rs`):
 ///
 /// * Everything below the smallest normal, `2^-126`, becomes `2^-126`:
 ///   subnormals, zeros, negatives and NaN (which compares false), in one

@@ -165,12 +165,11 @@ unstable_pub_fn! {
 #[inline]
 fn closed_form_f64(u: f64, v: f64, level: Level) -> u64 {
     let last = ((1u64 << level.get()) - 1) as u32;
-    let (iu, uf) = coordinate_f64(u, level.get());
-    let (iv, vf) = coordinate_f64(v, level.get());
-    let (iu, iv) = (
-        iu.min(u64::from(last)) as u32,
-        iv.min(u64::from(last)) as u32,
-    );
+    let (iu, uf) = binary64_clamped_coordinate(u.to_bits(), level.get());
+    let (iv, vf) = binary64_clamped_coordinate(v.to_bits(), level.get());
+    // Both cells are at most `last < 2^32` (proved with the rest of the
+    // coordinate): the casts keep them.
+    let (iu, iv) = (iu as u32, iv as u32);
     let diagonal = binary64_diagonal(uf, vf);
     if level.get() <= crate::spec::MAX_LEVEL {
         // The same answer (the wide form's extra steps are no-ops below
@@ -228,6 +227,22 @@ pub fn binary64_coordinate<W: crate::spec::CoordinateWord>(bits: W, level: u32) 
         shifted_right(s - F64_FRACTION_BITS)
     };
     (shifted_right(s), fraction)
+}
+
+/// [`binary64_coordinate`] with the cell clamped to `last = 2^level - 1`
+/// as the reference clamps it (`x >= 1` has cell `2^level`, the one cell
+/// past `last`): what `exact_index_f64` runs, proved whole by the lab
+/// (`docs/verification.md` 10.12).
+#[inline(always)]
+pub fn binary64_clamped_coordinate<W: crate::spec::CoordinateWord>(bits: W, level: u32) -> (W, W) {
+    let (cell, fraction) = binary64_coordinate(bits, level);
+    let last = W::constant((1u64 << level) - 1);
+    let cell = if cell.at_least(W::power_of_two(level)) {
+        last
+    } else {
+        cell
+    };
+    (cell, fraction)
 }
 
 /// The diagonal test on two coordinates' 62-bit fractions:

@@ -19,6 +19,10 @@
 //!   binary32 and level.
 //! * [`prove_float_first_half`]: the kernel's float first half
 //!   (`clamp_flushed`, `truncate_float`) against its claims, by exhaustion.
+//! * [`prove_float_clamp`]: the float clamp's flushing and its stop below 1
+//!   leave the index alone (the stop value's cell, the flush value's
+//!   fraction, and the integer halves not reading the diagonal at a last
+//!   cell, by diagrams).
 //! * [`prove_walk_fold`]: `uv2index::index_unchecked` and `index` are, token
 //!   for token, the fold of `Walk::step` the transducer proof models.
 //!
@@ -31,6 +35,7 @@
 pub mod bdd;
 mod binary32;
 mod binary64;
+mod clamp;
 mod dyadic;
 mod first_half;
 mod float;
@@ -42,6 +47,7 @@ pub mod word;
 
 pub use binary32::*;
 pub use binary64::*;
+pub use clamp::*;
 pub use dyadic::*;
 pub use float::*;
 pub use fold::*;

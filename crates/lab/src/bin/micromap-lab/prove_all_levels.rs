@@ -8,10 +8,11 @@ use cli_support::args::{ArgError, Command, Flag};
 use cli_support::output::{print_then, Exit, Program};
 use cli_support::write_all_or_nothing::write_files;
 use micromap_index_lab::entry_points::{
-    prove_binary32_first_half, prove_binary64_first_half, prove_cell_dyadic,
+    prove_binary32_first_half, prove_binary64_first_half, prove_cell_dyadic, prove_float_clamp,
     prove_float_first_half, prove_kernel_integer_halves, prove_walk_fold, Binary32Counterexample,
-    Binary32Proof, Binary64Counterexample, Binary64Proof, DyadicCounterexample, DyadicProof,
-    FloatCounterexample, FloatProof, FoldMismatch, FoldProof, KernelProof, KernelProofError,
+    Binary32Proof, Binary64Counterexample, Binary64Proof, ClampCounterexample, ClampProof,
+    DyadicCounterexample, DyadicProof, FloatCounterexample, FloatProof, FoldMismatch, FoldProof,
+    KernelProof, KernelProofError,
 };
 use micromap_index_lab::prove::WalkVersion;
 use micromap_index_lab::prove_all_levels::{prove_all_levels, AllLevelsReport, Verdict};
@@ -34,7 +35,8 @@ pub(crate) static ALL_LEVELS: Command = Command {
   spec::cell_dyadic and exact_index_f64's first half (levels 0..=19) equal
   to the reference's code and definition at every input (decision
   diagrams), the kernel's float first half's two steps at every binary32
-  input (exhaustion), and index_unchecked, token for
+  input (exhaustion) and its clamp's two changes (diagrams), and
+  index_unchecked, token for
   token, the fold of Walk::step the product models (docs/verification.md
   10.12); exit 0 all proved, 1 not; with --version1 it must fail and prints
   a face; --list
@@ -245,6 +247,7 @@ struct EntryPoints {
     binary32: (Result<Binary32Proof, Binary32Counterexample>, f64),
     binary64: (Result<Binary64Proof, Binary64Counterexample>, f64),
     float: (Result<FloatProof, FloatCounterexample>, f64),
+    clamp: (Result<ClampProof, ClampCounterexample>, f64),
     fold: (Result<FoldProof, FoldMismatch>, f64),
 }
 
@@ -261,6 +264,7 @@ impl EntryPoints {
             binary32: timed(prove_binary32_first_half),
             binary64: timed(prove_binary64_first_half),
             float: timed(prove_float_first_half),
+            clamp: timed(prove_float_clamp),
             fold: timed(prove_walk_fold),
         }
     }
@@ -271,6 +275,7 @@ impl EntryPoints {
             && self.binary32.0.is_ok()
             && self.binary64.0.is_ok()
             && self.float.0.is_ok()
+            && self.clamp.0.is_ok()
             && self.fold.0.is_ok()
     }
 }
@@ -342,6 +347,17 @@ fn print_entry_points(out: &mut String, entry_points: &EntryPoints) {
             proof.inputs
         )
     });
+    print_entry_point(out, &entry_points.clamp, |proof, seconds| {
+        let forms: Vec<_> = proof.forms.iter().map(|form| form.name()).collect();
+        format!(
+            "the float clamp's flush below 2^-126 and stop at 1 - 2^-24 leave the index alone, \
+             levels {}..={} (the stop's cell is the last, the flush's fraction at most 2^-110; \
+             with a last cell {} do not read the diagonal; {seconds:.3} s)",
+            proof.levels.start(),
+            proof.levels.end(),
+            forms.join(" and ")
+        )
+    });
     print_entry_point(out, &entry_points.fold, |proof, _| {
         format!(
             "uv2index::{} are, token for token, the fold of Walk::step the product models ({} \
@@ -393,6 +409,7 @@ struct JsonReport {
     binary32_first_half: JsonKernels,
     binary64_first_half: JsonKernels,
     float_first_half: JsonKernels,
+    float_clamp: JsonKernels,
     walk_fold: JsonKernels,
 }
 
@@ -458,6 +475,13 @@ fn print_json(
                 .0
                 .as_ref()
                 .map(|proof| usize::try_from(proof.inputs).unwrap_or(usize::MAX)),
+        ),
+        float_clamp: json_entry_point(
+            entry_points
+                .clamp
+                .0
+                .as_ref()
+                .map(|proof| proof.levels.clone().count()),
         ),
         walk_fold: json_entry_point(
             entry_points
