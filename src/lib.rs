@@ -168,11 +168,6 @@ pub mod internals {
         cell_real_f64, exact_index_f32_ref, exact_index_f64_ref,
     };
 
-    /// The highest level at which `uv2index::exact_index_f32` / `_f64` use
-    /// the reference's closed form (proved equal to the walk there); above
-    /// it they walk.
-    pub const CLOSED_FORM_PROVED_MAX_LEVEL: u32 = crate::uv2index::CLOSED_FORM_PROVED_MAX_LEVEL;
-
     /// One step of the talk's version 1 walk: fixed digits, the Top child
     /// re-oriented by rotating the coordinates; the flags stay untouched.
     pub fn step_version1<T: crate::num::WalkNumber>(walk: &mut crate::uv2index::Walk<T>) -> u8 {

@@ -1,4 +1,4 @@
-//! `uv2index::exact_index_f64`'s first half (levels `0..=19`, its closed
+//! `uv2index::exact_index_f64`'s first half (levels `0..=32`, its closed
 //! form) equals the reference's exact first half: its steps
 //! (`internals::binary64_clamped_coordinate`, one coordinate with its cell
 //! clamped as the reference clamps it, and `internals::binary64_diagonal`)

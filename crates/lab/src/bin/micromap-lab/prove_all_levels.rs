@@ -32,7 +32,7 @@ pub(crate) static ALL_LEVELS: Command = Command {
     about: "  --all-levels proves the walk equal to the reference at every level at once
   by exploring the finite product of two digit transducers (under a second),
   then the kernel's integer halves and first halves on the bits,
-  spec::cell_dyadic and exact_index_f64's first half (levels 0..=19) equal
+  spec::cell_dyadic and exact_index_f64's first half (levels 0..=32) equal
   to the reference's code and definition at every input (decision
   diagrams), the kernel's float first half's two steps at every binary32
   input (exhaustion) and its clamp's two changes (diagrams), and
@@ -334,7 +334,7 @@ fn print_entry_points(out: &mut String, entry_points: &EntryPoints) {
     });
     print_entry_point(out, &entry_points.binary64, |proof, seconds| {
         format!(
-            "exact_index_f64's first half (levels 0..=19) is the definition's cell and exact \
+            "exact_index_f64's first half (levels 0..=32) is the definition's cell and exact \
              diagonal at every binary64 input ({} cases, at most {} diagram nodes, \
              {seconds:.3} s)",
             proof.cases, proof.peak_nodes
