@@ -141,7 +141,7 @@ pub fn index(u: f32, v: f32, level: SpecLevel) -> u32 {
 #[cfg(feature = "unstable-public-internals")]
 pub mod internals {
     pub use crate::inverse::micro_triangle_ref;
-    pub use crate::spec::rounding_flips_diagonal;
+    pub use crate::spec::{clamp_unit, rounding_flips_diagonal, truncate_scaled};
     /// The reference's integer half and dyadic diagonal test, generic over
     /// the word, for the lab's symbolic derivation of the reference
     /// transducer (`docs/verification.md`, section 10.3).

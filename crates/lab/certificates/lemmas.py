@@ -41,11 +41,15 @@ Lemmas (each an unsatisfiable negation; `sat` prints a counterexample):
     exponent raised by the level): the kernel's float first half's
     `clamp_flushed(bits) * params.scale`; refuted when c may be
     subnormal (must be sat: why the clamp flushes them).
- 7. tiny fraction: for binary32 g in [0, 1) and t in [0, 2^-110], the
+ 7. tiny fraction: for binary32 g in [0, 1) and t in [-0, 2^-110], the
     binary32 g + t and t + g are below 1.0 and the real g + t below
     1 - 2^-25: the float clamp's flush (to 2^-126, fraction 2^(level -
     126)) and the reference's subnormals never make the diagonal true;
     refuted for t up to 2^-24 (must be sat).
+ 8. literal scaling: for every binary32 c in [+0, 1] (subnormals and 1
+    included) and level 0..=32, the binary32 product c * 2^level is finite
+    and has the value c 2^level: the literal port's (spec::cell_f32)
+    multiply; refuted for c up to 2^97 (must be sat: the product overflows).
 Usage: python3 crates/lab/certificates/lemmas.py [--source-only]
 (exit 0: the source is the model and all lemmas hold; --source-only: the
 source check alone; LEMMAS_SOURCE=FILE reads FILE instead of the source)
@@ -314,11 +318,10 @@ def cell_lemma(bits, max_level):
 SCALED_WIDTH = 152
 
 
-def scaled(bits):
-    """A non-negative binary32 below 2 from its bits, times 2^149, as an
-    integer: a = m 2^(max(e, 1) - 150), so a 2^149 is m << (max(e, 1) - 1),
-    below 2^151."""
-    width = SCALED_WIDTH
+def scaled(bits, width=SCALED_WIDTH):
+    """A non-negative binary32 from its bits (below 2 for the default
+    width), times 2^149, as an integer: a = m 2^(max(e, 1) - 150), so
+    a 2^149 is m << (max(e, 1) - 1), below 2^(max(e, 1) + 23)."""
     e = z3.ZeroExt(width - 8, z3.Extract(30, 23, bits))
     m = z3.ZeroExt(width - 23, z3.Extract(22, 0, bits))
     m = z3.If(e == 0, m, m | (z3.BitVecVal(1, width) << 23))
@@ -369,6 +372,24 @@ def scaling_lemma(subnormal_too=False):
     return prove(claim, "binary32 c * 2^level exact for normal c < 1, level 0..=16")
 
 
+def literal_scaling_lemma(max_c=0x3F80_0000, name="binary32 c * 2^level exact in value for every c in [0, 1], level 0..=32"):
+    """Lemma 8: the literal port's `clamp_unit(x) * scale` (spec::cell_f32)
+    is exact: for every binary32 c in [+0, 1] (subnormals, zero and 1
+    included) and level 0..=32 the binary32 product c * 2^level has the
+    value c 2^level (compared as integers times 2^149). Refuted for c up to
+    2^97, whose products overflow (the control)."""
+    f32 = z3.Float32()
+    width = 300
+    c_bits, level = z3.BitVecs("c level", 32)
+    scale = z3.fpBVToFP((level + 127) << 23, f32)
+    product = z3.fpToIEEEBV(z3.fpMul(z3.RNE(), z3.fpBVToFP(c_bits, f32), scale))
+    facts = z3.And(z3.ULE(c_bits, max_c), z3.ULE(level, 32), z3.ULT(product, 0x7F80_0000))
+    shifted = scaled(c_bits, width) << z3.ZeroExt(width - 32, level)
+    exact = z3.Implies(facts, scaled(product, width) == shifted)
+    finite = z3.Implies(z3.And(z3.ULE(c_bits, max_c), z3.ULE(level, 32)), z3.ULT(product, 0x7F80_0000))
+    return prove(z3.And(exact, finite), name, expect_sat=max_c != 0x3F80_0000)
+
+
 def tiny_fraction_lemma(tiny_log2=110):
     """Lemma 7: a fraction t <= 2^-tiny_log2 (a binary32: the float clamp's
     flushed 2^(level - 126), or a subnormal's exact x 2^level) never makes
@@ -380,7 +401,9 @@ def tiny_fraction_lemma(tiny_log2=110):
     g_bits, t_bits = z3.BitVecs("g t", 32)
     g, t = z3.fpBVToFP(g_bits, f32), z3.fpBVToFP(t_bits, f32)
     tiny = (127 - tiny_log2) << 23
-    facts = z3.And(z3.ULT(g_bits, 0x3F80_0000), z3.ULE(t_bits, tiny))
+    # -0.0 too: the literal port's clamp may give it (Rust leaves the sign
+    # of max(-0.0, 0.0) open), and then its fraction.
+    facts = z3.And(z3.ULT(g_bits, 0x3F80_0000), z3.Or(z3.ULE(t_bits, tiny), t_bits == 0x8000_0000))
     one = z3.FPVal(1.0, f32)
     below = z3.And(z3.fpLT(z3.fpAdd(z3.RNE(), g, t), one), z3.fpLT(z3.fpAdd(z3.RNE(), t, g), one))
     width = SCALED_WIDTH
@@ -416,6 +439,8 @@ def main():
     ok &= scaling_lemma()
     ok &= scaling_lemma(subnormal_too=True)
     ok &= tiny_fraction_lemma()
+    ok &= literal_scaling_lemma()
+    ok &= literal_scaling_lemma(max_c=0x7000_0000, name="binary32 c * 2^level for c up to 2^97 (control)")
     ok &= tiny_fraction_lemma(tiny_log2=24)
     print("all lemmas hold" if ok else "SOME LEMMA FAILS")
     sys.exit(0 if ok else 1)

@@ -45,6 +45,7 @@ fn command_exits_0_when_proved_and_1_for_version1() {
         "binary64_first_half",
         "float_first_half",
         "float_clamp",
+        "literal_first_half",
         "walk_fold",
     ] {
         let proved = format!("\"{field}\":{{\"verdict\":\"proved\"");

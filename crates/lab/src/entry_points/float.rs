@@ -107,7 +107,10 @@ pub fn prove_float_steps(
 
 /// The smallest input of `range` (bit patterns, below `2^32`) where
 /// `holds` is false, split across the available cores.
-fn first_failure(range: Range<u64>, holds: &(impl Fn(u32) -> bool + Sync)) -> Option<u32> {
+pub(super) fn first_failure(
+    range: Range<u64>,
+    holds: &(impl Fn(u32) -> bool + Sync),
+) -> Option<u32> {
     let threads = std::thread::available_parallelism().map_or(1, usize::from) as u64;
     let share = (range.end - range.start).div_ceil(threads);
     std::thread::scope(|scope| {

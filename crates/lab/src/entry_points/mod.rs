@@ -23,6 +23,9 @@
 //!   leave the index alone (the stop value's cell, the flush value's
 //!   fraction, and the integer halves not reading the diagonal at a last
 //!   cell, by diagrams).
+//! * [`prove_literal_first_half`]: the reference's literal port's first
+//!   half (`spec::cell_f32`: `clamp_unit`, `truncate_scaled`) against its
+//!   claims, by exhaustion.
 //! * [`prove_walk_fold`]: `uv2index::index_unchecked` and `index` are, token
 //!   for token, the fold of `Walk::step` the transducer proof models.
 //!
@@ -41,6 +44,7 @@ mod first_half;
 mod float;
 mod fold;
 mod kernel;
+mod literal;
 #[cfg(test)]
 mod tests;
 pub mod word;
@@ -52,3 +56,4 @@ pub use dyadic::*;
 pub use float::*;
 pub use fold::*;
 pub use kernel::*;
+pub use literal::*;

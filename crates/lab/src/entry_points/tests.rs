@@ -380,3 +380,27 @@ fn changed_float_clamps_are_refuted() {
         "{example}"
     );
 }
+
+#[test]
+fn the_literal_first_half_is_proved() {
+    let proof = prove_literal_first_half().unwrap();
+    assert_eq!(proof.inputs, (1 << 32) + 0x4f80_0001 + 1);
+}
+
+#[test]
+fn changed_literal_steps_are_refuted() {
+    use micromap_index::internals::{clamp_unit, truncate_scaled};
+    // The clamp's two steps swapped: NaN becomes 1.
+    #[allow(clippy::manual_clamp)] // the mutant: `clamp` would keep NaN
+    let example = prove_literal_steps(|x| x.min(1.0).max(0.0), truncate_scaled).unwrap_err();
+    assert_eq!(example.step, "clamp_unit");
+    assert!(f32::from_bits(example.bits).is_nan(), "{example}");
+    // Rounding instead of truncating.
+    let example = prove_literal_steps(clamp_unit, |fu| {
+        let cell = fu.round() as i64 as u64;
+        (cell, fu - cell as i64 as f32)
+    })
+    .unwrap_err();
+    assert_eq!(example.step, "truncate_scaled");
+    assert_eq!(f32::from_bits(example.bits), 0.5);
+}

@@ -9,10 +9,11 @@ use cli_support::output::{print_then, Exit, Program};
 use cli_support::write_all_or_nothing::write_files;
 use micromap_index_lab::entry_points::{
     prove_binary32_first_half, prove_binary64_first_half, prove_cell_dyadic, prove_float_clamp,
-    prove_float_first_half, prove_kernel_integer_halves, prove_walk_fold, Binary32Counterexample,
-    Binary32Proof, Binary64Counterexample, Binary64Proof, ClampCounterexample, ClampProof,
-    DyadicCounterexample, DyadicProof, FloatCounterexample, FloatProof, FoldMismatch, FoldProof,
-    KernelProof, KernelProofError,
+    prove_float_first_half, prove_kernel_integer_halves, prove_literal_first_half, prove_walk_fold,
+    Binary32Counterexample, Binary32Proof, Binary64Counterexample, Binary64Proof,
+    ClampCounterexample, ClampProof, DyadicCounterexample, DyadicProof, FloatCounterexample,
+    FloatProof, FoldMismatch, FoldProof, KernelProof, KernelProofError, LiteralCounterexample,
+    LiteralProof,
 };
 use micromap_index_lab::prove::WalkVersion;
 use micromap_index_lab::prove_all_levels::{prove_all_levels, AllLevelsReport, Verdict};
@@ -35,7 +36,8 @@ pub(crate) static ALL_LEVELS: Command = Command {
   spec::cell_dyadic and exact_index_f64's first half (levels 0..=32) equal
   to the reference's code and definition at every input (decision
   diagrams), the kernel's float first half's two steps at every binary32
-  input (exhaustion) and its clamp's two changes (diagrams), and
+  input (exhaustion) and its clamp's two changes (diagrams), the literal
+  port's first half (spec::cell_f32) at every binary32 input (exhaustion), and
   index_unchecked, token for
   token, the fold of Walk::step the product models (docs/verification.md
   10.12); exit 0 all proved, 1 not; with --version1 it must fail and prints
@@ -248,6 +250,7 @@ struct EntryPoints {
     binary64: (Result<Binary64Proof, Binary64Counterexample>, f64),
     float: (Result<FloatProof, FloatCounterexample>, f64),
     clamp: (Result<ClampProof, ClampCounterexample>, f64),
+    literal: (Result<LiteralProof, LiteralCounterexample>, f64),
     fold: (Result<FoldProof, FoldMismatch>, f64),
 }
 
@@ -265,6 +268,7 @@ impl EntryPoints {
             binary64: timed(prove_binary64_first_half),
             float: timed(prove_float_first_half),
             clamp: timed(prove_float_clamp),
+            literal: timed(prove_literal_first_half),
             fold: timed(prove_walk_fold),
         }
     }
@@ -276,6 +280,7 @@ impl EntryPoints {
             && self.binary64.0.is_ok()
             && self.float.0.is_ok()
             && self.clamp.0.is_ok()
+            && self.literal.0.is_ok()
             && self.fold.0.is_ok()
     }
 }
@@ -358,6 +363,14 @@ fn print_entry_points(out: &mut String, entry_points: &EntryPoints) {
             forms.join(" and ")
         )
     });
+    print_entry_point(out, &entry_points.literal, |proof, seconds| {
+        format!(
+            "the reference's literal port's first half (spec::cell_f32: clamp_unit, \
+             truncate_scaled) holds its claims at every binary32 input ({} inputs, \
+             {seconds:.3} s)",
+            proof.inputs
+        )
+    });
     print_entry_point(out, &entry_points.fold, |proof, _| {
         format!(
             "uv2index::{} are, token for token, the fold of Walk::step the product models ({} \
@@ -410,6 +423,7 @@ struct JsonReport {
     binary64_first_half: JsonKernels,
     float_first_half: JsonKernels,
     float_clamp: JsonKernels,
+    literal_first_half: JsonKernels,
     walk_fold: JsonKernels,
 }
 
@@ -482,6 +496,13 @@ fn print_json(
                 .0
                 .as_ref()
                 .map(|proof| proof.levels.clone().count()),
+        ),
+        literal_first_half: json_entry_point(
+            entry_points
+                .literal
+                .0
+                .as_ref()
+                .map(|proof| usize::try_from(proof.inputs).unwrap_or(usize::MAX)),
         ),
         walk_fold: json_entry_point(
             entry_points
