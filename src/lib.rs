@@ -142,7 +142,7 @@ pub fn index(u: f32, v: f32, level: SpecLevel) -> u32 {
 #[cfg(feature = "unstable-public-internals")]
 pub mod internals {
     pub use crate::inverse::micro_triangle_ref;
-    pub use crate::spec::rounding_flips_diagonal;
+    pub use crate::spec::{clamp_unit, rounding_flips_diagonal, truncate_scaled};
     /// The reference's integer half and dyadic diagonal test, generic over
     /// the word, for the lab's symbolic derivation of the reference
     /// transducer (`docs/verification.md`, section 10.3).
@@ -175,14 +175,9 @@ pub mod internals {
         pub use crate::arch::x86_64::probe::{LaneProbe, Step, BLOCK};
     }
     pub use crate::uv2index::{
-        binary64_coordinate, binary64_diagonal, cell_real_f32, cell_real_f64, exact_index_f32_ref,
-        exact_index_f64_ref,
+        binary64_clamped_coordinate, binary64_coordinate, binary64_diagonal, cell_real_f32,
+        cell_real_f64, exact_index_f32_ref, exact_index_f64_ref,
     };
-
-    /// The highest level at which `uv2index::exact_index_f32` / `_f64` use
-    /// the reference's closed form (proved equal to the walk there); above
-    /// it they walk.
-    pub const CLOSED_FORM_PROVED_MAX_LEVEL: u32 = crate::uv2index::CLOSED_FORM_PROVED_MAX_LEVEL;
 
     /// One step of the talk's version 1 walk: fixed digits, the Top child
     /// re-oriented by rotating the coordinates; the flags stay untouched.

@@ -90,8 +90,8 @@ pub(crate) use pipeline::{chunked, Cells, Halves, Lanes, Narrow, Wide, CHUNK};
 #[cfg(target_arch = "x86_64")]
 pub(crate) use point::BELOW_ONE;
 pub(crate) use point::{
-    narrow, narrow_from_clamped_cell, narrow_in_unit, wide, wide_from_clamped_cell, CELL_BY_FLOAT,
-    CELL_BY_SHIFTS,
+    narrow, narrow_from_clamped_cell, narrow_in_unit, wide, wide_cell, wide_from_clamped_cell,
+    CELL_BY_FLOAT, CELL_BY_SHIFTS,
 };
 #[cfg(not(target_arch = "x86_64"))]
 pub(crate) use portable::{narrow_slice_portable, wide_slice_portable};

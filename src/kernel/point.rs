@@ -25,7 +25,8 @@ pub(crate) fn unit_coordinate(bits: u32, params: &Params) -> (u32, u32) {
 }
 
 /// The reference's clamp to `[0, 1]` on floats, with two changes that
-/// leave its index alone:
+/// leave its index alone (the lab proves it: `docs/verification.md`
+/// 10.12, `crates/lab/src/entry_points/clamp.rs`):
 ///
 /// * Everything below the smallest normal, `2^-126`, becomes `2^-126`:
 ///   subnormals, zeros, negatives and NaN (which compares false), in one
@@ -147,9 +148,19 @@ pub(crate) fn narrow_from_clamped_cell(iu: u32, iv: u32, diagonal: bool, last: u
 /// the exact reading of the reference (exact threshold).
 #[inline(always)]
 pub(crate) fn wide(u_bits: u32, v_bits: u32, params: &Params) -> u64 {
+    let (iu, iv, diagonal) = wide_cell(u_bits, v_bits, params);
+    wide_from_clamped_cell(iu, iv, diagonal, params.last)
+}
+
+/// The first half of [`wide`], levels `0..=32`: both cells clamped to
+/// `last` and the diagonal test `Fu + Fv >= threshold` on the 31-bit
+/// floored fractions (proved equal to the definition at every binary32
+/// input, `docs/verification.md` 10.12).
+#[inline(always)]
+pub(crate) fn wide_cell(u_bits: u32, v_bits: u32, params: &Params) -> (u32, u32, bool) {
     let (iu, uf) = coordinate::<true>(u_bits, params);
     let (iv, vf) = coordinate::<true>(v_bits, params);
-    wide_from_clamped_cell(iu, iv, uf + vf >= params.threshold, params.last)
+    (iu, iv, uf + vf >= params.threshold)
 }
 
 /// The wide integer half and interleave (two 16-bit interleaves in 32-bit

@@ -5,9 +5,12 @@
 //! in an `i128`. The walk's steps on them are exact: the children's
 //! barycentrics are integer combinations (`2u`, `u - v - w`, ...) of the
 //! parent's, and the scale never changes because every child's coordinates
-//! again sum to one. For a point of the closed triangle every coordinate the
-//! walk stores stays in `[0, 1]` and every intermediate in `[-1, 2]`, far from
-//! overflow. (On points outside the triangle, which only
+//! again sum to one. For a point of the closed triangle every value the walk
+//! forms, stored or intermediate, lies in `[0, 1]` (z3 proves it by
+//! induction over the modelled step, `crates/lab/certificates/product.py`,
+//! `docs/verification.md` 10.12): raw values stay in `[0, 2^ONE_LOG2]`, no
+//! operation wraps, and each step is the exact step over the reals. (On
+//! points outside the triangle, which only
 //! [`index_unchecked`](crate::uv2index::index_unchecked) accepts, the
 //! arithmetic wraps instead of panicking.)
 
@@ -20,6 +23,10 @@ macro_rules! fixed_point_type {
         $(#[$doc])*
         #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
         pub struct $name($int);
+
+        // `1` (raw `2^ONE_LOG2`), the largest value a walk of a point of
+        // the triangle forms, is a positive integer of the type.
+        const _: () = assert!($one_log2 < <$int>::BITS - 1);
 
         impl $name {
             /// The value `1` is `2^ONE_LOG2` in the raw representation.

@@ -1,56 +1,14 @@
 //! The reference in binary32 without floating point: every float
 //! operation of the reference is exact except the rounding of `uf + vf`,
 //! which becomes an exact comparison with `1 - 2^-25` (`docs/fixed.md`).
+//! The first half is the kernel's on the bits (`kernel::wide_cell`,
+//! proved equal to the definition at every binary32 input and level,
+//! `docs/verification.md` 10.12), the integer half the reference's own
+//! 32-bit code.
 
 use super::index_from_cell;
-use crate::num::fixed::sticky_round;
+use crate::kernel::{self, Params};
 use crate::SpecLevel;
-
-/// Fraction bits (with the sticky bit) the mirror keeps of `uf` and `vf`.
-/// `docs/fixed.md`: 27 suffice; 32 leave room.
-const MIRROR_FRACTION_BITS: u32 = 32;
-
-/// What the reference's `uf + vf >= 1.0f` becomes on exact fractions:
-/// binary32 round-to-nearest-even lifts every real sum in `[1 - 2^-25, 1)`
-/// to `1.0`, and no smaller one, so the test is `uf + vf >= 1 - 2^-25`.
-const MIRROR_DIAGONAL_THRESHOLD: u128 =
-    (1 << MIRROR_FRACTION_BITS) - (1 << (MIRROR_FRACTION_BITS - 25));
-
-/// The reference's first steps on one binary32 coordinate, on its bits:
-/// `clamp` (NaN and everything negative -> 0, everything from 1 up,
-/// +inf included -> 1), then `x * 2^level` split into the truncated cell and
-/// the fraction `fu - float(iu)` (both exact in binary32, so exact here) in
-/// sticky fixed point.
-fn mirror_cell_and_fraction(x: f32, level: u32) -> (u32, u128) {
-    let bits = x.to_bits();
-    let (significand, exponent): (u64, i32) = if bits >> 31 == 1 || bits > 0x7f80_0000 {
-        (0, 0) // negative (incl. -0, -inf, negative NaN) or positive NaN
-    } else if bits >= 0x3f80_0000 {
-        (1, 0) // >= 1.0, +inf included
-    } else {
-        let biased = (bits >> 23) as i32;
-        let fraction = u64::from(bits & 0x7f_ffff);
-        if biased == 0 {
-            (fraction, -149)
-        } else {
-            (fraction | 0x80_0000, biased - 150)
-        }
-    };
-    // x * 2^level = significand * 2^shift; below 2^31 + 1 for level <= 31.
-    let shift = exponent + level as i32;
-    if shift >= 0 {
-        ((significand << shift) as u32, 0)
-    } else {
-        let drop = shift.unsigned_abs();
-        let (cell, fraction) = if drop >= 64 {
-            (0, significand)
-        } else {
-            (significand >> drop, significand & ((1 << drop) - 1))
-        };
-        let fraction = sticky_round(fraction, shift, MIRROR_FRACTION_BITS);
-        (cell as u32, fraction)
-    }
-}
 
 /// [`reference_bits_f32`](super::reference_bits_f32) reproduced with
 /// integer operations only: for every pair of `f32` (NaN, ±0, ±inf,
@@ -67,9 +25,11 @@ fn mirror_cell_and_fraction(x: f32, level: u32) -> (u32, u128) {
 #[must_use]
 pub fn reference_bits_f32_by_integers(u: f32, v: f32, level: u32) -> u32 {
     let level = level % 32;
-    let (iu, uf) = mirror_cell_and_fraction(u, level);
-    let (iv, vf) = mirror_cell_and_fraction(v, level);
-    let diagonal = uf + vf >= MIRROR_DIAGONAL_THRESHOLD;
+    let params = Params::new(level, kernel::BINARY32_THRESHOLD);
+    // The cells come clamped to `2^level - 1`, which the reference's own
+    // clamp in `index_from_cell` leaves alone; the fraction of `x >= 1` is 0
+    // as the reference's (`fu = 2^level` exactly).
+    let (iu, iv, diagonal) = kernel::wide_cell(u.to_bits(), v.to_bits(), &params);
     index_from_cell(iu, iv, diagonal, level)
 }
 
@@ -92,11 +52,28 @@ mod tests {
     use super::*;
 
     #[test]
-    fn mirror_fractions_are_exact_or_sticky() {
-        assert_eq!(mirror_cell_and_fraction(0.75, 1), (1, 1 << 31));
-        assert_eq!(mirror_cell_and_fraction(1.0, 3), (8, 0));
-        assert_eq!(mirror_cell_and_fraction(f32::INFINITY, 3), (8, 0));
-        assert_eq!(mirror_cell_and_fraction(-f32::NAN, 3), (0, 0));
-        assert_eq!(mirror_cell_and_fraction(f32::from_bits(1), 0), (0, 1));
+    fn the_mirror_gives_the_literal_ports_bits_on_the_clamps() {
+        let values = [
+            0.75,
+            1.0,
+            f32::INFINITY,
+            -f32::NAN,
+            f32::NAN,
+            -0.0,
+            f32::from_bits(1),
+            1.0 - f32::EPSILON / 2.0,
+            0.5 - f32::EPSILON / 4.0,
+        ];
+        for level in 0..=33 {
+            for u in values {
+                for v in values {
+                    assert_eq!(
+                        reference_bits_f32_by_integers(u, v, level),
+                        super::super::reference_bits_f32(u, v, level),
+                        "{u} {v} level {level}"
+                    );
+                }
+            }
+        }
     }
 }

@@ -172,23 +172,29 @@ pub struct Cell {
 #[inline]
 #[must_use]
 pub fn cell_f32(u: f32, v: f32, level: u32) -> Cell {
-    let u = clamp_unit(u);
-    let v = clamp_unit(v);
     // `(float)(1u << level)`: exact for every power of two up to 2^32.
     let scale = (1u64 << level.min(32)) as f32;
-    let fu = u * scale;
-    let fv = v * scale;
-    // `fu`, `fv` are in [0, 2^32]: the cast truncates like C's. Through
-    // `i64` (exact on that range), whose conversions are single x86-64
-    // instructions; `u64`'s need fix-ups for values this cannot reach.
-    let iu = fu as i64 as u64;
-    let iv = fv as i64 as u64;
-    let uf = fu - iu as i64 as f32;
-    let vf = fv - iv as i64 as f32;
+    let (iu, uf) = truncate_scaled(clamp_unit(u) * scale);
+    let (iv, vf) = truncate_scaled(clamp_unit(v) * scale);
     Cell {
         iu,
         iv,
         diagonal: diagonal_decision_f32(uf, vf),
+    }
+}
+
+unstable_pub_fn! {
+    /// The reference's `iu = (uint32_t)fu` and `uf = fu - float(iu)` for
+    /// `fu` in `[0, 2^32]` (every product [`cell_f32`] forms; the lab checks
+    /// both at each of them, `docs/verification.md` 10.12): the cast
+    /// truncates like C's, through `i64` (exact on that range), whose
+    /// conversions are single x86-64 instructions (`u64`'s need fix-ups
+    /// for values this cannot reach).
+    #[inline]
+    #[must_use]
+    fn truncate_scaled(fu: f32) -> (u64, f32) {
+        let cell = fu as i64 as u64;
+        (cell, fu - cell as i64 as f32)
     }
 }
 
@@ -211,15 +217,18 @@ pub fn diagonal_decision_f32(uf: f32, vf: f32) -> bool {
     uf + vf >= 1.0
 }
 
-/// `x` clamped to `[0, 1]` as `min(max(x, 0), 1)`, every NaN → 0: Rust's
-/// `f32::max` returns the non-NaN operand even for a signalling NaN, like GPU
-/// max/min. (C's `fmaxf` under IEEE 754-2008 `maxNum` returns NaN for a
-/// signalling NaN, so a libm-based C build would map it to 1 instead; the C
-/// oracle in `reference/` clamps with comparisons for that reason.)
-#[allow(clippy::manual_clamp)] // `f32::clamp` keeps NaN; the reference must not
-#[inline]
-fn clamp_unit(x: f32) -> f32 {
-    x.max(0.0).min(1.0)
+unstable_pub_fn! {
+    /// `x` clamped to `[0, 1]` as `min(max(x, 0), 1)`, every NaN → 0: Rust's
+    /// `f32::max` returns the non-NaN operand even for a signalling NaN, like GPU
+    /// max/min. (C's `fmaxf` under IEEE 754-2008 `maxNum` returns NaN for a
+    /// signalling NaN, so a libm-based C build would map it to 1 instead; the C
+    /// oracle in `reference/` clamps with comparisons for that reason.)
+    #[allow(clippy::manual_clamp)] // `f32::clamp` keeps NaN; the reference must not
+    #[inline]
+    #[must_use]
+    fn clamp_unit(x: f32) -> f32 {
+        x.max(0.0).min(1.0)
+    }
 }
 
 /// The reference's steps widened to 64 bits ([`wide_index_from_cell`]) in

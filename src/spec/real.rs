@@ -59,13 +59,22 @@ pub fn wide_index_real(u: &BigRational, v: &BigRational, level: Level) -> u64 {
 /// ```
 #[must_use]
 pub fn cell_real(u: &BigRational, v: &BigRational, level: Level) -> Cell {
-    let Some((u, v, denominator)) = over_common_denominator(u, v) else {
-        return cell_real_ref(u, v, level);
-    };
-    let d = u128::from(denominator);
-    // Clamped numerators are at most d <= 2^64; times 2^32 fits u128.
-    let clamp = |a: i128| u128::try_from(a).unwrap_or(0).min(d) << level.get();
-    let (su, sv) = (clamp(u), clamp(v));
+    match over_common_denominator(u, v) {
+        Some((a, b, d)) => cell_over_denominator(a, b, d, level.get()),
+        None => cell_real_ref(u, v, level),
+    }
+}
+
+/// [`cell_real`] of `a / d`, `b / d` (`d >= 1`, `|a|, |b| <= 2^100`, levels
+/// `0..=32`, as `over_common_denominator` gives them) in `u128` words:
+/// clamped numerators are at most `d < 2^64`, times `2^32` below `2^96`,
+/// so nothing is lost; z3 proves the steps equal to the definition for
+/// every such input (`crates/lab/certificates/rationals.py`,
+/// `docs/verification.md` 10.12).
+fn cell_over_denominator(a: i128, b: i128, d: u64, level: u32) -> Cell {
+    let d = u128::from(d);
+    let clamp = |x: i128| u128::try_from(x).unwrap_or(0).min(d) << level;
+    let (su, sv) = (clamp(a), clamp(b));
     Cell {
         iu: (su / d) as u64,
         iv: (sv / d) as u64,

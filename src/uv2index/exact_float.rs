@@ -6,9 +6,10 @@
 //! `docs/verification.md` proves that at every real point of the closed
 //! triangle the walk equals the reference's steps read over the reals
 //! (exact `floor`, fractions and `uf + vf >= 1`) with the integer half
-//! widened to 64-bit words: for levels `0..=16` (the reference's own) and
-//! `17..=19` (spec-wide), by checking one point of every face of the level's
-//! lattice. Those steps are exact integer operations on a float's bits:
+//! widened to 64-bit words, at every level `0..=32` at once (section 10:
+//! the product of two digit transducers). Those steps are exact integer
+//! operations on a float's bits, proved equal to their definition at every
+//! binary32 and binary64 input and level (section 10.12):
 //!
 //! * the cell `floor(x * 2^level)` is the significand shifted by the
 //!   exponent;
@@ -20,10 +21,9 @@
 //!   kept bit) and reaches the integer threshold exactly when the real sum
 //!   does.
 //!
-//! For levels `20..=32` the closed form is only sampled (10^9 random faces
-//! per level, `docs/verification.md` section 7.4), not proved; there
-//! [`exact_index_f32`] and [`exact_index_f64`] run the walk itself, so every
-//! level keeps the proved guarantee.
+//! So [`exact_index_f32`] and [`exact_index_f64`] run those steps at every
+//! level. (Until the all-levels proof they did only up to level 19, where
+//! lattice checks covered them, and walked above.)
 //!
 //! # The walk, the oracle
 //!
@@ -42,7 +42,7 @@
 //! up to 32 is covered. That walk (`exact_index_f32_ref`,
 //! `exact_index_f64_ref`, in `internals` with the
 //! `unstable-public-internals` feature) is what the closed form is tested
-//! against, and what runs above level 19.
+//! against: a second implementation by other means.
 
 use super::index_unchecked;
 use crate::kernel::{self, Params};
@@ -51,22 +51,15 @@ use crate::num::{Fixed128, Fixed64, WalkNumber};
 use crate::spec::Cell;
 use crate::{Error, Level};
 
-/// The highest level at which the reference's closed form is proved equal
-/// to the walk at every real point (exhaustive lattice checks,
-/// `docs/verification.md`); above it [`exact_index_f32`] and
-/// [`exact_index_f64`] walk.
-pub(crate) const CLOSED_FORM_PROVED_MAX_LEVEL: u32 = 19;
-
 /// The exact walk's index for a finite binary32 point: equal to the walk
 /// over the reals (`index_real`, feature `exact`) at the same point, for
 /// every level `0..=32`, with integers only. NaN ([`Error::NotANumber`]),
 /// infinities ([`Error::Infinite`]) and points outside the closed triangle
 /// ([`Error::OutsideTriangle`], decided exactly) are errors.
 ///
-/// Levels up to 19 use the reference's steps on the float's bits (proved
-/// equal to the walk there; the argument is in `src/uv2index/exact_float.rs`
-/// and `docs/verification.md`; in 32-bit words up to level 16), higher ones
-/// the walk.
+/// Every level uses the reference's steps on the float's bits (proved
+/// equal to the walk; the argument is in `src/uv2index/exact_float.rs` and
+/// `docs/verification.md`), in 32-bit words up to level 16.
 ///
 /// ```
 /// use micromap_index::{uv2index, Error, Level, Outside};
@@ -95,11 +88,9 @@ pub fn exact_index_f32(u: f32, v: f32, level: Level) -> Result<u64, Error> {
             unit_bits(v),
             &params,
         )))
-    } else if level.get() <= CLOSED_FORM_PROVED_MAX_LEVEL {
+    } else {
         let params = Params::new(level.get(), kernel::EXACT_THRESHOLD);
         Ok(kernel::wide(u.to_bits(), v.to_bits(), &params))
-    } else {
-        exact_index_f32_ref(u, v, level)
     }
 }
 
@@ -119,7 +110,7 @@ fn surely_inside(u: f64, v: f64) -> bool {
 
 /// The exact walk's index for a finite binary64 point: equal to the walk
 /// over the reals at the same point, for every level `0..=32`, with
-/// integers only (computed like [`exact_index_f32`]).
+/// integers only (computed like [`exact_index_f32`], in 64-bit words).
 ///
 /// ```
 /// use micromap_index::{uv2index, Level};
@@ -130,11 +121,7 @@ pub fn exact_index_f64(u: f64, v: f64, level: Level) -> Result<u64, Error> {
     if !surely_inside(u, v) {
         f64::check_point(&u, &v)?;
     }
-    if level.get() <= CLOSED_FORM_PROVED_MAX_LEVEL {
-        Ok(closed_form_f64(u, v, level))
-    } else {
-        exact_index_f64_ref(u, v, level)
-    }
+    Ok(closed_form_f64(u, v, level))
 }
 
 unstable_pub_fn! {
@@ -165,12 +152,11 @@ unstable_pub_fn! {
 #[inline]
 fn closed_form_f64(u: f64, v: f64, level: Level) -> u64 {
     let last = ((1u64 << level.get()) - 1) as u32;
-    let (iu, uf) = coordinate_f64(u, level.get());
-    let (iv, vf) = coordinate_f64(v, level.get());
-    let (iu, iv) = (
-        iu.min(u64::from(last)) as u32,
-        iv.min(u64::from(last)) as u32,
-    );
+    let (iu, uf) = binary64_clamped_coordinate(u.to_bits(), level.get());
+    let (iv, vf) = binary64_clamped_coordinate(v.to_bits(), level.get());
+    // Both cells are at most `last < 2^32` (proved with the rest of the
+    // coordinate): the casts keep them.
+    let (iu, iv) = (iu as u32, iv as u32);
     let diagonal = binary64_diagonal(uf, vf);
     if level.get() <= crate::spec::MAX_LEVEL {
         // The same answer (the wide form's extra steps are no-ops below
@@ -228,6 +214,22 @@ pub fn binary64_coordinate<W: crate::spec::CoordinateWord>(bits: W, level: u32) 
         shifted_right(s - F64_FRACTION_BITS)
     };
     (shifted_right(s), fraction)
+}
+
+/// [`binary64_coordinate`] with the cell clamped to `last = 2^level - 1`
+/// as the reference clamps it (`x >= 1` has cell `2^level`, the one cell
+/// past `last`): what `exact_index_f64` runs, proved whole by the lab
+/// (`docs/verification.md` 10.12).
+#[inline(always)]
+pub fn binary64_clamped_coordinate<W: crate::spec::CoordinateWord>(bits: W, level: u32) -> (W, W) {
+    let (cell, fraction) = binary64_coordinate(bits, level);
+    let last = W::constant((1u64 << level) - 1);
+    let cell = if cell.at_least(W::power_of_two(level)) {
+        last
+    } else {
+        cell
+    };
+    (cell, fraction)
 }
 
 /// The diagonal test on two coordinates' 62-bit fractions:

@@ -46,9 +46,7 @@ mod real;
 
 pub use crate::num::WalkNumber;
 #[cfg(feature = "unstable-public-internals")]
-pub(crate) use exact_float::CLOSED_FORM_PROVED_MAX_LEVEL;
-#[cfg(feature = "unstable-public-internals")]
-pub use exact_float::{binary64_coordinate, binary64_diagonal};
+pub use exact_float::{binary64_clamped_coordinate, binary64_coordinate, binary64_diagonal};
 #[cfg(feature = "unstable-public-internals")]
 pub use exact_float::{cell_real_f32, cell_real_f64, exact_index_f32_ref, exact_index_f64_ref};
 pub use exact_float::{exact_index_f32, exact_index_f64};

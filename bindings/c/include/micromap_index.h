@@ -281,6 +281,20 @@ typedef struct mmi_material {
     float alpha_factor;
 } mmi_material;
 
+/** glTF's KHR_texture_transform: uv' = offset + R(rotation) (scale * uv),
+ * R counter-clockwise by rotation radians (the extension's translation *
+ * rotation * scale). The baker models it as the shader computes it, in
+ * binary32 on the interpolated coordinate (docs/bake.md, "Texture
+ * transforms"). */
+typedef struct mmi_uv_transform {
+    /** Added after the rotation (the extension's offset). */
+    float offset[2];
+    /** Radians, counter-clockwise; at most 65536 in magnitude. */
+    float rotation;
+    /** Multiplies the coordinate first (the extension's scale). */
+    float scale[2];
+} mmi_uv_transform;
+
 /** One mesh: a texture, its material and triangles in UV space. */
 typedef struct mmi_mesh {
     /** The alpha texture. */
@@ -306,6 +320,11 @@ typedef struct mmi_mesh {
     const float *vertex_alpha;
     /** Bytes from one vertex alpha to the next: a multiple of 4; 0 means 4. */
     size_t vertex_alpha_stride;
+    /** The texture-coordinate transform the runtime's shader applies to the
+     * interpolated coordinate before sampling (glTF's KHR_texture_transform),
+     * or NULL: none. Non-finite values and rotations beyond 65536 radians are
+     * MMI_ERROR_INVALID_ARGUMENT. */
+    const mmi_uv_transform *uv_transform;
 } mmi_mesh;
 
 /** How mmi_bake bakes; start from mmi_bake_options_default. */

@@ -48,7 +48,9 @@ pub use index::{
     mmi_index_f32, mmi_index_f32_batch, mmi_inverse_micro_triangle, mmi_micro_triangle,
     mmi_wide_index_f32, mmi_wide_index_f32_batch,
 };
-pub use mesh::{mmi_material, mmi_material_default, mmi_mesh, mmi_sampler, mmi_texture};
+pub use mesh::{
+    mmi_material, mmi_material_default, mmi_mesh, mmi_sampler, mmi_texture, mmi_uv_transform,
+};
 pub use tree::{
     mmi_tree, mmi_tree_decode, mmi_tree_encode, mmi_tree_free, mmi_tree_from_bytes, mmi_tree_get,
     mmi_tree_get_f32, mmi_tree_info, mmi_tree_info_get, mmi_tree_to_bytes,

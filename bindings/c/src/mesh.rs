@@ -14,7 +14,7 @@ use crate::ffi::{
 use micromap_index::bake::mesh::{Material, Mesh, MeshBakeError, MeshTriangles};
 use micromap_index::bake::{
     AddressMode, AlphaTexture, Comparison, Cutoff, F32Texture, Filter, Model, Sampler, Texel,
-    Unorm16Texture, Unorm8Texture, UvTriangle,
+    Unorm16Texture, Unorm8Texture, UvTransform, UvTriangle,
 };
 use micromap_index::micromap::Format;
 use std::borrow::Cow;
@@ -93,6 +93,26 @@ pub struct mmi_mesh {
     pub vertex_alpha: *const f32,
     /// Bytes from one vertex alpha to the next: a multiple of 4; 0 means 4.
     pub vertex_alpha_stride: usize,
+    /// The texture-coordinate transform the runtime's shader applies to
+    /// the interpolated coordinate before sampling (glTF's
+    /// `KHR_texture_transform`), or NULL: none.
+    pub uv_transform: *const mmi_uv_transform,
+}
+
+/// glTF's `KHR_texture_transform`: `uv' = offset + R(rotation) (scale *
+/// uv)`, `R` counter-clockwise by `rotation` radians (the extension's
+/// `translation * rotation * scale`). The baker models it as the shader
+/// computes it, in binary32 on the interpolated coordinate
+/// (`docs/bake.md`, "Texture transforms").
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct mmi_uv_transform {
+    /// Added after the rotation (the extension's `offset`).
+    pub offset: [f32; 2],
+    /// Radians, counter-clockwise; at most 65536 in magnitude.
+    pub rotation: f32,
+    /// Multiplies the coordinate first (the extension's `scale`).
+    pub scale: [f32; 2],
 }
 
 /// The texels as a slice of `T`: borrowed when tightly packed and aligned,
@@ -385,7 +405,8 @@ impl<'a> MeshInput<'a> {
             sampler: sampler(&m.material.sampler)?,
             cutoff: cutoff(&m.material)?,
             alpha_factor: m.material.alpha_factor,
-            uv_transform: micromap_index::bake::UvTransform::IDENTITY,
+            // SAFETY: forwarded from the caller.
+            uv_transform: unsafe { uv_transform(m.uv_transform) }?,
         };
         Ok(MeshInput {
             texels,
@@ -411,6 +432,24 @@ impl<'a> MeshInput<'a> {
             vertex_alpha: self.vertex_alpha.as_deref(),
         }
     }
+}
+
+/// The transform at `t`, the identity for NULL; non-finite parameters and
+/// rotations beyond `bake::MAX_ROTATION` are `MMI_ERROR_INVALID_ARGUMENT`.
+///
+/// # Safety
+/// `t` must be NULL or point to a readable `mmi_uv_transform`.
+unsafe fn uv_transform(t: *const mmi_uv_transform) -> Result<UvTransform> {
+    // SAFETY: the caller's promise about `t`.
+    let Some(t) = (unsafe { t.as_ref() }) else {
+        return Ok(UvTransform::IDENTITY);
+    };
+    UvTransform::new(t.offset, t.rotation, t.scale).map_err(|e| {
+        Error::new(
+            MMI_ERROR_INVALID_ARGUMENT,
+            format!("mmi_mesh.uv_transform: {e}"),
+        )
+    })
 }
 
 /// The code of the library's refusal of a mesh or of its bake, shared by

@@ -37,6 +37,7 @@ static void layout(void) {
     SIZE(mmi_texture);
     SIZE(mmi_sampler);
     SIZE(mmi_material);
+    SIZE(mmi_uv_transform);
     SIZE(mmi_mesh);
     SIZE(mmi_bake_options);
     SIZE(mmi_bake_stats);
@@ -381,6 +382,21 @@ static void bake_and_verify(void) {
     EXPECT(mmi_bake_result_stats(result, &stats), MMI_OK);
     CHECK(stats.counts[MMI_STATE_TRANSPARENT] == 2 * 16 && stats.counts[MMI_STATE_OPAQUE] == 0);
     mmi_bake_result_free(result);
+    /* A texture transform: u' = u / 4 + 1/16 stays in the opaque columns
+     * 0..2 (u' < 3/8), so every micro-triangle is opaque; a rotation
+     * beyond 65536 radians is refused. */
+    {
+        mmi_uv_transform transform = {{0.0625f, 0.0f}, 0.0f, {0.25f, 1.0f}};
+        bad = mesh;
+        bad.uv_transform = &transform;
+        EXPECT(mmi_bake(&bad, 1, &options, &result), MMI_OK);
+        EXPECT(mmi_bake_result_stats(result, &stats), MMI_OK);
+        CHECK(stats.counts[MMI_STATE_OPAQUE] == 2 * 16);
+        mmi_bake_result_free(result);
+        transform.rotation = 1e6f;
+        EXPECT(mmi_bake(&bad, 1, &options, &result), MMI_ERROR_INVALID_ARGUMENT);
+        CHECK(result == NULL);
+    }
     /* The exact model, and a model out of range. */
     options.model = MMI_MODEL_EXACT;
     EXPECT(mmi_bake(&mesh, 1, &options, &result), MMI_OK);

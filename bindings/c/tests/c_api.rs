@@ -220,6 +220,7 @@ fn check_sizes(stdout: &str) {
         ("mmi_texture", size_of::<mmi_texture>()),
         ("mmi_sampler", size_of::<mmi_sampler>()),
         ("mmi_material", size_of::<mmi_material>()),
+        ("mmi_uv_transform", size_of::<mmi_uv_transform>()),
         ("mmi_mesh", size_of::<mmi_mesh>()),
         ("mmi_bake_options", size_of::<mmi_bake_options>()),
         ("mmi_bake_stats", size_of::<mmi_bake_stats>()),

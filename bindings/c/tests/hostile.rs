@@ -86,6 +86,7 @@ fn mesh(texture: mmi_texture, uvs: &[f32]) -> mmi_mesh {
         index_count: 0,
         vertex_alpha: ptr::null(),
         vertex_alpha_stride: 0,
+        uv_transform: std::ptr::null(),
     }
 }
 

@@ -45,6 +45,7 @@ fn mesh(texture: mmi_texture, material: mmi_material) -> mmi_mesh {
         index_count: 0,
         vertex_alpha: ptr::null(),
         vertex_alpha_stride: 0,
+        uv_transform: std::ptr::null(),
     }
 }
 
@@ -665,6 +666,123 @@ fn vertex_alpha_reaches_the_library() {
     let opaque = stats(&plain, &o).counts[MMI_STATE_OPAQUE as usize];
     assert!(opaque > 0);
     assert_eq!(report.contradictions, opaque);
+}
+
+#[test]
+fn the_uv_transform_reaches_the_library() {
+    use micromap_index::bake::UvTransform;
+    let t8 = texels();
+    let texture = Unorm8Texture::new(W, H, &t8).unwrap();
+    let view = mmi_texture {
+        texels: t8.as_ptr().cast(),
+        width: W,
+        height: H,
+        row_pitch: 0,
+        format: MMI_TEXEL_U8,
+    };
+    let o = options(5, MMI_FORMAT_4_STATE);
+    let triangles: Vec<[[f32; 2]; 3]> = UVS
+        .chunks_exact(6)
+        .map(|c| [[c[0], c[1]], [c[2], c[3]], [c[4], c[5]]])
+        .collect();
+    // A rotated, scaled and offset transform with inexact values, as
+    // exporters write them.
+    for (offset, rotation, scale) in [
+        ([0.705f32, 0.285f32], 0.3f32, [0.35f32, 0.35f32]),
+        ([0.0, 0.0], -1.2, [1.0, 0.8]),
+        ([0.0, 0.0], 0.0, [1.0, 1.0]),
+    ] {
+        let transform = mmi_uv_transform {
+            offset,
+            rotation,
+            scale,
+        };
+        let library = bake_mesh(
+            &Mesh {
+                triangles: MeshTriangles::Uv(&triangles),
+                texture: &texture,
+                material: Material {
+                    uv_transform: UvTransform::new(offset, rotation, scale).unwrap(),
+                    ..Material::default()
+                },
+                vertex_alpha: None,
+            },
+            &MeshOptions {
+                levels: LevelRule::Fixed(Level::new(5).unwrap()),
+                ..MeshOptions::default()
+            },
+        )
+        .unwrap();
+        let mut m = mesh(view, material());
+        m.uv_transform = &transform;
+        assert_eq!(
+            bake(&m, &o),
+            (
+                library.buffers.data().to_vec(),
+                library.buffers.records_le_bytes(),
+                library
+                    .buffers
+                    .index_bytes(0, micromap_index::micromap::IndexWidth::U32)
+                    .unwrap()
+            ),
+            "{transform:?}"
+        );
+        // The identity given or left NULL: the same bytes.
+        if rotation == 0.0 && scale == [1.0, 1.0] {
+            assert_eq!(bake(&m, &o), bake(&mesh(view, material()), &o));
+        }
+    }
+    // The verifier reads it too: a bake under one transform judged under
+    // none has contradictions, under its own none.
+    let transform = mmi_uv_transform {
+        offset: [0.5, 0.0],
+        rotation: 0.0,
+        scale: [1.0, 1.0],
+    };
+    let mut m = mesh(view, material());
+    m.uv_transform = &transform;
+    let (data, records, c_indices) = bake(&m, &o);
+    let buffers = mmi_buffers_view {
+        data: data.as_ptr(),
+        data_len: data.len(),
+        records: records.as_ptr(),
+        records_len: records.len(),
+        indices: c_indices.as_ptr(),
+        indices_len: c_indices.len(),
+        index_width_bits: 32,
+        usage_counts: ptr::null(),
+        usage_counts_len: 0,
+        record_stride: 0,
+        index_stride: 0,
+    };
+    let verify = |mesh: &mmi_mesh| {
+        let mut report = mmi_verify_report::default();
+        // SAFETY: valid pointers; the arrays outlive the call.
+        let code = unsafe { mmi_verify(mesh, &buffers, &mut report, ptr::null_mut(), 0) };
+        assert_eq!(code, MMI_OK, "{}", last_error());
+        report.contradictions
+    };
+    assert_eq!(verify(&m), 0);
+    assert!(verify(&mesh(view, material())) > 0);
+    // Refusals: not finite, a rotation beyond 65536 radians.
+    for bad in [
+        mmi_uv_transform {
+            offset: [f32::NAN, 0.0],
+            ..transform
+        },
+        mmi_uv_transform {
+            rotation: 1e6,
+            ..transform
+        },
+        mmi_uv_transform {
+            scale: [1.0, f32::INFINITY],
+            ..transform
+        },
+    ] {
+        m.uv_transform = &bad;
+        assert_eq!(bake_code(&m, &o), MMI_ERROR_INVALID_ARGUMENT, "{bad:?}");
+        assert!(last_error().contains("uv_transform"), "{}", last_error());
+    }
 }
 
 #[test]

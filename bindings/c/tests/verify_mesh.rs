@@ -92,6 +92,7 @@ fn c_mesh(t8: &[u8], case: &Case) -> mmi_mesh {
             ptr::null()
         },
         vertex_alpha_stride: 12,
+        uv_transform: std::ptr::null(),
     }
 }
 

@@ -41,6 +41,15 @@ Lemmas (each an unsatisfiable negation; `sat` prints a counterexample):
     exponent raised by the level): the kernel's float first half's
     `clamp_flushed(bits) * params.scale`; refuted when c may be
     subnormal (must be sat: why the clamp flushes them).
+ 7. tiny fraction: for binary32 g in [0, 1) and t in [-0, 2^-110], the
+    binary32 g + t and t + g are below 1.0 and the real g + t below
+    1 - 2^-25: the float clamp's flush (to 2^-126, fraction 2^(level -
+    126)) and the reference's subnormals never make the diagonal true;
+    refuted for t up to 2^-24 (must be sat).
+ 8. literal scaling: for every binary32 c in [+0, 1] (subnormals and 1
+    included) and level 0..=32, the binary32 product c * 2^level is finite
+    and has the value c 2^level: the literal port's (spec::cell_f32)
+    multiply; refuted for c up to 2^97 (must be sat: the product overflows).
 Usage: python3 crates/lab/certificates/lemmas.py [--source-only]
 (exit 0: the source is the model and all lemmas hold; --source-only: the
 source check alone; LEMMAS_SOURCE=FILE reads FILE instead of the source)
@@ -306,19 +315,24 @@ def cell_lemma(bits, max_level):
     return prove(claim, f"cell rule, {bits}-bit code, every level 0..={max_level}")
 
 
+SCALED_WIDTH = 152
+
+
+def scaled(bits, width=SCALED_WIDTH):
+    """A non-negative binary32 from its bits (below 2 for the default
+    width), times 2^149, as an integer: a = m 2^(max(e, 1) - 150), so
+    a 2^149 is m << (max(e, 1) - 1), below 2^(max(e, 1) + 23)."""
+    e = z3.ZeroExt(width - 8, z3.Extract(30, 23, bits))
+    m = z3.ZeroExt(width - 23, z3.Extract(22, 0, bits))
+    m = z3.If(e == 0, m, m | (z3.BitVecVal(1, width) << 23))
+    return m << z3.If(e == 0, z3.BitVecVal(0, width), e - 1)
+
+
 def binary32_rounding_lemma(threshold_is_one=False):
-    """Lemma 4 on the bits: a = m 2^(max(e, 1) - 150), so a 2^149 is the
-    integer m << (max(e, 1) - 1), below 2^149."""
-    width = 152
+    """Lemma 4 on the bits (scaled: fractions times 2^149)."""
+    width = SCALED_WIDTH
     f32 = z3.Float32()
     a_bits, b_bits = z3.BitVecs("a b", 32)
-
-    def scaled(bits):
-        e = z3.ZeroExt(width - 8, z3.Extract(30, 23, bits))
-        m = z3.ZeroExt(width - 23, z3.Extract(22, 0, bits))
-        m = z3.If(e == 0, m, m | (z3.BitVecVal(1, width) << 23))
-        return m << z3.If(e == 0, z3.BitVecVal(0, width), e - 1)
-
     one = z3.BitVecVal(1, width)
     below_one = z3.And(z3.ULT(a_bits, 0x3F80_0000), z3.ULT(b_bits, 0x3F80_0000))
     rounded = z3.fpAdd(z3.RNE(), z3.fpBVToFP(a_bits, f32), z3.fpBVToFP(b_bits, f32))
@@ -358,6 +372,49 @@ def scaling_lemma(subnormal_too=False):
     return prove(claim, "binary32 c * 2^level exact for normal c < 1, level 0..=16")
 
 
+def literal_scaling_lemma(max_c=0x3F80_0000, name="binary32 c * 2^level exact in value for every c in [0, 1], level 0..=32"):
+    """Lemma 8: the literal port's `clamp_unit(x) * scale` (spec::cell_f32)
+    is exact: for every binary32 c in [+0, 1] (subnormals, zero and 1
+    included) and level 0..=32 the binary32 product c * 2^level has the
+    value c 2^level (compared as integers times 2^149). Refuted for c up to
+    2^97, whose products overflow (the control)."""
+    f32 = z3.Float32()
+    width = 300
+    c_bits, level = z3.BitVecs("c level", 32)
+    scale = z3.fpBVToFP((level + 127) << 23, f32)
+    product = z3.fpToIEEEBV(z3.fpMul(z3.RNE(), z3.fpBVToFP(c_bits, f32), scale))
+    facts = z3.And(z3.ULE(c_bits, max_c), z3.ULE(level, 32), z3.ULT(product, 0x7F80_0000))
+    shifted = scaled(c_bits, width) << z3.ZeroExt(width - 32, level)
+    exact = z3.Implies(facts, scaled(product, width) == shifted)
+    finite = z3.Implies(z3.And(z3.ULE(c_bits, max_c), z3.ULE(level, 32)), z3.ULT(product, 0x7F80_0000))
+    return prove(z3.And(exact, finite), name, expect_sat=max_c != 0x3F80_0000)
+
+
+def tiny_fraction_lemma(tiny_log2=110):
+    """Lemma 7: a fraction t <= 2^-tiny_log2 (a binary32: the float clamp's
+    flushed 2^(level - 126), or a subnormal's exact x 2^level) never makes
+    the diagonal true against another fraction g in [0, 1): binary32's
+    g + t and t + g stay below 1.0, and the real g + t below 1 - 2^-25
+    (docs/verification.md 10.12, entry_points/clamp.rs). At 2^-24 it fails
+    (the control)."""
+    f32 = z3.Float32()
+    g_bits, t_bits = z3.BitVecs("g t", 32)
+    g, t = z3.fpBVToFP(g_bits, f32), z3.fpBVToFP(t_bits, f32)
+    tiny = (127 - tiny_log2) << 23
+    # -0.0 too: the literal port's clamp may give it (Rust leaves the sign
+    # of max(-0.0, 0.0) open), and then its fraction.
+    facts = z3.And(z3.ULT(g_bits, 0x3F80_0000), z3.Or(z3.ULE(t_bits, tiny), t_bits == 0x8000_0000))
+    one = z3.FPVal(1.0, f32)
+    below = z3.And(z3.fpLT(z3.fpAdd(z3.RNE(), g, t), one), z3.fpLT(z3.fpAdd(z3.RNE(), t, g), one))
+    width = SCALED_WIDTH
+    threshold = (z3.BitVecVal(1, width) << 149) - (z3.BitVecVal(1, width) << 124)
+    real_below = z3.ULT(scaled(g_bits) + scaled(t_bits), threshold)
+    claim = z3.Implies(facts, z3.And(below, real_below))
+    if tiny_log2 == 110:
+        return prove(claim, "a fraction at most 2^-110 never reaches the diagonal (binary32 and real)")
+    return prove(claim, f"a fraction at most 2^-{tiny_log2} (control)", expect_sat=True)
+
+
 def main():
     check_source()
     if "--source-only" in sys.argv[1:]:
@@ -381,6 +438,10 @@ def main():
     )
     ok &= scaling_lemma()
     ok &= scaling_lemma(subnormal_too=True)
+    ok &= tiny_fraction_lemma()
+    ok &= literal_scaling_lemma()
+    ok &= literal_scaling_lemma(max_c=0x7000_0000, name="binary32 c * 2^level for c up to 2^97 (control)")
+    ok &= tiny_fraction_lemma(tiny_log2=24)
     print("all lemmas hold" if ok else "SOME LEMMA FAILS")
     sys.exit(0 if ok else 1)
 

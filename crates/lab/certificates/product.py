@@ -183,6 +183,49 @@ def walk_step(u, v, w, mid_flip, top_flip, tie_needs_mid_flip=True):
     ]
 
 
+def step_partials(u, v, w):
+    """Every value the modelled lines of `fn step` and `fn enter_middle`
+    form, per branch in walk_step's order (Left, Top, Right, Middle): each
+    `minus` chain's first and second result and each `twice`."""
+    return [
+        [w - u, w - u - v, 2 * u, 2 * v],
+        [v - u, v - u - w, 2 * u, 2 * w],
+        [u - v, u - v - w, 2 * v, 2 * w],
+        [u + v, u + v - w, w + u, w + u - v, v + w, v + w - u],
+    ]
+
+
+def walk_range(step=walk_step, with_conditions=True):
+    """The walk's numbers stay in [0, 1] (docs/verification.md 10.12: why
+    the fixed-point walk on `Fixed64` / `Fixed128` is exact): `Walk::new`
+    at a point of the closed triangle (u, v >= 0, u + v <= 1) forms u + v
+    and 1 - (u + v) in [0, 1], and from every state whose u, v, w are >= 0
+    and sum to 1, with either flag, each branch of the modelled step whose
+    condition holds forms only values in [0, 1] and gives u, v, w >= 0
+    summing to 1 again. By induction every value of a walk of such a point
+    lies in [0, 1]. `with_conditions=False` takes every branch from every
+    state (the negative control: must be refused). Returns the reasons it
+    fails (empty: it holds)."""
+    u, v, w = z3.Reals("u v w")
+    unit = lambda x: z3.And(0 <= x, x <= 1)
+    errors = []
+    start = z3.And(u >= 0, v >= 0, u + v <= 1)
+    holds, why = valid(start, z3.And(unit(u + v), unit(1 - (u + v))))
+    if not holds:
+        errors.append(f"Walk::new: {why}")
+    state = z3.And(u >= 0, v >= 0, w >= 0, u + v + w == 1)
+    for mid_flip in (False, True):
+        for top_flip in (False, True):
+            branches = step(u, v, w, mid_flip, top_flip)
+            for (condition, digit, new, _, _), partials in zip(branches, step_partials(u, v, w)):
+                premise = z3.And(state, condition) if with_conditions else state
+                claim = z3.And(*[unit(x) for x in list(new) + partials], z3.Sum(list(new)) == 1)
+                holds, why = valid(premise, claim)
+                if not holds:
+                    errors.append(f"digit {digit}, mid_flip {mid_flip}, top_flip {top_flip}: {why}")
+    return errors
+
+
 def remainders(name):
     return [z3.Real(f"{name}_{c}") for c in COORDINATES]
 
@@ -466,7 +509,17 @@ def main():
             "  holds: every start is the root, every transition proved (one z3 query each), "
             "every live start and column present, every transition's digits equal"
         )
+    range_errors = walk_range()
+    for e in range_errors:
+        print(f"  walk range REFUSED: {e}")
+    if not range_errors:
+        print("  walk range: every value the walk forms for a point of the closed triangle lies in [0, 1] (induction over the step, 17 z3 queries)")
+    ok &= not range_errors
     if "--no-controls" not in sys.argv:
+        unconditional = walk_range(with_conditions=False)
+        verdict = f"refused ({unconditional[0]})" if unconditional else "ACCEPTED (the range check cannot fail)"
+        print(f"  negative control, the walk range with every branch from every state: {verdict}")
+        ok &= bool(unconditional)
         wrong_walk = functools.partial(walk_step, tie_needs_mid_flip=False)
         cases = [(what, mutant, walk_step) for what, mutant in controls(cert)]
         cases.append(("the certificate under a wrong walk model (the tie rule without mid_flip)", cert, wrong_walk))

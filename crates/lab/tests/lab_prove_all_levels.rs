@@ -45,6 +45,8 @@ fn command_exits_0_when_proved_and_1_for_version1() {
         "binary32_first_half",
         "binary64_first_half",
         "float_first_half",
+        "float_clamp",
+        "literal_first_half",
         "walk_fold",
         "simd_lanes",
     ] {

@@ -1,8 +1,8 @@
-//! `uv2index::exact_index_f64`'s first half (levels `0..=19`, its closed
+//! `uv2index::exact_index_f64`'s first half (levels `0..=32`, its closed
 //! form) equals the reference's exact first half: its steps
-//! (`internals::binary64_coordinate`, one coordinate, and
-//! `internals::binary64_diagonal`) run on words of decision diagrams and are
-//! compared with the definition.
+//! (`internals::binary64_clamped_coordinate`, one coordinate with its cell
+//! clamped as the reference clamps it, and `internals::binary64_diagonal`)
+//! run on words of decision diagrams and are compared with the definition.
 //!
 //! **One coordinate**, every binary64 `x` and level `0..=32`. The inputs
 //! are split into cases in which the exponent is a constant: `x` negative
@@ -13,7 +13,10 @@
 //! written `c = m 2^-s / 2^level` with an integer `m < 2^53` (`s = 1075 -
 //! level - max(e, 1)`):
 //!
-//! * the cell `i` satisfies `i 2^s <= m < (i + 1) 2^s`;
+//! * the cell `i` satisfies `i 2^s <= m < (i + 1) 2^s` (for `c < 1`; `c = 1`
+//!   has the reference's clamped cell `last = 2^level - 1` and fraction 0,
+//!   so every cell is below `2^32` and `closed_form_f64`'s casts to `u32`
+//!   keep it);
 //! * the fraction `F` satisfies `F 2^s <= r 2^62 < (F + 1) 2^s`, `r = m - i
 //!   2^s` (it is `floor(frac(2^level c) 2^62)`);
 //! * and `F` is exact (`r 2^62` a multiple of `2^s`) or the fraction is
@@ -31,7 +34,7 @@ use super::bdd::{self, Node};
 use super::first_half::{floor_claims, FractionFormat};
 use super::word::{explore, explore_pair, Bits};
 use micromap_index::internals::kernel::LaneWord;
-use micromap_index::internals::{binary64_coordinate, binary64_diagonal};
+use micromap_index::internals::{binary64_clamped_coordinate, binary64_diagonal};
 use std::fmt;
 
 /// A binary64 input and level where the steps and the definition differ.
@@ -72,14 +75,14 @@ fn variable(i: usize) -> u32 {
 /// Store size beyond which a case starts with a fresh store.
 const RESET_ABOVE_NODES: usize = 2_000_000;
 
-/// Proves `binary64_coordinate` (every input, levels `0..=32`) and
+/// Proves `binary64_clamped_coordinate` (every input, levels `0..=32`) and
 /// `binary64_diagonal` (every pair of 62-bit fractions) equal to the
 /// definition (module comment).
 ///
 /// # Errors
 /// The first input where they differ.
 pub fn prove_binary64_first_half() -> Result<Binary64Proof, Binary64Counterexample> {
-    prove_binary64_steps(binary64_coordinate, binary64_diagonal)
+    prove_binary64_steps(binary64_clamped_coordinate, binary64_diagonal)
 }
 
 /// [`prove_binary64_first_half`] with the steps given: how the tests check
@@ -200,15 +203,15 @@ impl InputClass {
                 let exponent_ones = bits.0[52..63].iter().fold(Node::TRUE, |all, &x| all & x);
                 let significand = bits.0[..52].iter().fold(Node::FALSE, |any, &x| any | x);
                 let nan = exponent_ones & significand;
-                let one_cell = Bits::<64>::of(1 << level);
+                let one_cell = Bits::<64>::of((1 << level) - 1);
                 vec![(
-                    "NaN clamps to 0 and x >= 2 to 1",
+                    "NaN clamps to 0 and x >= 2 to 1 (cell 2^level - 1)",
                     fraction.equals(&zero) & cell.equals(&Bits::select(nan, zero, one_cell)),
                 )]
             }
             InputClass::Exponent(e) if e >= 1023 => vec![(
-                "x >= 1 clamps to 1",
-                cell.equals(&Bits::of(1 << level)) & fraction.equals(&zero),
+                "x >= 1 clamps to 1 (cell 2^level - 1)",
+                cell.equals(&Bits::of((1 << level) - 1)) & fraction.equals(&zero),
             )],
             InputClass::Exponent(e) => {
                 let s = 1075 - level - (e as u32).max(1);

@@ -18,10 +18,9 @@
 //! float form's cell and fraction are the definition's for `c`; its
 //! diagonal `uf + vf >= 1.0f` is the real sum reaching `1 - 2^-25` (lemma
 //! 4), which the bit form's `Fu + Fv >= 2^31 - 2^6` decides the same way
-//! (lemma 5 with the bit form's proved exact-or-tiny fraction). What stays
-//! argued, not checked: that the clamp's two changes (flushing below
-//! `2^-126`, stopping at `1 - 2^-24`) leave the index alone
-//! (`clamp_flushed`'s comment in `src/kernel/point.rs`).
+//! (lemma 5 with the bit form's proved exact-or-tiny fraction). That the
+//! clamp's two changes (flushing below `2^-126`, stopping at `1 - 2^-24`)
+//! leave the index alone is [`super::clamp`]'s proof.
 
 use micromap_index::internals::kernel::{clamp_flushed, truncate_float, BELOW_ONE};
 use std::fmt;
@@ -108,7 +107,10 @@ pub fn prove_float_steps(
 
 /// The smallest input of `range` (bit patterns, below `2^32`) where
 /// `holds` is false, split across the available cores.
-fn first_failure(range: Range<u64>, holds: &(impl Fn(u32) -> bool + Sync)) -> Option<u32> {
+pub(super) fn first_failure(
+    range: Range<u64>,
+    holds: &(impl Fn(u32) -> bool + Sync),
+) -> Option<u32> {
     let threads = std::thread::available_parallelism().map_or(1, usize::from) as u64;
     let share = (range.end - range.start).div_ceil(threads);
     std::thread::scope(|scope| {

@@ -77,7 +77,13 @@ impl KernelForm {
 
     /// The form's index on diagram words (cells in 32-bit words, at most
     /// `last`).
-    fn symbolic(self, iu: Bits<32>, iv: Bits<32>, diagonal: bool, last: u64) -> Bits<64> {
+    pub(super) fn symbolic(
+        self,
+        iu: Bits<32>,
+        iv: Bits<32>,
+        diagonal: bool,
+        last: u64,
+    ) -> Bits<64> {
         let halves = |(low, high): (Bits<32>, Bits<32>)| {
             Bits(std::array::from_fn(|i| {
                 if i < 32 {

@@ -19,6 +19,13 @@
 //!   binary32 and level.
 //! * [`prove_float_first_half`]: the kernel's float first half
 //!   (`clamp_flushed`, `truncate_float`) against its claims, by exhaustion.
+//! * [`prove_float_clamp`]: the float clamp's flushing and its stop below 1
+//!   leave the index alone (the stop value's cell, the flush value's
+//!   fraction, and the integer halves not reading the diagonal at a last
+//!   cell, by diagrams).
+//! * [`prove_literal_first_half`]: the reference's literal port's first
+//!   half (`spec::cell_f32`: `clamp_unit`, `truncate_scaled`) against its
+//!   claims, by exhaustion.
 //! * [`prove_simd_lanes`]: the x86-64 SIMD lanes (SSE2, AVX2, AVX-512)
 //!   are, token for token, the modelled intrinsics, and those intrinsics,
 //!   run on this CPU, compute the model's scalar steps at every input they
@@ -35,20 +42,24 @@
 pub mod bdd;
 mod binary32;
 mod binary64;
+mod clamp;
 mod dyadic;
 mod first_half;
 mod float;
 mod fold;
 mod kernel;
 mod lanes;
+mod literal;
 #[cfg(test)]
 mod tests;
 pub mod word;
 
 pub use binary32::*;
 pub use binary64::*;
+pub use clamp::*;
 pub use dyadic::*;
 pub use float::*;
 pub use fold::*;
 pub use kernel::*;
 pub use lanes::*;
+pub use literal::*;

@@ -212,9 +212,9 @@ fn the_binary64_first_half_is_proved() {
 
 #[test]
 fn a_binary64_diagonal_on_greater_is_refuted() {
-    use micromap_index::internals::{binary64_coordinate, ReferenceWord};
+    use micromap_index::internals::{binary64_clamped_coordinate, ReferenceWord};
     // The mutation of closed_form_f64: `>` instead of `>=`.
-    let example = prove_binary64_steps(binary64_coordinate, |uf: Bits<64>, vf| {
+    let example = prove_binary64_steps(binary64_clamped_coordinate, |uf: Bits<64>, vf| {
         let sum = ReferenceWord::wrapping_add(uf, vf);
         !Bits::of(1 << 62).at_least(sum)
     })
@@ -224,11 +224,13 @@ fn a_binary64_diagonal_on_greater_is_refuted() {
 
 #[test]
 fn a_binary64_fraction_off_by_one_bit_is_refuted() {
-    use micromap_index::internals::{binary64_coordinate, binary64_diagonal, ReferenceWord};
+    use micromap_index::internals::{
+        binary64_clamped_coordinate, binary64_diagonal, ReferenceWord,
+    };
     // The fraction kept to 61 bits at levels 17..=19.
     let example = prove_binary64_steps(
         |bits: Bits<64>, level| {
-            let (cell, fraction) = binary64_coordinate(bits, level);
+            let (cell, fraction) = binary64_clamped_coordinate(bits, level);
             if (17..=19).contains(&level) {
                 (cell, fraction.and(Bits::of(!1)))
             } else {
@@ -239,6 +241,17 @@ fn a_binary64_fraction_off_by_one_bit_is_refuted() {
     )
     .unwrap_err();
     assert_eq!(example.level, 17);
+}
+
+#[test]
+fn a_binary64_cell_without_the_clamp_is_refuted() {
+    use micromap_index::internals::{binary64_coordinate, binary64_diagonal};
+    // closed_form_f64's old glue, `iu.min(last)`, left out: `x >= 1` keeps
+    // the cell `2^level` one past the last.
+    let example = prove_binary64_steps(binary64_coordinate, binary64_diagonal).unwrap_err();
+    assert_eq!(example.level, 0);
+    assert!(example.claim.contains("2^level - 1"), "{example}");
+    assert!(f64::from_bits(example.inputs.0) >= 1.0, "{example}");
 }
 
 #[test]
@@ -296,6 +309,100 @@ fn a_float_truncation_on_at_least_is_refuted() {
     let example = prove_float_steps(clamp_flushed, truncate).unwrap_err();
     assert_eq!(example.step, "truncate_float");
     assert_eq!(f32::from_bits(example.bits), 1.0, "{example}");
+}
+
+#[test]
+fn the_float_clamp_is_proved() {
+    let proof = prove_float_clamp().unwrap();
+    assert_eq!(proof.levels, 0..=16);
+    assert_eq!(proof.forms.len(), 2);
+    assert_eq!(TINY_FRACTION.to_bits(), (127 - 110) << 23);
+}
+
+#[test]
+fn changed_float_clamps_are_refuted() {
+    use super::bdd::Node;
+    use micromap_index::internals::kernel::{truncate_float, BELOW_ONE};
+    let real = |form: KernelForm, iu, iv, d, last| form.symbolic(iu, iv, d, last);
+    // The stop at 1/2 instead of below 1: a cell short of the last from
+    // level 2 (1/2 * 4 = 2, not 3).
+    let example = prove_clamp_with(0.5, truncate_float, &FLOAT_FORMS, real).unwrap_err();
+    assert_eq!(example, ClampCounterexample::StopCell { level: 2, cell: 2 });
+    // A truncation that leaves the flush value a fraction of 2^-100.
+    let example = prove_clamp_with(
+        BELOW_ONE,
+        |fu| {
+            let (cell, fraction) = truncate_float(fu);
+            if fu < 1e-20 {
+                (cell, fraction + 2f32.powi(-100))
+            } else {
+                (cell, fraction)
+            }
+        },
+        &FLOAT_FORMS,
+        real,
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            example,
+            ClampCounterexample::Flush {
+                level: 0,
+                cell: 0,
+                ..
+            }
+        ),
+        "{example}"
+    );
+    // An integer half that reads the diagonal with a cell at the last:
+    // there the outcome flips the index's lowest bit.
+    let example = prove_clamp_with(
+        BELOW_ONE,
+        truncate_float,
+        &[KernelForm::PointNarrow],
+        |form, iu: Bits<32>, iv: Bits<32>, d, last| {
+            let mut index = form.symbolic(iu, iv, d, last);
+            let on_edge = iu.equals(&Bits::of(last)) | iv.equals(&Bits::of(last));
+            index.0[0] = index.0[0] ^ (on_edge & Node::constant(d && last > 0));
+            index
+        },
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            example,
+            ClampCounterexample::DiagonalRead {
+                form: KernelForm::PointNarrow,
+                level: 1,
+                ..
+            }
+        ),
+        "{example}"
+    );
+}
+
+#[test]
+fn the_literal_first_half_is_proved() {
+    let proof = prove_literal_first_half().unwrap();
+    assert_eq!(proof.inputs, (1 << 32) + 0x4f80_0001 + 1);
+}
+
+#[test]
+fn changed_literal_steps_are_refuted() {
+    use micromap_index::internals::{clamp_unit, truncate_scaled};
+    // The clamp's two steps swapped: NaN becomes 1.
+    #[allow(clippy::manual_clamp)] // the mutant: `clamp` would keep NaN
+    let example = prove_literal_steps(|x| x.min(1.0).max(0.0), truncate_scaled).unwrap_err();
+    assert_eq!(example.step, "clamp_unit");
+    assert!(f32::from_bits(example.bits).is_nan(), "{example}");
+    // Rounding instead of truncating.
+    let example = prove_literal_steps(clamp_unit, |fu| {
+        let cell = fu.round() as i64 as u64;
+        (cell, fu - cell as i64 as f32)
+    })
+    .unwrap_err();
+    assert_eq!(example.step, "truncate_scaled");
+    assert_eq!(f32::from_bits(example.bits), 0.5);
 }
 
 /// The real source with the first occurrence of `from` (after `macro_rules!

@@ -8,11 +8,12 @@ use cli_support::args::{ArgError, Command, Flag};
 use cli_support::output::{print_then, Exit, Program};
 use cli_support::write_all_or_nothing::write_files;
 use micromap_index_lab::entry_points::{
-    prove_binary32_first_half, prove_binary64_first_half, prove_cell_dyadic,
-    prove_float_first_half, prove_kernel_integer_halves, prove_simd_lanes, prove_walk_fold,
-    Binary32Counterexample, Binary32Proof, Binary64Counterexample, Binary64Proof,
-    DyadicCounterexample, DyadicProof, FloatCounterexample, FloatProof, FoldMismatch, FoldProof,
-    KernelProof, KernelProofError, LanesError, LanesProof,
+    prove_binary32_first_half, prove_binary64_first_half, prove_cell_dyadic, prove_float_clamp,
+    prove_float_first_half, prove_kernel_integer_halves, prove_literal_first_half,
+    prove_simd_lanes, prove_walk_fold, Binary32Counterexample, Binary32Proof,
+    Binary64Counterexample, Binary64Proof, ClampCounterexample, ClampProof, DyadicCounterexample,
+    DyadicProof, FloatCounterexample, FloatProof, FoldMismatch, FoldProof, KernelProof,
+    KernelProofError, LanesError, LanesProof, LiteralCounterexample, LiteralProof,
 };
 use micromap_index_lab::prove::WalkVersion;
 use micromap_index_lab::prove_all_levels::{prove_all_levels, AllLevelsReport, Verdict};
@@ -32,15 +33,17 @@ pub(crate) static ALL_LEVELS: Command = Command {
     about: "  --all-levels proves the walk equal to the reference at every level at once
   by exploring the finite product of two digit transducers (under a second),
   then the kernel's integer halves and first halves on the bits,
-  spec::cell_dyadic and exact_index_f64's first half (levels 0..=19) equal
+  spec::cell_dyadic and exact_index_f64's first half (levels 0..=32) equal
   to the reference's code and definition at every input (decision
   diagrams), the kernel's float first half's two steps at every binary32
-  input (exhaustion), index_unchecked, token for token, the fold of
-  Walk::step the product models, and the x86-64 SIMD lanes, token for
-  token, the modelled intrinsics, whose readings are run on every backend
-  this CPU has (docs/verification.md 10.12); exit 0 all proved, 1 not; with
-  --version1 it must fail and prints a face; --list prints every product
-  state and transition; --certificate writes the proved product for
+  input (exhaustion) and its clamp's two changes (diagrams), the literal
+  port's first half (spec::cell_f32) at every binary32 input (exhaustion),
+  index_unchecked, token for token, the fold of Walk::step the product
+  models, and the x86-64 SIMD lanes, token for token, the modelled
+  intrinsics, whose readings are run on every backend this CPU has
+  (docs/verification.md 10.12); exit 0 all proved, 1 not; with --version1
+  it must fail and prints a face; --list prints every product state and
+  transition; --certificate writes the proved product for
   crates/lab/certificates/product.py (docs/verification.md 10), exit 3 if
   it cannot.",
     flags: &[
@@ -247,6 +250,8 @@ struct EntryPoints {
     binary32: (Result<Binary32Proof, Binary32Counterexample>, f64),
     binary64: (Result<Binary64Proof, Binary64Counterexample>, f64),
     float: (Result<FloatProof, FloatCounterexample>, f64),
+    clamp: (Result<ClampProof, ClampCounterexample>, f64),
+    literal: (Result<LiteralProof, LiteralCounterexample>, f64),
     fold: (Result<FoldProof, FoldMismatch>, f64),
     lanes: (Result<LanesProof, LanesError>, f64),
 }
@@ -264,6 +269,8 @@ impl EntryPoints {
             binary32: timed(prove_binary32_first_half),
             binary64: timed(prove_binary64_first_half),
             float: timed(prove_float_first_half),
+            clamp: timed(prove_float_clamp),
+            literal: timed(prove_literal_first_half),
             fold: timed(prove_walk_fold),
             lanes: timed(prove_simd_lanes),
         }
@@ -275,6 +282,8 @@ impl EntryPoints {
             && self.binary32.0.is_ok()
             && self.binary64.0.is_ok()
             && self.float.0.is_ok()
+            && self.clamp.0.is_ok()
+            && self.literal.0.is_ok()
             && self.fold.0.is_ok()
             && self.lanes.0.is_ok()
     }
@@ -334,7 +343,7 @@ fn print_entry_points(out: &mut String, entry_points: &EntryPoints) {
     });
     print_entry_point(out, &entry_points.binary64, |proof, seconds| {
         format!(
-            "exact_index_f64's first half (levels 0..=19) is the definition's cell and exact \
+            "exact_index_f64's first half (levels 0..=32) is the definition's cell and exact \
              diagonal at every binary64 input ({} cases, at most {} diagram nodes, \
              {seconds:.3} s)",
             proof.cases, proof.peak_nodes
@@ -344,6 +353,25 @@ fn print_entry_points(out: &mut String, entry_points: &EntryPoints) {
         format!(
             "the kernel's float first half (clamp_flushed, truncate_float) holds its claims at \
              every binary32 input ({} inputs, {seconds:.3} s)",
+            proof.inputs
+        )
+    });
+    print_entry_point(out, &entry_points.clamp, |proof, seconds| {
+        let forms: Vec<_> = proof.forms.iter().map(|form| form.name()).collect();
+        format!(
+            "the float clamp's flush below 2^-126 and stop at 1 - 2^-24 leave the index alone, \
+             levels {}..={} (the stop's cell is the last, the flush's fraction at most 2^-110; \
+             with a last cell {} do not read the diagonal; {seconds:.3} s)",
+            proof.levels.start(),
+            proof.levels.end(),
+            forms.join(" and ")
+        )
+    });
+    print_entry_point(out, &entry_points.literal, |proof, seconds| {
+        format!(
+            "the reference's literal port's first half (spec::cell_f32: clamp_unit, \
+             truncate_scaled) holds its claims at every binary32 input ({} inputs, \
+             {seconds:.3} s)",
             proof.inputs
         )
     });
@@ -420,6 +448,8 @@ struct JsonReport {
     binary32_first_half: JsonKernels,
     binary64_first_half: JsonKernels,
     float_first_half: JsonKernels,
+    float_clamp: JsonKernels,
+    literal_first_half: JsonKernels,
     walk_fold: JsonKernels,
     simd_lanes: JsonKernels,
 }
@@ -483,6 +513,20 @@ fn print_json(
         float_first_half: json_entry_point(
             entry_points
                 .float
+                .0
+                .as_ref()
+                .map(|proof| usize::try_from(proof.inputs).unwrap_or(usize::MAX)),
+        ),
+        float_clamp: json_entry_point(
+            entry_points
+                .clamp
+                .0
+                .as_ref()
+                .map(|proof| proof.levels.clone().count()),
+        ),
+        literal_first_half: json_entry_point(
+            entry_points
+                .literal
                 .0
                 .as_ref()
                 .map(|proof| usize::try_from(proof.inputs).unwrap_or(usize::MAX)),
