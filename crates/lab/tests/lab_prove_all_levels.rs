@@ -19,7 +19,7 @@ fn command_exits_0_when_proved_and_1_for_version1() {
     for entry_point in [
         "the kernel's integer halves equal the reference's",
         "spec::cell_dyadic is the definition's cell",
-        "exact_index_f64's first half (levels 0..=19) is the definition's",
+        "exact_index_f64's first half (levels 0..=32) is the definition's",
         "the kernel's binary32 first half on the bits (wide, levels 0..=32;",
         "the kernel's float first half (clamp_flushed, truncate_float) holds its claims",
         "uv2index::index_unchecked and index are, token for token, the fold",
