@@ -48,6 +48,7 @@ fn command_exits_0_when_proved_and_1_for_version1() {
         "float_clamp",
         "literal_first_half",
         "walk_fold",
+        "rationals_source",
         "simd_lanes",
     ] {
         let proved = format!("\"{field}\":{{\"verdict\":\"proved\"");

@@ -292,7 +292,7 @@ fn push(tokens: &mut Vec<Token>, text: &[char], line: usize) {
 /// The tokens of `fn NAME` from its `pub` through the brace closing its
 /// body (the first `{` after the name opens it). Exactly one such function
 /// must exist.
-fn cut_function<'a>(tokens: &'a [Token], name: &str) -> Result<&'a [Token], String> {
+pub(super) fn cut_function<'a>(tokens: &'a [Token], name: &str) -> Result<&'a [Token], String> {
     let starts: Vec<usize> = (1..tokens.len())
         .filter(|&i| tokens[i - 1].text == "fn" && tokens[i].text == name)
         .collect();

@@ -30,6 +30,8 @@
 //!   are, token for token, the modelled intrinsics, and those intrinsics,
 //!   run on this CPU, compute the model's scalar steps at every input they
 //!   are given.
+//! * [`prove_rationals_source`]: `spec::cell_real`'s fast path is, token
+//!   for token, the code `crates/lab/certificates/rationals.py` proves.
 //! * [`prove_walk_fold`]: `uv2index::index_unchecked` and `index` are, token
 //!   for token, the fold of `Walk::step` the transducer proof models.
 //!
@@ -50,6 +52,7 @@ mod fold;
 mod kernel;
 mod lanes;
 mod literal;
+mod rationals;
 #[cfg(test)]
 mod tests;
 pub mod word;
@@ -63,3 +66,4 @@ pub use fold::*;
 pub use kernel::*;
 pub use lanes::*;
 pub use literal::*;
+pub use rationals::*;

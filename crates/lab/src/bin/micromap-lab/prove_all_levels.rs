@@ -10,10 +10,11 @@ use cli_support::write_all_or_nothing::write_files;
 use micromap_index_lab::entry_points::{
     prove_binary32_first_half, prove_binary64_first_half, prove_cell_dyadic, prove_float_clamp,
     prove_float_first_half, prove_kernel_integer_halves, prove_literal_first_half,
-    prove_simd_lanes, prove_walk_fold, Binary32Counterexample, Binary32Proof,
-    Binary64Counterexample, Binary64Proof, ClampCounterexample, ClampProof, DyadicCounterexample,
-    DyadicProof, FloatCounterexample, FloatProof, FoldMismatch, FoldProof, KernelProof,
-    KernelProofError, LanesError, LanesProof, LiteralCounterexample, LiteralProof,
+    prove_rationals_source, prove_simd_lanes, prove_walk_fold, Binary32Counterexample,
+    Binary32Proof, Binary64Counterexample, Binary64Proof, ClampCounterexample, ClampProof,
+    DyadicCounterexample, DyadicProof, FloatCounterexample, FloatProof, FoldMismatch, FoldProof,
+    KernelProof, KernelProofError, LanesError, LanesProof, LiteralCounterexample, LiteralProof,
+    RationalsMismatch, RationalsProof,
 };
 use micromap_index_lab::prove::WalkVersion;
 use micromap_index_lab::prove_all_levels::{prove_all_levels, AllLevelsReport, Verdict};
@@ -39,7 +40,8 @@ pub(crate) static ALL_LEVELS: Command = Command {
   input (exhaustion) and its clamp's two changes (diagrams), the literal
   port's first half (spec::cell_f32) at every binary32 input (exhaustion),
   index_unchecked, token for token, the fold of Walk::step the product
-  models, and the x86-64 SIMD lanes, token for token, the modelled
+  models, spec::cell_real's fast path, token for token, the code
+  certificates/rationals.py proves, and the x86-64 SIMD lanes, token for token, the modelled
   intrinsics, whose readings are run on every backend this CPU has
   (docs/verification.md 10.12); exit 0 all proved, 1 not; with --version1
   it must fail and prints a face; --list prints every product state and
@@ -253,6 +255,7 @@ struct EntryPoints {
     clamp: (Result<ClampProof, ClampCounterexample>, f64),
     literal: (Result<LiteralProof, LiteralCounterexample>, f64),
     fold: (Result<FoldProof, FoldMismatch>, f64),
+    rationals: (Result<RationalsProof, RationalsMismatch>, f64),
     lanes: (Result<LanesProof, LanesError>, f64),
 }
 
@@ -272,6 +275,7 @@ impl EntryPoints {
             clamp: timed(prove_float_clamp),
             literal: timed(prove_literal_first_half),
             fold: timed(prove_walk_fold),
+            rationals: timed(prove_rationals_source),
             lanes: timed(prove_simd_lanes),
         }
     }
@@ -285,6 +289,7 @@ impl EntryPoints {
             && self.clamp.0.is_ok()
             && self.literal.0.is_ok()
             && self.fold.0.is_ok()
+            && self.rationals.0.is_ok()
             && self.lanes.0.is_ok()
     }
 }
@@ -383,6 +388,14 @@ fn print_entry_points(out: &mut String, entry_points: &EntryPoints) {
             proof.tokens
         )
     });
+    print_entry_point(out, &entry_points.rationals, |proof, _| {
+        format!(
+            "spec::cell_real's fast path ({}) is, token for token, the code \
+             crates/lab/certificates/rationals.py proves with z3 ({} tokens)",
+            proof.functions.join(", "),
+            proof.tokens
+        )
+    });
     print_entry_point(out, &entry_points.lanes, |proof, seconds| {
         let skipped = if proof.skipped.is_empty() {
             "none".to_owned()
@@ -451,6 +464,7 @@ struct JsonReport {
     float_clamp: JsonKernels,
     literal_first_half: JsonKernels,
     walk_fold: JsonKernels,
+    rationals_source: JsonKernels,
     simd_lanes: JsonKernels,
 }
 
@@ -534,6 +548,13 @@ fn print_json(
         walk_fold: json_entry_point(
             entry_points
                 .fold
+                .0
+                .as_ref()
+                .map(|proof| proof.functions.len()),
+        ),
+        rationals_source: json_entry_point(
+            entry_points
+                .rationals
                 .0
                 .as_ref()
                 .map(|proof| proof.functions.len()),
