@@ -49,6 +49,7 @@ fn command_exits_0_when_proved_and_1_for_version1() {
         "literal_first_half",
         "walk_fold",
         "rationals_source",
+        "fixed_arithmetic",
         "simd_lanes",
     ] {
         let proved = format!("\"{field}\":{{\"verdict\":\"proved\"");

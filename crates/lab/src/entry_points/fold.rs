@@ -112,20 +112,32 @@ pub fn check_walk_fold(source: &str) -> Result<FoldProof, FoldMismatch> {
 
 /// Token by token; the first difference is the error.
 fn compare(name: &'static str, expected: &[Token], found: &[Token]) -> Result<(), FoldMismatch> {
+    match first_difference(expected, found) {
+        Some((line, detail)) => Err(FoldMismatch {
+            function: name,
+            line,
+            detail,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// The first token where `found` departs from `expected`: the source line
+/// there (of the last found token when `found` is shorter; 0 when it is
+/// empty) and "expected X, found Y". `None`: the same tokens.
+pub(super) fn first_difference(expected: &[Token], found: &[Token]) -> Option<(usize, String)> {
     let show =
         |token: Option<&Token>| token.map_or("the end".to_owned(), |t| format!("{:?}", t.text));
-    for i in 0..expected.len().max(found.len()) {
+    (0..expected.len().max(found.len())).find_map(|i| {
         let (want, got) = (expected.get(i), found.get(i));
-        if want.map(|t| &t.text) != got.map(|t| &t.text) {
+        (want.map(|t| &t.text) != got.map(|t| &t.text)).then(|| {
             let line = got.or(found.last()).map_or(0, |t| t.line);
-            return Err(FoldMismatch {
-                function: name,
+            (
                 line,
-                detail: format!("expected {}, found {}", show(want), show(got)),
-            });
-        }
-    }
-    Ok(())
+                format!("expected {}, found {}", show(want), show(got)),
+            )
+        })
+    })
 }
 
 /// One token and the line it starts on.

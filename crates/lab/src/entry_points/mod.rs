@@ -32,6 +32,9 @@
 //!   are given.
 //! * [`prove_rationals_source`]: `spec::cell_real`'s fast path is, token
 //!   for token, the code `crates/lab/certificates/rationals.py` proves.
+//! * [`prove_fixed_arithmetic`]: `num::Fixed64` / `Fixed128`'s walk
+//!   arithmetic is, token for token, the modelled exact integer steps
+//!   (exact because `product.py` proves every value stays in `[0, 1]`).
 //! * [`prove_walk_fold`]: `uv2index::index_unchecked` and `index` are, token
 //!   for token, the fold of `Walk::step` the transducer proof models.
 //!
@@ -47,6 +50,7 @@ mod binary64;
 mod clamp;
 mod dyadic;
 mod first_half;
+mod fixed;
 mod float;
 mod fold;
 mod kernel;
@@ -61,6 +65,7 @@ pub use binary32::*;
 pub use binary64::*;
 pub use clamp::*;
 pub use dyadic::*;
+pub use fixed::*;
 pub use float::*;
 pub use fold::*;
 pub use kernel::*;

@@ -10,7 +10,7 @@
 //! these functions makes `prove --all-levels` fail as well as the SMT
 //! tier.
 
-use super::fold::{cut_function, tokenize, Token};
+use super::fold::{cut_function, first_difference, tokenize, Token};
 use std::fmt;
 
 /// The z3 script whose `MODELLED` lines are the model.
@@ -110,17 +110,8 @@ pub fn check_rationals_source(
             text: "}".into(),
             line: 0,
         });
-        for i in 0..expected.len().max(found.len()) {
-            let (want, got) = (expected.get(i), found.get(i));
-            if want.map(|t| &t.text) != got.map(|t| &t.text) {
-                let show =
-                    |t: Option<&Token>| t.map_or("the end".into(), |t| format!("{:?}", t.text));
-                let line = got.or(found.last()).map_or(0, |t| t.line);
-                return Err(mismatch(
-                    line,
-                    format!("expected {}, found {}", show(want), show(got)),
-                ));
-            }
+        if let Some((line, detail)) = first_difference(&expected, found) {
+            return Err(mismatch(line, detail));
         }
         proof.functions.push(function);
         proof.tokens += found.len();

@@ -8,13 +8,13 @@ use cli_support::args::{ArgError, Command, Flag};
 use cli_support::output::{print_then, Exit, Program};
 use cli_support::write_all_or_nothing::write_files;
 use micromap_index_lab::entry_points::{
-    prove_binary32_first_half, prove_binary64_first_half, prove_cell_dyadic, prove_float_clamp,
-    prove_float_first_half, prove_kernel_integer_halves, prove_literal_first_half,
-    prove_rationals_source, prove_simd_lanes, prove_walk_fold, Binary32Counterexample,
-    Binary32Proof, Binary64Counterexample, Binary64Proof, ClampCounterexample, ClampProof,
-    DyadicCounterexample, DyadicProof, FloatCounterexample, FloatProof, FoldMismatch, FoldProof,
-    KernelProof, KernelProofError, LanesError, LanesProof, LiteralCounterexample, LiteralProof,
-    RationalsMismatch, RationalsProof,
+    prove_binary32_first_half, prove_binary64_first_half, prove_cell_dyadic,
+    prove_fixed_arithmetic, prove_float_clamp, prove_float_first_half, prove_kernel_integer_halves,
+    prove_literal_first_half, prove_rationals_source, prove_simd_lanes, prove_walk_fold,
+    Binary32Counterexample, Binary32Proof, Binary64Counterexample, Binary64Proof,
+    ClampCounterexample, ClampProof, DyadicCounterexample, DyadicProof, FixedMismatch, FixedProof,
+    FloatCounterexample, FloatProof, FoldMismatch, FoldProof, KernelProof, KernelProofError,
+    LanesError, LanesProof, LiteralCounterexample, LiteralProof, RationalsMismatch, RationalsProof,
 };
 use micromap_index_lab::prove::WalkVersion;
 use micromap_index_lab::prove_all_levels::{prove_all_levels, AllLevelsReport, Verdict};
@@ -40,8 +40,9 @@ pub(crate) static ALL_LEVELS: Command = Command {
   input (exhaustion) and its clamp's two changes (diagrams), the literal
   port's first half (spec::cell_f32) at every binary32 input (exhaustion),
   index_unchecked, token for token, the fold of Walk::step the product
-  models, spec::cell_real's fast path, token for token, the code
-  certificates/rationals.py proves, and the x86-64 SIMD lanes, token for token, the modelled
+  models, Fixed64 / Fixed128's walk arithmetic and spec::cell_real's fast
+  path, token for token, the code product.py's walk range and
+  certificates/rationals.py prove exact, and the x86-64 SIMD lanes, token for token, the modelled
   intrinsics, whose readings are run on every backend this CPU has
   (docs/verification.md 10.12); exit 0 all proved, 1 not; with --version1
   it must fail and prints a face; --list prints every product state and
@@ -256,6 +257,7 @@ struct EntryPoints {
     literal: (Result<LiteralProof, LiteralCounterexample>, f64),
     fold: (Result<FoldProof, FoldMismatch>, f64),
     rationals: (Result<RationalsProof, RationalsMismatch>, f64),
+    fixed: (Result<FixedProof, FixedMismatch>, f64),
     lanes: (Result<LanesProof, LanesError>, f64),
 }
 
@@ -276,6 +278,7 @@ impl EntryPoints {
             literal: timed(prove_literal_first_half),
             fold: timed(prove_walk_fold),
             rationals: timed(prove_rationals_source),
+            fixed: timed(prove_fixed_arithmetic),
             lanes: timed(prove_simd_lanes),
         }
     }
@@ -290,6 +293,7 @@ impl EntryPoints {
             && self.literal.0.is_ok()
             && self.fold.0.is_ok()
             && self.rationals.0.is_ok()
+            && self.fixed.0.is_ok()
             && self.lanes.0.is_ok()
     }
 }
@@ -396,6 +400,14 @@ fn print_entry_points(out: &mut String, entry_points: &EntryPoints) {
             proof.tokens
         )
     });
+    print_entry_point(out, &entry_points.fixed, |proof, _| {
+        format!(
+            "num::Fixed64 / Fixed128's walk arithmetic is, token for token, the modelled exact \
+             integer steps ({} tokens of src/num/fixed.rs; exact: product.py's walk range keeps \
+             every value in [0, 1])",
+            proof.tokens
+        )
+    });
     print_entry_point(out, &entry_points.lanes, |proof, seconds| {
         let skipped = if proof.skipped.is_empty() {
             "none".to_owned()
@@ -465,6 +477,7 @@ struct JsonReport {
     literal_first_half: JsonKernels,
     walk_fold: JsonKernels,
     rationals_source: JsonKernels,
+    fixed_arithmetic: JsonKernels,
     simd_lanes: JsonKernels,
 }
 
@@ -559,6 +572,7 @@ fn print_json(
                 .as_ref()
                 .map(|proof| proof.functions.len()),
         ),
+        fixed_arithmetic: json_entry_point(entry_points.fixed.0.as_ref().map(|proof| proof.tokens)),
         simd_lanes: json_lanes(&entry_points.lanes.0),
     };
     match serde_json::to_string(&line) {
