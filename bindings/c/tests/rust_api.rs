@@ -96,6 +96,24 @@ fn bake(mesh: &mmi_mesh, options: &mmi_bake_options) -> (Vec<u8>, Vec<u8>, Vec<u
     }
 }
 
+/// The tight buffers view of one bake's data, records and 32-bit indices
+/// (the arrays must outlive its use).
+fn buffers_view(data: &[u8], records: &[u8], indices: &[u8]) -> mmi_buffers_view {
+    mmi_buffers_view {
+        data: data.as_ptr(),
+        data_len: data.len(),
+        records: records.as_ptr(),
+        records_len: records.len(),
+        indices: indices.as_ptr(),
+        indices_len: indices.len(),
+        index_width_bits: 32,
+        usage_counts: ptr::null(),
+        usage_counts_len: 0,
+        record_stride: 0,
+        index_stride: 0,
+    }
+}
+
 fn last_error() -> String {
     // SAFETY: never NULL, valid until the next call on this thread.
     unsafe { CStr::from_ptr(mmi_last_error_message()) }
@@ -367,19 +385,7 @@ fn the_model_reaches_the_library() {
     // transparent column under repeat).
     o.model = MMI_MODEL_EXACT;
     let (data, records, indices) = bake(&m, &o);
-    let buffers = mmi_buffers_view {
-        data: data.as_ptr(),
-        data_len: data.len(),
-        records: records.as_ptr(),
-        records_len: records.len(),
-        indices: indices.as_ptr(),
-        indices_len: indices.len(),
-        index_width_bits: 32,
-        usage_counts: ptr::null(),
-        usage_counts_len: 0,
-        record_stride: 0,
-        index_stride: 0,
-    };
+    let buffers = buffers_view(&data, &records, &indices);
     let verify = |model: u32| {
         let mut report = mmi_verify_report::default();
         // SAFETY: valid pointers; the arrays outlive the call.
@@ -507,19 +513,7 @@ fn the_texture_unit_reaches_the_library() {
     // The verifier by the same options.
     let o = options(5, MMI_FORMAT_4_STATE);
     let (data, records, indices) = bake(&m, &o);
-    let buffers = mmi_buffers_view {
-        data: data.as_ptr(),
-        data_len: data.len(),
-        records: records.as_ptr(),
-        records_len: records.len(),
-        indices: indices.as_ptr(),
-        indices_len: indices.len(),
-        index_width_bits: 32,
-        usage_counts: ptr::null(),
-        usage_counts_len: 0,
-        record_stride: 0,
-        index_stride: 0,
-    };
+    let buffers = buffers_view(&data, &records, &indices);
     let verify = |o: &mmi_bake_options| {
         let mut report = mmi_verify_report::default();
         // SAFETY: valid pointers; the arrays outlive the call.
@@ -643,19 +637,7 @@ fn vertex_alpha_reaches_the_library() {
     bad.index_count = 3;
     assert_eq!(bake_code(&bad, &o), MMI_ERROR_INVALID_ARGUMENT);
     let (data, records, c_indices) = bake(&plain, &o);
-    let buffers = mmi_buffers_view {
-        data: data.as_ptr(),
-        data_len: data.len(),
-        records: records.as_ptr(),
-        records_len: records.len(),
-        indices: c_indices.as_ptr(),
-        indices_len: c_indices.len(),
-        index_width_bits: 32,
-        usage_counts: ptr::null(),
-        usage_counts_len: 0,
-        record_stride: 0,
-        index_stride: 0,
-    };
+    let buffers = buffers_view(&data, &records, &c_indices);
     // The verifier takes the vertex alpha as the bake does: alpha 0
     // makes every texel transparent, so each opaque micro-triangle of the
     // plain bake is contradicted, and only those.
@@ -742,19 +724,7 @@ fn the_uv_transform_reaches_the_library() {
     let mut m = mesh(view, material());
     m.uv_transform = &transform;
     let (data, records, c_indices) = bake(&m, &o);
-    let buffers = mmi_buffers_view {
-        data: data.as_ptr(),
-        data_len: data.len(),
-        records: records.as_ptr(),
-        records_len: records.len(),
-        indices: c_indices.as_ptr(),
-        indices_len: c_indices.len(),
-        index_width_bits: 32,
-        usage_counts: ptr::null(),
-        usage_counts_len: 0,
-        record_stride: 0,
-        index_stride: 0,
-    };
+    let buffers = buffers_view(&data, &records, &c_indices);
     let verify = |mesh: &mmi_mesh| {
         let mut report = mmi_verify_report::default();
         // SAFETY: valid pointers; the arrays outlive the call.

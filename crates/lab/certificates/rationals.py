@@ -42,6 +42,7 @@ import sys
 import z3
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from lemmas import prove  # noqa: E402  (the verdict lines, shared)
 from rust_source import check_structure, refuse_unless_modelled  # noqa: E402
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..")
@@ -101,18 +102,6 @@ def check_source():
         f"source check: 3 functions of src/spec/real.rs and src/num/rational.rs are the modelled code "
         f"({count} lines; a changed diagonal test is refused)"
     )
-
-
-def prove(claim, name, expect_sat=False):
-    solver = z3.Solver()
-    solver.add(z3.Not(claim))
-    result = solver.check()
-    ok = (result == z3.sat) if expect_sat else (result == z3.unsat)
-    verdict = "refuted (expected)" if expect_sat and ok else ("holds" if ok else f"FAILS ({result})")
-    print(f"  {name}: {verdict}", flush=True)
-    if not ok and result == z3.sat:
-        print(f"    counterexample: {solver.model()}")
-    return ok
 
 
 def lemma_common_denominator():
