@@ -8,7 +8,7 @@ use micromap_index::bake::mesh::{
 };
 use micromap_index::bake::{Model, Unorm8Texture};
 use micromap_index::micromap::{
-    BuildOptions, Format, IndexWidth, ReadOptions, TriangleRecord, UnknownPolicy,
+    BuildOptions, Format, IndexWidth, MicromapBuffers, ReadOptions, TriangleRecord, UnknownPolicy,
 };
 use micromap_index::Level;
 use micromap_index_capi::constants::*;
@@ -96,6 +96,27 @@ fn bake(mesh: &mmi_mesh, options: &mmi_bake_options) -> (Vec<u8>, Vec<u8>, Vec<u
     }
 }
 
+/// The `W` x `H` 8-bit texture `t8`, tightly packed, as the C API sees it.
+fn u8_view(t8: &[u8]) -> mmi_texture {
+    mmi_texture {
+        texels: t8.as_ptr().cast(),
+        width: W,
+        height: H,
+        row_pitch: 0,
+        format: MMI_TEXEL_U8,
+    }
+}
+
+/// The library's data, records and 32-bit indices of geometry 0, as
+/// [`bake`] returns the C API's.
+fn library_bytes(buffers: &MicromapBuffers) -> (Vec<u8>, Vec<u8>, Vec<u8>) {
+    (
+        buffers.data().to_vec(),
+        buffers.records_le_bytes(),
+        buffers.index_bytes(0, IndexWidth::U32).unwrap(),
+    )
+}
+
 /// The tight buffers view of one bake's data, records and 32-bit indices
 /// (the arrays must outlive its use).
 fn buffers_view(data: &[u8], records: &[u8], indices: &[u8]) -> mmi_buffers_view {
@@ -143,14 +164,7 @@ fn texel_formats_and_pitches_give_the_librarys_bytes() {
         },
     )
     .unwrap();
-    let expected = (
-        library.buffers.data().to_vec(),
-        library.buffers.records_le_bytes(),
-        library
-            .buffers
-            .index_bytes(0, micromap_index::micromap::IndexWidth::U32)
-            .unwrap(),
-    );
+    let expected = library_bytes(&library.buffers);
     let options = options(5, MMI_FORMAT_4_STATE);
     let tight = mmi_texture {
         texels: t8.as_ptr().cast(),
@@ -207,13 +221,7 @@ fn texel_formats_and_pitches_give_the_librarys_bytes() {
 fn options_reach_the_library() {
     let t8 = texels();
     let texture = Unorm8Texture::new(W, H, &t8).unwrap();
-    let view = mmi_texture {
-        texels: t8.as_ptr().cast(),
-        width: W,
-        height: H,
-        row_pitch: 0,
-        format: MMI_TEXEL_U8,
-    };
+    let view = u8_view(&t8);
     let triangles: Vec<[[f32; 2]; 3]> = UVS
         .chunks_exact(6)
         .map(|c| [[c[0], c[1]], [c[2], c[3]], [c[4], c[5]]])
@@ -311,13 +319,7 @@ fn bake_code(mesh: &mmi_mesh, options: &mmi_bake_options) -> mmi_result {
 fn the_model_reaches_the_library() {
     let t8 = texels();
     let texture = Unorm8Texture::new(W, H, &t8).unwrap();
-    let view = mmi_texture {
-        texels: t8.as_ptr().cast(),
-        width: W,
-        height: H,
-        row_pitch: 0,
-        format: MMI_TEXEL_U8,
-    };
+    let view = u8_view(&t8);
     let triangles: Vec<[[f32; 2]; 3]> = UVS
         .chunks_exact(6)
         .map(|c| [[c[0], c[1]], [c[2], c[3]], [c[4], c[5]]])
@@ -413,13 +415,7 @@ fn the_texture_unit_reaches_the_library() {
     use micromap_index::bake::{Filter, Interpolation, LinearRule, Sampler, TextureUnit};
     let t8 = texels();
     let texture = Unorm8Texture::new(W, H, &t8).unwrap();
-    let view = mmi_texture {
-        texels: t8.as_ptr().cast(),
-        width: W,
-        height: H,
-        row_pitch: 0,
-        format: MMI_TEXEL_U8,
-    };
+    let view = u8_view(&t8);
     let mut linear = material();
     linear.sampler.filter = MMI_FILTER_LINEAR;
     let m = mesh(view, linear);
@@ -551,13 +547,7 @@ fn the_texture_unit_reaches_the_library() {
 fn vertex_alpha_reaches_the_library() {
     let t8 = texels();
     let texture = Unorm8Texture::new(W, H, &t8).unwrap();
-    let view = mmi_texture {
-        texels: t8.as_ptr().cast(),
-        width: W,
-        height: H,
-        row_pitch: 0,
-        format: MMI_TEXEL_U8,
-    };
+    let view = u8_view(&t8);
     let alphas = [1.0f32, 0.25, 0.75, 0.5, 1.0, 0.0];
     // (u, v, alpha) per vertex.
     let interleaved: Vec<f32> = (0..6)
@@ -595,17 +585,7 @@ fn vertex_alpha_reaches_the_library() {
     m.vertex_alpha_stride = 12;
     let o = options(5, MMI_FORMAT_4_STATE);
     let (data, records, c_indices) = bake(&m, &o);
-    assert_eq!(
-        (data, records, c_indices),
-        (
-            library.buffers.data().to_vec(),
-            library.buffers.records_le_bytes(),
-            library
-                .buffers
-                .index_bytes(0, micromap_index::micromap::IndexWidth::U32)
-                .unwrap()
-        )
-    );
+    assert_eq!((data, records, c_indices), library_bytes(&library.buffers));
     // Alpha 1: as without; alpha 0: all transparent.
     let plain = mesh(view, material());
     let ones = [1.0f32; 6];
@@ -655,13 +635,7 @@ fn the_uv_transform_reaches_the_library() {
     use micromap_index::bake::UvTransform;
     let t8 = texels();
     let texture = Unorm8Texture::new(W, H, &t8).unwrap();
-    let view = mmi_texture {
-        texels: t8.as_ptr().cast(),
-        width: W,
-        height: H,
-        row_pitch: 0,
-        format: MMI_TEXEL_U8,
-    };
+    let view = u8_view(&t8);
     let o = options(5, MMI_FORMAT_4_STATE);
     let triangles: Vec<[[f32; 2]; 3]> = UVS
         .chunks_exact(6)
@@ -699,14 +673,7 @@ fn the_uv_transform_reaches_the_library() {
         m.uv_transform = &transform;
         assert_eq!(
             bake(&m, &o),
-            (
-                library.buffers.data().to_vec(),
-                library.buffers.records_le_bytes(),
-                library
-                    .buffers
-                    .index_bytes(0, micromap_index::micromap::IndexWidth::U32)
-                    .unwrap()
-            ),
+            library_bytes(&library.buffers),
             "{transform:?}"
         );
         // The identity given or left NULL: the same bytes.
@@ -849,13 +816,7 @@ fn mixed(mesh: &mmi_mesh, options: &mmi_bake_options) -> u32 {
 fn no_mixed_special_indices_reach_the_library() {
     let t8 = texels();
     let texture = Unorm8Texture::new(W, H, &t8).unwrap();
-    let view = mmi_texture {
-        texels: t8.as_ptr().cast(),
-        width: W,
-        height: H,
-        row_pitch: 0,
-        format: MMI_TEXEL_U8,
-    };
+    let view = u8_view(&t8);
     let triangles: Vec<[[f32; 2]; 3]> = CORNER_UVS
         .chunks_exact(6)
         .map(|c| [[c[0], c[1]], [c[2], c[3]], [c[4], c[5]]])
@@ -968,13 +929,7 @@ fn report_numbers(r: &mmi_verify_report) -> [u64; 7] {
 #[test]
 fn strided_buffers_read_as_tight_ones() {
     let t8 = texels();
-    let view = mmi_texture {
-        texels: t8.as_ptr().cast(),
-        width: W,
-        height: H,
-        row_pitch: 0,
-        format: MMI_TEXEL_U8,
-    };
+    let view = u8_view(&t8);
     let mut m = mesh(view, material());
     m.uvs = CORNER_UVS.as_ptr();
     m.vertex_count = 9;
