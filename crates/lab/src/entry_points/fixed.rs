@@ -20,7 +20,7 @@
 //! compared with the model by the fold check's tokenizer
 //! ([`super::fold`]).
 
-use super::fold::{first_difference, tokenize, Token};
+use super::fold::{first_difference, occurrences, tokenize, Token};
 use std::fmt;
 
 /// The source of `src/num/fixed.rs` this lab was built with.
@@ -107,12 +107,9 @@ pub fn check_fixed_arithmetic(source: &str) -> Result<FixedProof, FixedMismatch>
         })
     };
     let tokens = split(source)?;
-    let texts: Vec<&str> = tokens.iter().map(|t| t.text.as_str()).collect();
     let occurrences = |needle: &[Token]| {
         let needle: Vec<&str> = needle.iter().map(|t| t.text.as_str()).collect();
-        (0..texts.len().saturating_sub(needle.len() - 1))
-            .filter(|&i| texts[i..i + needle.len()] == needle[..])
-            .collect::<Vec<_>>()
+        occurrences(&tokens, &needle)
     };
     let model = split(MODELLED_IMPL)?;
     // The block: from its header to the brace that closes it.
@@ -125,7 +122,7 @@ pub fn check_fixed_arithmetic(source: &str) -> Result<FixedProof, FixedMismatch>
     };
     let mut depth = 0usize;
     let end = (start + header.len() - 1..tokens.len()).find(|&i| {
-        match texts[i] {
+        match tokens[i].text.as_str() {
             "{" => depth += 1,
             "}" => depth -= 1,
             _ => {}

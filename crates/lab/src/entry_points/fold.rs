@@ -140,6 +140,16 @@ pub(super) fn first_difference(expected: &[Token], found: &[Token]) -> Option<(u
     })
 }
 
+/// Where the token texts `needle` start in `tokens`, in order.
+pub(super) fn occurrences(tokens: &[Token], needle: &[&str]) -> Vec<usize> {
+    tokens
+        .windows(needle.len())
+        .enumerate()
+        .filter(|(_, window)| window.iter().zip(needle).all(|(t, n)| t.text == *n))
+        .map(|(i, _)| i)
+        .collect()
+}
+
 /// One token and the line it starts on.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub(super) struct Token {

@@ -57,7 +57,7 @@
 //! fraction, `uf + vf >= 1.0f`) and the interleaves the proved
 //! `interleave_16` / `interleave_32` (`docs/verification.md` 10.12).
 
-use super::fold::{tokenize, Token};
+use super::fold::{first_difference, occurrences, tokenize, Token};
 use std::fmt;
 
 /// The source of `src/arch/x86_64.rs` this lab was built with.
@@ -108,17 +108,8 @@ pub fn check_lanes_source(source: &str) -> Result<usize, LanesMismatch> {
     })?;
     let expected = tokenize(MODEL).expect("the model tokenizes");
     let found = cut_region(&tokens).map_err(|detail| LanesMismatch { line: 0, detail })?;
-    let show =
-        |token: Option<&Token>| token.map_or("the end".to_owned(), |t| format!("{:?}", t.text));
-    for i in 0..expected.len().max(found.len()) {
-        let (want, got) = (expected.get(i), found.get(i));
-        if want.map(|t| &t.text) != got.map(|t| &t.text) {
-            let line = got.or(found.last()).map_or(0, |t| t.line);
-            return Err(LanesMismatch {
-                line,
-                detail: format!("expected {}, found {}", show(want), show(got)),
-            });
-        }
+    if let Some((line, detail)) = first_difference(&expected, found) {
+        return Err(LanesMismatch { line, detail });
     }
     Ok(found.len())
 }
@@ -126,12 +117,7 @@ pub fn check_lanes_source(source: &str) -> Result<usize, LanesMismatch> {
 /// The tokens from [`START`] up to [`END`], each of which must occur once.
 fn cut_region(tokens: &[Token]) -> Result<&[Token], String> {
     let find = |marker: &[&str]| -> Result<usize, String> {
-        let at: Vec<usize> = tokens
-            .windows(marker.len())
-            .enumerate()
-            .filter(|(_, window)| window.iter().zip(marker).all(|(t, m)| t.text == *m))
-            .map(|(i, _)| i)
-            .collect();
+        let at = occurrences(tokens, marker);
         match at.as_slice() {
             &[i] => Ok(i),
             _ => Err(format!(
