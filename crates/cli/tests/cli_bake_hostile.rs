@@ -7,7 +7,7 @@ mod common;
 use common::HANG;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 const ASSETS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/crytek-sponza");
 const BIN: &str = env!("CARGO_BIN_EXE_micromap-index");
@@ -210,21 +210,28 @@ fn stalled(args: &[String], at: &str) -> std::process::Child {
         .unwrap()
 }
 
-/// Waits (under the hang guard) until `ready` holds for `dir`'s listing.
-fn wait_for(dir: &Path, ready: impl Fn(&[String]) -> bool) {
-    let started = Instant::now();
-    loop {
-        let names = if dir.exists() {
+/// The pause between two looks at a directory in [`wait_for`].
+const POLL: Duration = Duration::from_millis(10);
+
+/// Waits until `ready` holds for `dir`'s listing (none while `dir` does
+/// not exist) and returns that listing. The hang guard counts looks, not
+/// time: `HANG / POLL` of them take at least `HANG` however busy the
+/// machine, so only a bake that never gets there fails it.
+fn wait_for(dir: &Path, ready: impl Fn(&[String]) -> bool) -> Vec<String> {
+    let looks = HANG.as_millis() / POLL.as_millis();
+    let mut names = Vec::new();
+    for _ in 0..looks {
+        names = if dir.exists() {
             listing(dir)
         } else {
             Vec::new()
         };
         if ready(&names) {
-            return;
+            return names;
         }
-        assert!(started.elapsed() < HANG, "{names:?}");
-        std::thread::sleep(Duration::from_millis(10));
+        std::thread::sleep(POLL);
     }
+    panic!("{} never got ready: {names:?}", dir.display());
 }
 
 fn signal(child: &std::process::Child, signal: &str) {
@@ -469,18 +476,11 @@ fn ctrl_c_removes_temporaries_backups_and_the_lock() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let started = Instant::now();
-    loop {
-        let names = listing(&out);
-        if names.iter().filter(|n| is_backup(n)).count() == 7 {
-            assert!(names.iter().any(|n| is_temporary(n)), "{names:?}");
-            break;
-        }
-        // A hang guard (the bake stalls 20 s for the test): only a bake
-        // that never gets there reaches it.
-        assert!(started.elapsed() < HANG, "{names:?}");
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    // (The bake stalls 20 s for the test once its backups are made.)
+    let names = wait_for(&out, |names| {
+        names.iter().filter(|n| is_backup(n)).count() == 7
+    });
+    assert!(names.iter().any(|n| is_temporary(n)), "{names:?}");
     let killed = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status()
@@ -506,11 +506,7 @@ fn ctrl_c_removes_temporaries_backups_and_the_lock() {
         .stderr(Stdio::null())
         .spawn()
         .unwrap();
-    let started = Instant::now();
-    while !fresh.exists() || !listing(&fresh).iter().any(|n| is_temporary(n)) {
-        assert!(started.elapsed() < HANG);
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    wait_for(&fresh, |names| names.iter().any(|n| is_temporary(n)));
     std::thread::sleep(Duration::from_millis(100));
     Command::new("kill")
         .args(["-INT", &child.id().to_string()])
