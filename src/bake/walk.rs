@@ -1,7 +1,10 @@
 //! The top-down walk of one triangle's micro-triangles: from the whole
 //! triangle, a node whose bounding block is uniform decides its whole
-//! subtree (a contiguous index range) at once; mixed nodes descend; the
-//! leaves are classified four at a time, sharing their vertices' reads.
+//! subtree (a contiguous index range) at once; under linear filtering by
+//! value, so does a small node whose filtered value passes (fails)
+//! everywhere, unless its vertices' readings (shared with its neighbours
+//! and children) already do both; mixed nodes descend; the leaves are
+//! classified four at a time, sharing their vertices' reads.
 //! Every node first checks the work budget: once it is spent, the node and
 //! everything not yet visited become unknown (sound).
 //!
@@ -24,6 +27,21 @@ use core::sync::atomic::{AtomicU64, Ordering};
 pub(crate) fn midpoint<C: GridInt>(a: (C, C), b: (C, C)) -> (C, C) {
     ((a.0 + b.0) >> 1, (a.1 + b.1) >> 1)
 }
+
+/// Which of a node's six points (its corners `0, 1, 2`, then the
+/// midpoints of corners 0-1, 1-2, 2-0) lies between its corners `i` and
+/// `j`.
+#[inline]
+pub(crate) fn between(i: usize, j: usize) -> usize {
+    match i + j {
+        1 => 3,
+        3 => 4,
+        _ => 5,
+    }
+}
+
+/// What a node's six points (see [`between`]) read, where known.
+pub(crate) type PointReads = [Option<Classes>; 6];
 
 /// Sets `count` states of `map` from `first`: one leaf (most calls) by
 /// [`Micromap::set`], a range by [`Micromap::fill`].
@@ -253,6 +271,30 @@ impl<'a, C: GridInt> Walk<'a, C> {
         vertices: [(C, C); 3],
         top_flip: bool,
     ) -> Result<(), BakeError> {
+        self.visit_node(
+            depth,
+            index,
+            vertices,
+            top_flip,
+            (&mut [None; 6], [0, 1, 2]),
+        )
+    }
+
+    /// [`visit`](Self::visit), with what the node's vertices read as far
+    /// as its parent knows: `reads.0[reads.1[k]]` is vertex `k`'s reading
+    /// when some node read it before (the parent's corners and edge
+    /// midpoints: siblings share them). A reading is a pure function of
+    /// the point, and a node charges the same work whether it finds its
+    /// vertices' readings there or makes them, so the walk (its states and
+    /// its work) does not depend on what was shared.
+    fn visit_node(
+        &mut self,
+        depth: u32,
+        index: u64,
+        vertices: [(C, C); 3],
+        top_flip: bool,
+        reads: (&mut PointReads, [usize; 3]),
+    ) -> Result<(), BakeError> {
         if let Split::Collect {
             depth: at,
             nodes,
@@ -300,22 +342,60 @@ impl<'a, C: GridInt> Walk<'a, C> {
         }
         // Linear filtering by value: a node reading both classes may still
         // have a value that passes (fails) everywhere; then so do all its
-        // leaves, which are not visited.
-        let (state, work) = self.classifier.value_state(&p, self.grid);
-        self.work += work;
-        if let Some(state) = state {
-            return self.set_known(index, up, state);
+        // leaves, which are not visited. Not when its vertices (points of
+        // it) already read both: its value does both too, and the cheaper
+        // readings are shared with its neighbours and children.
+        let (shared, at) = reads;
+        if self.classifier.value_applies(&p, self.grid) {
+            let vertex_reads = self.vertex_classes(&vertices, shared, at);
+            if !vertex_reads.is_mixed() {
+                let (state, work) = self.classifier.value_state(&p, self.grid);
+                self.work += work;
+                if let Some(state) = state {
+                    return self.set_known(index, up, state);
+                }
+            }
         }
+        let corners = at.map(|k| shared[k]);
         if depth + 1 == n {
-            return self.visit_leaves(index, vertices, top_flip);
+            return self.visit_leaves(index, vertices, top_flip, corners);
         }
+        let [a, b, c] = vertices;
+        let points = [a, b, c, midpoint(a, b), midpoint(b, c), midpoint(c, a)];
+        let mut known: PointReads = [corners[0], corners[1], corners[2], None, None, None];
         for child in 0..4 {
-            let (vertices, top_flip) =
-                crate::inverse::child_vertices(child, top_flip, vertices, midpoint);
+            let (at, top_flip) =
+                crate::inverse::child_vertices(child, top_flip, [0, 1, 2], between);
+            let vertices = at.map(|k| points[k]);
             let index = 4 * index + u64::from(child);
-            self.visit(depth + 1, index, vertices, top_flip)?;
+            self.visit_node(depth + 1, index, vertices, top_flip, (&mut known, at))?;
         }
         Ok(())
+    }
+
+    /// The union of the classes `vertices` read (points of the grid, no
+    /// margin), stopping once both: each taken from `shared` (at `at`)
+    /// when known there, else read and kept there. One work unit per
+    /// vertex looked at, found or read (see [`visit_node`](Self::visit_node)).
+    fn vertex_classes(
+        &mut self,
+        vertices: &[(C, C); 3],
+        shared: &mut PointReads,
+        at: [usize; 3],
+    ) -> Classes {
+        let classifier = self.classifier;
+        let shifts = self.grid.shifts;
+        let mut sure = Classes::default();
+        for (&(x, y), k) in vertices.iter().zip(at) {
+            self.work += 1;
+            let classes = *shared[k]
+                .get_or_insert_with(|| classifier.point_classes((x + x, y + y), shifts, None));
+            sure = sure.union(classes);
+            if sure.is_mixed() {
+                break;
+            }
+        }
+        sure
     }
 
     /// The node `index` at the replay depth: its subtree's walk, taken from
@@ -377,23 +457,22 @@ impl<'a, C: GridInt> Walk<'a, C> {
         index: u64,
         vertices: [(C, C); 3],
         top_flip: bool,
+        corners: [Option<Classes>; 3],
     ) -> Result<(), BakeError> {
         let [a, b, c] = vertices;
         let points = [a, b, c, midpoint(a, b), midpoint(b, c), midpoint(c, a)];
-        // Which of `points` the midpoint of two corners is.
-        let between = |i: u8, j: u8| match i + j {
-            1 => 3,
-            3 => 4,
-            _ => 5,
-        };
-        let mut read: [Option<Classes>; 6] = [None; 6];
+        let mut read: PointReads = [corners[0], corners[1], corners[2], None, None, None];
+        // Which points this node has charged a work unit for: one per point
+        // a leaf needs, found in `read` or not, so that the work does not
+        // depend on what the node's parent shared.
+        let mut charged = [false; 6];
         let exact_grid = Grid::exact(self.grid.shifts);
         for child in 0..4 {
             let (corners, _) = crate::inverse::child_vertices(child, top_flip, [0, 1, 2], between);
             let leaf = 4 * index + u64::from(child);
             let p = Placed {
-                x: corners.map(|i| points[usize::from(i)].0),
-                y: corners.map(|i| points[usize::from(i)].1),
+                x: corners.map(|i| points[i].0),
+                y: corners.map(|i| points[i].1),
             };
             if self.out_of_work_here() {
                 self.set_unknown(&p, leaf, 1)?;
@@ -402,9 +481,12 @@ impl<'a, C: GridInt> Walk<'a, C> {
             let mut vertex_points = Points::All;
             if is_small(self.classifier.bounding_block(&p, exact_grid)) {
                 let mut sure = Classes::default();
-                for i in corners.map(usize::from) {
-                    let classes = *read[i].get_or_insert_with(|| {
+                for i in corners {
+                    if !charged[i] {
+                        charged[i] = true;
                         self.work += 1;
+                    }
+                    let classes = *read[i].get_or_insert_with(|| {
                         let (x, y) = points[i];
                         self.classifier
                             .point_classes((x + x, y + y), self.grid.shifts, None)

@@ -10,10 +10,13 @@
 //!    for every alpha the bake reads this way) is decided for every
 //!    variant still open there.
 //! 2. **Otherwise, a node with a footprint of at most 3 x 3 texels** has
-//!    its filtered value's extremes read once
+//!    its vertices' values read (once per point for every variant, shared
+//!    with its neighbours and children); the variants they show both
+//!    passing and failing descend at once. For the others its filtered
+//!    value's extremes are read once
 //!    ([`region_read`](super::classify::TexelClasses::region_read)),
-//!    and each open variant is decided by them times its own alpha range
-//!    over the node; the variants left open descend.
+//!    and each is decided by them times its own alpha range over the
+//!    node; the variants left open descend.
 //! 3. **A leaf** first by its corners' values (read once per point for
 //!    every variant, as bit masks): a variant they show both passing and
 //!    failing has it unknown; the others the same way as a node, with the
@@ -31,7 +34,7 @@
 use super::alpha_test::{alpha_at, largest_alpha, VertexScale};
 use super::classify::{is_small, Block, Classes, Classifier, Grid, Placed, PointReading, Points};
 use super::triangle::BakeError;
-use super::walk::{midpoint, put};
+use super::walk::{between, midpoint, put};
 use crate::micromap::{Format, Micromap, State, UnknownPolicy};
 use crate::num::wide::GridInt;
 use alloc::vec::Vec;
@@ -74,6 +77,11 @@ pub(crate) struct VariantWalk<'a> {
     /// its quick bits.
     scales: Vec<(usize, VertexScale, u8)>,
 }
+
+/// What a node's six points (see [`between`]) read, where known: per
+/// point, the variants whose value there may pass and those whose value
+/// may fail.
+type PointMasks = [Option<(u64, u64)>; 6];
 
 /// A node's grid vertices.
 type Triangle<C> = [(C, C); 3];
@@ -262,6 +270,26 @@ impl<'a> VariantWalk<'a> {
         top_flip: bool,
         open: u64,
     ) -> Result<(), BakeError> {
+        self.visit_node(
+            (depth, index),
+            (vertices, bary),
+            top_flip,
+            (open, (&mut [None; 6], [0, 1, 2])),
+        )
+    }
+
+    /// [`visit`](Self::visit), with what the node's vertices read as far
+    /// as its parent knows, shared as in the plain walk
+    /// ([`super::walk::Walk`]'s `visit_node`): `shared[at[k]]` is vertex
+    /// `k`'s reading when known. The work charged does not depend on
+    /// what was shared.
+    fn visit_node<C: GridInt>(
+        &mut self,
+        (depth, index): (u32, u64),
+        (vertices, bary): (Triangle<C>, Bary),
+        top_flip: bool,
+        (open, reads): (u64, (&mut PointMasks, [usize; 3])),
+    ) -> Result<(), BakeError> {
         let n = self.level;
         let up = n - depth;
         let p = Placed {
@@ -281,39 +309,97 @@ impl<'a> VariantWalk<'a> {
             return self.set_known(open, index, up, state);
         }
         // 2. The value, for a footprint of at most 3 x 3 texels (as
-        //    `Classifier::value_state`).
+        //    `Classifier::value_state`), for the variants its vertices do
+        //    not already show both passing and failing (as the plain walk).
         let mut open = open;
-        let b = self.classifier.bounding_block(&p, self.grid);
-        let three = C::from(2);
-        if b.x1 - b.x0 <= three && b.y1 - b.y0 <= three {
-            self.work += self.decide(open, (&p, bary), self.grid);
-            for d in 0..self.decided.len() {
-                if let (k, Some(state)) = self.decided[d] {
-                    self.set_known(1u64 << k, index, up, state)?;
-                    open &= !(1u64 << k);
+        let (shared, at) = reads;
+        if self.classifier.value_applies(&p, self.grid) {
+            let mut mixed = 0u64;
+            let (mut pass, mut fail) = (0u64, 0u64);
+            for j in 0..3 {
+                self.work += 1;
+                let (may_pass, may_fail) =
+                    self.point_masks(vertices[j], bary[j], shared, at[j], open);
+                pass |= may_pass;
+                fail |= may_fail;
+                mixed = pass & fail & open;
+                if mixed == open {
+                    break;
                 }
             }
-            if open == 0 {
-                return Ok(());
+            let to_decide = open & !mixed;
+            if to_decide != 0 {
+                self.work += self.decide(to_decide, (&p, bary), self.grid);
+                for d in 0..self.decided.len() {
+                    if let (k, Some(state)) = self.decided[d] {
+                        self.set_known(1u64 << k, index, up, state)?;
+                        open &= !(1u64 << k);
+                    }
+                }
+                if open == 0 {
+                    return Ok(());
+                }
             }
         }
+        let corners = at.map(|k| shared[k]);
         if depth + 1 == n {
-            return self.visit_leaves(index, (vertices, bary), top_flip, open);
+            return self.visit_leaves(index, (vertices, bary), top_flip, (open, corners));
         }
+        let [a, b, c] = vertices;
+        let points = [a, b, c, midpoint(a, b), midpoint(b, c), midpoint(c, a)];
+        let mut known: PointMasks = [corners[0], corners[1], corners[2], None, None, None];
         for child in 0..4 {
             let (child_bary, _) =
                 crate::inverse::child_vertices(child, top_flip, bary, bary_midpoint);
-            let (child_vertices, child_flip) =
-                crate::inverse::child_vertices(child, top_flip, vertices, midpoint);
+            let (at, child_flip) =
+                crate::inverse::child_vertices(child, top_flip, [0, 1, 2], between);
             let child_index = 4 * index + u64::from(child);
-            self.visit(
+            self.visit_node(
                 (depth + 1, child_index),
-                (child_vertices, child_bary),
+                (at.map(|k| points[k]), child_bary),
                 child_flip,
-                open,
+                (open, (&mut known, at)),
             )?;
         }
         Ok(())
+    }
+
+    /// What the grid point `(x, y)` (barycentric corner `bary`) reads for
+    /// the variants of `open`, kept in `shared[k]` (found there when some
+    /// node read it before, for the same variants or more): the variants
+    /// whose value there may pass, and those whose value may fail (bit
+    /// `k`: variant `k`, at its alpha there).
+    fn point_masks<C: GridInt>(
+        &self,
+        (x, y): (C, C),
+        bary: (u64, u64),
+        shared: &mut PointMasks,
+        k: usize,
+        open: u64,
+    ) -> (u64, u64) {
+        *shared[k].get_or_insert_with(|| {
+            let (sx, sy) = self.grid.shifts;
+            let classes = &self.classifier.classes;
+            let reading: PointReading = classes.point_reading((x + x, y + y), (sx + 1, sy + 1));
+            let (mut may_pass, mut may_fail) = (0u64, 0u64);
+            // Alike for every alpha of the walk: all at once.
+            let wide = self.wide;
+            let all = reading.bits(classes, Some(wide));
+            let none = reading.bits(classes, Some(wide.narrowest()));
+            if all == none {
+                let every = |bit: u8| if bit != 0 { open } else { 0 };
+                return (every(all & 1), every(all & 2));
+            }
+            let side = (1u64 << self.level) as f64;
+            for k in Self::each(open) {
+                let alpha = alpha_at(self.alphas[k].map(f64::from), side, bary);
+                let scale = VertexScale::over([alpha; 3], self.largest[k]);
+                let bits = reading.bits(classes, Some(scale));
+                may_pass |= u64::from(bits & 1) << k;
+                may_fail |= u64::from(bits >> 1) << k;
+            }
+            (may_pass, may_fail)
+        })
     }
 
     /// The four leaves of a node one level above the map's, for the
@@ -329,7 +415,7 @@ impl<'a> VariantWalk<'a> {
         index: u64,
         (vertices, bary): (Triangle<C>, Bary),
         top_flip: bool,
-        open: u64,
+        (open, corners): (u64, [Option<(u64, u64)>; 3]),
     ) -> Result<(), BakeError> {
         let [a, b, c] = vertices;
         let points = [a, b, c, midpoint(a, b), midpoint(b, c), midpoint(c, a)];
@@ -342,21 +428,14 @@ impl<'a> VariantWalk<'a> {
             bary_midpoint(bb, bc),
             bary_midpoint(bc, ba),
         ];
-        // Which of `points` the midpoint of two corners is.
-        let between = |i: u8, j: u8| match i + j {
-            1 => 3,
-            3 => 4,
-            _ => 5,
-        };
         // Per point, once: the variants whose value there may pass, and
-        // those whose value may fail (bit k: variant k, at its alpha
-        // there).
-        let mut read: [Option<(u64, u64)>; 6] = [None; 6];
+        // those whose value may fail; one work unit per point a leaf
+        // needs, whether the parent shared it or not.
+        let mut read: PointMasks = [corners[0], corners[1], corners[2], None, None, None];
+        let mut charged = [false; 6];
         let exact_grid = Grid::exact(self.grid.shifts);
-        let side = (1u64 << self.level) as f64;
         for child in 0..4 {
             let (corners, _) = crate::inverse::child_vertices(child, top_flip, [0, 1, 2], between);
-            let corners = corners.map(usize::from);
             let leaf = 4 * index + u64::from(child);
             let p = Placed {
                 x: corners.map(|i| points[i].0),
@@ -370,32 +449,12 @@ impl<'a> VariantWalk<'a> {
             if is_small(self.classifier.bounding_block(&p, exact_grid)) {
                 let (mut pass, mut fail) = (0u64, 0u64);
                 for i in corners {
-                    let (may_pass, may_fail) = *read[i].get_or_insert_with(|| {
+                    if !charged[i] {
+                        charged[i] = true;
                         self.work += 1;
-                        let (x, y) = points[i];
-                        let (sx, sy) = self.grid.shifts;
-                        let classes = &self.classifier.classes;
-                        let reading: PointReading =
-                            classes.point_reading((x + x, y + y), (sx + 1, sy + 1));
-                        let (mut may_pass, mut may_fail) = (0u64, 0u64);
-                        // Alike for every alpha of the walk: all at once.
-                        let wide = self.wide;
-                        let all = reading.bits(classes, Some(wide));
-                        let none = reading.bits(classes, Some(wide.narrowest()));
-                        if all == none {
-                            let every = |bit: u8| if bit != 0 { open } else { 0 };
-                            return (every(all & 1), every(all & 2));
-                        }
-                        for k in Self::each(open) {
-                            let alpha =
-                                alpha_at(self.alphas[k].map(f64::from), side, point_bary[i]);
-                            let scale = VertexScale::over([alpha; 3], self.largest[k]);
-                            let bits = reading.bits(classes, Some(scale));
-                            may_pass |= u64::from(bits & 1) << k;
-                            may_fail |= u64::from(bits >> 1) << k;
-                        }
-                        (may_pass, may_fail)
-                    });
+                    }
+                    let (may_pass, may_fail) =
+                        self.point_masks(points[i], point_bary[i], &mut read, i, open);
                     pass |= may_pass;
                     fail |= may_fail;
                 }

@@ -224,18 +224,24 @@ impl Classifier {
         p: &Placed<C>,
         grid: Grid,
     ) -> (Option<crate::micromap::State>, u64) {
-        if !self.classes.test.by_value {
-            return (None, 0);
-        }
-        // Nodes whose footprint is at most 3 x 3 texels: larger ones mostly
-        // meet the cutoff's level line, and cost more cells.
-        let b = self.bounding_block(p, grid);
-        let three = C::from(2);
-        if b.x1 - b.x0 > three || b.y1 - b.y0 > three {
+        if !self.value_applies(p, grid) {
             return (None, 0);
         }
         let r = self.classes.region_value(p, grid, None);
         (Classes::of_bits(r.bits).known_state(), u64::from(r.cells))
+    }
+
+    /// Whether [`value_state`](Self::value_state) reads the placed node's
+    /// value: under linear filtering by value, for nodes whose footprint is
+    /// at most 3 x 3 texels (larger ones mostly meet the cutoff's level
+    /// line, and cost more cells).
+    pub(crate) fn value_applies<C: GridInt>(&self, p: &Placed<C>, grid: Grid) -> bool {
+        if !self.classes.test.by_value {
+            return false;
+        }
+        let b = self.bounding_block(p, grid);
+        let three = C::from(2);
+        b.x1 - b.x0 <= three && b.y1 - b.y0 <= three
     }
 
     /// The classes the grid point `doubled / 2` (a point of the twice
