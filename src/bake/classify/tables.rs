@@ -255,6 +255,8 @@ impl TexelClasses {
         };
         let mut both = false;
         let mut spread = 0f64;
+        // The last texel's values (their bits) and classes.
+        let mut last: Option<((u32, u32), u8)> = None;
         for y in 0..height {
             low.clear();
             high.clear();
@@ -267,19 +269,29 @@ impl TexelClasses {
                     got: low.len().max(high.len()),
                 });
             }
-            for (&lo, &hi) in low.iter().zip(&high) {
-                let b = test.class_bits(lo, hi);
-                both |= b == 3;
-                bits.push(b);
-            }
-            if let Some(values) = &mut values {
-                for (&lo, &hi) in low.iter().zip(&high) {
-                    // NaN stays NaN in the values; its spread is nothing.
-                    let d = f64::from(hi) - f64::from(lo);
-                    if d > spread {
-                        spread = d;
+            // Texels come in runs of equal values (most alpha textures are
+            // mostly 0 and 1): a texel equal to the one before takes its
+            // classes without the test.
+            bits.extend(low.iter().zip(&high).map(|(&lo, &hi)| {
+                let key = (lo.to_bits(), hi.to_bits());
+                match last {
+                    Some((at, b)) if at == key => b,
+                    _ => {
+                        let b = test.class_bits(lo, hi);
+                        both |= b == 3;
+                        last = Some((key, b));
+                        b
                     }
                 }
+            }));
+            if let Some(values) = &mut values {
+                // NaN stays NaN in the values; its spread is nothing
+                // (`max` takes the other operand).
+                spread = low
+                    .iter()
+                    .zip(&high)
+                    .map(|(&lo, &hi)| f64::from(hi) - f64::from(lo))
+                    .fold(spread, f64::max);
                 values.extend_from_slice(&high);
             }
         }
